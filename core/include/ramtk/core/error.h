@@ -1,0 +1,33 @@
+#pragma once
+// Errors for bad user input. A broken invariant inside ramtk is a bug and may abort; input that
+// is wrong (a file, a field, a command-line value) is reported with an InputError whose message
+// names where the problem is, so the user can fix it.
+
+#include <stdexcept>
+#include <string>
+
+namespace ramtk {
+
+// Where a bad value came from. Any part may be empty / zero.
+struct InputLocation {
+  std::string file;   // path of the file, or "" for command-line values
+  int line = 0;       // 1-based line number, 0 if unknown
+  std::string field;  // field, key or option name, e.g. "joints[2].alpha" or "--joints"
+};
+
+// Bad user input. what() reads "file:line: field 'name': message".
+class InputError : public std::runtime_error {
+ public:
+  InputError(InputLocation where, const std::string& message);
+  const InputLocation& where() const { return where_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  InputLocation where_;
+  std::string message_;
+};
+
+// Formats a location as "file:line: field 'name'" (parts that are empty are left out).
+std::string FormatLocation(const InputLocation& where);
+
+}  // namespace ramtk

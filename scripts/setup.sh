@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Sets up a Debian 12 machine for ramtk and builds it in Release. Idempotent: packages already
+# present are not reinstalled, and the build is incremental (ccache keeps objects between runs).
+#
+#   bash scripts/setup.sh            # install what is missing, configure, build into ./build
+#   RAMTK_BUILD_DIR=/tmp/b bash scripts/setup.sh
+#   RAMTK_SKIP_INSTALL=1 bash scripts/setup.sh   # build only
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# The exact Debian 12 (bookworm) packages ramtk needs: the one place they are listed.
+PACKAGES=(
+  build-essential cmake ninja-build ccache pkg-config
+  libeigen3-dev            # linear algebra
+  libyaml-cpp-dev          # robot model files
+  nlohmann-json3-dev       # manifests and results
+  libcli11-dev             # the ramtk command line
+  libtbb-dev               # parallel loops
+  libopencv-dev libopencv-contrib-dev  # calibration, image ops, structured_light peer
+  libopenimageio-dev       # image and EXR I/O
+  libceres-dev             # non-linear least squares
+  libpcl-dev               # clouds, RANSAC, search (pulls VTK)
+  libgtest-dev libgmock-dev  # tests
+  libbenchmark-dev         # bench/
+  liborocos-kdl-dev        # peer kinematics library for tests and benchmarks
+)
+
+log() { printf '[setup] %s\n' "$*"; }
+
+if [ -r /etc/os-release ]; then
+  . /etc/os-release
+  if [ "${ID:-}" != "debian" ] || [ "${VERSION_ID:-}" != "12" ]; then
+    log "warning: this script targets Debian 12; this is ${PRETTY_NAME:-unknown}"
+  fi
+fi
+
+if [ "${RAMTK_SKIP_INSTALL:-0}" != "1" ]; then
+  missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    SUDO=""
+    if [ "$(id -u)" != "0" ]; then SUDO="sudo"; fi
+    log "installing ${#missing[@]} missing packages: ${missing[*]}"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  else
+    log "all ${#PACKAGES[@]} packages present"
+  fi
+fi
+
+BUILD_DIR="${RAMTK_BUILD_DIR:-build}"
+JOBS="${RAMTK_JOBS:-$(nproc)}"
+log "configuring ${BUILD_DIR} (Release)"
+cmake -S . -B "${BUILD_DIR}" -G Ninja -DCMAKE_BUILD_TYPE=Release ${RAMTK_CMAKE_ARGS:-} >/dev/null
+log "building with ${JOBS} jobs"
+cmake --build "${BUILD_DIR}" -j "${JOBS}"
+log "done: ${BUILD_DIR}/tools/ramtk"

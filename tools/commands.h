@@ -1,0 +1,19 @@
+#pragma once
+// Subcommands of the `ramtk` tool. Each Register* binds a CLI11 subcommand to an options struct
+// and sets the function that runs it. Commands return the process exit code:
+//   0 success, 1 bad input (file, field or value), 2 command-line usage, 3 no solution.
+
+#include <CLI/CLI.hpp>
+
+namespace ramtk::tools {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBadInput = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitNoSolution = 3;
+
+// Sets *exit_code when the subcommand runs.
+void RegisterFkCommand(CLI::App& app, int* exit_code);
+void RegisterIkCommand(CLI::App& app, int* exit_code);
+
+}  // namespace ramtk::tools
