@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include <Eigen/Cholesky>
 
@@ -47,21 +48,27 @@ std::string InverseKinematicsOptions::Validate() const {
   if (!(min_damping > 0 && min_damping <= initial_damping && initial_damping <= max_damping)) return "need 0 < min_damping <= initial_damping <= max_damping";
   if (max_iterations < 1) return "max_iterations must be >= 1";
   if (!(max_step_rad > 0)) return "max_step_rad must be > 0";
+  if (max_restarts < 0) return "max_restarts must be >= 0";
+  if (!(restart_spread_rad >= 0)) return "restart_spread_rad must be >= 0";
   return {};
 }
 
 std::string InverseKinematicsSummary::BriefReport() const {
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "IK %s after %d iterations: position %.3g -> %.3g mm, rotation %.3g -> %.3g deg",
-                TerminationName(termination), iterations, initial_position_error_mm, final_position_error_mm,
+  std::snprintf(buf, sizeof(buf),
+                "IK %s after %d iterations (%d restarts): position %.3g -> %.3g mm, rotation %.3g -> %.3g deg",
+                TerminationName(termination), iterations, restarts, initial_position_error_mm, final_position_error_mm,
                 RadToDeg(initial_rotation_error_rad), RadToDeg(final_rotation_error_rad));
   return buf;
 }
 
-InverseKinematicsSummary SolveInverseKinematics(const RobotModel& model, const Isometry3& target,
-                                                const JointVector& seed, const InverseKinematicsOptions& options) {
+namespace {
+
+// One damped least-squares descent from `start`.
+InverseKinematicsSummary Descend(const RobotModel& model, const Isometry3& target, const JointVector& start,
+                                 const InverseKinematicsOptions& options) {
   InverseKinematicsSummary summary;
-  JointVector q = seed;
+  JointVector q = start;
   Vec6 e = PoseError(target, BaseFromFlange(model, q));
   double cost = ScaledCost(e, options.length_scale_mm);
   summary.initial_position_error_mm = e.head<3>().norm();
@@ -108,9 +115,6 @@ InverseKinematicsSummary SolveInverseKinematics(const RobotModel& model, const I
       break;
     }
   }
-  // Keep each joint within ±pi of its seed so the answer is on the seed's branch of the angle.
-  for (int i = 0; i < kNumJoints; ++i) q[i] = seed[i] + std::remainder(q[i] - seed[i], 2.0 * kPi);
-
   summary.q_controller = q;
   summary.iterations = it;
   summary.final_position_error_mm = e.head<3>().norm();
@@ -125,6 +129,45 @@ InverseKinematicsSummary SolveInverseKinematics(const RobotModel& model, const I
     summary.termination = InverseKinematicsTermination::kMaxIterations;
   }
   return summary;
+}
+
+double FinalCost(const InverseKinematicsSummary& s, const InverseKinematicsOptions& options) {
+  const double rot_mm = options.length_scale_mm * s.final_rotation_error_rad;
+  return s.final_position_error_mm * s.final_position_error_mm + rot_mm * rot_mm;
+}
+
+}  // namespace
+
+InverseKinematicsSummary SolveInverseKinematics(const RobotModel& model, const Isometry3& target,
+                                                const JointVector& seed, const InverseKinematicsOptions& options) {
+  if (const std::string problem = options.Validate(); !problem.empty()) {
+    throw std::invalid_argument("InverseKinematicsOptions: " + problem);
+  }
+  InverseKinematicsSummary best = Descend(model, target, seed, options);
+  const double initial_position = best.initial_position_error_mm;
+  const double initial_rotation = best.initial_rotation_error_rad;
+  int iterations = best.iterations;
+  int restart = 0;
+  // Fixed offsets (a Weyl sequence on [-1, 1]) so restarts are reproducible without a generator.
+  for (; restart < options.max_restarts && !best.Converged(); ++restart) {
+    JointVector start = seed;
+    for (int i = 0; i < kNumJoints; ++i) {
+      const double frac = std::fmod(0.5 + (restart + 1) * 0.6180339887498949 * (i + 1) + 0.1 * i, 1.0);
+      start[i] += options.restart_spread_rad * (2.0 * frac - 1.0);
+    }
+    InverseKinematicsSummary attempt = Descend(model, target, start, options);
+    iterations += attempt.iterations;
+    if (attempt.Converged() || FinalCost(attempt, options) < FinalCost(best, options)) best = attempt;
+  }
+  // Keep each joint within ±pi of its seed so the answer is on the seed's branch of the angle.
+  for (int i = 0; i < kNumJoints; ++i) {
+    best.q_controller[i] = seed[i] + std::remainder(best.q_controller[i] - seed[i], 2.0 * kPi);
+  }
+  best.initial_position_error_mm = initial_position;
+  best.initial_rotation_error_rad = initial_rotation;
+  best.iterations = iterations;
+  best.restarts = restart;
+  return best;
 }
 
 }  // namespace ramtk::kinematics

@@ -135,7 +135,7 @@ RobotModel ReadRobotModel(const std::string& path) {
 
 std::string RobotModelToYaml(const RobotModel& model) {
   YAML::Emitter out;
-  out.SetDoublePrecision(15);
+  out.SetDoublePrecision(17);  // round-trips every double
   out << YAML::BeginMap;
   out << YAML::Key << "name" << YAML::Value << model.name;
   if (!model.source.empty()) out << YAML::Key << "source" << YAML::Value << model.source;

@@ -28,6 +28,11 @@ struct InverseKinematicsOptions {
   int max_iterations = 200;
   // Joint steps are limited to this (rad) so far seeds do not jump across branches.
   double max_step_rad = 0.35;
+  // When the solver stalls short of the target (typically at a singular configuration), it
+  // restarts up to this many times from the seed moved by a fixed pseudo-random offset of at most
+  // restart_spread_rad per joint. Deterministic: the same inputs give the same answer.
+  int max_restarts = 4;
+  double restart_spread_rad = 0.2;
 
   // Empty if valid, otherwise what is wrong.
   std::string Validate() const;
@@ -42,7 +47,8 @@ enum class InverseKinematicsTermination {
 struct InverseKinematicsSummary {
   InverseKinematicsTermination termination = InverseKinematicsTermination::kMaxIterations;
   JointVector q_controller = JointVector::Zero();  // rad; the best solution found
-  int iterations = 0;
+  int iterations = 0;  // over all starts
+  int restarts = 0;    // starts after the first
   double initial_position_error_mm = 0.0;
   double initial_rotation_error_rad = 0.0;
   double final_position_error_mm = 0.0;
