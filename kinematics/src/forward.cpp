@@ -8,7 +8,9 @@ Isometry3 LinkTransform(const LinkParams& link, double theta_in) {
   const double theta = link.theta0 + theta_in;
   const double ct = std::cos(theta), st = std::sin(theta);
   const double ca = std::cos(link.alpha), sa = std::sin(link.alpha);
-  const double cb = std::cos(link.beta), sb = std::sin(link.beta);
+  // β is a structural zero on most joints: skip its trigonometry then.
+  const double cb = link.beta == 0.0 ? 1.0 : std::cos(link.beta);
+  const double sb = link.beta == 0.0 ? 0.0 : std::sin(link.beta);
   // Rot(Z,θ)·Rot(X,α)·Rot(Y,β) expanded (eq. 2-18; the thesis's printed (2,2) entry is a typo
   // for cα·cθ).
   Mat3 r;
