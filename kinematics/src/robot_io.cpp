@@ -2,12 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::kinematics {
@@ -126,11 +125,13 @@ RobotModel ParseRobotModel(const std::string& yaml_text, const std::string& path
 }
 
 RobotModel ReadRobotModel(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError({path, 0, ""}, "cannot open robot model file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ParseRobotModel(ss.str(), path);
+  std::string text;
+  try {
+    text = ReadTextFile(path);
+  } catch (const InputError&) {
+    throw InputError({path, 0, ""}, "cannot open robot model file");
+  }
+  return ParseRobotModel(text, path);
 }
 
 std::string RobotModelToYaml(const RobotModel& model) {
@@ -163,17 +164,7 @@ std::string RobotModelToYaml(const RobotModel& model) {
 }
 
 void WriteRobotModel(const RobotModel& model, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw InputError({path, 0, ""}, "cannot write robot model file");
-    out << RobotModelToYaml(model);
-    if (!out) throw InputError({path, 0, ""}, "write failed");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError({path, 0, ""}, "cannot move the written file into place");
-  }
+  WriteFileAtomically(path, RobotModelToYaml(model));
 }
 
 }  // namespace ramtk::kinematics

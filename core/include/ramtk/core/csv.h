@@ -1,0 +1,32 @@
+#pragma once
+// Comma-separated tables with a header row, as in the file formats of docs/formats.md.
+// Blank lines and lines starting with '#' are skipped; cells are trimmed. Every access that can
+// fail on user data throws InputError naming the file, line and column.
+
+#include <string>
+#include <vector>
+
+namespace ramtk {
+
+class CsvTable {
+ public:
+  std::string path;                             // for error messages
+  std::vector<std::string> header;              // column names
+  std::vector<std::vector<std::string>> rows;   // cells, each row header.size() long
+  std::vector<int> line_numbers;                // 1-based file line of each row
+
+  // Index of column `name`; -1 if absent and not required, else InputError.
+  int Column(const std::string& name, bool required = true) const;
+  // Cell as a finite double / an integer / text; InputError names file:line and the column.
+  double Number(std::size_t row, int column) const;
+  long long Integer(std::size_t row, int column) const;
+  const std::string& Text(std::size_t row, int column) const;
+  std::size_t size() const { return rows.size(); }
+};
+
+CsvTable ParseCsv(const std::string& text, const std::string& path);
+CsvTable ReadCsv(const std::string& path);
+// Header and rows to CSV text (cells are written as given; no quoting).
+std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+
+}  // namespace ramtk

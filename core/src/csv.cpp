@@ -1,0 +1,106 @@
+#include "ramtk/core/csv.h"
+
+#include <cerrno>
+#include <cstdlib>
+#include <sstream>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/parse.h"
+
+namespace ramtk {
+namespace {
+
+std::string Trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return {};
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> SplitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::stringstream ss(line);
+  while (std::getline(ss, cell, ',')) cells.push_back(Trim(cell));
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+int CsvTable::Column(const std::string& name, bool required) const {
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    if (header[i] == name) return static_cast<int>(i);
+  }
+  if (required) throw InputError({path, 1, name}, "missing column (header has " + std::to_string(header.size()) + " columns)");
+  return -1;
+}
+
+const std::string& CsvTable::Text(std::size_t row, int column) const { return rows.at(row).at(column); }
+
+double CsvTable::Number(std::size_t row, int column) const {
+  return ParseDouble(Text(row, column), {path, line_numbers.at(row), header.at(column)});
+}
+
+long long CsvTable::Integer(std::size_t row, int column) const {
+  const std::string& text = Text(row, column);
+  const InputLocation where{path, line_numbers.at(row), header.at(column)};
+  char* end = nullptr;
+  errno = 0;
+  const long long value = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE) {
+    throw InputError(where, "expected an integer, got '" + text + "'");
+  }
+  return value;
+}
+
+CsvTable ParseCsv(const std::string& text, const std::string& path) {
+  CsvTable table;
+  table.path = path;
+  std::stringstream ss(text);
+  std::string line;
+  int line_number = 0;
+  while (std::getline(ss, line)) {
+    ++line_number;
+    const std::string trimmed = Trim(line);
+    if (trimmed.empty() || trimmed[0] == '#') continue;
+    std::vector<std::string> cells = SplitCells(trimmed);
+    if (table.header.empty()) {
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i].empty()) throw InputError({path, line_number, ""}, "empty column name in the header");
+        for (std::size_t j = 0; j < i; ++j) {
+          if (cells[j] == cells[i]) throw InputError({path, line_number, cells[i]}, "duplicate column name");
+        }
+      }
+      table.header = std::move(cells);
+      continue;
+    }
+    if (cells.size() != table.header.size()) {
+      throw InputError({path, line_number, ""}, "expected " + std::to_string(table.header.size()) +
+                                                    " cells as in the header, got " + std::to_string(cells.size()));
+    }
+    table.rows.push_back(std::move(cells));
+    table.line_numbers.push_back(line_number);
+  }
+  if (table.header.empty()) throw InputError({path, 0, ""}, "empty file: expected a header row");
+  return table;
+}
+
+CsvTable ReadCsv(const std::string& path) { return ParseCsv(ReadTextFile(path), path); }
+
+std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  std::string out;
+  auto append_row = [&out](const std::vector<std::string>& cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (i) out += ',';
+      out += cells[i];
+    }
+    out += '\n';
+  };
+  append_row(header);
+  for (const auto& r : rows) append_row(r);
+  return out;
+}
+
+}  // namespace ramtk

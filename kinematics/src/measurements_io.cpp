@@ -1,0 +1,88 @@
+#include "ramtk/kinematics/measurements_io.h"
+
+#include <cstdio>
+
+#include "ramtk/core/csv.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/units.h"
+
+namespace ramtk::kinematics {
+namespace {
+
+const char* IndexColumn(MeasurementKind kind) { return kind == MeasurementKind::kBall ? "pose" : "point"; }
+
+std::string Fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  return buf;
+}
+
+}  // namespace
+
+RobotMeasurementSet ReadRobotMeasurements(const std::string& path) {
+  const CsvTable t = ReadCsv(path);
+  RobotMeasurementSet set;
+  const int pose_col = t.Column("pose", false);
+  const int point_col = t.Column("point", false);
+  if ((pose_col < 0) == (point_col < 0)) {
+    throw InputError({path, 1, "pose/point"}, "expected exactly one of the columns 'pose' (ball) or 'point' (monitoring)");
+  }
+  set.kind = pose_col >= 0 ? MeasurementKind::kBall : MeasurementKind::kMonitoring;
+  const int index_col = pose_col >= 0 ? pose_col : point_col;
+  const int cycle_col = t.Column("cycle");
+  const int time_col = t.Column("time_s");
+  int q_col[kNumJoints];
+  for (int i = 0; i < kNumJoints; ++i) q_col[i] = t.Column("q" + std::to_string(i + 1));
+  const int x_col = t.Column("x"), y_col = t.Column("y"), z_col = t.Column("z");
+  std::vector<int> known = {index_col, cycle_col, time_col, x_col, y_col, z_col};
+  known.insert(known.end(), q_col, q_col + kNumJoints);
+  std::vector<int> extra_cols;
+  for (int c = 0; c < static_cast<int>(t.header.size()); ++c) {
+    bool is_known = false;
+    for (int k : known) is_known |= (k == c);
+    if (!is_known) {
+      extra_cols.push_back(c);
+      set.extra_columns.push_back(t.header[c]);
+    }
+  }
+  set.rows.reserve(t.size());
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    RobotMeasurement m;
+    m.cycle = static_cast<int>(t.Integer(r, cycle_col));
+    m.time_s = t.Number(r, time_col);
+    m.index = static_cast<int>(t.Integer(r, index_col));
+    for (int i = 0; i < kNumJoints; ++i) m.q_controller[i] = DegToRad(t.Number(r, q_col[i]));
+    m.position_mm = Vec3(t.Number(r, x_col), t.Number(r, y_col), t.Number(r, z_col));
+    for (int c : extra_cols) m.extra[t.header[c]] = t.Number(r, c);
+    m.line = t.line_numbers[r];
+    set.rows.push_back(std::move(m));
+  }
+  return set;
+}
+
+std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
+  std::vector<std::string> header = {"cycle", "time_s", IndexColumn(set.kind)};
+  for (int i = 0; i < kNumJoints; ++i) header.push_back("q" + std::to_string(i + 1));
+  header.insert(header.end(), {"x", "y", "z"});
+  header.insert(header.end(), set.extra_columns.begin(), set.extra_columns.end());
+  std::vector<std::vector<std::string>> rows;
+  rows.reserve(set.rows.size());
+  for (const RobotMeasurement& m : set.rows) {
+    std::vector<std::string> cells = {std::to_string(m.cycle), Fixed(m.time_s, 3), std::to_string(m.index)};
+    for (int i = 0; i < kNumJoints; ++i) cells.push_back(Fixed(RadToDeg(m.q_controller[i]), 9));
+    for (int i = 0; i < 3; ++i) cells.push_back(Fixed(m.position_mm[i], 6));
+    for (const std::string& name : set.extra_columns) {
+      const auto it = m.extra.find(name);
+      cells.push_back(it == m.extra.end() ? "nan" : Fixed(it->second, 6));
+    }
+    rows.push_back(std::move(cells));
+  }
+  return FormatCsv(header, rows);
+}
+
+void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path) {
+  WriteFileAtomically(path, FormatRobotMeasurements(set));
+}
+
+}  // namespace ramtk::kinematics

@@ -1,0 +1,53 @@
+#include "ramtk/core/csv.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+
+namespace ramtk {
+namespace {
+
+std::string Message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Csv, ParsesHeaderRowsCommentsAndLineNumbers) {
+  const CsvTable t = ParseCsv("# comment\nlabel, x ,y\n\nA,1.5,2\nB,-3,4e2\n", "p.csv");
+  ASSERT_EQ(t.header, (std::vector<std::string>{"label", "x", "y"}));
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t.line_numbers, (std::vector<int>{4, 5}));
+  EXPECT_EQ(t.Text(1, t.Column("label")), "B");
+  EXPECT_EQ(t.Number(1, t.Column("y")), 400.0);
+}
+
+TEST(Csv, ErrorsNameFileLineAndColumn) {
+  const CsvTable t = ParseCsv("label,x\nA,1\nB,oops\n", "p.csv");
+  EXPECT_EQ(Message([&] { t.Number(1, 1); }), "p.csv:3: field 'x': expected a number, got 'oops'");
+  EXPECT_EQ(Message([&] { t.Column("z"); }), "p.csv:1: field 'z': missing column (header has 2 columns)");
+  EXPECT_EQ(Message([&] { t.Integer(0, 1); }), "no error");
+  EXPECT_EQ(Message([] { ParseCsv("a,b\n1,2,3\n", "q.csv"); }), "q.csv:2: expected 2 cells as in the header, got 3");
+  EXPECT_EQ(Message([] { ParseCsv("a,a\n", "q.csv"); }), "q.csv:1: field 'a': duplicate column name");
+  EXPECT_EQ(Message([] { ParseCsv("\n# only\n", "e.csv"); }), "e.csv: empty file: expected a header row");
+}
+
+TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemporary) {
+  const std::string path = ::testing::TempDir() + "/atomic.txt";
+  WriteFileAtomically(path, "one");
+  WriteFileAtomically(path, "two");
+  EXPECT_EQ(ReadTextFile(path), "two");
+  std::remove(path.c_str());
+  EXPECT_THROW(WriteFileAtomically("/nonexistent-dir/x.txt", "x"), InputError);
+  EXPECT_THROW(ReadTextFile("/nonexistent-dir/x.txt"), InputError);
+}
+
+}  // namespace
+}  // namespace ramtk

@@ -1,0 +1,58 @@
+#include "ramtk/kinematics/measurements_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/units.h"
+
+namespace ramtk::kinematics {
+namespace {
+
+TEST(MeasurementsIo, RoundTripWithExtraColumns) {
+  RobotMeasurementSet set;
+  set.extra_columns = {"temp_j2"};
+  for (int k = 0; k < 3; ++k) {
+    RobotMeasurement m;
+    m.cycle = k / 2;
+    m.time_s = 12.5 * k;
+    m.index = k;
+    m.q_controller << 0.1 * k, -1.2, 1.5, 0.3, 0.9, -0.4;
+    m.position_mm = Vec3(1234.567891, -0.000123, 845.5);
+    m.extra["temp_j2"] = 24.25 + k;
+    set.rows.push_back(m);
+  }
+  const std::string path = ::testing::TempDir() + "/meas.csv";
+  WriteRobotMeasurements(set, path);
+  const RobotMeasurementSet back = ReadRobotMeasurements(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(back.rows.size(), 3u);
+  EXPECT_EQ(back.kind, MeasurementKind::kBall);
+  EXPECT_EQ(back.extra_columns, set.extra_columns);
+  for (int k = 0; k < 3; ++k) {
+    // 9 decimals of a degree and 6 of a millimetre are what the file keeps.
+    EXPECT_LT((back.rows[k].q_controller - set.rows[k].q_controller).cwiseAbs().maxCoeff(), DegToRad(1e-9));
+    EXPECT_LT((back.rows[k].position_mm - set.rows[k].position_mm).cwiseAbs().maxCoeff(), 1e-6);
+    EXPECT_EQ(back.rows[k].extra.at("temp_j2"), 24.25 + k);
+    EXPECT_EQ(back.rows[k].line, k + 2);
+  }
+}
+
+TEST(MeasurementsIo, MalformedNamesLineAndColumn) {
+  const std::string path = ::testing::TempDir() + "/bad_meas.csv";
+  WriteFileAtomically(path, "cycle,time_s,point,q1,q2,q3,q4,q5,q6,x,y,z\n0,0,1,0,0,0,0,0,0,1,2,3\n0,1,2,0,0,zz,0,0,0,1,2,3\n");
+  try {
+    ReadRobotMeasurements(path);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), path + ":3: field 'q3': expected a number, got 'zz'");
+  }
+  WriteFileAtomically(path, "cycle,time_s,q1,q2,q3,q4,q5,q6,x,y,z\n");
+  EXPECT_THROW(ReadRobotMeasurements(path), InputError);  // neither pose nor point
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace ramtk::kinematics
