@@ -1,0 +1,107 @@
+#pragma once
+// Identification of the thermal parameter drift ΔX (thesis eqs. 3-5 to 3-10).
+//
+// For pose i the ball centre moves by Y_i = P_swarm,i − P_scool,i = M_i · ΔX (eq. 3-7), with
+// M_i = R_b^s · ∂(T_e^b · P_e)/∂X (3×30). Stacking the poses gives Y = A · ΔX (eq. 3-8), solved
+// by SVD, ΔX = V S⁻¹ Uᵀ Y (eqs. 3-9, 3-10), for any chosen subset of the 30 parameters (the
+// others are held at zero drift). Columns are equilibrated (scaled to unit norm) before the SVD
+// so that mm and rad columns compare; singular values and condition numbers are reported for the
+// equilibrated matrix.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ramtk/kinematics/robot_model.h"
+#include "ramtk/thermal/cycles.h"
+#include "ramtk/thermal/setup.h"
+
+namespace ramtk::thermal {
+
+using kinematics::ParamVector;
+using kinematics::RobotModel;
+
+struct IdentificationOptions {
+  // Parameters to identify (ParamVector indices). Empty: every non-structural-zero parameter.
+  std::vector<int> params;
+  // Positions (0-based, in CycleSeries::ids order) of the poses to use. Empty: all poses.
+  std::vector<int> poses;
+  // Singular values below singular_value_rtol·σ_max are dropped from the pseudo-inverse (0 keeps
+  // every non-zero one, as the thesis's plain V S⁻¹ Uᵀ).
+  double singular_value_rtol = 1e-12;
+  // Rank threshold (relative to the largest |R_ii|) of the column-pivoted QR that names the
+  // parameters not identifiable given the others, and of the null-space report.
+  double rank_rtol = 1e-8;
+  // Empty if valid, otherwise what is wrong.
+  std::string Validate() const;
+};
+
+// A parameter combination the poses cannot see: Σ coefficient_k · Δp_k has no effect on Y.
+struct NullCombination {
+  std::vector<int> params;            // parameter indices with a non-negligible coefficient
+  std::vector<double> coefficients;   // unit vector over the equilibrated columns
+};
+
+struct IdentificationSummary {
+  std::string termination = "not run";  // "solved", "rank deficient (k dropped)"
+  int iterations = 0;                   // 1 for the direct solve
+  std::vector<int> params;              // identified parameters
+  int num_poses = 0;
+  int num_equations = 0;
+  Eigen::VectorXd singular_values;      // equilibrated A, descending
+  double condition_number = 0.0;        // σ_max/σ_min of the equilibrated A (inf if singular)
+  int rank = 0;                         // column-pivoted QR rank
+  std::vector<int> dependent_params;    // params QR pivoted behind the rank (not identifiable)
+  std::vector<NullCombination> null_space;
+  int num_cycles = 0;                   // columns of Y solved
+  double initial_cost = 0.0;            // ½‖Y‖² over all cycles, mm²
+  double final_cost = 0.0;              // ½‖Y − AΔX‖², mm²
+  double rms_residual_mm = 0.0;         // per coordinate, over all cycles
+  double worst_residual_mm = 0.0;       // largest |coordinate residual|
+  int outliers = 0;                     // not rejected: always 0 (plain least squares)
+
+  std::string BriefReport() const;
+};
+
+// The stacked sensitivity A (eq. 3-8, all 30 columns) of a fixed pose set, and solvers over it.
+class DriftModel {
+ public:
+  // `taught` are the poses' controller joints (rad).
+  DriftModel(const RobotModel& model, const ThermalSetup& setup, const std::vector<JointVector>& taught);
+
+  int NumPoses() const { return static_cast<int>(a_full_.rows() / 3); }
+  // 3·poses × 30, in the sensor frame (mm per mm / per rad).
+  const Eigen::MatrixXd& FullSensitivity() const { return a_full_; }
+
+  // Solves ΔX for every column of `y` (3·|options.poses| × n, the differences of those poses).
+  // Returns 30 × n with zeros outside options.params. InputError when the poses give fewer
+  // equations than parameters.
+  Eigen::MatrixXd Solve(const Eigen::MatrixXd& y, const IdentificationOptions& options,
+                        IdentificationSummary* summary = nullptr) const;
+
+ private:
+  RobotModel model_;
+  Eigen::MatrixXd a_full_;
+};
+
+// Identifies ΔX for every cycle of `ball` against its reference cycle (column 0 ≈ 0).
+// Returns 30 × cycles.
+Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setup, const CycleSeries& ball,
+                               const IdentificationOptions& options, IdentificationSummary* summary = nullptr);
+
+// Greedy D-optimal pose selection: `count` pose positions out of the model's poses that maximise
+// log det(AᵀA) of the equilibrated columns `params` (for the 6-pose production budget).
+std::vector<int> SelectPoses(const DriftModel& drift_model, const std::vector<int>& params, int count);
+
+// Parameter names ("d4", "alpha3") from a comma list, or "traditional" / "all" / "free".
+// InputError naming `field` on an unknown name.
+std::vector<int> ParseParamList(const std::string& text, const RobotModel& model, const std::string& field);
+// Non-zero length parameters of the model (d_i, a_i with a non-zero nominal value): the
+// traditional compensation set (thesis §3.2; d1 d4 d6 a1 a2 a3 for the KR150).
+std::vector<int> TraditionalParams(const RobotModel& model);
+std::string ParamListToString(const std::vector<int>& params);
+// Value of parameter `index` in file units: mm for lengths, degrees for angles.
+double ToFileUnits(int index, double value);
+
+}  // namespace ramtk::thermal

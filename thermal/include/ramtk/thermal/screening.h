@@ -1,0 +1,94 @@
+#pragma once
+// Screening of the drift parameters (thesis §3.2, Fig. 3-5, Table 5-1).
+//
+// Start with every candidate parameter. Repeat until `keep` remain:
+//  (2) identify the current set for every cycle (eq. 3-8) and score it with λ;
+//  (3) test each parameter's series over the cycles with the sample autocorrelation function:
+//      a series whose autocorrelations stay inside ±z/√N is steady (noise around zero, Fig. 3-4),
+//      one that stays correlated drifts (Fig. 3-3). The steady ones form S;
+//  (4) try removing each s in S; the first removal that does not lower λ is taken (thesis), or,
+//      if every removal lowers λ, the one with the highest λ.
+// If S is empty the step falls back to trying every current parameter (reported).
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ramtk/core/progress.h"
+#include "ramtk/thermal/monitoring.h"
+
+namespace ramtk::thermal {
+
+struct AcfOptions {
+  // Largest lag tested; 0: min(20, N/4).
+  int max_lag = 0;
+  // Half-width of the white-noise band in units of 1/√N (1.96: 95 %).
+  double z = 1.96;
+  // A series is steady when at most this share of the lags 1..max_lag fall outside the band.
+  double max_fraction_outside = 0.3;
+  std::string Validate() const;
+};
+
+struct AcfResult {
+  std::vector<double> acf;  // r_1 .. r_max_lag
+  double band = 0.0;        // z/√N
+  int outside = 0;          // lags with |r_k| > band
+  bool steady = false;
+};
+
+// Sample autocorrelation r_k = Σ (x_t − x̄)(x_{t+k} − x̄) / Σ (x_t − x̄)² and the band test.
+AcfResult AutocorrelationTest(const Eigen::VectorXd& series, const AcfOptions& options = {});
+
+struct ScreeningOptions {
+  int keep = 8;                   // n of the thesis: parameters left at the end
+  std::vector<int> candidates;    // initial set; empty: every free parameter (24 for the KR150)
+  IdentificationOptions identification;  // poses (all 20 in the thesis) and SVD settings; params ignored
+  LambdaOptions lambda;
+  AcfOptions acf;
+  bool first_improvement = true;  // thesis step (4); false: always take the best removal
+  ProgressCallback progress;      // called once per elimination step
+  std::string Validate() const;
+};
+
+// One row of Table 5-1.
+struct ScreeningStep {
+  int card = 0;                // parameters in the set
+  int removed = -1;            // parameter removed to reach this set (-1 for the first row)
+  double lambda = 0.0;         // % for this set
+  std::vector<int> steady;     // the steady set S found for this set
+  bool steady_fallback = false;  // S was empty; every parameter was tried
+};
+
+struct ScreeningSummary {
+  std::string termination = "not run";  // "kept n", "cancelled"
+  int iterations = 0;                   // elimination steps
+  int lambda_evaluations = 0;
+  double initial_lambda = 0.0;          // % with every candidate
+  double final_lambda = 0.0;            // % with the selected set
+  std::vector<ScreeningStep> steps;
+  std::vector<int> selected;
+  Eigen::MatrixXd selected_delta_x;     // 30 × monitoring cycles, identified with `selected`
+  std::string BriefReport() const;
+};
+
+ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const ScreeningOptions& options);
+
+// Table 5-1 as text: card, removed parameter, λ, steady set S.
+std::string FormatEliminationTable(const ScreeningSummary& summary);
+
+// One row of Table 5-2: λ before compensation and with several parameter sets.
+struct ComparisonRow {
+  std::string label;       // "before", "traditional", "screened", "all"
+  std::vector<int> params;  // empty for "before"
+  int num_poses = 0;        // ball poses used
+  double lambda = 0.0;      // %
+  double rms_residual_mm = 0.0;    // RMS of all monitoring residuals (warm cycles)
+  double worst_residual_mm = 0.0;  // largest |residual|
+};
+std::vector<ComparisonRow> CompareParameterSets(const ThermalExperiment& experiment,
+                                                const std::vector<std::pair<std::string, std::vector<int>>>& sets,
+                                                const IdentificationOptions& id, const LambdaOptions& lambda);
+std::string FormatComparisonTable(const std::vector<ComparisonRow>& rows);
+
+}  // namespace ramtk::thermal
