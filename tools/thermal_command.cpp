@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
@@ -333,7 +334,25 @@ struct PredictOptions {
   ExperimentInputs in;
   int window_every = 10;
   int min_windows = 4;
+  std::string train_ball;   // optional characterisation run (identified every cycle, all poses)
+  std::string train_setup;  // its setup (default: --setup)
 };
+
+void Temperatures(const CycleSeries& series, const std::vector<int>& columns, Eigen::MatrixXd* temps,
+                  std::vector<double>* times) {
+  temps->resize(kinematics::kNumJoints, static_cast<Eigen::Index>(columns.size()));
+  times->clear();
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const Cycle& cycle = series.cycles[columns[c]];
+    times->push_back(cycle.time_s);
+    for (int j = 0; j < kinematics::kNumJoints; ++j) {
+      const std::string name = "temp_j" + std::to_string(j + 1);
+      const auto it = cycle.extra.find(name);
+      if (it == cycle.extra.end()) throw InputError({series.path, 1, name}, "the predictor needs temperature columns");
+      (*temps)(j, static_cast<Eigen::Index>(c)) = it->second;
+    }
+  }
+}
 
 int RunPredict(const PredictOptions& opt) {
   const LoadedExperiment e = Load(opt.in);
@@ -342,21 +361,31 @@ int RunPredict(const PredictOptions& opt) {
   const DriftModel dm(e.model, e.setup, e.ball.taught);
   const IdentificationOptions id = MakeIdOptions(opt.in, e, dm, params);
   const Eigen::MatrixXd x = IdentifyForMonitoring(ex, dm, id);
-  Eigen::MatrixXd temps(kinematics::kNumJoints, e.monitoring.NumCycles());
-  for (int j = 0; j < kinematics::kNumJoints; ++j) {
-    const std::string name = "temp_j" + std::to_string(j + 1);
-    for (int c = 0; c < e.monitoring.NumCycles(); ++c) {
-      const auto& extra = e.ball.cycles[ex.ball_column[c]].extra;
-      const auto it = extra.find(name);
-      if (it == extra.end()) throw InputError({opt.in.ball_path, 1, name}, "the predictor needs temperature columns");
-      temps(j, c) = it->second;
-    }
-  }
+  Eigen::MatrixXd temps;
+  std::vector<double> times;
+  Temperatures(e.ball, ex.ball_column, &temps, &times);
   DriftPredictorOptions po;
   po.window_every = opt.window_every;
   po.min_windows = opt.min_windows;
+  std::unique_ptr<TemperatureDriftModel> offline;
+  if (!opt.train_ball.empty()) {
+    CycleOptions co;
+    co.reference_cycle = opt.in.reference_cycle;
+    co.joint_tolerance_deg = opt.in.joint_tolerance_deg;
+    const CycleSeries train = GroupCycles(kinematics::ReadRobotMeasurements(opt.train_ball), opt.train_ball, co);
+    const ThermalSetup train_setup = opt.train_setup.empty() ? e.setup : ReadThermalSetup(opt.train_setup);
+    IdentificationOptions tid;
+    tid.params = params;
+    const Eigen::MatrixXd tx = IdentifyCycles(e.model, train_setup, train, tid);
+    std::vector<int> all;
+    for (int c = 0; c < train.NumCycles(); ++c) all.push_back(c);
+    Eigen::MatrixXd ttemps;
+    std::vector<double> ttimes;
+    Temperatures(train, all, &ttemps, &ttimes);
+    offline = std::make_unique<TemperatureDriftModel>(FitTemperatureModel(tx, ttemps, ttimes, params, po.model));
+  }
   DriftPredictionSummary ps;
-  const DriftPrediction pred = PredictDrift(x, temps, params, po, &ps);
+  const DriftPrediction pred = PredictDrift(x, temps, times, params, po, offline.get(), &ps);
   // Scored on the monitoring points against the every-cycle identification of the held-out cycles.
   const MonitoringModel mon(e.model, e.setup, e.monitoring);
   double sq_pred = 0, sq_hold = 0;
@@ -370,9 +399,10 @@ int RunPredict(const PredictOptions& opt) {
     }
   }
   std::cout << ps.BriefReport() << "\n"
-            << "between-window error on the monitoring points vs the held-out identification (RMS of 3-D error):\n"
+            << "between-window error on the monitoring points vs the held-out per-cycle identification (RMS 3-D):\n"
             << "  hold-last " << Fmt("%.4f", n ? std::sqrt(sq_hold / n) : 0.0) << " mm, temperature model "
-            << Fmt("%.4f", n ? std::sqrt(sq_pred / n) : 0.0) << " mm\n";
+            << Fmt("%.4f", n ? std::sqrt(sq_pred / n) : 0.0) << " mm\n"
+            << "(the reference itself carries the per-cycle identification noise; score against truth in tests)\n";
   return kExitOk;
 }
 
@@ -442,7 +472,10 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--poses", opt->in.poses, "Ball pose positions to use (default all)");
     sub->add_option("--pose-budget", opt->in.pose_budget, "Choose this many poses D-optimally");
     sub->add_option("--window-every", opt->window_every, "A ball window every this many cycles");
-    sub->add_option("--min-windows", opt->min_windows, "Windows before the model replaces hold-last");
+    sub->add_option("--min-windows", opt->min_windows, "Windows before the online model replaces hold-last");
+    sub->add_option("--train-ball", opt->train_ball,
+                    "Characterisation run (ball CSV, every cycle) to fit the temperature model offline");
+    sub->add_option("--train-setup", opt->train_setup, "Setup of the characterisation run (default --setup)");
     sub->callback([opt, exit_code]() { *exit_code = RunPredict(*opt); });
   }
 }

@@ -2,11 +2,17 @@
 // Drift prediction between measurement windows (beyond the thesis).
 //
 // In production the ball is measured only in windows (every W cycles). Between windows the
-// compensator either holds the last identified ΔX (hold-last) or predicts it. The predictor here
-// is a temperature-driven linear model, fitted causally on the windows seen so far:
-//   ΔX_p(t) ≈ b_p · [ΔT_1(t) … ΔT_J(t)]ᵀ    (ΔT = joint temperatures minus the cold reference's)
-// solved per parameter by ridge regression (the joint temperatures are strongly collinear).
-// Until `min_windows` windows are available it holds the last value.
+// compensator either holds the last identified ΔX (hold-last) or predicts it from the joint
+// temperatures the controller logs every cycle, with a linear model
+//   ΔX_p(t) ≈ Σ_j b_pj · F_j(t),   F_j = first-order low-pass (time constant lag_s) of ΔT_j,
+// ΔT_j = temperature of joint j minus its value in the cold reference cycle. The low-pass stands
+// for the structure lagging the housing sensor; lag_s is chosen from candidates by the fit.
+//
+// Two ways to get b:
+//  * offline: fit it on a long characterisation run identified every cycle (the screening run of
+//    §5.1), then in production add the mean offset of the windows seen so far;
+//  * online: refit it by ridge regression on the windows seen so far (causal).
+// Until `min_windows` windows are available the online predictor holds the last value.
 
 #include <string>
 #include <vector>
@@ -15,17 +21,41 @@
 
 namespace ramtk::thermal {
 
+struct TemperatureModelOptions {
+  double ridge = 1e-3;  // ridge weight relative to the mean squared regressor, per regressor
+  std::vector<double> lag_candidates_s = {0.0, 300.0, 600.0, 900.0, 1200.0, 1800.0};  // low-pass τ tried
+  std::string Validate() const;
+};
+
+struct TemperatureDriftModel {
+  std::vector<int> params;       // rows predicted
+  double lag_s = 0.0;            // chosen low-pass time constant
+  Eigen::MatrixXd coefficients;  // 30 × J (rows outside params are zero); mm/K or rad/K
+  double training_rms = 0.0;     // RMS fit residual over params and cycles (mixed units: a ranking aid)
+};
+
+// Low-pass filtered temperature rises F (J × N) for temperatures (J × N, °C) at `times_s` (N).
+Eigen::MatrixXd FilteredTemperatureRise(const Eigen::MatrixXd& temperatures, const std::vector<double>& times_s,
+                                        double lag_s);
+
+// Fits b on the columns `use` (all if empty) of `identified` (30 × N). InputError on bad sizes.
+TemperatureDriftModel FitTemperatureModel(const Eigen::MatrixXd& identified, const Eigen::MatrixXd& temperatures,
+                                          const std::vector<double>& times_s, const std::vector<int>& params,
+                                          const TemperatureModelOptions& options = {},
+                                          const std::vector<int>& use = {});
+
 struct DriftPredictorOptions {
-  int window_every = 10;    // a ball window every this many cycles (cycle 0 is always one)
-  int min_windows = 4;      // windows (incl. cycle 0) before the model is used instead of hold-last
-  double ridge = 1e-2;      // ridge weight relative to the mean squared temperature rise, per regressor
+  int window_every = 10;  // a ball window every this many cycles (cycle 0 is always one)
+  int min_windows = 4;    // online: windows (incl. cycle 0) before the model replaces hold-last
+  TemperatureModelOptions model;
   std::string Validate() const;
 };
 
 struct DriftPredictionSummary {
   std::string termination = "not run";
-  int windows = 0;                  // windows used in all
-  int predicted_cycles = 0;         // cycles between windows that the model predicted
+  int windows = 0;           // windows used in all
+  int predicted_cycles = 0;  // cycles between windows predicted by a model (not held)
+  double lag_s = 0.0;        // low-pass time constant of the (last) model
   std::string BriefReport() const;
 };
 
@@ -35,10 +65,12 @@ struct DriftPrediction {
   std::vector<bool> is_window;
 };
 
-// `identified` 30 × cycles (only window columns are read), `temperatures` J × cycles (°C),
-// `params` the rows to predict (others stay zero).
+// `identified` 30 × cycles (only window columns are read), `temperatures` J × cycles (°C, every
+// cycle), `times_s` per cycle. With `offline` the model is not refitted: its prediction plus the
+// windows' mean offset is used. Otherwise the online fit.
 DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::MatrixXd& temperatures,
-                             const std::vector<int>& params, const DriftPredictorOptions& options = {},
+                             const std::vector<double>& times_s, const std::vector<int>& params,
+                             const DriftPredictorOptions& options = {}, const TemperatureDriftModel* offline = nullptr,
                              DriftPredictionSummary* summary = nullptr);
 
 }  // namespace ramtk::thermal
