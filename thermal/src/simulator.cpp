@@ -106,12 +106,15 @@ class Timeline {
     structure_[0] = s;
     for (int i = 1; i < n; ++i) {
       const double duty = DutyAt(o, (i - 0.5) * kStep);
+      const Vec6 h_old = h;
       for (const HeatSource& src : o.sources) {
         const double target = src.gain_k * duty;
         const double tau = target > h[src.joint] ? src.tau_heat_s : src.tau_cool_s;
         h[src.joint] = target + (h[src.joint] - target) * std::exp(-kStep / tau);
       }
-      s = h + (s - h) * std::exp(-kStep / o.structure_tau_s);
+      // The structure follows the housing's mean over the step (second-order accurate).
+      const Vec6 h_mid = 0.5 * (h_old + h);
+      s = h_mid + (s - h_mid) * std::exp(-kStep / o.structure_tau_s);
       housing_[i] = h;
       structure_[i] = s;
     }
@@ -289,9 +292,10 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
   for (int c = 0; c < o.cycles; ++c) {
     const double t0 = c * o.cycle_period_s;
     r.cycle_time_s.push_back(t0);
+    const double t_ball_mean = t0 + half + half * (nb - 1) / (2.0 * nb);
     for (int k = 0; k < np; ++k) {
       const double t = t0 + half * k / np;
-      const ParamVector dx = timeline.Drift(t);
+      const ParamVector dx = timeline.Drift(o.drift_changes_within_cycle ? t : t_ball_mean);
       r.true_delta_x_monitoring.col(c * np + k) = dx;
       warm.SetParams(x0 + dx);
       const Vec3 shift = noise3(o.repeatability_mm);
@@ -299,7 +303,6 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
                            noise3(o.tool_sensor_noise_mm);
       r.monitoring.rows.push_back(row(c, t, k, r.monitoring_poses[k], reading));
     }
-    const double t_ball_mean = t0 + half + half * (nb - 1) / (2.0 * nb);
     r.true_delta_x.col(c) = timeline.Drift(t_ball_mean);
     r.truth_time_s.push_back(t_ball_mean);
     Vec6 h;
@@ -307,7 +310,7 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
     r.true_temperatures_c.col(c) = h.array() + o.ambient_c;
     for (int i = 0; i < nb; ++i) {
       const double t = t0 + half + half * i / nb;
-      warm.SetParams(x0 + timeline.Drift(t));
+      warm.SetParams(x0 + timeline.Drift(o.drift_changes_within_cycle ? t : t_ball_mean));
       const Vec3 ball_in_base = kinematics::BaseFromFlange(warm, r.ball_poses[i]) * o.setup.ball_in_flange +
                                 noise3(o.repeatability_mm);
       const Vec3 reading = o.setup.sensor_from_base * ball_in_base + noise3(o.sensor_noise_mm);

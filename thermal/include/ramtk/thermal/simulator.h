@@ -62,6 +62,9 @@ struct ThermalSimOptions {
   double repeatability_mm = 0.015;     // σ per axis of the flange's random displacement
   double temperature_noise_k = 0.05;   // σ of the reported temperatures
   double ambient_c = 22.0;
+  // true: every measurement sees the drift of its own instant; false: each cycle's measurements
+  // all see the drift at the mean time of its ball poses (isolates the within-cycle motion).
+  bool drift_changes_within_cycle = true;
   std::uint64_t seed = 1;
   std::string Validate() const;
 };
