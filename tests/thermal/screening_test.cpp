@@ -1,0 +1,140 @@
+// Screening (§3.2, Tables 5-1/5-2) against the simulator's drifting set; λ and ACF closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "ramtk/thermal/screening.h"
+#include "thermal_fixture.h"
+
+namespace ramtk::thermal {
+namespace {
+
+using testing::Kr150;
+using testing::Thesis;
+
+TEST(ThermalAcf, ClosedForms) {
+  // Alternating ±1: r_k = (−1)^k (n − k)/n.
+  Eigen::VectorXd alt(40);
+  for (int i = 0; i < 40; ++i) alt[i] = (i % 2 == 0) ? 1.0 : -1.0;
+  AcfOptions o;
+  o.max_lag = 3;
+  const AcfResult r = AutocorrelationTest(alt, o);
+  ASSERT_EQ(r.acf.size(), 3u);
+  EXPECT_NEAR(r.acf[0], -39.0 / 40.0, 1e-12);
+  EXPECT_NEAR(r.acf[1], 38.0 / 40.0, 1e-12);
+  EXPECT_NEAR(r.band, 1.96 / std::sqrt(40.0), 1e-12);
+  EXPECT_FALSE(r.steady);
+  // A linear trend stays correlated: drifting.
+  Eigen::VectorXd trend = Eigen::VectorXd::LinSpaced(90, 0.0, 1.0);
+  EXPECT_FALSE(AutocorrelationTest(trend).steady);
+  // White noise: at most a few lags outside the 95 % band in 20 series of 90.
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n01(0, 1);
+  int steady = 0;
+  for (int s = 0; s < 20; ++s) {
+    Eigen::VectorXd w(90);
+    for (int i = 0; i < 90; ++i) w[i] = n01(rng);
+    steady += AutocorrelationTest(w).steady ? 1 : 0;
+  }
+  EXPECT_GE(steady, 19);
+}
+
+TEST(ThermalLambda, CountsDirectionsBelowTheThreshold) {
+  // 2 points = 6 directions, reference column + 2 warm cycles.
+  Eigen::MatrixXd r(6, 3);
+  r << 0, 0.05, 0.05,    // RMS 0.05: pass
+      0, 0.2, 0.0,       // RMS 0.141: fail; max 0.2 fail
+      0, 0.09, -0.09,    // RMS 0.09 pass, max 0.09 pass
+      0, 0.13, 0.0,      // RMS 0.092 pass, max 0.13 fail
+      0, 0.0, 0.0,       // pass
+      0, 0.3, 0.3;       // fail
+  LambdaOptions o;
+  EXPECT_NEAR(Lambda(r, o), 100.0 * 4 / 6, 1e-12);
+  o.statistic = LambdaStatistic::kMax;
+  EXPECT_NEAR(Lambda(r, o), 100.0 * 3 / 6, 1e-12);
+}
+
+// The acceptance test over 3 runs (thesis Table 5-2 repeated the test 3 times):
+// screening recovers the simulator's drifting set (lengths and angles α3, α4, β2) and λ(screened)
+// ≥ 95 %, reported beside the traditional non-zero-length set and "all".
+class ThermalScreening : public ::testing::TestWithParam<int> {};
+
+TEST_P(ThermalScreening, RecoversTheDriftingSetAndBeatsTheTraditionalSet) {
+  const auto& e = Thesis(GetParam());
+  ScreeningOptions so;  // thesis: 24 candidates, keep 8, 20 poses, 0.1 mm
+  const ScreeningSummary s = ScreenParameters(e.experiment, so);
+  ASSERT_EQ(s.selected.size(), 8u);
+  ASSERT_EQ(s.steps.size(), 17u);  // 24 → 8, one row per set size as in Table 5-1
+  EXPECT_EQ(s.steps.front().card, 24);
+  EXPECT_EQ(s.steps.back().card, 8);
+  int hits = 0;
+  for (int p : s.selected) {
+    for (int t : e.sim.drifting_params) hits += (p == t) ? 1 : 0;
+  }
+  const double precision = static_cast<double>(hits) / s.selected.size();
+  const double recall = static_cast<double>(hits) / e.sim.drifting_params.size();
+  ::testing::Test::RecordProperty("precision", std::to_string(precision));
+  ::testing::Test::RecordProperty("recall", std::to_string(recall));
+  EXPECT_GE(precision, 7.0 / 8.0) << ParamListToString(s.selected);
+  EXPECT_GE(recall, 7.0 / 8.0) << ParamListToString(s.selected);
+  // The angles the thesis found are among the selected.
+  for (const char* name : {"alpha3", "alpha4", "beta2"}) {
+    bool found = false;
+    for (int p : s.selected) found |= kinematics::ParamName(p) == name;
+    EXPECT_TRUE(found) << name << " not in " << ParamListToString(s.selected);
+  }
+  const auto rows = CompareParameterSets(e.experiment,
+                                         {{"traditional", TraditionalParams(Kr150())}, {"screened", s.selected},
+                                          {"all", Kr150().FreeParams()}},
+                                         {}, so.lambda);
+  ASSERT_EQ(rows.size(), 4u);
+  const double before = rows[0].lambda, traditional = rows[1].lambda, screened = rows[2].lambda;
+  ::testing::Test::RecordProperty("lambda_before", std::to_string(before));
+  ::testing::Test::RecordProperty("lambda_traditional", std::to_string(traditional));
+  ::testing::Test::RecordProperty("lambda_screened", std::to_string(screened));
+  std::cout << "seed " << GetParam() << ": " << s.BriefReport() << "\n" << FormatComparisonTable(rows);
+  EXPECT_GE(screened, 95.0);
+  EXPECT_GT(screened, traditional + 20.0);
+  EXPECT_GT(screened, before + 40.0);
+  EXPECT_NEAR(screened, s.final_lambda, 1e-9);
+  // The monitoring residual with the screened set is at the measurement-noise floor: with the
+  // true drift it would be √2·√(σ_tool² + σ_rep²) per coordinate, plus identification noise.
+  const double floor = std::sqrt(2.0 * (std::pow(e.options.tool_sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
+  EXPECT_LT(rows[2].rms_residual_mm, 1.6 * floor);
+  EXPECT_GT(rows[1].rms_residual_mm, 2.0 * rows[2].rms_residual_mm);
+}
+
+INSTANTIATE_TEST_SUITE_P(ThreeRuns, ThermalScreening, ::testing::Values(1, 2, 3));
+
+// The same screened set at the production budget of 6 D-optimal poses (§5.1: "only 6 poses").
+TEST(ThermalScreeningBudget, SixPosesKeepLambdaHigh) {
+  const auto& e = Thesis(1);
+  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+  IdentificationOptions id;
+  id.poses = SelectPoses(dm, e.sim.drifting_params, 6);
+  const auto rows = CompareParameterSets(e.experiment, {{"screened", e.sim.drifting_params}}, id, LambdaOptions{});
+  EXPECT_EQ(rows[1].num_poses, 6);
+  EXPECT_GE(rows[1].lambda, 95.0);
+}
+
+TEST(ThermalScreening, EliminationTableHasTheThesisColumns) {
+  const auto& e = Thesis(1);
+  ScreeningOptions so;
+  so.keep = 20;
+  const ScreeningSummary s = ScreenParameters(e.experiment, so);
+  const std::string table = FormatEliminationTable(s);
+  EXPECT_NE(table.find("card(dX0)  removed   lambda(%)  steady set S"), std::string::npos);
+  EXPECT_EQ(s.steps.size(), 5u);
+  EXPECT_EQ(s.selected.size(), 20u);
+  // Every removed parameter came from the steady set S of the row before (thesis step 4).
+  for (std::size_t i = 1; i < s.steps.size(); ++i) {
+    const auto& prev = s.steps[i - 1];
+    bool in_s = false;
+    for (int p : prev.steady) in_s |= p == s.steps[i].removed;
+    EXPECT_TRUE(in_s || prev.steady_fallback);
+  }
+}
+
+}  // namespace
+}  // namespace ramtk::thermal
