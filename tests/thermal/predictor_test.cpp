@@ -1,0 +1,122 @@
+// Drift predictor between ball windows against hold-last, scored with the simulator's truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ramtk/core/error.h"
+#include "ramtk/thermal/predictor.h"
+#include "thermal_fixture.h"
+
+namespace ramtk::thermal {
+namespace {
+
+using testing::Kr150;
+using testing::SimulatedExperiment;
+using testing::Thesis;
+
+void Temperatures(const CycleSeries& s, Eigen::MatrixXd* temps, std::vector<double>* times) {
+  temps->resize(6, s.NumCycles());
+  times->clear();
+  for (int c = 0; c < s.NumCycles(); ++c) {
+    times->push_back(s.cycles[c].time_s);
+    for (int j = 0; j < 6; ++j) (*temps)(j, c) = s.cycles[c].extra.at("temp_j" + std::to_string(j + 1));
+  }
+}
+
+TEST(ThermalPredictor, LowPassOfAStepIsTheFirstOrderResponse) {
+  Eigen::MatrixXd temps = Eigen::MatrixXd::Constant(1, 200, 30.0);
+  temps(0, 0) = 20.0;
+  std::vector<double> times;
+  for (int i = 0; i < 200; ++i) times.push_back(10.0 * i);
+  const Eigen::MatrixXd f = FilteredTemperatureRise(temps, times, 300.0);
+  for (int i = 1; i < 200; ++i) EXPECT_NEAR(f(0, i), 10.0 * (1 - std::exp(-10.0 * i / 300.0)), 1e-9);
+}
+
+TEST(ThermalPredictor, ExactLinearDataGivesTheCoefficientsBack) {
+  Eigen::MatrixXd temps(2, 50);
+  std::vector<double> times;
+  for (int c = 0; c < 50; ++c) {
+    times.push_back(120.0 * c);
+    temps(0, c) = 22 + 8 * (1 - std::exp(-c / 15.0));
+    temps(1, c) = 22 + 5 * std::sin(c / 9.0);
+  }
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(30, 50);
+  for (int c = 0; c < 50; ++c) x(3, c) = 0.01 * (temps(0, c) - 22) - 0.004 * (temps(1, c) - 22);
+  TemperatureModelOptions o;
+  o.ridge = 0.0;
+  o.lag_candidates_s = {0.0, 600.0};
+  const TemperatureDriftModel m = FitTemperatureModel(x, temps, times, {3}, o);
+  EXPECT_EQ(m.lag_s, 0.0);
+  EXPECT_NEAR(m.coefficients(3, 0), 0.01, 1e-9);
+  EXPECT_NEAR(m.coefficients(3, 1), -0.004, 1e-9);
+}
+
+struct Errors {
+  double hold = 0.0, predicted = 0.0;
+};
+
+// RMS over the between-window cycles and the monitoring points of ‖J_k (ΔX_estimate − ΔX_true)‖.
+Errors Score(const SimulatedExperiment& e, const DriftPrediction& pred) {
+  const MonitoringModel mon(Kr150(), e.sim.setup, e.experiment.monitoring);
+  double sh = 0, sp = 0;
+  int n = 0;
+  for (int c = 0; c < static_cast<int>(pred.is_window.size()); ++c) {
+    if (pred.is_window[c]) continue;
+    for (int k = 0; k < mon.NumPoints(); ++k) {
+      const Eigen::VectorXd t = e.sim.true_delta_x.col(c);
+      sh += (mon.Jacobian(k) * (pred.hold_last.col(c) - t)).squaredNorm();
+      sp += (mon.Jacobian(k) * (pred.predicted.col(c) - t)).squaredNorm();
+      ++n;
+    }
+  }
+  return {std::sqrt(sh / n), std::sqrt(sp / n)};
+}
+
+// Characterisation run (seed 101, every cycle, 20 poses) → temperature model; production run
+// (seed 1 / 2) with a 6-pose window every 10 cycles (20 min).
+TEST(ThermalPredictor, OfflineTemperatureModelBeatsHoldLast) {
+  const auto& train = Thesis(101);
+  const std::vector<int> params = train.sim.drifting_params;
+  IdentificationOptions tid;
+  tid.params = params;
+  const Eigen::MatrixXd tx = IdentifyCycles(Kr150(), train.sim.setup, train.experiment.ball, tid);
+  Eigen::MatrixXd ttemps;
+  std::vector<double> ttimes;
+  Temperatures(train.experiment.ball, &ttemps, &ttimes);
+  const TemperatureDriftModel model = FitTemperatureModel(tx, ttemps, ttimes, params);
+  // The simulator's structure lags the housing sensors by 900 s; the fit should pick a nearby lag.
+  EXPECT_GE(model.lag_s, 600.0);
+  EXPECT_LE(model.lag_s, 1200.0);
+  for (int seed : {1, 2}) {
+    const auto& e = Thesis(seed);
+    const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+    IdentificationOptions id;
+    id.params = params;
+    id.poses = SelectPoses(dm, params, 6);
+    const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
+    Eigen::MatrixXd temps;
+    std::vector<double> times;
+    Temperatures(e.experiment.ball, &temps, &times);
+    DriftPredictorOptions po;
+    po.window_every = 10;
+    const DriftPrediction offline = PredictDrift(x, temps, times, params, po, &model);
+    const DriftPrediction online = PredictDrift(x, temps, times, params, po);
+    const Errors off = Score(e, offline), on = Score(e, online);
+    std::cout << "seed " << seed << ": between windows hold-last " << off.hold << " mm, online model " << on.predicted
+              << " mm, offline model " << off.predicted << " mm\n";
+    EXPECT_LT(off.predicted, 0.75 * off.hold);
+    EXPECT_LT(on.predicted, 1.1 * on.hold);  // online: no worse than hold-last (it has few windows)
+  }
+}
+
+TEST(ThermalPredictor, BadSizesAreInputErrors) {
+  EXPECT_THROW(PredictDrift(Eigen::MatrixXd::Zero(30, 5), Eigen::MatrixXd::Zero(6, 4), {0, 1, 2, 3, 4}, {3}),
+               InputError);
+  DriftPredictorOptions o;
+  o.window_every = 0;
+  EXPECT_THROW(PredictDrift(Eigen::MatrixXd::Zero(30, 5), Eigen::MatrixXd::Zero(6, 5), {0, 1, 2, 3, 4}, {3}, o),
+               InputError);
+}
+
+}  // namespace
+}  // namespace ramtk::thermal
