@@ -68,9 +68,9 @@ struct Scorer {
         monitoring(e.model, e.setup, e.monitoring),
         y(e.ball.DifferencesFromReference(poses)) {}
 
-  // ΔX per ball cycle (30 × ball cycles) and λ.
+  // ΔX per ball cycle (30 × ball cycles) and λ; *rms gets the RMS residual of the warm cycles.
   double Score(const IdentificationOptions& id, const LambdaOptions& lambda, Eigen::MatrixXd* x_ball,
-               Eigen::MatrixXd* residuals = nullptr) {
+               Eigen::MatrixXd* residuals = nullptr, double* rms = nullptr) {
     ++evaluations;
     const Eigen::MatrixXd x = drift_model.Solve(y, id);
     Eigen::MatrixXd x_mon(x.rows(), static_cast<Eigen::Index>(experiment.ball_column.size()));
@@ -78,6 +78,10 @@ struct Scorer {
     const Eigen::MatrixXd r = monitoring.Residuals(x_mon);
     if (x_ball != nullptr) *x_ball = x;
     if (residuals != nullptr) *residuals = r;
+    if (rms != nullptr) {
+      const Eigen::Index warm = r.cols() - 1;
+      *rms = warm > 0 ? std::sqrt(r.rightCols(warm).squaredNorm() / static_cast<double>(r.rows() * warm)) : 0.0;
+    }
     return Lambda(r, lambda);
   }
 };
@@ -119,7 +123,7 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
       break;
     }
     // (4) try removing each element of S.
-    double best_lambda = -1.0;
+    double best_lambda = -1.0, best_rms = 0.0;
     int best = -1;
     Eigen::MatrixXd best_x;
     for (int s : trial_set) {
@@ -129,9 +133,11 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
       }
       id.params = reduced;
       Eigen::MatrixXd x_trial;
-      const double lambda_i = scorer.Score(id, options.lambda, &x_trial);
-      if (lambda_i > best_lambda) {
+      double rms_i = 0.0;
+      const double lambda_i = scorer.Score(id, options.lambda, &x_trial, nullptr, &rms_i);
+      if (lambda_i > best_lambda || (lambda_i == best_lambda && rms_i < best_rms)) {
         best_lambda = lambda_i;
+        best_rms = rms_i;
         best = s;
         best_x = x_trial;
       }

@@ -46,7 +46,10 @@ struct ScreeningOptions {
   IdentificationOptions identification;  // poses (all 20 in the thesis) and SVD settings; params ignored
   LambdaOptions lambda;
   AcfOptions acf;
-  bool first_improvement = true;  // thesis step (4); false: always take the best removal
+  // Thesis step (4): take the first removal whose λ does not drop. false: try every removal and
+  // take the highest λ, ties broken by the lower RMS monitoring residual (λ moves in steps of one
+  // direction, so ties are common once it saturates).
+  bool first_improvement = true;
   ProgressCallback progress;      // called once per elimination step
   std::string Validate() const;
 };
