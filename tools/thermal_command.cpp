@@ -1,5 +1,6 @@
 // ramtk simulate thermal, ramtk thermal identify|screen|compensate|predict: thermal drift of the
 // kinematic parameters (thesis ch. 3 and §5.1). Options are parsed here; the work is in ramtk::thermal.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -206,6 +207,7 @@ struct ScreenOptions {
   bool best_improvement = false;
   int budget = 6;
   std::string out_json;
+  std::string out_series;
 };
 
 LambdaOptions MakeLambda(double threshold_mm, const std::string& statistic) {
@@ -233,6 +235,22 @@ int RunScreen(const ScreenOptions& opt) {
   if (!opt.in.params.empty()) so.candidates = ParseParamList(opt.in.params, e.model, "--params");
   const ScreeningSummary s = ScreenParameters(ex, so);
   std::cout << "Elimination (form of thesis Table 5-1):\n" << FormatEliminationTable(s) << s.BriefReport() << "\n\n";
+  if (!opt.out_series.empty()) {
+    // Per-parameter series with every candidate (Figs. 3-3/3-4), and which the first test called steady.
+    std::vector<int> first = so.candidates.empty() ? e.model.FreeParams() : so.candidates;
+    std::sort(first.begin(), first.end());
+    std::string csv = "# steady in the first autocorrelation test: " +
+                      (s.steps.empty() ? std::string("-") : ParamListToString(s.steps[0].steady)) + "\ncycle,time_s";
+    for (int p : first) csv += "," + kinematics::ParamName(p);
+    csv += "\n";
+    for (int c = 0; c < e.ball.NumCycles(); ++c) {
+      csv += std::to_string(e.ball.cycles[c].cycle) + Fmt(",%.3f", e.ball.cycles[c].time_s);
+      for (int p : first) csv += Fmt(",%.9g", ToFileUnits(p, s.initial_delta_x(p, c)));
+      csv += "\n";
+    }
+    WriteFileAtomically(opt.out_series, csv);
+    std::cout << "wrote " << opt.out_series << "\n";
+  }
   const std::vector<std::pair<std::string, std::vector<int>>> sets = {
       {"traditional", TraditionalParams(e.model)}, {"screened", s.selected}, {"all", e.model.FreeParams()}};
   const auto rows = CompareParameterSets(ex, sets, {}, so.lambda);
@@ -450,6 +468,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_flag("--best-improvement", opt->best_improvement, "Take the best removal, not the first non-worse");
     sub->add_option("--pose-budget", opt->budget, "Also compare the sets on this many D-optimal poses (0: skip)");
     sub->add_option("--json", opt->out_json, "Write the tables as JSON");
+    sub->add_option("--series", opt->out_series, "Write every candidate's identified series per cycle (CSV, mm/deg)");
     sub->callback([opt, exit_code]() { *exit_code = RunScreen(*opt); });
   }
   {

@@ -100,6 +100,7 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
   Eigen::MatrixXd x_ball;
   double lambda = scorer.Score(id, options.lambda, &x_ball);
   summary.initial_lambda = lambda;
+  summary.initial_delta_x = x_ball;
   int removed = -1;
   while (true) {
     ScreeningStep step;

@@ -72,6 +72,9 @@ struct ScreeningSummary {
   std::vector<ScreeningStep> steps;
   std::vector<int> selected;
   Eigen::MatrixXd selected_delta_x;     // 30 × monitoring cycles, identified with `selected`
+  // 30 × ball cycles identified with every candidate: the per-parameter curves of Figs. 3-3/3-4
+  // that the first autocorrelation test looks at.
+  Eigen::MatrixXd initial_delta_x;
   std::string BriefReport() const;
 };
 
