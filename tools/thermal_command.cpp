@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -82,9 +81,9 @@ struct ExperimentInputs {
   std::string monitoring_path;
   int reference_cycle = 0;
   double joint_tolerance_deg = 0.01;
-  std::string params;     // names, "traditional", "all"
-  std::string poses;      // pose positions, comma list
-  int pose_budget = 0;    // choose this many poses D-optimally for `params`
+  std::string params;   // names, "traditional", "all"
+  std::string poses;    // pose positions, comma list
+  int pose_budget = 0;  // choose this many poses D-optimally for `params`
 };
 
 void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
@@ -131,7 +130,8 @@ IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExpe
     for (double p : ParseDoubleList(in.poses, {"", 0, "--poses"})) {
       const int k = static_cast<int>(p);
       if (k != p || k < 0 || k >= e.ball.NumPoses()) {
-        throw InputError({"", 0, "--poses"}, "pose positions are integers in 0.." + std::to_string(e.ball.NumPoses() - 1));
+        throw InputError({"", 0, "--poses"},
+                         "pose positions are integers in 0.." + std::to_string(e.ball.NumPoses() - 1));
       }
       id.poses.push_back(k);
     }
@@ -270,8 +270,12 @@ int RunScreen(const ScreenOptions& opt) {
   auto rows_json = [](const std::vector<ComparisonRow>& rs) {
     nlohmann::json a = nlohmann::json::array();
     for (const ComparisonRow& r : rs) {
-      a.push_back({{"set", r.label}, {"params", ParamListToString(r.params)}, {"poses", r.num_poses},
-                   {"lambda_percent", r.lambda}, {"rms_mm", r.rms_residual_mm}, {"worst_mm", r.worst_residual_mm}});
+      a.push_back({{"set", r.label},
+                   {"params", ParamListToString(r.params)},
+                   {"poses", r.num_poses},
+                   {"lambda_percent", r.lambda},
+                   {"rms_mm", r.rms_residual_mm},
+                   {"worst_mm", r.worst_residual_mm}});
     }
     return a;
   };
@@ -288,7 +292,8 @@ int RunScreen(const ScreenOptions& opt) {
       if (budget_rows.empty()) budget_rows.push_back(r[0]);
       budget_rows.push_back(r[1]);
     }
-    std::cout << "\nProduction budget: " << opt.budget << " D-optimal poses per set:\n" << FormatComparisonTable(budget_rows);
+    std::cout << "\nProduction budget: " << opt.budget << " D-optimal poses per set:\n"
+              << FormatComparisonTable(budget_rows);
     j["comparison_budget"] = rows_json(budget_rows);
   }
   if (!opt.out_json.empty()) {
@@ -320,7 +325,8 @@ int RunCompensate(const CompensateOptions& opt) {
   const Eigen::MatrixXd before = mon.Uncompensated();
   const Eigen::MatrixXd after = mon.Residuals(x_mon);
   const int col = opt.cycle < 0 ? e.monitoring.NumCycles() - 1 : e.monitoring.Find(opt.cycle);
-  if (col < 0) throw InputError({opt.in.monitoring_path, 0, "--cycle"}, "cycle " + std::to_string(opt.cycle) + " not found");
+  if (col < 0)
+    throw InputError({opt.in.monitoring_path, 0, "--cycle"}, "cycle " + std::to_string(opt.cycle) + " not found");
   CompensationSummary cs;
   const ParamVector dx = x_mon.col(col);
   const auto corrected = CompensateTaughtPoses(e.model, dx, e.monitoring.taught, {}, &cs);
@@ -328,7 +334,8 @@ int RunCompensate(const CompensateOptions& opt) {
   for (int k = 0; k < e.monitoring.NumPoses(); ++k) {
     csv += std::to_string(e.monitoring.ids[k]);
     for (int j = 0; j < kinematics::kNumJoints; ++j) csv += Fmt(",%.9f", RadToDeg(corrected[k][j]));
-    for (int j = 0; j < kinematics::kNumJoints; ++j) csv += Fmt(",%.9f", RadToDeg(corrected[k][j] - e.monitoring.taught[k][j]));
+    for (int j = 0; j < kinematics::kNumJoints; ++j)
+      csv += Fmt(",%.9f", RadToDeg(corrected[k][j] - e.monitoring.taught[k][j]));
     csv += "\n";
   }
   if (!opt.out_path.empty()) WriteFileAtomically(opt.out_path, csv);
@@ -339,8 +346,8 @@ int RunCompensate(const CompensateOptions& opt) {
             << e.monitoring.NumCycles() << " cycles):\n"
             << "  lambda (RMS over cycles < " << opt.threshold_mm << " mm): before " << Fmt("%.2f", Lambda(before, lo))
             << " %, after " << Fmt("%.2f", Lambda(after, lo)) << " %\n"
-            << "  RMS residual: before " << Fmt("%.4f", std::sqrt(before.squaredNorm() / before.size())) << " mm, after "
-            << Fmt("%.4f", std::sqrt(after.squaredNorm() / after.size())) << " mm\n"
+            << "  RMS residual: before " << Fmt("%.4f", std::sqrt(before.squaredNorm() / before.size()))
+            << " mm, after " << Fmt("%.4f", std::sqrt(after.squaredNorm() / after.size())) << " mm\n"
             << "corrected joints for the taught monitoring poses at cycle " << e.monitoring.cycles[col].cycle << ": "
             << cs.BriefReport() << "\n";
   if (!opt.out_path.empty()) std::cout << "wrote " << opt.out_path << "\n";
@@ -438,7 +445,8 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
   {
     CLI::App* simulate = GetOrAdd(app, "simulate", "Simulators that write data sets with ground truth");
     auto opt = std::make_shared<SimulateThermalOptions>();
-    CLI::App* sub = simulate->add_subcommand("thermal", "Thermal drift experiment (thesis §5.1): ball, monitoring, truth");
+    CLI::App* sub =
+        simulate->add_subcommand("thermal", "Thermal drift experiment (thesis §5.1): ball, monitoring, truth");
     sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
     sub->add_option("--preset", opt->preset, "Experiment preset (thesis)");
     sub->add_option("--seed", opt->seed, "Random seed");
@@ -473,7 +481,8 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
   }
   {
     auto opt = std::make_shared<CompensateOptions>();
-    CLI::App* sub = thermal->add_subcommand("compensate", "Corrected joints for the taught poses; monitoring residuals");
+    CLI::App* sub =
+        thermal->add_subcommand("compensate", "Corrected joints for the taught poses; monitoring residuals");
     AddInputs(sub, &opt->in, true);
     sub->add_option("--params", opt->in.params, "Parameters to identify")->required();
     sub->add_option("--poses", opt->in.poses, "Ball pose positions to use (default all)");

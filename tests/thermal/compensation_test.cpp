@@ -1,10 +1,11 @@
 // Compensation of taught poses (IK under the identified drift) scored with the simulator's truth:
 // what the tool sensor would read at the corrected joints on the true warm robot.
+#include "ramtk/thermal/compensation.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "ramtk/thermal/compensation.h"
 #include "thermal_fixture.h"
 
 namespace ramtk::thermal {
@@ -66,7 +67,8 @@ void CheckIdentified(int budget) {
   // Expected RMS from the noise model: tool-sensor reading error ≈ R·J_k·δX (rotation-invariant).
   Eigen::MatrixXd a(3 * budget, params.size());
   for (int i = 0; i < budget; ++i) {
-    for (std::size_t c = 0; c < params.size(); ++c) a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1);
+    for (std::size_t c = 0; c < params.size(); ++c)
+      a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1);
   }
   const double s2 = 2 * (std::pow(e.options.sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2));
   const Eigen::MatrixXd cov = s2 * (a.transpose() * a).inverse();
@@ -97,12 +99,14 @@ TEST(ThermalCompensation, RecomputedPointsWithTrueDriftAreAtTheNoiseFloor) {
   // Truth at each monitoring instant.
   for (int c = 0; c < cycles; ++c) {
     for (int k = 0; k < points; ++k) {
-      const Eigen::VectorXd d = e.sim.true_delta_x_monitoring.col(c * points + k) - e.sim.true_delta_x_monitoring.col(k);
+      const Eigen::VectorXd d =
+          e.sim.true_delta_x_monitoring.col(c * points + k) - e.sim.true_delta_x_monitoring.col(k);
       r.block<3, 1>(3 * k, c) += mon.Jacobian(k) * d;
     }
   }
   const double rms = std::sqrt(r.rightCols(cycles - 1).squaredNorm() / (r.rows() * (cycles - 1)));
-  const double expected = std::sqrt(2.0 * (std::pow(e.options.tool_sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
+  const double expected =
+      std::sqrt(2.0 * (std::pow(e.options.tool_sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
   EXPECT_NEAR(rms, expected, 0.1 * expected);
   EXPECT_GT(std::sqrt(mon.Uncompensated().squaredNorm() / mon.Uncompensated().size()), 3 * expected);
 }

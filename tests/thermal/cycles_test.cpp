@@ -1,11 +1,12 @@
 // Cycle grouping and setup files: the bad inputs of the issue are InputErrors naming file/line/field.
+#include "ramtk/thermal/cycles.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
-#include "ramtk/thermal/cycles.h"
 #include "ramtk/thermal/setup.h"
 
 namespace ramtk::thermal {
@@ -38,8 +39,8 @@ std::string ErrorOf(const std::string& text, CycleOptions o = {}) {
 }
 
 TEST(ThermalCycles, GroupsAndDifferences) {
-  const std::string text = std::string(kHeader) + Row(0, 0, 10, 1.0) + Row(0, 1, 20, 2.0) + Row(1, 1, 20, 2.5) +
-                           Row(1, 0, 10, 0.5);
+  const std::string text =
+      std::string(kHeader) + Row(0, 0, 10, 1.0) + Row(0, 1, 20, 2.0) + Row(1, 1, 20, 2.5) + Row(1, 0, 10, 0.5);
   const CycleSeries s = GroupCycles(Parse(text), "ball.csv");
   ASSERT_EQ(s.NumCycles(), 2);
   ASSERT_EQ(s.NumPoses(), 2);
@@ -67,7 +68,8 @@ TEST(ThermalCycles, InconsistentPoseSets) {
   EXPECT_NE(e.find("cycle 1 lacks pose 1"), std::string::npos) << e;
   // A pose that the reference does not have (line 6).
   e = ErrorOf(base + Row(1, 0, 10, 1.0) + Row(1, 1, 20, 1.0) + Row(1, 2, 20, 1.0));
-  EXPECT_NE(e.find("ball.csv:6: field 'pose': pose 2 of cycle 1 is not in the reference cycle 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("ball.csv:6: field 'pose': pose 2 of cycle 1 is not in the reference cycle 0"), std::string::npos)
+      << e;
   // The same pose id at different joints (line 5).
   e = ErrorOf(base + Row(1, 0, 10.5, 1.0) + Row(1, 1, 20, 1.0));
   EXPECT_NE(e.find("ball.csv:4: field 'q1..q6': pose 0 of cycle 1 has joints 0.5"), std::string::npos) << e;
@@ -99,7 +101,8 @@ TEST(ThermalSetupFile, RoundTripAndThesisValues) {
     ReadThermalSetup(path);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("field 'sensor_from_base': rotation part is not orthonormal"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("field 'sensor_from_base': rotation part is not orthonormal"),
+              std::string::npos)
         << e.what();
   }
   WriteFileAtomically(path, R"({"sensor_from_base": [[1,0,0,0],[0,1,0,0],[0,0,1,0]]})");

@@ -1,13 +1,13 @@
 // Identification (eqs. 3-5..3-10) against finite differences and the simulator's truth.
+#include "ramtk/thermal/identify.h"
+
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include <Eigen/Dense>
+#include <cmath>
 
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/forward.h"
-#include "ramtk/thermal/identify.h"
 #include "thermal_fixture.h"
 
 namespace ramtk::thermal {
@@ -36,7 +36,8 @@ TEST(ThermalIdentify, SensitivityMatchesFiniteDifferencesOfTheBallCentre) {
       plus[p] += h;
       minus[p] -= h;
       const Vec3 fd = (BallInSensor(plus, e.sim.setup, e.experiment.ball.taught[i]) -
-                       BallInSensor(minus, e.sim.setup, e.experiment.ball.taught[i])) / (2 * h);
+                       BallInSensor(minus, e.sim.setup, e.experiment.ball.taught[i])) /
+                      (2 * h);
       const Vec3 analytic = dm.FullSensitivity().block<3, 1>(3 * i, p);
       EXPECT_LT((fd - analytic).norm(), 1e-6 * (1 + analytic.norm())) << kinematics::ParamName(p) << " pose " << i;
     }
@@ -85,7 +86,8 @@ void CheckAgainstNoiseBound(int budget) {
   ASSERT_EQ(s.num_poses, budget);
   Eigen::MatrixXd a(3 * budget, params.size());
   for (int i = 0; i < budget; ++i) {
-    for (std::size_t c = 0; c < params.size(); ++c) a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1);
+    for (std::size_t c = 0; c < params.size(); ++c)
+      a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1);
   }
   const double s2 = 2 * (std::pow(e.options.sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2));
   const Eigen::MatrixXd cov = s2 * (a.transpose() * a).inverse();
@@ -99,7 +101,8 @@ void CheckAgainstNoiseBound(int budget) {
     // The cold cycle's noise is shared by all cycles, so 89 cycles are far from 89 independent
     // draws: allow 2σ.
     EXPECT_LT(rms, 2.0 * std::sqrt(cov(c, c))) << kinematics::ParamName(p) << " budget " << budget;
-    ::testing::Test::RecordProperty(kinematics::ParamName(p) + "_rms_over_sigma", std::to_string(rms / std::sqrt(cov(c, c))));
+    ::testing::Test::RecordProperty(kinematics::ParamName(p) + "_rms_over_sigma",
+                                    std::to_string(rms / std::sqrt(cov(c, c))));
   }
   for (int k = 1; k < 90; ++k) {
     Eigen::VectorXd d(params.size());
@@ -154,13 +157,14 @@ TEST(ThermalIdentify, ReportsTheUnidentifiableCombination) {
 TEST(ThermalIdentify, FewerEquationsThanParametersIsAnInputError) {
   const auto& e = Thesis(1);
   const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
-  IdentificationOptions id;  // 24 parameters
+  IdentificationOptions id;          // 24 parameters
   id.poses = {0, 1, 2, 3, 4, 5, 6};  // 21 equations
   try {
     dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
     FAIL() << "expected InputError";
   } catch (const InputError& err) {
-    EXPECT_NE(std::string(err.what()).find("7 poses give 21 equations, fewer than the 24 parameters"), std::string::npos)
+    EXPECT_NE(std::string(err.what()).find("7 poses give 21 equations, fewer than the 24 parameters"),
+              std::string::npos)
         << err.what();
   }
   id.poses.push_back(7);  // 24 equations: allowed
@@ -185,8 +189,8 @@ TEST(ThermalIdentify, DOptimalSelectionBeatsTheFirstPoses) {
     Eigen::MatrixXd a(3 * poses.size(), params.size());
     for (std::size_t i = 0; i < poses.size(); ++i) {
       for (std::size_t c = 0; c < params.size(); ++c) {
-        a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1) /
-                                  dm.FullSensitivity().col(params[c]).norm();
+        a.block(3 * i, c, 3, 1) =
+            dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1) / dm.FullSensitivity().col(params[c]).norm();
       }
     }
     return std::log((a.transpose() * a).determinant());

@@ -1,10 +1,11 @@
 // Drift predictor between ball windows against hold-last, scored with the simulator's truth.
+#include "ramtk/thermal/predictor.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ramtk/core/error.h"
-#include "ramtk/thermal/predictor.h"
 #include "thermal_fixture.h"
 
 namespace ramtk::thermal {

@@ -1,10 +1,11 @@
 // Screening (§3.2, Tables 5-1/5-2) against the simulator's drifting set; λ and ACF closed forms.
+#include "ramtk/thermal/screening.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "ramtk/thermal/screening.h"
 #include "thermal_fixture.h"
 
 namespace ramtk::thermal {
@@ -43,12 +44,12 @@ TEST(ThermalAcf, ClosedForms) {
 TEST(ThermalLambda, CountsDirectionsBelowTheThreshold) {
   // 2 points = 6 directions, reference column + 2 warm cycles.
   Eigen::MatrixXd r(6, 3);
-  r << 0, 0.05, 0.05,    // RMS 0.05: pass
-      0, 0.2, 0.0,       // RMS 0.141: fail; max 0.2 fail
-      0, 0.09, -0.09,    // RMS 0.09 pass, max 0.09 pass
-      0, 0.13, 0.0,      // RMS 0.092 pass, max 0.13 fail
-      0, 0.0, 0.0,       // pass
-      0, 0.3, 0.3;       // fail
+  r << 0, 0.05, 0.05,  // RMS 0.05: pass
+      0, 0.2, 0.0,     // RMS 0.141: fail; max 0.2 fail
+      0, 0.09, -0.09,  // RMS 0.09 pass, max 0.09 pass
+      0, 0.13, 0.0,    // RMS 0.092 pass, max 0.13 fail
+      0, 0.0, 0.0,     // pass
+      0, 0.3, 0.3;     // fail
   LambdaOptions o;
   EXPECT_NEAR(Lambda(r, o), 100.0 * 4 / 6, 1e-12);
   o.statistic = LambdaStatistic::kMax;
@@ -86,10 +87,10 @@ TEST_P(ThermalScreening, RecoversTheDriftingSetAndBeatsTheTraditionalSet) {
     angles += (name == "alpha3" || name == "alpha4" || name == "beta2") ? 1 : 0;
   }
   EXPECT_GE(angles, 2) << ParamListToString(s.selected);
-  const auto rows = CompareParameterSets(e.experiment,
-                                         {{"traditional", TraditionalParams(Kr150())}, {"screened", s.selected},
-                                          {"all", Kr150().FreeParams()}},
-                                         {}, so.lambda);
+  const auto rows = CompareParameterSets(
+      e.experiment,
+      {{"traditional", TraditionalParams(Kr150())}, {"screened", s.selected}, {"all", Kr150().FreeParams()}}, {},
+      so.lambda);
   ASSERT_EQ(rows.size(), 4u);
   const double before = rows[0].lambda, traditional = rows[1].lambda, screened = rows[2].lambda;
   ::testing::Test::RecordProperty("lambda_before", std::to_string(before));
@@ -103,7 +104,8 @@ TEST_P(ThermalScreening, RecoversTheDriftingSetAndBeatsTheTraditionalSet) {
   EXPECT_NEAR(screened, s.final_lambda, 1e-9);
   // The monitoring residual with the screened set is at the measurement-noise floor: with the
   // true drift it would be √2·√(σ_tool² + σ_rep²) per coordinate, plus identification noise.
-  const double floor = std::sqrt(2.0 * (std::pow(e.options.tool_sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
+  const double floor =
+      std::sqrt(2.0 * (std::pow(e.options.tool_sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
   EXPECT_LT(rows[2].rms_residual_mm, 1.6 * floor);
   EXPECT_GT(rows[1].rms_residual_mm, rows[2].rms_residual_mm);
 }

@@ -64,7 +64,8 @@ TEST(ThermalSimulator, ThesisPresetGeometryAndMagnitudes) {
   double largest = 0.0;
   for (int c = 0; c < 90; ++c) {
     for (int i = 0; i < 20; ++i) {
-      largest = std::max(largest, (e.experiment.ball.cycles[c].position_mm[i] - e.experiment.ball.cycles[0].position_mm[i]).norm());
+      largest = std::max(
+          largest, (e.experiment.ball.cycles[c].position_mm[i] - e.experiment.ball.cycles[0].position_mm[i]).norm());
     }
   }
   EXPECT_GT(largest, 0.3);
@@ -82,7 +83,8 @@ TEST(ThermalSimulator, NoiseFreeBallReadingsAreTheWarmForwardKinematics) {
     const kinematics::ParamVector dx = TrueDriftAt(o, row.time_s);
     kinematics::RobotModel warm = Kr150();
     warm.SetParams(Kr150().Params() + dx);
-    const Vec3 expected = o.setup.sensor_from_base * (kinematics::BaseFromFlange(warm, row.q_controller) * o.setup.ball_in_flange);
+    const Vec3 expected =
+        o.setup.sensor_from_base * (kinematics::BaseFromFlange(warm, row.q_controller) * o.setup.ball_in_flange);
     EXPECT_LT((row.position_mm - expected).norm(), 1e-6);
   }
 }

@@ -42,7 +42,8 @@ std::vector<JointVector> CompensateTaughtPoses(const RobotModel& model, const Pa
     s.iterations += ik.iterations;
     if (ik.Converged()) ++s.converged;
     initial_sq += std::pow((kinematics::BaseFromFlange(warm, q).translation() - target.translation()).norm(), 2);
-    const double final_err = (kinematics::BaseFromFlange(warm, ik.q_controller).translation() - target.translation()).norm();
+    const double final_err =
+        (kinematics::BaseFromFlange(warm, ik.q_controller).translation() - target.translation()).norm();
     final_sq += final_err * final_err;
     s.worst_final_position_error_mm = std::max(s.worst_final_position_error_mm, final_err);
     s.max_joint_change_deg = std::max(s.max_joint_change_deg, RadToDeg((ik.q_controller - q).cwiseAbs().maxCoeff()));

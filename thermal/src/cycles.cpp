@@ -53,9 +53,8 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
   std::map<int, JointVector> reference;
   for (const auto* row : ref_it->second) {
     if (!reference.emplace(row->index, row->q_controller).second) {
-      throw InputError({path, row->line, index_name},
-                       std::string(index_name) + " " + std::to_string(row->index) + " appears twice in cycle " +
-                           std::to_string(row->cycle));
+      throw InputError({path, row->line, index_name}, std::string(index_name) + " " + std::to_string(row->index) +
+                                                          " appears twice in cycle " + std::to_string(row->cycle));
     }
   }
   for (const auto& [id, q] : reference) {
@@ -99,9 +98,9 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
     }
     for (std::size_t k = 0; k < seen.size(); ++k) {
       if (!seen[k]) {
-        throw InputError({path, rows.front()->line, index_name},
-                         "cycle " + std::to_string(cycle_number) + " lacks " + index_name + " " +
-                             std::to_string(series.ids[k]) + " (pose sets differ between cycles)");
+        throw InputError({path, rows.front()->line, index_name}, "cycle " + std::to_string(cycle_number) + " lacks " +
+                                                                     index_name + " " + std::to_string(series.ids[k]) +
+                                                                     " (pose sets differ between cycles)");
       }
     }
     cycle.time_s = time_sum / static_cast<double>(rows.size());

@@ -1,13 +1,12 @@
 #include "ramtk/thermal/identify.h"
 
+#include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
-
-#include <Eigen/QR>
-#include <Eigen/SVD>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
@@ -66,12 +65,12 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
   if (3 * m < k) {
     throw InputError({"", 0, "poses"}, std::to_string(m) + " poses give " + std::to_string(3 * m) +
                                            " equations, fewer than the " + std::to_string(k) +
-                                           " parameters to identify (need at least " +
-                                           std::to_string((k + 2) / 3) + " poses)");
+                                           " parameters to identify (need at least " + std::to_string((k + 2) / 3) +
+                                           " poses)");
   }
   if (y.rows() != 3 * m) {
-    throw InputError({"", 0, "Y"}, "differences have " + std::to_string(y.rows()) + " rows, expected " +
-                                       std::to_string(3 * m));
+    throw InputError({"", 0, "Y"},
+                     "differences have " + std::to_string(y.rows()) + " rows, expected " + std::to_string(3 * m));
   }
   Eigen::MatrixXd a(3 * m, k);
   for (int i = 0; i < m; ++i) {
@@ -147,8 +146,9 @@ Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setu
 std::vector<int> SelectPoses(const DriftModel& drift_model, const std::vector<int>& params, int count) {
   const int n = drift_model.NumPoses();
   const int k = static_cast<int>(params.size());
-  if (count > n) throw InputError({"", 0, "poses"}, "cannot select " + std::to_string(count) + " of " +
-                                                        std::to_string(n) + " poses");
+  if (count > n)
+    throw InputError({"", 0, "poses"},
+                     "cannot select " + std::to_string(count) + " of " + std::to_string(n) + " poses");
   Eigen::MatrixXd a(3 * n, k);
   for (int c = 0; c < k; ++c) a.col(c) = drift_model.FullSensitivity().col(params[c]);
   for (int c = 0; c < k; ++c) {

@@ -24,8 +24,8 @@ MonitoringModel::MonitoringModel(const RobotModel& model, const ThermalSetup& se
   for (int c = 0; c < cycles; ++c) {
     for (int k = 0; k < n; ++k) {
       const Cycle& cyc = monitoring.cycles[c];
-      base.block<3, 1>(3 * k, c) = kinematics::BaseFromFlange(model, cyc.q_controller[k]) *
-                                   (setup.flange_from_tool_sensor * cyc.position_mm[k]);
+      base.block<3, 1>(3 * k, c) =
+          kinematics::BaseFromFlange(model, cyc.q_controller[k]) * (setup.flange_from_tool_sensor * cyc.position_mm[k]);
     }
   }
   nominal_ = base.colwise() - base.col(0);
@@ -66,8 +66,7 @@ double Lambda(const Eigen::MatrixXd& residuals, const LambdaOptions& options) {
 ThermalExperiment MakeExperiment(const RobotModel& model, const ThermalSetup& setup, CycleSeries ball,
                                  CycleSeries monitoring) {
   ThermalExperiment e{model, setup, std::move(ball), std::move(monitoring), {}};
-  if (e.ball.cycles.empty() || e.monitoring.cycles.empty() ||
-      e.ball.cycles[0].cycle != e.monitoring.cycles[0].cycle) {
+  if (e.ball.cycles.empty() || e.monitoring.cycles.empty() || e.ball.cycles[0].cycle != e.monitoring.cycles[0].cycle) {
     throw InputError({e.monitoring.path, 0, "cycle"},
                      "the monitoring file and the ball file must share the cold reference cycle");
   }
@@ -84,7 +83,8 @@ ThermalExperiment MakeExperiment(const RobotModel& model, const ThermalSetup& se
 
 Eigen::MatrixXd IdentifyForMonitoring(const ThermalExperiment& experiment, const DriftModel& drift_model,
                                       const IdentificationOptions& options, IdentificationSummary* summary) {
-  const Eigen::MatrixXd x = drift_model.Solve(experiment.ball.DifferencesFromReference(options.poses), options, summary);
+  const Eigen::MatrixXd x =
+      drift_model.Solve(experiment.ball.DifferencesFromReference(options.poses), options, summary);
   Eigen::MatrixXd out(x.rows(), static_cast<Eigen::Index>(experiment.ball_column.size()));
   for (std::size_t c = 0; c < experiment.ball_column.size(); ++c) out.col(c) = x.col(experiment.ball_column[c]);
   return out;

@@ -1,9 +1,8 @@
 #include "ramtk/thermal/predictor.h"
 
+#include <Eigen/Cholesky>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Cholesky>
 
 #include "ramtk/core/error.h"
 
@@ -26,7 +25,8 @@ std::string DriftPredictorOptions::Validate() const {
 
 std::string DriftPredictionSummary::BriefReport() const {
   char buf[240];
-  std::snprintf(buf, sizeof(buf), "drift prediction %s: %d windows, %d cycles predicted by the temperature model (lag %.0f s)",
+  std::snprintf(buf, sizeof(buf),
+                "drift prediction %s: %d windows, %d cycles predicted by the temperature model (lag %.0f s)",
                 termination.c_str(), windows, predicted_cycles, lag_s);
   return buf;
 }

@@ -34,8 +34,8 @@ Isometry3 TransformFromJson(const nlohmann::json& j, const std::string& path, co
   }
   const Mat3 rot = m.topLeftCorner<3, 3>();
   if (OrthonormalityError(rot) > 1e-3) {
-    throw InputError({path, 0, field}, "rotation part is not orthonormal (error " +
-                                           std::to_string(OrthonormalityError(rot)) + ")");
+    throw InputError({path, 0, field},
+                     "rotation part is not orthonormal (error " + std::to_string(OrthonormalityError(rot)) + ")");
   }
   Isometry3 t = Isometry3::Identity();
   t.linear() = NearestRotation(rot);

@@ -27,7 +27,8 @@ std::string ThermalSimOptions::Validate() const {
   if (!(cycle_period_s > 0.0)) return "cycle_period_s must be > 0";
   if (duty.empty()) return "duty needs at least one phase";
   for (const DutyPhase& p : duty) {
-    if (!(p.duration_s > 0.0) || !(p.duty >= 0.0 && p.duty <= 1.0)) return "duty phases need duration > 0, duty in [0,1]";
+    if (!(p.duration_s > 0.0) || !(p.duty >= 0.0 && p.duty <= 1.0))
+      return "duty phases need duration > 0, duty in [0,1]";
   }
   for (const HeatSource& h : sources) {
     if (h.joint < 0 || h.joint >= kNumJoints) return "heat source joint out of range";
@@ -65,7 +66,7 @@ ThermalSimOptions ThesisPreset(std::uint64_t seed) {
   // Heating at full duty for 110 min (warm-up, then near steady), then 70 min at 10 % (cooling).
   o.duty = {{110.0 * 60.0, 1.0}, {70.0 * 60.0, 0.1}};
   o.sources = {{0, 8.0, 2400, 3600}, {1, 12.0, 2100, 3300}, {2, 10.0, 1800, 3000},
-               {3, 7.0, 1500, 2700}, {4, 6.0, 1200, 2400}, {5, 5.0, 1200, 2400}};
+               {3, 7.0, 1500, 2700}, {4, 6.0, 1200, 2400},  {5, 5.0, 1200, 2400}};
   auto drift = [](ParamKind kind, int joint, std::vector<double> per_k) {
     return ParamDrift{ParamIndex(kind, joint), std::move(per_k)};
   };
@@ -74,14 +75,14 @@ ThermalSimOptions ThesisPreset(std::uint64_t seed) {
   // ranges of thesis Table 5-2 (43–49 % and 74–87 %); ~0.3–0.5 mm at the ball after 2 h.
   const double urad = 1e-6;
   o.drifts = {
-      drift(ParamKind::kD, 3, {0, 0, 0.008, 0.006, 0, 0}),           // d4: forearm expansion
-      drift(ParamKind::kD, 5, {0, 0, 0, 0, 0.004, 0.005}),           // d6: wrist to flange
-      drift(ParamKind::kA, 0, {0.004, 0.003, 0, 0, 0, 0}),           // a1: shoulder offset
-      drift(ParamKind::kA, 1, {0, 0.008, 0.008, 0, 0, 0}),           // a2: upper arm
-      drift(ParamKind::kA, 2, {0, 0, 0.005, 0, 0, 0}),               // a3: elbow housing
-      drift(ParamKind::kAlpha, 2, {0, 0, 6 * urad, 0, 0, 0}),        // α3: elbow bearing tilt
-      drift(ParamKind::kAlpha, 3, {0, 0, 0, -12.5 * urad, 0, 0}),    // α4: wrist tilt
-      drift(ParamKind::kBeta, 1, {0, 5 * urad, 0, 0, 0, 0}),         // β2: upper-arm bending
+      drift(ParamKind::kD, 3, {0, 0, 0.008, 0.006, 0, 0}),         // d4: forearm expansion
+      drift(ParamKind::kD, 5, {0, 0, 0, 0, 0.004, 0.005}),         // d6: wrist to flange
+      drift(ParamKind::kA, 0, {0.004, 0.003, 0, 0, 0, 0}),         // a1: shoulder offset
+      drift(ParamKind::kA, 1, {0, 0.008, 0.008, 0, 0, 0}),         // a2: upper arm
+      drift(ParamKind::kA, 2, {0, 0, 0.005, 0, 0, 0}),             // a3: elbow housing
+      drift(ParamKind::kAlpha, 2, {0, 0, 6 * urad, 0, 0, 0}),      // α3: elbow bearing tilt
+      drift(ParamKind::kAlpha, 3, {0, 0, 0, -12.5 * urad, 0, 0}),  // α4: wrist tilt
+      drift(ParamKind::kBeta, 1, {0, 5 * urad, 0, 0, 0, 0}),       // β2: upper-arm bending
   };
   return o;
 }
@@ -183,8 +184,7 @@ std::vector<JointVector> PlaceBallPoses(const RobotModel& model, const ThermalSi
     if (!WithinLimits(q)) continue;
     candidates.emplace_back((kinematics::BaseFromFlange(model, q) * o.setup.ball_in_flange - centre).norm(), q);
   }
-  std::sort(candidates.begin(), candidates.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   const int num_seeds = std::min<int>(8, static_cast<int>(candidates.size()));
   if (num_seeds == 0) throw InputError({"", 0, "sensor_from_base"}, "no configuration reaches the sensor");
   std::vector<JointVector> poses;
@@ -196,8 +196,8 @@ std::vector<JointVector> PlaceBallPoses(const RobotModel& model, const ThermalSi
     const Vec3 ball = base_from_sensor * in_sensor;
     const JointVector& seed = candidates[attempt % num_seeds].second;
     Isometry3 target = Isometry3::Identity();
-    target.linear() = RandomRotation(rng, DegToRad(o.ball_orientation_spread_deg)) *
-                      kinematics::BaseFromFlange(model, seed).linear();
+    target.linear() =
+        RandomRotation(rng, DegToRad(o.ball_orientation_spread_deg)) * kinematics::BaseFromFlange(model, seed).linear();
     target.translation() = ball - target.linear() * o.setup.ball_in_flange;
     const auto sol = kinematics::SolveInverseKinematics(model, target, seed, ik);
     if (!sol.Converged() || !WithinLimits(sol.q_controller)) continue;
@@ -302,8 +302,9 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
       r.true_delta_x_monitoring.col(c * np + k) = dx;
       warm.SetParams(x0 + dx);
       const Vec3 shift = noise3(o.repeatability_mm);
-      const Vec3 reading = ToolSensorReading(warm, o.setup, r.monitoring_poses[k], r.monitoring_points_in_base[k] - shift) +
-                           noise3(o.tool_sensor_noise_mm);
+      const Vec3 reading =
+          ToolSensorReading(warm, o.setup, r.monitoring_poses[k], r.monitoring_points_in_base[k] - shift) +
+          noise3(o.tool_sensor_noise_mm);
       r.monitoring.rows.push_back(row(c, t, k, r.monitoring_poses[k], reading));
     }
     r.true_delta_x.col(c) = timeline.Drift(t_ball_mean);
@@ -314,8 +315,8 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
     for (int i = 0; i < nb; ++i) {
       const double t = t0 + half + half * i / nb;
       warm.SetParams(x0 + timeline.Drift(o.drift_changes_within_cycle ? t : t_ball_mean));
-      const Vec3 ball_in_base = kinematics::BaseFromFlange(warm, r.ball_poses[i]) * o.setup.ball_in_flange +
-                                noise3(o.repeatability_mm);
+      const Vec3 ball_in_base =
+          kinematics::BaseFromFlange(warm, r.ball_poses[i]) * o.setup.ball_in_flange + noise3(o.repeatability_mm);
       const Vec3 reading = o.setup.sensor_from_base * ball_in_base + noise3(o.sensor_noise_mm);
       r.ball.rows.push_back(row(c, t, i, r.ball_poses[i], reading));
     }

@@ -27,10 +27,10 @@ struct CycleOptions {
 // One cycle: per pose (in CycleSeries::ids order) the joints and the measured position.
 struct Cycle {
   int cycle = 0;
-  double time_s = 0.0;                   // mean time of the cycle's rows
-  std::vector<Vec3> position_mm;         // per pose
+  double time_s = 0.0;                    // mean time of the cycle's rows
+  std::vector<Vec3> position_mm;          // per pose
   std::vector<JointVector> q_controller;  // per pose, rad
-  std::map<std::string, double> extra;   // mean of each extra column (e.g. temp_j2) over the rows
+  std::map<std::string, double> extra;    // mean of each extra column (e.g. temp_j2) over the rows
 };
 
 struct CycleSeries {

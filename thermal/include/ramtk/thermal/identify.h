@@ -8,10 +8,9 @@
 // so that mm and rad columns compare; singular values and condition numbers are reported for the
 // equilibrated matrix.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ramtk/kinematics/robot_model.h"
 #include "ramtk/thermal/cycles.h"
@@ -39,8 +38,8 @@ struct IdentificationOptions {
 
 // A parameter combination the poses cannot see: Σ coefficient_k · Δp_k has no effect on Y.
 struct NullCombination {
-  std::vector<int> params;            // parameter indices with a non-negligible coefficient
-  std::vector<double> coefficients;   // unit vector over the equilibrated columns
+  std::vector<int> params;           // parameter indices with a non-negligible coefficient
+  std::vector<double> coefficients;  // unit vector over the equilibrated columns
 };
 
 struct IdentificationSummary {
@@ -49,17 +48,17 @@ struct IdentificationSummary {
   std::vector<int> params;              // identified parameters
   int num_poses = 0;
   int num_equations = 0;
-  Eigen::VectorXd singular_values;      // equilibrated A, descending
-  double condition_number = 0.0;        // σ_max/σ_min of the equilibrated A (inf if singular)
-  int rank = 0;                         // column-pivoted QR rank
-  std::vector<int> dependent_params;    // params QR pivoted behind the rank (not identifiable)
+  Eigen::VectorXd singular_values;    // equilibrated A, descending
+  double condition_number = 0.0;      // σ_max/σ_min of the equilibrated A (inf if singular)
+  int rank = 0;                       // column-pivoted QR rank
+  std::vector<int> dependent_params;  // params QR pivoted behind the rank (not identifiable)
   std::vector<NullCombination> null_space;
-  int num_cycles = 0;                   // columns of Y solved
-  double initial_cost = 0.0;            // ½‖Y‖² over all cycles, mm²
-  double final_cost = 0.0;              // ½‖Y − AΔX‖², mm²
-  double rms_residual_mm = 0.0;         // per coordinate, over all cycles
-  double worst_residual_mm = 0.0;       // largest |coordinate residual|
-  int outliers = 0;                     // not rejected: always 0 (plain least squares)
+  int num_cycles = 0;              // columns of Y solved
+  double initial_cost = 0.0;       // ½‖Y‖² over all cycles, mm²
+  double final_cost = 0.0;         // ½‖Y − AΔX‖², mm²
+  double rms_residual_mm = 0.0;    // per coordinate, over all cycles
+  double worst_residual_mm = 0.0;  // largest |coordinate residual|
+  int outliers = 0;                // not rejected: always 0 (plain least squares)
 
   std::string BriefReport() const;
 };

@@ -8,10 +8,9 @@
 // "monitoring direction" is one base-frame coordinate (x, y, z) of one point; λ is the share
 // (%) of directions whose residual over the cycles stays below a threshold (0.1 mm).
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ramtk/thermal/cycles.h"
 #include "ramtk/thermal/identify.h"

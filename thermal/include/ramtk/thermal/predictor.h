@@ -14,10 +14,9 @@
 //  * online: refit it by ridge regression on the windows seen so far (causal).
 // Until `min_windows` windows are available the online predictor holds the last value.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace ramtk::thermal {
 

@@ -10,10 +10,9 @@
 //      if every removal lowers λ, the one with the highest λ.
 // If S is empty the step falls back to trying every current parameter (reported).
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ramtk/core/progress.h"
 #include "ramtk/thermal/monitoring.h"
@@ -41,8 +40,8 @@ struct AcfResult {
 AcfResult AutocorrelationTest(const Eigen::VectorXd& series, const AcfOptions& options = {});
 
 struct ScreeningOptions {
-  int keep = 8;                   // n of the thesis: parameters left at the end
-  std::vector<int> candidates;    // initial set; empty: every free parameter (24 for the KR150)
+  int keep = 8;                          // n of the thesis: parameters left at the end
+  std::vector<int> candidates;           // initial set; empty: every free parameter (24 for the KR150)
   IdentificationOptions identification;  // poses (all 20 in the thesis) and SVD settings; params ignored
   LambdaOptions lambda;
   AcfOptions acf;
@@ -50,16 +49,16 @@ struct ScreeningOptions {
   // take the highest λ, ties broken by the lower RMS monitoring residual (λ moves in steps of one
   // direction, so ties are common once it saturates).
   bool first_improvement = true;
-  ProgressCallback progress;      // called once per elimination step
+  ProgressCallback progress;  // called once per elimination step
   std::string Validate() const;
 };
 
 // One row of Table 5-1.
 struct ScreeningStep {
-  int card = 0;                // parameters in the set
-  int removed = -1;            // parameter removed to reach this set (-1 for the first row)
-  double lambda = 0.0;         // % for this set
-  std::vector<int> steady;     // the steady set S found for this set
+  int card = 0;                  // parameters in the set
+  int removed = -1;              // parameter removed to reach this set (-1 for the first row)
+  double lambda = 0.0;           // % for this set
+  std::vector<int> steady;       // the steady set S found for this set
   bool steady_fallback = false;  // S was empty; every parameter was tried
 };
 
@@ -67,11 +66,11 @@ struct ScreeningSummary {
   std::string termination = "not run";  // "kept n", "cancelled"
   int iterations = 0;                   // elimination steps
   int lambda_evaluations = 0;
-  double initial_lambda = 0.0;          // % with every candidate
-  double final_lambda = 0.0;            // % with the selected set
+  double initial_lambda = 0.0;  // % with every candidate
+  double final_lambda = 0.0;    // % with the selected set
   std::vector<ScreeningStep> steps;
   std::vector<int> selected;
-  Eigen::MatrixXd selected_delta_x;     // 30 × monitoring cycles, identified with `selected`
+  Eigen::MatrixXd selected_delta_x;  // 30 × monitoring cycles, identified with `selected`
   // 30 × ball cycles identified with every candidate: the per-parameter curves of Figs. 3-3/3-4
   // that the first autocorrelation test looks at.
   Eigen::MatrixXd initial_delta_x;
@@ -85,10 +84,10 @@ std::string FormatEliminationTable(const ScreeningSummary& summary);
 
 // One row of Table 5-2: λ before compensation and with several parameter sets.
 struct ComparisonRow {
-  std::string label;       // "before", "traditional", "screened", "all"
-  std::vector<int> params;  // empty for "before"
-  int num_poses = 0;        // ball poses used
-  double lambda = 0.0;      // %
+  std::string label;               // "before", "traditional", "screened", "all"
+  std::vector<int> params;         // empty for "before"
+  int num_poses = 0;               // ball poses used
+  double lambda = 0.0;             // %
   double rms_residual_mm = 0.0;    // RMS of all monitoring residuals (warm cycles)
   double worst_residual_mm = 0.0;  // largest |residual|
 };

@@ -15,7 +15,7 @@
 namespace ramtk::thermal {
 
 struct ThermalSetup {
-  Isometry3 sensor_from_base = Isometry3::Identity();        // T_b^s (eq. 5-1)
+  Isometry3 sensor_from_base = Isometry3::Identity();         // T_b^s (eq. 5-1)
   Vec3 ball_in_flange = Vec3::Zero();                         // P_e (eq. 5-2), mm
   Isometry3 flange_from_tool_sensor = Isometry3::Identity();  // tool-mounted sensor on the flange
   bool has_tool_sensor = false;                               // flange_from_tool_sensor was given

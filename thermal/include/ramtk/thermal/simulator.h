@@ -15,11 +15,10 @@
 // ball to the fixed sensor (thesis §5.1 order). Every measurement is made at its own time with
 // the drift of that instant, robot repeatability (a random flange displacement) and sensor noise.
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/thermal/setup.h"
@@ -34,8 +33,8 @@ struct HeatSource {
 };
 
 struct ParamDrift {
-  int param = 0;                        // ParamVector index
-  std::vector<double> per_kelvin;       // per joint (6): mm/K or rad/K of structure temperature
+  int param = 0;                   // ParamVector index
+  std::vector<double> per_kelvin;  // per joint (6): mm/K or rad/K of structure temperature
 };
 
 struct DutyPhase {
@@ -44,23 +43,23 @@ struct DutyPhase {
 };
 
 struct ThermalSimOptions {
-  ThermalSetup setup;                  // sensor_from_base, ball_in_flange, flange_from_tool_sensor
-  int cycles = 90;                     // measurement cycles (thesis: 90)
-  double cycle_period_s = 120.0;       // 90 × 120 s = 3 h
-  std::vector<DutyPhase> duty;         // repeats the last phase past its end
+  ThermalSetup setup;             // sensor_from_base, ball_in_flange, flange_from_tool_sensor
+  int cycles = 90;                // measurement cycles (thesis: 90)
+  double cycle_period_s = 120.0;  // 90 × 120 s = 3 h
+  std::vector<DutyPhase> duty;    // repeats the last phase past its end
   std::vector<HeatSource> sources;
-  double structure_tau_s = 900.0;      // lag of the structure behind the housing temperature
-  std::vector<ParamDrift> drifts;      // the drifting parameters (truth)
-  int ball_poses = 20;                 // thesis: 20
-  int monitoring_points = 34;          // thesis: 34
-  double sensor_working_distance_mm = 700.0;  // fixed sensor: ball poses around this distance
+  double structure_tau_s = 900.0;              // lag of the structure behind the housing temperature
+  std::vector<ParamDrift> drifts;              // the drifting parameters (truth)
+  int ball_poses = 20;                         // thesis: 20
+  int monitoring_points = 34;                  // thesis: 34
+  double sensor_working_distance_mm = 700.0;   // fixed sensor: ball poses around this distance
   Vec3 sensor_field_mm = Vec3(400, 300, 150);  // full extent of the ball positions in the sensor frame
   double ball_orientation_spread_deg = 60.0;   // random flange rotations about the seed orientation
   double tool_working_distance_mm = 300.0;     // tool sensor stand-off to the monitoring points
-  double sensor_noise_mm = 0.02;       // σ per axis, fixed sensor (ball centre)
-  double tool_sensor_noise_mm = 0.02;  // σ per axis, tool sensor
-  double repeatability_mm = 0.015;     // σ per axis of the flange's random displacement
-  double temperature_noise_k = 0.05;   // σ of the reported temperatures
+  double sensor_noise_mm = 0.02;               // σ per axis, fixed sensor (ball centre)
+  double tool_sensor_noise_mm = 0.02;          // σ per axis, tool sensor
+  double repeatability_mm = 0.015;             // σ per axis of the flange's random displacement
+  double temperature_noise_k = 0.05;           // σ of the reported temperatures
   double ambient_c = 22.0;
   // true: every measurement sees the drift of its own instant; false: each cycle's measurements
   // all see the drift at the mean time of its ball poses (isolates the within-cycle motion).
@@ -77,8 +76,8 @@ ThermalSimOptions ThesisPreset(std::uint64_t seed);
 
 struct ThermalSimResult {
   ThermalSetup setup;
-  kinematics::RobotMeasurementSet ball;        // cycle,time_s,pose,q..,x,y,z,temp_j1..temp_j6
-  kinematics::RobotMeasurementSet monitoring;  // cycle,time_s,point,q..,x,y,z,temp_j1..temp_j6
+  kinematics::RobotMeasurementSet ball;                   // cycle,time_s,pose,q..,x,y,z,temp_j1..temp_j6
+  kinematics::RobotMeasurementSet monitoring;             // cycle,time_s,point,q..,x,y,z,temp_j1..temp_j6
   std::vector<kinematics::JointVector> ball_poses;        // taught joints (rad)
   std::vector<kinematics::JointVector> monitoring_poses;  // taught joints (rad)
   std::vector<Vec3> monitoring_points_in_base;            // the car body points (truth)
