@@ -34,7 +34,9 @@ struct SimulateThermalOptions {
   std::string robot_path;
   std::string preset = "thesis";
   std::uint64_t seed = 1;
-  int cycles = 0;  // 0: the preset's
+  int cycles = 0;                  // 0: the preset's
+  double sensor_noise_mm = -1.0;   // < 0: the preset's (both sensors)
+  double repeatability_mm = -1.0;  // < 0: the preset's
   std::string out_dir;
 };
 
@@ -43,6 +45,8 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   ThermalSimOptions o = ThesisPreset(opt.seed);
   if (opt.cycles > 0) o.cycles = opt.cycles;
+  if (opt.sensor_noise_mm >= 0.0) o.sensor_noise_mm = o.tool_sensor_noise_mm = opt.sensor_noise_mm;
+  if (opt.repeatability_mm >= 0.0) o.repeatability_mm = opt.repeatability_mm;
   const ThermalSimResult r = SimulateThermal(model, o);
   std::filesystem::create_directories(opt.out_dir);
   const std::string dir = opt.out_dir + "/";
@@ -451,6 +455,11 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--preset", opt->preset, "Experiment preset (thesis)");
     sub->add_option("--seed", opt->seed, "Random seed");
     sub->add_option("--cycles", opt->cycles, "Override the preset's number of cycles")->check(CLI::PositiveNumber);
+    sub->add_option("--sensor-noise-mm", opt->sensor_noise_mm, "σ per axis of both sensors (preset 0.02)")
+        ->check(CLI::NonNegativeNumber);
+    sub->add_option("--repeatability-mm", opt->repeatability_mm,
+                    "σ per axis of the robot's repeatability (preset 0.015)")
+        ->check(CLI::NonNegativeNumber);
     sub->add_option("--out", opt->out_dir, "Output folder")->required();
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateThermal(*opt); });
   }
