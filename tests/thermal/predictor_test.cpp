@@ -102,11 +102,46 @@ TEST(ThermalPredictor, OfflineTemperatureModelBeatsHoldLast) {
     po.window_every = 10;
     const DriftPrediction offline = PredictDrift(x, temps, times, params, po, &model);
     const DriftPrediction online = PredictDrift(x, temps, times, params, po);
-    const Errors off = Score(e, offline), on = Score(e, online);
+    // Kalman filter on the same windows, window covariance from the noise model.
+    const double sigma_y =
+        std::sqrt(2 * (std::pow(e.options.sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
+    KalmanDriftOptions ko;
+    ko.window_every = 10;
+    const DriftPrediction kalman = KalmanPredictDrift(x, dm.Covariance(id, sigma_y), temps, times, params, ko, &model);
+    const Errors off = Score(e, offline), on = Score(e, online), kf = Score(e, kalman);
     std::cout << "seed " << seed << ": between windows hold-last " << off.hold << " mm, online model " << on.predicted
-              << " mm, offline model " << off.predicted << " mm\n";
+              << " mm, offline model " << off.predicted << " mm, Kalman " << kf.predicted << " mm\n";
+    EXPECT_LT(kf.predicted, 0.75 * off.hold);
     EXPECT_LT(off.predicted, 0.75 * off.hold);
     EXPECT_LT(on.predicted, 1.1 * on.hold);  // online: no worse than hold-last (it has few windows)
+  }
+}
+
+// With no process noise and the same window covariance every time, the Kalman filter's estimate
+// is the model plus the equally weighted mean of the window offsets — what PredictDrift's offline
+// mode computes by a different route.
+TEST(ThermalPredictor, KalmanWithoutProcessNoiseIsTheOfflineMeanOffset) {
+  const auto& e = Thesis(3);
+  const std::vector<int> params = e.sim.drifting_params;
+  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+  IdentificationOptions id;
+  id.params = params;
+  id.poses = SelectPoses(dm, params, 6);
+  const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
+  Eigen::MatrixXd temps;
+  std::vector<double> times;
+  Temperatures(e.experiment.ball, &temps, &times);
+  const TemperatureDriftModel model = FitTemperatureModel(x, temps, times, params);
+  DriftPredictorOptions po;
+  po.window_every = 7;
+  KalmanDriftOptions ko;
+  ko.window_every = 7;
+  ko.process_ratio_per_hour = 0.0;
+  const DriftPrediction a = PredictDrift(x, temps, times, params, po, &model);
+  const DriftPrediction b = KalmanPredictDrift(x, dm.Covariance(id, 0.035), temps, times, params, ko, &model);
+  for (int c = 1; c < static_cast<int>(times.size()); ++c) {
+    if (c % 7 == 0) continue;  // windows: the filter blends, the offline mode takes the identification
+    for (int p : params) EXPECT_NEAR(b.predicted(p, c), a.predicted(p, c), 1e-9) << c;
   }
 }
 

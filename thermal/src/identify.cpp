@@ -137,6 +137,21 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
   return x;
 }
 
+Eigen::MatrixXd DriftModel::Covariance(const IdentificationOptions& options, double sigma_y_mm) const {
+  const std::vector<int> params = options.params.empty() ? model_.FreeParams() : options.params;
+  std::vector<int> poses = options.poses;
+  if (poses.empty()) {
+    for (int i = 0; i < NumPoses(); ++i) poses.push_back(i);
+  }
+  Eigen::MatrixXd a(3 * poses.size(), params.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    for (std::size_t c = 0; c < params.size(); ++c)
+      a.block(3 * i, c, 3, 1) = a_full_.block(3 * poses[i], params[c], 3, 1);
+  }
+  const Eigen::MatrixXd info = a.transpose() * a;
+  return sigma_y_mm * sigma_y_mm * info.completeOrthogonalDecomposition().pseudoInverse();
+}
+
 Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setup, const CycleSeries& ball,
                                const IdentificationOptions& options, IdentificationSummary* summary) {
   const DriftModel drift_model(model, setup, ball.taught);

@@ -185,4 +185,67 @@ DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::Mat
   return out;
 }
 
+std::string KalmanDriftOptions::Validate() const {
+  if (window_every < 1) return "window_every must be >= 1";
+  if (!(process_ratio_per_hour >= 0.0)) return "process_ratio_per_hour must be >= 0";
+  return "";
+}
+
+DriftPrediction KalmanPredictDrift(const Eigen::MatrixXd& identified, const Eigen::MatrixXd& window_covariance,
+                                   const Eigen::MatrixXd& temperatures, const std::vector<double>& times_s,
+                                   const std::vector<int>& params, const KalmanDriftOptions& options,
+                                   const TemperatureDriftModel* model) {
+  const std::string problem = options.Validate();
+  if (!problem.empty()) throw InputError({"", 0, "KalmanDriftOptions"}, problem);
+  const int cycles = static_cast<int>(identified.cols());
+  const int k = static_cast<int>(params.size());
+  if (temperatures.cols() != cycles || static_cast<int>(times_s.size()) != cycles) {
+    throw InputError({"", 0, "temperatures"}, "temperature columns or times do not match the cycles");
+  }
+  if (window_covariance.rows() != k || window_covariance.cols() != k) {
+    throw InputError({"", 0, "window_covariance"}, "needs one row and column per parameter");
+  }
+  DriftPrediction out;
+  out.predicted = Eigen::MatrixXd::Zero(identified.rows(), cycles);
+  out.hold_last = Eigen::MatrixXd::Zero(identified.rows(), cycles);
+  out.is_window.assign(cycles, false);
+  Eigen::MatrixXd f;
+  if (model != nullptr) f = FilteredTemperatureRise(temperatures, times_s, model->lag_s);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(k, temperatures.rows());
+  if (model != nullptr) {
+    for (int i = 0; i < k; ++i) b.row(i) = model->coefficients.row(params[i]);
+  }
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(k);
+  Eigen::MatrixXd p = window_covariance;
+  const Eigen::MatrixXd& r = window_covariance;
+  int last_window = 0;
+  for (int c = 0; c < cycles; ++c) {
+    if (c > 0) {
+      if (model != nullptr) x += b * (f.col(c) - f.col(c - 1));
+      p += options.process_ratio_per_hour * (times_s[c] - times_s[c - 1]) / 3600.0 * r;
+    }
+    const bool window = c % options.window_every == 0;
+    out.is_window[c] = window;
+    if (window) {
+      Eigen::VectorXd z(k);
+      for (int i = 0; i < k; ++i) z[i] = identified(params[i], c);
+      if (c == 0) {
+        x = z;
+        p = r;
+      } else {
+        // gain = P (P + R)⁻¹, both symmetric.
+        const Eigen::MatrixXd gain = Eigen::MatrixXd((p + r).ldlt().solve(p)).transpose();
+        x += gain * (z - x);
+        p = (Eigen::MatrixXd::Identity(k, k) - gain) * p;
+      }
+      last_window = c;
+    }
+    for (int i = 0; i < k; ++i) {
+      out.predicted(params[i], c) = x[i];
+      out.hold_last(params[i], c) = identified(params[i], last_window);
+    }
+  }
+  return out;
+}
+
 }  // namespace ramtk::thermal

@@ -79,6 +79,11 @@ class DriftModel {
   Eigen::MatrixXd Solve(const Eigen::MatrixXd& y, const IdentificationOptions& options,
                         IdentificationSummary* summary = nullptr) const;
 
+  // Covariance (params × params, mm / rad units) of ΔX identified from the poses of `options`
+  // when every coordinate of Y has standard deviation sigma_y_mm: σ²(AᵀA)⁻¹ (pseudo-inverse if
+  // singular).
+  Eigen::MatrixXd Covariance(const IdentificationOptions& options, double sigma_y_mm) const;
+
  private:
   RobotModel model_;
   Eigen::MatrixXd a_full_;

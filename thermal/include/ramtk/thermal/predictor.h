@@ -72,4 +72,22 @@ DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::Mat
                              const DriftPredictorOptions& options = {}, const TemperatureDriftModel* offline = nullptr,
                              DriftPredictionSummary* summary = nullptr);
 
+// Kalman filter over the identified parameters (params only). State x = ΔX_params; between cycles
+//   x ← x + B·(F_c − F_{c−1})      (B from `model`; without a model a random walk),
+//   P ← P + ratio_per_hour · (Δt / 3600 s) · R,
+// and at each window the identification z (covariance R) updates it. Cycle 0 starts at the
+// first window's value with covariance R.
+struct KalmanDriftOptions {
+  int window_every = 10;
+  // Process noise per hour as a multiple of the window covariance R (how fast the model's error
+  // can wander between windows).
+  double process_ratio_per_hour = 0.5;
+  std::string Validate() const;
+};
+
+DriftPrediction KalmanPredictDrift(const Eigen::MatrixXd& identified, const Eigen::MatrixXd& window_covariance,
+                                   const Eigen::MatrixXd& temperatures, const std::vector<double>& times_s,
+                                   const std::vector<int>& params, const KalmanDriftOptions& options = {},
+                                   const TemperatureDriftModel* model = nullptr);
+
 }  // namespace ramtk::thermal
