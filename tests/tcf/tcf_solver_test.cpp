@@ -1,0 +1,112 @@
+// The cross-laser solver on simulated data: truth from the simulator, tolerances from the noise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/units.h"
+#include "ramtk/tcf/simulator.h"
+#include "ramtk/tcf/tcf_solver.h"
+
+namespace ramtk::tcf {
+namespace {
+
+double AxisErrorDeg(const Vec3& a, const Vec3& b) { return RadToDeg(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0))); }
+
+TcfSimulationOptions Noiseless() {
+  TcfSimulationOptions o;
+  o.repeatability_mm = 0.0;
+  o.timing_jitter_s = 0.0;
+  return o;
+}
+
+TEST(TcfSolver, NoiselessIdealDeviceIsExact) {
+  const TcfSimulation sim = SimulateTcf(Noiseless());
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary s = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_LT((s.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-4) << s.BriefReport();
+  EXPECT_LT(AxisErrorDeg(s.solution.axis_in_flange, sim.truth.axis_in_flange), 1e-4);
+  EXPECT_NEAR(s.blocking_radius_x_mm, 2.5, 1e-5);
+  // The 5-DOF frame equals the truth (no rotation about the axis in the truth).
+  EXPECT_LT(RotationAngleBetween(s.solution.flange_from_tcp.linear(), sim.truth.flange_from_tcp.linear()), 1e-6);
+}
+
+TEST(TcfSolver, NoiselessWithModelledEffectsIsExact) {
+  TcfSimulationOptions o = Noiseless();
+  for (const char* e : {"beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency"}) ASSERT_TRUE(o.effects.Enable(e));
+  const TcfSimulation sim = SimulateTcf(o);
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary s = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_LT((s.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-3) << s.BriefReport();
+  EXPECT_LT(AxisErrorDeg(s.solution.axis_in_flange, sim.truth.axis_in_flange), 1e-3);
+  EXPECT_NEAR(s.latency_s, o.effects.latency_s, 1e-6);
+  EXPECT_NEAR(s.beam_height_difference_mm, o.effects.beam_offset_mm, 1e-3);
+  EXPECT_NEAR(s.blocking_radius_x_mm, 2.5 + 0.5 * o.effects.beam_width_mm, 1e-5);
+  EXPECT_NEAR(RadToDeg(s.beta_self_calibrated_rad), o.effects.beta_deg, 1e-4);
+}
+
+TEST(TcfSolver, RotationAboutTheToolAxisIsInvisible) {
+  TcfSimulationOptions o = Noiseless();
+  ASSERT_TRUE(o.effects.Enable("tool_axis_rotation"));
+  const TcfSimulation sim = SimulateTcf(o);
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary s = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_LT((s.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-4);
+  // The frames differ by exactly the spin about the tool's Z.
+  const Mat3 diff = s.solution.flange_from_tcp.linear().transpose() * sim.truth.flange_from_tcp.linear();
+  EXPECT_LT((diff - RotZ(DegToRad(o.effects.tool_axis_rotation_deg))).norm(), 1e-6);
+}
+
+TEST(TcfSolver, EulerAnglesReproduceTheAxis) {
+  for (const Vec3& a : {Vec3(0.1, -0.05, 1.0), Vec3(-0.2, 0.3, 0.9), Vec3(0.0, 0.0, 1.0), Vec3(0.05, 0.0, 1.0)}) {
+    double psi, theta;
+    EulerFromAxis(a, &psi, &theta);
+    EXPECT_LT((FiveDofRotation(psi, theta).col(2) - a.normalized()).norm(), 1e-12);
+    // The printed eq. (4-13) applied to the printed eq. (4-12) vector, which is −x, −y of the
+    // flange-frame axis, gives the same frame: the two sign slips cancel.
+    double psi_t, theta_t;
+    ThesisEulerFromAxis(Vec3(-a.x(), -a.y(), a.z()), &psi_t, &theta_t);
+    if (std::hypot(a.x(), a.y()) > 0) {
+      EXPECT_LT((FiveDofRotation(psi_t, theta_t).col(2) - a.normalized()).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(TcfSolver, NonAlternatingEventsAreRejected) {
+  const TcfSimulation sim = SimulateTcf(Noiseless());
+  std::vector<BeamEvent> ev = sim.events;
+  ev.erase(ev.begin() + 1);
+  for (std::size_t i = 0; i < ev.size(); ++i) ev[i].line = static_cast<int>(i) + 2;
+  try {
+    SolveTcf(ev, sim.motion, sim.calibrated_sensor, {}, "log.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("do not alternate"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().file, "log.csv");
+    EXPECT_GT(e.where().line, 0);
+  }
+}
+
+TEST(TcfSolver, ToolAxisBeyondRangeIsRejected) {
+  TcfSimulationOptions o = Noiseless();
+  o.tool_theta_deg = 12.0;
+  o.circle_radius_mm = 16.0;
+  const TcfSimulation sim = SimulateTcf(o);
+  TcfSolverOptions opt;
+  opt.max_axis_tilt_deg = 10.0;
+  try {
+    SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt, "log.csv");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("beyond the range"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ramtk::tcf
