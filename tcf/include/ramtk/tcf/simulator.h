@@ -56,7 +56,7 @@ struct TcfSimulationOptions {
   // True device frame and tool.
   Isometry3 base_from_lasersensor = DefaultBaseFromLaserSensor();
   double tool_radius_mm = 2.5;
-  Vec3 tcp_in_flange = Vec3(1.2, -0.8, 150.5);
+  Vec3 tcp_in_flange = Vec3(3.0, -2.0, 150.5);  // a bumped tool: 3.6 mm off the flange axis
   double tool_psi_deg = 30.0;      // direction of the tool's tilt (eq. 4-10)
   double tool_theta_deg = 3.0;     // tilt of the tool axis from Z_e
   // Programme.
