@@ -127,7 +127,8 @@ CircleObservation AnalyseCircle(const CircleSegment& circle, const std::vector<B
       o.distance_mm = r_mm * std::cos(0.5 * arc_neg);
       o.blocking_radius_mm = 0.0;
     }
-    o.neg_gap_mid_angle_rad = circle.AngleAt(mid_neg);
+    // Phase with the measured angular speed, so a robot speed-scale error is not taken for latency.
+    o.neg_gap_mid_angle_rad = circle.start_angle_rad + circle.direction * omega * (mid_neg - circle.start_time_s);
     o.phase_offset_rad = WrapPi(o.neg_gap_mid_angle_rad - neg_angle);
     (void)sense;
   }

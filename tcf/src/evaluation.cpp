@@ -31,6 +31,7 @@ TcfSolverOptions SolverOptionsFor(TcfMethod m) {
     case TcfMethod::kCrossLaserNoSelfCalibration:
       o.self_calibrate_latency = false;
       o.self_calibrate_beam_offset = false;
+      o.self_calibrate_speed = false;
       break;
     case TcfMethod::kThesisCorrected:
     case TcfMethod::kThesisUncorrected:
@@ -38,6 +39,7 @@ TcfSolverOptions SolverOptionsFor(TcfMethod m) {
       o.tip_model = TipTriggerModel::kApexAtBeamLine;
       o.self_calibrate_latency = false;
       o.self_calibrate_beam_offset = false;
+      o.self_calibrate_speed = false;
       o.correct_oblique_beams = m == TcfMethod::kThesisCorrected;
       break;
     default:

@@ -108,7 +108,7 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     for (std::size_t k = 0; k < s.circles.size(); ++k) {
       const CircleSegment& c = motion.circles[k];
       (c.direction > 0 ? has_ccw : has_cw) = true;
-      a(k, 0) = c.direction * c.angular_speed_rad_s;
+      a(k, 0) = c.direction * 2.0 * kPi / s.circles[k].period_s;  // measured ω, as the phases use
       a(k, 1) = 1.0;
       b(k) = 0.5 * (s.circles[k].x.phase_offset_rad + s.circles[k].y.phase_offset_rad);
     }
@@ -118,6 +118,16 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
       s.phase_misalignment_rad = sol(1);
       s.latency_estimated = true;
     }
+  }
+  if (opt.self_calibrate_speed) {
+    double sum = 0.0;
+    int n = 0;
+    for (std::size_t k = 0; k < s.circles.size(); ++k) {
+      if (!s.circles[k].period_measured) continue;
+      sum += (2.0 * kPi / motion.circles[k].angular_speed_rad_s) / s.circles[k].period_s;
+      ++n;
+    }
+    if (n > 0) s.speed_scale = sum / n;
   }
   double in_plane_radius[2] = {0.0, 0.0};
   for (const CircleObservation& o : s.circles) {
@@ -163,7 +173,8 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     for (const LineSegment& l : motion.lines) {
       for (const BeamEvent& e : events) {
         if (e.time_s < l.start_time_s || e.time_s > l.start_time_s + l.duration_s) continue;
-        tip_events.push_back({static_cast<int>(e.beam), l.BaseFromFlange(e.time_s - s.latency_s)});
+        const double t_exec = l.start_time_s + s.speed_scale * (e.time_s - s.latency_s - l.start_time_s);
+        tip_events.push_back({static_cast<int>(e.beam), l.BaseFromFlange(t_exec)});
       }
     }
     if (tip_events.empty())
@@ -389,6 +400,7 @@ std::string TcfSummaryToJson(const TcfSummary& s) {
   j["latency_ms"] = s.latency_s * 1e3;
   j["latency_estimated"] = s.latency_estimated;
   j["phase_misalignment_deg"] = RadToDeg(s.phase_misalignment_rad);
+  j["speed_scale"] = s.speed_scale;
   j["beam_height_difference_mm"] = s.beam_height_difference_mm;
   j["beam_offset_estimated"] = s.beam_offset_estimated;
   j["blocking_radius_mm"] = {s.blocking_radius_x_mm, s.blocking_radius_y_mm};

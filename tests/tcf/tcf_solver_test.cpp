@@ -110,3 +110,41 @@ TEST(TcfSolver, ToolAxisBeyondRangeIsRejected) {
 
 }  // namespace
 }  // namespace ramtk::tcf
+
+namespace ramtk::tcf {
+namespace {
+
+TEST(TcfSolver, BetaSelfCalibrationRecoversFromAWrongCalibratedBeta) {
+  TcfSimulationOptions o = Noiseless();
+  ASSERT_TRUE(o.effects.Enable("beam_non_perpendicular"));
+  TcfSimulation sim = SimulateTcf(o);
+  sim.calibrated_sensor.beta_rad = DegToRad(90.0);  // calibration lost β
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary wrong = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  opt.self_calibrate_beta = true;
+  const TcfSummary fixed = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_NEAR(RadToDeg(fixed.beta_used_rad), o.effects.beta_deg, 1e-4);
+  EXPECT_LT((fixed.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-3);
+  // Without it the centre is off by about d_x / tan β (a few hundredths of a mm for this tool).
+  EXPECT_GT((wrong.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 0.02);
+}
+
+TEST(TcfSolver, SpeedScaleIsNotTakenForLatency) {
+  TcfSimulationOptions o = Noiseless();
+  ASSERT_TRUE(o.effects.Enable("speed_variation"));
+  ASSERT_TRUE(o.effects.Enable("trigger_latency"));
+  o.effects.speed_ripple = 0.0;  // a pure scale error is modelled exactly
+  const TcfSimulation sim = SimulateTcf(o);
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary s = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_NEAR(s.speed_scale, 1.0 + o.effects.speed_scale_error, 1e-6);
+  EXPECT_NEAR(s.latency_s, o.effects.latency_s, 1e-5);
+  EXPECT_LT((s.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-3) << s.BriefReport();
+}
+
+}  // namespace
+}  // namespace ramtk::tcf

@@ -33,10 +33,11 @@ enum class CrossingModel {
 struct BeamCircleObservation {
   double distance_mm = 0.0;          // d = c·ν, signed distance of the centre from the beam
   double blocking_radius_mm = 0.0;   // r (edges model only; 0 for the midpoint model)
-  // Programmed angle (rad) at the middle of the −ν gap minus the angle of −ν in the circle's
-  // (u, v) frame, wrapped to (−π, π]: ≈ direction·ω·latency + angular misalignment.
+  // Angle (rad) at the middle of the −ν gap — start angle + direction·ω_measured·(t − start) —
+  // minus the angle of −ν in the circle's (u, v) frame, wrapped to (−π, π]:
+  // ≈ direction·ω·latency + angular misalignment.
   double phase_offset_rad = 0.0;
-  double neg_gap_mid_angle_rad = 0.0;  // programmed angle at the middle of the −ν gap
+  double neg_gap_mid_angle_rad = 0.0;  // the angle at the middle of the −ν gap
   int crossings = 0;                   // blocked intervals in the circle's window
 };
 

@@ -20,6 +20,7 @@
 //    ±ω·latency; their difference gives the latency, used to look up the flange on straight moves;
 //  * beam offset along the tool axis: the x- and y-beam events of the straight moves give the
 //    beams' height difference; the circles' d_x, d_y are referred to one plane with the axis slope;
+//  * speed scale: the circles' measured period against the programmed one;
 //  * β: from the phase difference of the x- and y-beam crossings on the circles.
 // The TCP uncertainty is propagated to first order from a timing noise and the robot's
 // repeatability (numerical Jacobian of the whole solve).
@@ -49,6 +50,9 @@ struct TcfSolverOptions {
   bool self_calibrate_latency = true;
   // Estimate the beams' height difference from the straight moves (needs events of both beams).
   bool self_calibrate_beam_offset = true;
+  // Scale the straight moves' speed by the programmed / measured revolution period of the
+  // circles (a controller speed override or scale error shows there first).
+  bool self_calibrate_speed = true;
   // Latency (s) assumed when it is not self-calibrated.
   double assumed_latency_s = 0.0;
   // Largest tool-axis tilt from the device normal the device can measure (deg).
@@ -76,6 +80,7 @@ struct TcfSummary {
   double latency_s = 0.0;             // used on straight moves
   bool latency_estimated = false;
   double phase_misalignment_rad = 0.0;  // common phase offset of cw + ccw circles
+  double speed_scale = 1.0;           // executed / programmed speed applied to the straight moves
   double beam_height_difference_mm = 0.0;  // z_x − z_y used
   bool beam_offset_estimated = false;
   // Blocking radius of each beam (3-D distance beam line – tool axis at the state change: tool radius
