@@ -58,8 +58,8 @@ struct CalibrateSensorOptions {
 int RunCalibrateSensor(const CalibrateSensorOptions& o) {
   SensorFrameOptions so;
   so.max_beam_gap_mm = o.max_gap_mm;
-  const SensorFrame f =
-      CalibrateSensorFrame(BeamPointsFromFlangePositions(ReadSensorCalibrationPoints(o.points), o.points), so, o.points);
+  const SensorFrame f = CalibrateSensorFrame(
+      BeamPointsFromFlangePositions(ReadSensorCalibrationPoints(o.points), o.points), so, o.points);
   const std::string json = SensorFrameToJson(f);
   if (!o.out.empty()) WriteFileAtomically(o.out, json);
   auto v = [](const Vec3& p) {
@@ -74,7 +74,8 @@ int RunCalibrateSensor(const CalibrateSensorOptions& o) {
             << "  n (X_s) " << v(f.n) << "  m (y beam) " << v(f.m) << "\n"
             << "  o (Y'_s) " << v(f.o) << "  p (Z_s) " << v(f.p) << "\n";
   char buf[128];
-  std::snprintf(buf, sizeof(buf), "  beta = arccos(n.m) = arccos(%.4f) = %.3f deg\n", f.n.dot(f.m), RadToDeg(f.beta_rad));
+  std::snprintf(buf, sizeof(buf), "  beta = arccos(n.m) = arccos(%.4f) = %.3f deg\n", f.n.dot(f.m),
+                RadToDeg(f.beta_rad));
   std::cout << buf;
   if (!o.out.empty()) std::cout << "wrote " << o.out << "\n";
   return kExitOk;
@@ -190,7 +191,8 @@ int RunSimulate(const SimulateOptions& o) {
   WriteFileAtomically(d + "motion.json", motion);
   WriteFileAtomically(d + "sensor.json", sensor);
   WriteFileAtomically(d + "truth.json", truth);
-  std::cout << "wrote " << sim.events.size() << " events to " << d << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
+  std::cout << "wrote " << sim.events.size() << " events to " << d
+            << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
   return kExitOk;
 }
 
@@ -201,7 +203,8 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   tcf->require_subcommand(1);
 
   auto cal = std::make_shared<CalibrateSensorOptions>();
-  CLI::App* c = tcf->add_subcommand("calibrate-sensor", "Device frame from beam crossing points (thesis eqs. 4-15..4-27)");
+  CLI::App* c =
+      tcf->add_subcommand("calibrate-sensor", "Device frame from beam crossing points (thesis eqs. 4-15..4-27)");
   c->add_option("--points", cal->points, "CSV label,x,y,z with A1..D4 (thesis Table 5-3 format)")->required();
   c->add_option("--out", cal->out, "Write the sensor frame JSON here");
   c->add_option("--max-gap", cal->max_gap_mm, "Largest accepted distance between the beam lines (mm)");
@@ -221,7 +224,8 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   s->callback([sol, exit_code]() { *exit_code = RunSolve(*sol); });
 
   auto cmp = std::make_shared<CompareOptions>();
-  CLI::App* k = tcf->add_subcommand("compare", "Accuracy of the cross-laser variants and the baselines on simulated data");
+  CLI::App* k =
+      tcf->add_subcommand("compare", "Accuracy of the cross-laser variants and the baselines on simulated data");
   k->add_option("--runs", cmp->runs, "Simulated runs (seeds seed..seed+runs-1)");
   k->add_option("--seed", cmp->seed, "First seed");
   k->add_option("--repeatability", cmp->repeatability_mm, "Robot repeatability, 1-sigma per axis (mm)");

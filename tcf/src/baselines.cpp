@@ -1,11 +1,10 @@
 // 4-point, 7-point and parallel-laser baselines (thesis §4.1) and their measurement simulation.
 #include "ramtk/tcf/baselines.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <functional>
 #include <random>
-
-#include <Eigen/Dense>
 
 #include "ramtk/core/units.h"
 
@@ -92,7 +91,8 @@ BaselineResult SimulateSevenPoint(const Isometry3& flange_from_tcp, const TouchU
   const auto touches = SimulateTouches(flange_from_tcp, o, rng);
   // P5: the operator aligns the tool frame with the base by eye: base_R_tool = small error.
   const Vec3 err = Gaussian3(rng, DegToRad(o.align_sigma_deg));
-  const Mat3 r_err = Eigen::AngleAxisd(err.norm(), err.norm() > 0 ? Vec3(err.normalized()) : Vec3::UnitZ()).toRotationMatrix();
+  const Mat3 r_err =
+      Eigen::AngleAxisd(err.norm(), err.norm() > 0 ? Vec3(err.normalized()) : Vec3::UnitZ()).toRotationMatrix();
   Isometry3 p5 = Isometry3::Identity();
   p5.linear() = r_err * flange_from_tcp.linear().transpose();
   p5.translation() = o.reference_point_in_base + Vec3(0, 0, 50) - p5.linear() * flange_from_tcp.translation();
@@ -137,7 +137,8 @@ BaselineResult SimulateParallelLaser(const Isometry3& flange_from_tcp, const Par
       const double s1 = length * i / n, c1 = clearance(b, at(s1));
       if ((c1 < 0) != (prev < 0)) {
         double lo = length * (i - 1) / n, hi = s1;
-        for (int k = 0; k < 60; ++k) ((clearance(b, at(0.5 * (lo + hi))) < 0) == (prev < 0) ? lo : hi) = 0.5 * (lo + hi);
+        for (int k = 0; k < 60; ++k)
+          ((clearance(b, at(0.5 * (lo + hi))) < 0) == (prev < 0) ? lo : hi) = 0.5 * (lo + hi);
         // Reported late by jitter -> the recorded position moves on by speed·jitter.
         out.push_back(0.5 * (lo + hi) + o.scan_speed_mm_s * o.timing_jitter_s * unit(rng));
       }

@@ -39,7 +39,8 @@ CircleObservation AnalyseCircle(const CircleSegment& circle, const std::vector<B
     if (e.time_s < t0 || e.time_s > t1) continue;
     const int b = static_cast<int>(e.beam);
     if (e.state == BeamState::kBlocked) {
-      if (open[b]) throw InputError({source, e.line, "state"}, "beam events do not alternate in circle '" + circle.name + "'");
+      if (open[b])
+        throw InputError({source, e.line, "state"}, "beam events do not alternate in circle '" + circle.name + "'");
       intervals[b].push_back({e.time_s, 0.0});
       open[b] = true;
       open_line[b] = e.line;

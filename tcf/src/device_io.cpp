@@ -79,11 +79,10 @@ void CheckAlternation(const std::vector<BeamEvent>& events, const std::string& p
   for (const BeamEvent& e : events) {
     BeamState& want = expected[static_cast<int>(e.beam)];
     if (e.state != want) {
-      throw InputError({path, e.line, "state"}, std::string("beam ") + BeamName(e.beam) + " events do not alternate: '" +
-                                                    BeamStateName(e.state) + "' follows '" +
-                                                    BeamStateName(want == BeamState::kBlocked ? BeamState::kClear
-                                                                                              : BeamState::kBlocked) +
-                                                    "'");
+      throw InputError({path, e.line, "state"},
+                       std::string("beam ") + BeamName(e.beam) + " events do not alternate: '" +
+                           BeamStateName(e.state) + "' follows '" +
+                           BeamStateName(want == BeamState::kBlocked ? BeamState::kClear : BeamState::kBlocked) + "'");
     }
     want = want == BeamState::kBlocked ? BeamState::kClear : BeamState::kBlocked;
   }

@@ -12,13 +12,20 @@ namespace ramtk::tcf {
 
 const char* TcfMethodName(TcfMethod m) {
   switch (m) {
-    case TcfMethod::kCrossLaser: return "cross-laser (ramtk, self-calibrated)";
-    case TcfMethod::kCrossLaserNoSelfCalibration: return "cross-laser (ramtk, no self-calibration)";
-    case TcfMethod::kThesisCorrected: return "cross-laser (thesis, beta corrected)";
-    case TcfMethod::kThesisUncorrected: return "cross-laser (thesis, beta ignored)";
-    case TcfMethod::kFourPoint: return "4-point";
-    case TcfMethod::kSevenPoint: return "7-point";
-    case TcfMethod::kParallelLaser: return "parallel laser";
+    case TcfMethod::kCrossLaser:
+      return "cross-laser (ramtk, self-calibrated)";
+    case TcfMethod::kCrossLaserNoSelfCalibration:
+      return "cross-laser (ramtk, no self-calibration)";
+    case TcfMethod::kThesisCorrected:
+      return "cross-laser (thesis, beta corrected)";
+    case TcfMethod::kThesisUncorrected:
+      return "cross-laser (thesis, beta ignored)";
+    case TcfMethod::kFourPoint:
+      return "4-point";
+    case TcfMethod::kSevenPoint:
+      return "7-point";
+    case TcfMethod::kParallelLaser:
+      return "parallel laser";
   }
   return "?";
 }
@@ -57,7 +64,8 @@ std::string EvaluationOptions::Validate() const {
 std::vector<MethodAccuracy> EvaluateMethods(const EvaluationOptions& opt) {
   if (const std::string err = opt.Validate(); !err.empty()) throw InputError({"", 0, "EvaluationOptions"}, err);
   std::vector<MethodAccuracy> rows;
-  std::vector<double> tcp_ss(opt.methods.size(), 0.0), axis_ss(opt.methods.size(), 0.0), sig_ss(opt.methods.size(), 0.0);
+  std::vector<double> tcp_ss(opt.methods.size(), 0.0), axis_ss(opt.methods.size(), 0.0),
+      sig_ss(opt.methods.size(), 0.0);
   for (TcfMethod m : opt.methods) rows.push_back({m});
   for (int run = 0; run < opt.runs; ++run) {
     TcfSimulationOptions so = opt.simulation;

@@ -2,9 +2,8 @@
 // Private JSON helpers of the tcf module: poses as {"position_mm": [x,y,z], "abc_deg": [A,B,C]}
 // (KUKA A,B,C: R = RotZ(A)·RotY(B)·RotX(C)), vectors as [x,y,z]; errors name the file and key.
 
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/rotation.h"
@@ -20,7 +19,8 @@ inline nlohmann::json PoseToJson(const Isometry3& pose) {
   j["position_mm"] = VecToJson(pose.translation());
   j["abc_deg"] = {RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c)};
   nlohmann::json m = nlohmann::json::array();
-  for (int r = 0; r < 4; ++r) m.push_back({pose.matrix()(r, 0), pose.matrix()(r, 1), pose.matrix()(r, 2), pose.matrix()(r, 3)});
+  for (int r = 0; r < 4; ++r)
+    m.push_back({pose.matrix()(r, 0), pose.matrix()(r, 1), pose.matrix()(r, 2), pose.matrix()(r, 3)});
   j["matrix"] = m;
   return j;
 }

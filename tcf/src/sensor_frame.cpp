@@ -86,8 +86,8 @@ SensorFrame CalibrateSensorFrame(const BeamPoints& pts, const SensorFrameOptions
                   f.beam_gap_mm, options.max_beam_gap_mm);
     throw InputError({source, 0, "AB,CD"}, buf);
   }
-  f.p = cross.normalized();      // (4-25)
-  f.o = f.p.cross(f.n);          // (4-26)
+  f.p = cross.normalized();  // (4-25)
+  f.o = f.p.cross(f.n);      // (4-26)
   f.beta_rad = std::acos(std::clamp(f.n.dot(f.m), -1.0, 1.0));
   f.base_from_lasersensor.linear().col(0) = f.n;
   f.base_from_lasersensor.linear().col(1) = f.o;
@@ -105,7 +105,9 @@ std::map<std::string, Vec3> ReadSensorCalibrationPoints(const std::string& path)
   for (std::size_t r = 0; r < t.size(); ++r) {
     const std::string& label = t.Text(r, cl);
     const bool ok = label.size() == 2 && label[0] >= 'A' && label[0] <= 'D' && label[1] >= '1' && label[1] <= '4';
-    if (!ok) throw InputError({path, t.line_numbers[r], "label"}, "expected A1..A4, B1..B4, C1..C4 or D1..D4, got '" + label + "'");
+    if (!ok)
+      throw InputError({path, t.line_numbers[r], "label"},
+                       "expected A1..A4, B1..B4, C1..C4 or D1..D4, got '" + label + "'");
     if (out.count(label)) throw InputError({path, t.line_numbers[r], "label"}, "duplicate label '" + label + "'");
     out[label] = Vec3(t.Number(r, cx), t.Number(r, cy), t.Number(r, cz));
   }
@@ -120,11 +122,12 @@ std::string SensorFrameToJson(const SensorFrame& f) {
   j["beam_gap_mm"] = f.beam_gap_mm;
   j["x_beam_z_mm"] = f.x_beam_z_mm;
   j["y_beam_z_mm"] = f.y_beam_z_mm;
-  j["points_in_base_mm"] = {{"A", VecToJson(f.a_in_base)}, {"B", VecToJson(f.b_in_base)},
-                            {"C", VecToJson(f.c_in_base)}, {"D", VecToJson(f.d_in_base)},
-                            {"P", VecToJson(f.p_in_base)}, {"Q", VecToJson(f.q_in_base)},
+  j["points_in_base_mm"] = {{"A", VecToJson(f.a_in_base)}, {"B", VecToJson(f.b_in_base)}, {"C", VecToJson(f.c_in_base)},
+                            {"D", VecToJson(f.d_in_base)}, {"P", VecToJson(f.p_in_base)}, {"Q", VecToJson(f.q_in_base)},
                             {"M", VecToJson(f.m_in_base)}};
-  j["unit_vectors"] = {{"n_x_axis", VecToJson(f.n)}, {"m_y_beam", VecToJson(f.m)}, {"o_y_prime_axis", VecToJson(f.o)},
+  j["unit_vectors"] = {{"n_x_axis", VecToJson(f.n)},
+                       {"m_y_beam", VecToJson(f.m)},
+                       {"o_y_prime_axis", VecToJson(f.o)},
                        {"p_z_axis", VecToJson(f.p)}};
   return j.dump(2) + "\n";
 }

@@ -37,20 +37,28 @@ double Clearance(const Vec3& p, const Vec3& d, double half_width, const Tool& to
 }  // namespace
 
 bool DeviceEffects::Enable(const std::string& name) {
-  if (name == "beam_non_perpendicular") beam_non_perpendicular = true;
-  else if (name == "beam_offset") beam_offset = true;
-  else if (name == "beam_width") beam_width = true;
-  else if (name == "trigger_latency") trigger_latency = true;
-  else if (name == "speed_variation") speed_variation = true;
-  else if (name == "sensor_plane_tilt") sensor_plane_tilt = true;
-  else if (name == "tool_axis_rotation") tool_axis_rotation = true;
-  else return false;
+  if (name == "beam_non_perpendicular")
+    beam_non_perpendicular = true;
+  else if (name == "beam_offset")
+    beam_offset = true;
+  else if (name == "beam_width")
+    beam_width = true;
+  else if (name == "trigger_latency")
+    trigger_latency = true;
+  else if (name == "speed_variation")
+    speed_variation = true;
+  else if (name == "sensor_plane_tilt")
+    sensor_plane_tilt = true;
+  else if (name == "tool_axis_rotation")
+    tool_axis_rotation = true;
+  else
+    return false;
   return true;
 }
 
 std::vector<std::string> DeviceEffects::Names() {
-  return {"beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency",
-          "speed_variation", "sensor_plane_tilt", "tool_axis_rotation"};
+  return {"beam_non_perpendicular", "beam_offset",       "beam_width",        "trigger_latency",
+          "speed_variation",        "sensor_plane_tilt", "tool_axis_rotation"};
 }
 
 Isometry3 TcfSimulationOptions::DefaultBaseFromLaserSensor() {
@@ -196,11 +204,13 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
     c.start_angle_rad = DegToRad(opt.start_angle_deg);
     m.circles.push_back(c);
     const CircleSegment cc = c;
-    auto ev = run_segment(c.start_time_s, c.duration_s, [cc](double tau) { return cc.BaseFromFlange(cc.start_time_s + tau); });
+    auto ev = run_segment(c.start_time_s, c.duration_s,
+                          [cc](double tau) { return cc.BaseFromFlange(cc.start_time_s + tau); });
     sim.events.insert(sim.events.end(), ev.begin(), ev.end());
     t += circle_duration + 0.5;
   }
-  std::sort(sim.events.begin(), sim.events.end(), [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
+  std::sort(sim.events.begin(), sim.events.end(),
+            [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
 
   // Phase 2: the controller estimates the axis from the circles (library, no truth) and moves the
   // estimated apex down through the crossing and back.
@@ -226,12 +236,14 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
     u.velocity_in_base_mm_s = -opt.retract_speed_mm_s * down;
     for (const LineSegment& l : {d, u}) {
       m.lines.push_back(l);
-      auto ev = run_segment(l.start_time_s, l.duration_s, [l](double tau) { return l.BaseFromFlange(l.start_time_s + tau); });
+      auto ev =
+          run_segment(l.start_time_s, l.duration_s, [l](double tau) { return l.BaseFromFlange(l.start_time_s + tau); });
       sim.events.insert(sim.events.end(), ev.begin(), ev.end());
     }
     t = u.start_time_s + u.duration_s + 0.3;
   }
-  std::sort(sim.events.begin(), sim.events.end(), [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
+  std::sort(sim.events.begin(), sim.events.end(),
+            [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
   return sim;
 }
 
@@ -248,8 +260,8 @@ std::string TcfTruthToJson(const TcfTruth& t, const DeviceEffects& fx) {
   j["beam_width_mm"] = t.beam_width_mm;
   j["latency_ms"] = t.latency_s * 1e3;
   nlohmann::json e = nlohmann::json::array();
-  const bool on[] = {fx.beam_non_perpendicular, fx.beam_offset, fx.beam_width, fx.trigger_latency,
-                     fx.speed_variation, fx.sensor_plane_tilt, fx.tool_axis_rotation};
+  const bool on[] = {fx.beam_non_perpendicular, fx.beam_offset,       fx.beam_width,        fx.trigger_latency,
+                     fx.speed_variation,        fx.sensor_plane_tilt, fx.tool_axis_rotation};
   const auto names = DeviceEffects::Names();
   for (std::size_t i = 0; i < names.size(); ++i)
     if (on[i]) e.push_back(names[i]);

@@ -2,10 +2,9 @@
 // first-order uncertainty. See tcf_solver.h for the method.
 #include "ramtk/tcf/tcf_solver.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
-
-#include <Eigen/Dense>
 
 #include "json_pose.h"
 #include "ramtk/core/error.h"
@@ -227,7 +226,8 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     mean_lambda(0, z_x, z_y, &nx);
     mean_lambda(1, z_x, z_y, &ny);
     if (nx + ny == 0)
-      throw InputError({log_path, 0, "lines"}, "the tool never came within the blocking radius of a beam on the straight moves");
+      throw InputError({log_path, 0, "lines"},
+                       "the tool never came within the blocking radius of a beam on the straight moves");
     if (opt.self_calibrate_beam_offset && nx > 0 && ny > 0) {
       // Height difference Δ = z_x − z_y (mean fixed) such that both beams give the same tip.
       auto mismatch = [&](double delta) {
@@ -333,8 +333,8 @@ AxisEstimate EstimateToolAxisFromCircles(const std::vector<BeamEvent>& events, c
     if (a.dot(mean) < 0) a = -a;
     est.point_in_flange = mean;
     est.axis_in_flange = a;
-    axis_in_sensor = sensor.base_from_lasersensor.linear().transpose() *
-                     motion.circles[0].base_from_flange_centre.linear() * a;
+    axis_in_sensor =
+        sensor.base_from_lasersensor.linear().transpose() * motion.circles[0].base_from_flange_centre.linear() * a;
   }
   return est;
 }

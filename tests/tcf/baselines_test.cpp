@@ -1,10 +1,11 @@
 // Baselines: closed-form (noiseless) cases against the simulated truth.
+#include "ramtk/tcf/baselines.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ramtk/core/units.h"
-#include "ramtk/tcf/baselines.h"
 #include "ramtk/tcf/tcf_solver.h"
 
 namespace ramtk::tcf {

@@ -1,12 +1,13 @@
 // Circle timings -> centre distances: closed-form geometry generated here independently of the
 // simulator (the blocked set of a disc of radius r against a line, scanned and bisected).
+#include "ramtk/tcf/circle_timing.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
-#include "ramtk/tcf/circle_timing.h"
 
 namespace ramtk::tcf {
 namespace {
@@ -57,7 +58,8 @@ std::vector<BeamEvent> Events(const Config& c, const CircleSegment& seg) {
       double lo = t0, hi = t1;
       for (int k = 0; k < 60; ++k) (blocked(0.5 * (lo + hi)) == prev ? lo : hi) = 0.5 * (lo + hi);
       prev = !prev;
-      ev.push_back({0.5 * (lo + hi) + c.latency, static_cast<Beam>(b), prev ? BeamState::kBlocked : BeamState::kClear, 0});
+      ev.push_back(
+          {0.5 * (lo + hi) + c.latency, static_cast<Beam>(b), prev ? BeamState::kBlocked : BeamState::kClear, 0});
     }
   }
   std::sort(ev.begin(), ev.end(), [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
@@ -68,7 +70,7 @@ TEST(CircleTiming, EdgesModelIsExactForAnyBlockingRadius) {
   Config c;
   const CircleSegment seg = MakeCircle(c);
   const CircleObservation o = AnalyseCircle(seg, Events(c, seg), IdentitySensor(c.beta), c.beta, CrossingModel::kEdges);
-  const double dx = c.cy;                                           // distance from the x beam
+  const double dx = c.cy;                                               // distance from the x beam
   const double dy = c.cx * std::sin(c.beta) - c.cy * std::cos(c.beta);  // from the y beam
   EXPECT_NEAR(o.x.distance_mm, dx, 1e-7);
   EXPECT_NEAR(o.y.distance_mm, dy, 1e-7);
@@ -113,7 +115,8 @@ TEST(CircleTiming, LatencyShiftsThePhaseByDirectionTimesOmega) {
     c.latency = 0.01;
     c.direction = dir;
     const CircleSegment seg = MakeCircle(c);
-    const CircleObservation o = AnalyseCircle(seg, Events(c, seg), IdentitySensor(c.beta), c.beta, CrossingModel::kEdges);
+    const CircleObservation o =
+        AnalyseCircle(seg, Events(c, seg), IdentitySensor(c.beta), c.beta, CrossingModel::kEdges);
     EXPECT_NEAR(o.x.phase_offset_rad, dir * c.omega * c.latency, 1e-7);
     EXPECT_NEAR(o.y.phase_offset_rad, dir * c.omega * c.latency, 1e-7);
     EXPECT_NEAR(o.x.distance_mm, c.cy, 1e-7);  // a constant latency cancels in the distances

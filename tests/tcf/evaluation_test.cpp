@@ -1,10 +1,10 @@
 // Accuracy against the simulator's truth over fixed seeds. Tolerances from the noise: at 0.03 mm
 // repeatability (1σ per axis per segment) the solver's own first-order prediction is ~0.045 mm.
+#include "ramtk/tcf/evaluation.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "ramtk/tcf/evaluation.h"
 
 namespace ramtk::tcf {
 namespace {
@@ -54,7 +54,8 @@ TEST(Evaluation, ObliqueCorrectionMattersForAnOffsetTool) {
   const auto rows = EvaluateMethods(o);
   // Noiseless: the uncorrected centre is off by d_x / tan β ≈ 2 mm · 0.0375 along X_s.
   EXPECT_GT(Row(rows, TcfMethod::kThesisUncorrected).axis_rms_deg,
-            1.5 * Row(rows, TcfMethod::kThesisCorrected).axis_rms_deg + 0.01) << FormatAccuracyTable(rows);
+            1.5 * Row(rows, TcfMethod::kThesisCorrected).axis_rms_deg + 0.01)
+      << FormatAccuracyTable(rows);
 }
 
 }  // namespace

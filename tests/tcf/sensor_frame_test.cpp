@@ -1,6 +1,8 @@
 // Sensor-frame calibration against the thesis's Tables 5-4, 5-5 and eqs. (5-3), (5-4), and the
 // Table 5-6 statistic. Truth: the printed tables (rounded to 0.01 mm / 1e-4, so tolerances are
 // half a unit of the last printed digit plus the rounding of the inputs).
+#include "ramtk/tcf/sensor_frame.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
-#include "ramtk/tcf/sensor_frame.h"
 #include "ramtk/tcf/statistics.h"
 
 namespace ramtk::tcf {
@@ -43,8 +44,8 @@ TEST(SensorFrame, Table54BeamPoints) {
 // The thesis computed Table 5-5 from the rounded points of Table 5-4; from those the unit vectors
 // agree to the printed 4 decimals.
 SensorFrame Table54Frame() {
-  return CalibrateSensorFrame({{793.68, -126.13, 194.24}, {805.57, -126.48, 194.71}, {799.47, -132.42, 194.39},
-                               {799.36, -120.35, 194.66}});
+  return CalibrateSensorFrame(
+      {{793.68, -126.13, 194.24}, {805.57, -126.48, 194.71}, {799.47, -132.42, 194.39}, {799.36, -120.35, 194.66}});
 }
 
 TEST(SensorFrame, Table55FromTable54Points) {
@@ -76,9 +77,8 @@ TEST(SensorFrame, Table55OriginAndAxesFromRawTable53) {
 
 TEST(SensorFrame, Eq53Transform) {
   const SensorFrame f = Table54Frame();
-  const double printed[3][4] = {{0.9988, 0.0285, -0.0402, 799.42},
-                                {-0.0294, 0.9993, -0.0227, -126.30},
-                                {0.0395, 0.0239, 0.9989, 194.50}};
+  const double printed[3][4] = {
+      {0.9988, 0.0285, -0.0402, 799.42}, {-0.0294, 0.9993, -0.0227, -126.30}, {0.0395, 0.0239, 0.9989, 194.50}};
   const Eigen::Matrix4d t = f.base_from_lasersensor.matrix();
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) {
@@ -115,8 +115,8 @@ TEST(SensorFrame, Table56IsTheSampleStandardDeviation) {
     pts.emplace_back(t.Number(r, t.Column("x")), t.Number(r, t.Column("y")), t.Number(r, t.Column("z")));
   ASSERT_EQ(pts.size(), 10u);
   const PointScatter s = ComputePointScatter(pts);
-  EXPECT_NEAR(s.sample_std_mm, 0.48, 0.005);      // the thesis's "RMS 0.48 mm"
-  EXPECT_NEAR(s.rms_from_mean_mm, 0.46, 0.005);   // with n instead of n − 1
+  EXPECT_NEAR(s.sample_std_mm, 0.48, 0.005);     // the thesis's "RMS 0.48 mm"
+  EXPECT_NEAR(s.rms_from_mean_mm, 0.46, 0.005);  // with n instead of n − 1
   // Closed form check of the two statistics' ratio.
   EXPECT_NEAR(s.sample_std_mm / s.rms_from_mean_mm, std::sqrt(10.0 / 9.0), 1e-12);
 }

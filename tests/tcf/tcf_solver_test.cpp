@@ -1,4 +1,6 @@
 // The cross-laser solver on simulated data: truth from the simulator, tolerances from the noise.
+#include "ramtk/tcf/tcf_solver.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,12 +8,13 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/tcf/simulator.h"
-#include "ramtk/tcf/tcf_solver.h"
 
 namespace ramtk::tcf {
 namespace {
 
-double AxisErrorDeg(const Vec3& a, const Vec3& b) { return RadToDeg(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0))); }
+double AxisErrorDeg(const Vec3& a, const Vec3& b) {
+  return RadToDeg(std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)));
+}
 
 TcfSimulationOptions Noiseless() {
   TcfSimulationOptions o;
@@ -35,7 +38,8 @@ TEST(TcfSolver, NoiselessIdealDeviceIsExact) {
 
 TEST(TcfSolver, NoiselessWithModelledEffectsIsExact) {
   TcfSimulationOptions o = Noiseless();
-  for (const char* e : {"beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency"}) ASSERT_TRUE(o.effects.Enable(e));
+  for (const char* e : {"beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency"})
+    ASSERT_TRUE(o.effects.Enable(e));
   const TcfSimulation sim = SimulateTcf(o);
   TcfSolverOptions opt;
   opt.timing_sigma_s = 0;

@@ -54,7 +54,7 @@ struct ParallelLaserSimulationOptions {
   double scan_speed_mm_s = 10.0;   // along X_b and down
   double beam_spacing_mm = 20.0;   // Δh
   double beam_width_mm = 0.0;
-  double tool_radius_mm = 2.5;     // ball-nosed cylinder, as in the cross-laser simulator
+  double tool_radius_mm = 2.5;  // ball-nosed cylinder, as in the cross-laser simulator
   double nominal_tool_length_mm = 150.0;
   Vec3 upper_beam_point_in_base = Vec3(900.0, 0.0, 300.0);  // beams along Y_b; lower one Δh below
 };

@@ -31,8 +31,8 @@ enum class CrossingModel {
 
 // What one circle tells about one beam.
 struct BeamCircleObservation {
-  double distance_mm = 0.0;          // d = c·ν, signed distance of the centre from the beam
-  double blocking_radius_mm = 0.0;   // r (edges model only; 0 for the midpoint model)
+  double distance_mm = 0.0;         // d = c·ν, signed distance of the centre from the beam
+  double blocking_radius_mm = 0.0;  // r (edges model only; 0 for the midpoint model)
   // Angle (rad) at the middle of the −ν gap — start angle + direction·ω_measured·(t − start) —
   // minus the angle of −ν in the circle's (u, v) frame, wrapped to (−π, π]:
   // ≈ direction·ω·latency + angular misalignment.
@@ -43,7 +43,7 @@ struct BeamCircleObservation {
 
 struct CircleObservation {
   std::string name;
-  double period_s = 0.0;      // one revolution
+  double period_s = 0.0;         // one revolution
   bool period_measured = false;  // true if measured from a repeated crossing
   BeamCircleObservation x, y;
 };

@@ -35,8 +35,8 @@ struct CircleSegment {
   double start_time_s = 0.0;
   double duration_s = 0.0;
   Isometry3 base_from_flange_centre = Isometry3::Identity();  // flange pose at the circle centre
-  Vec3 u_in_base = Vec3::UnitX();  // unit, φ = 0 direction (the device's X_s)
-  Vec3 v_in_base = Vec3::UnitY();  // unit, φ = 90° direction (the device's Y'_s)
+  Vec3 u_in_base = Vec3::UnitX();                             // unit, φ = 0 direction (the device's X_s)
+  Vec3 v_in_base = Vec3::UnitY();                             // unit, φ = 90° direction (the device's Y'_s)
   double radius_mm = 10.0;
   double angular_speed_rad_s = 1.0;  // > 0
   int direction = 1;                 // +1 counter-clockwise about u × v, −1 clockwise

@@ -36,10 +36,10 @@ struct SensorFrameOptions {
 // The calibrated device frame and the beam geometry in it.
 struct SensorFrame {
   Isometry3 base_from_lasersensor = Isometry3::Identity();  // eq. (4-27)
-  double beta_rad = 0.0;        // angle X_s -> Y_s about Z_s, in (0, pi); see the header comment
-  double beam_gap_mm = 0.0;     // |PQ|, shortest distance between the beam lines
-  double x_beam_z_mm = 0.0;     // z of the x beam line (through P) in the sensor frame
-  double y_beam_z_mm = 0.0;     // z of the y beam line (through Q) in the sensor frame
+  double beta_rad = 0.0;     // angle X_s -> Y_s about Z_s, in (0, pi); see the header comment
+  double beam_gap_mm = 0.0;  // |PQ|, shortest distance between the beam lines
+  double x_beam_z_mm = 0.0;  // z of the x beam line (through P) in the sensor frame
+  double y_beam_z_mm = 0.0;  // z of the y beam line (through Q) in the sensor frame
   // Intermediate results (base frame, mm) for reporting: A, B, C, D (eq. 4-16), P, Q, M (4-22),
   // and the unit vectors n = X_s, m = Y_s (the y beam), o = Y'_s, p = Z_s.
   Vec3 a_in_base, b_in_base, c_in_base, d_in_base, p_in_base, q_in_base, m_in_base;

@@ -31,15 +31,15 @@ struct DeviceEffects {
   double beam_offset_mm = 0.4;          // z_x − z_y
   bool beam_width = false;              // beams of finite width (else lines)
   double beam_width_mm = 1.0;
-  bool trigger_latency = false;         // receiver reports late
+  bool trigger_latency = false;  // receiver reports late
   double latency_s = 0.008;
-  bool speed_variation = false;         // robot speed: scale error + ripple
-  double speed_scale_error = 0.02;      // fraction
-  double speed_ripple = 0.01;           // fraction of the speed
+  bool speed_variation = false;     // robot speed: scale error + ripple
+  double speed_scale_error = 0.02;  // fraction
+  double speed_ripple = 0.01;       // fraction of the speed
   double speed_ripple_hz = 1.7;
-  bool sensor_plane_tilt = false;       // true beam plane tilted against the calibrated one
+  bool sensor_plane_tilt = false;  // true beam plane tilted against the calibrated one
   double plane_tilt_deg = 0.3;
-  bool tool_axis_rotation = false;      // tool rotated about its own axis (unobservable, 6th DOF)
+  bool tool_axis_rotation = false;  // tool rotated about its own axis (unobservable, 6th DOF)
   double tool_axis_rotation_deg = 25.0;
 
   // Switches on an effect by its catalogue name; false if the name is unknown.
@@ -57,19 +57,19 @@ struct TcfSimulationOptions {
   Isometry3 base_from_lasersensor = DefaultBaseFromLaserSensor();
   double tool_radius_mm = 2.5;
   Vec3 tcp_in_flange = Vec3(3.0, -2.0, 150.5);  // a bumped tool: 3.6 mm off the flange axis
-  double tool_psi_deg = 30.0;      // direction of the tool's tilt (eq. 4-10)
-  double tool_theta_deg = 3.0;     // tilt of the tool axis from Z_e
+  double tool_psi_deg = 30.0;                   // direction of the tool's tilt (eq. 4-10)
+  double tool_theta_deg = 3.0;                  // tilt of the tool axis from Z_e
   // Programme.
-  double nominal_tool_length_mm = 150.0;   // the programme's prior for the tip (along Z_e)
+  double nominal_tool_length_mm = 150.0;  // the programme's prior for the tip (along Z_e)
   double circle_radius_mm = 12.0;
   double angular_speed_deg_s = 180.0;
-  double revolutions = 1.25;               // per circle (> 1 so the period is measured)
-  double upper_height_mm = 6.0;            // circle heights above the nominal tip
+  double revolutions = 1.25;     // per circle (> 1 so the period is measured)
+  double upper_height_mm = 6.0;  // circle heights above the nominal tip
   double lower_height_mm = 26.0;
   double start_angle_deg = 45.0;
-  double approach_speed_mm_s = 20.0;       // straight move down through the beams
-  double retract_speed_mm_s = 40.0;        // and back up
-  double approach_start_mm = 6.0;          // the estimated apex starts this far above the crossing
+  double approach_speed_mm_s = 20.0;  // straight move down through the beams
+  double retract_speed_mm_s = 40.0;   // and back up
+  double approach_start_mm = 6.0;     // the estimated apex starts this far above the crossing
   double approach_travel_mm = 10.0;
   int approach_passes = 2;
 

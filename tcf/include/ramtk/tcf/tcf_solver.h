@@ -35,8 +35,8 @@
 namespace ramtk::tcf {
 
 enum class TipTriggerModel {
-  kBallNose,         // ramtk: blocking radius from the circles, apex = ball centre + radius · a
-  kApexAtBeamLine,   // thesis eq. (4-14): the apex is on the beam line when the beam is blocked
+  kBallNose,        // ramtk: blocking radius from the circles, apex = ball centre + radius · a
+  kApexAtBeamLine,  // thesis eq. (4-14): the apex is on the beam line when the beam is blocked
 };
 
 struct TcfSolverOptions {
@@ -68,31 +68,31 @@ struct TcfSolverOptions {
 struct TcfSolution {
   Isometry3 flange_from_tcp = Isometry3::Identity();  // 5-DOF tool frame
   Vec3 tcp_in_flange = Vec3::Zero();
-  Vec3 axis_in_flange = Vec3::UnitZ();  // unit, towards the tip
+  Vec3 axis_in_flange = Vec3::UnitZ();    // unit, towards the tip
   double psi_rad = 0.0, theta_rad = 0.0;  // eq. (4-13)
 };
 
 struct TcfSummary {
   TcfSolution solution;
   std::vector<CircleObservation> circles;
-  double beta_used_rad = 0.0;         // β used in eq. (4-29) (90° if not corrected)
+  double beta_used_rad = 0.0;             // β used in eq. (4-29) (90° if not corrected)
   double beta_self_calibrated_rad = 0.0;  // from circle phases (0 if fewer than 1 circle)
-  double latency_s = 0.0;             // used on straight moves
+  double latency_s = 0.0;                 // used on straight moves
   bool latency_estimated = false;
-  double phase_misalignment_rad = 0.0;  // common phase offset of cw + ccw circles
-  double speed_scale = 1.0;           // executed / programmed speed applied to the straight moves
+  double phase_misalignment_rad = 0.0;     // common phase offset of cw + ccw circles
+  double speed_scale = 1.0;                // executed / programmed speed applied to the straight moves
   double beam_height_difference_mm = 0.0;  // z_x − z_y used
   bool beam_offset_estimated = false;
   // Blocking radius of each beam (3-D distance beam line – tool axis at the state change: tool radius
   // + half the beam width), from the circles' in-plane values and the axis tilt.
   double blocking_radius_x_mm = 0.0, blocking_radius_y_mm = 0.0;
-  int tip_events = 0;                 // straight-move events used for the TCP
-  double tip_rms_mm = 0.0;            // RMS spread of the per-event tip positions along the axis
-  double tip_worst_mm = 0.0;          // largest deviation of a per-event tip position
+  int tip_events = 0;         // straight-move events used for the TCP
+  double tip_rms_mm = 0.0;    // RMS spread of the per-event tip positions along the axis
+  double tip_worst_mm = 0.0;  // largest deviation of a per-event tip position
   // First-order 1-sigma uncertainties.
   Mat3 tcp_covariance_mm2 = Mat3::Zero();
-  double tcp_sigma_mm = 0.0;          // sqrt(trace)
-  double axis_sigma_deg = 0.0;        // RMS angular uncertainty of the axis
+  double tcp_sigma_mm = 0.0;    // sqrt(trace)
+  double axis_sigma_deg = 0.0;  // RMS angular uncertainty of the axis
   std::string BriefReport() const;
 };
 
