@@ -60,3 +60,19 @@ TEST(Evaluation, ObliqueCorrectionMattersForAnOffsetTool) {
 
 }  // namespace
 }  // namespace ramtk::tcf
+
+namespace ramtk::tcf {
+namespace {
+
+TEST(Evaluation, PredictedUncertaintyFollowsTimingNoise) {
+  EvaluationOptions o;
+  o.runs = 30;
+  o.simulation.repeatability_mm = 0.005;
+  o.simulation.timing_jitter_s = 5e-4;
+  o.methods = {TcfMethod::kCrossLaser};
+  const auto rows = EvaluateMethods(o);
+  EXPECT_NEAR(rows[0].tcp_rms_mm / rows[0].predicted_tcp_sigma_mm, 1.0, 0.3) << FormatAccuracyTable(rows);
+}
+
+}  // namespace
+}  // namespace ramtk::tcf
