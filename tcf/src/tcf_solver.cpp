@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "json_pose.h"
 #include "ramtk/core/error.h"
@@ -141,7 +142,8 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
   Vec3 axis_f = Vec3::UnitZ(), p_ref = Vec3::Zero();
   double lambda_apex = 0.0;
   const Vec3 y_dir_geom(std::cos(beta_geom), std::sin(beta_geom), 0.0);
-  for (int iter = 0; iter < 4; ++iter) {
+  Vec3 previous_tcp = Vec3::Constant(std::numeric_limits<double>::infinity());
+  for (int iter = 0; iter < opt.max_iterations; ++iter) {
     std::vector<Vec3> pts;
     CirclePoints(motion, s.circles, sensor, beta_used, z_x, z_y, axis_in_sensor, &pts);
     p_ref = Vec3::Zero();
@@ -259,6 +261,17 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     }
     s.tip_rms_mm = std::sqrt(ss / std::max(1, n));
     s.tip_worst_mm = worst;
+    s.tip_events_unused = static_cast<int>(tip_events.size()) - n;
+    if (iter == 0) s.initial_tip_rms_mm = s.tip_rms_mm;
+    s.iterations = iter + 1;
+    // Fixed point of axis slope, beam heights and tip: stop when the TCP no longer moves.
+    const Vec3 tcp = p_ref + lambda_apex * axis_f;
+    const double change = (tcp - previous_tcp).norm();
+    previous_tcp = tcp;
+    if (change < opt.tcp_tolerance_mm) {
+      s.converged = true;
+      break;
+    }
   }
   s.beam_height_difference_mm = z_x - z_y;
 
@@ -278,6 +291,8 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
 
 std::string TcfSolverOptions::Validate() const {
   if (!(max_axis_tilt_deg > 0.0 && max_axis_tilt_deg < 80.0)) return "max_axis_tilt_deg must be in (0, 80)";
+  if (max_iterations < 1) return "max_iterations must be >= 1";
+  if (!(tcp_tolerance_mm > 0.0)) return "tcp_tolerance_mm must be > 0";
   if (!(timing_sigma_s >= 0.0)) return "timing_sigma_s must be >= 0";
   if (!(repeatability_sigma_mm >= 0.0)) return "repeatability_sigma_mm must be >= 0";
   if (!std::isfinite(assumed_latency_s)) return "assumed_latency_s must be finite";
@@ -289,10 +304,10 @@ std::string TcfSummary::BriefReport() const {
   const Vec3& t = solution.tcp_in_flange;
   std::snprintf(buf, sizeof(buf),
                 "TCP (%.4f, %.4f, %.4f) mm +- %.4f, psi %.3f theta %.4f deg +- %.4f, beta %.3f deg, latency %.2f ms%s, "
-                "beam dz %.3f mm, %d tip events (rms %.4f mm)",
+                "beam dz %.3f mm, %d tip events (rms %.4f mm), %d iterations%s",
                 t.x(), t.y(), t.z(), tcp_sigma_mm, RadToDeg(solution.psi_rad), RadToDeg(solution.theta_rad),
                 axis_sigma_deg, RadToDeg(beta_used_rad), latency_s * 1e3, latency_estimated ? " (estimated)" : "",
-                beam_height_difference_mm, tip_events, tip_rms_mm);
+                beam_height_difference_mm, tip_events, tip_rms_mm, iterations, converged ? "" : " (not converged)");
   return buf;
 }
 
@@ -407,6 +422,10 @@ std::string TcfSummaryToJson(const TcfSummary& s) {
   j["tip_events"] = s.tip_events;
   j["tip_rms_mm"] = s.tip_rms_mm;
   j["tip_worst_mm"] = s.tip_worst_mm;
+  j["tip_events_unused"] = s.tip_events_unused;
+  j["initial_tip_rms_mm"] = s.initial_tip_rms_mm;
+  j["iterations"] = s.iterations;
+  j["converged"] = s.converged;
   j["tcp_sigma_mm"] = s.tcp_sigma_mm;
   j["axis_sigma_deg"] = s.axis_sigma_deg;
   nlohmann::json circles = nlohmann::json::array();

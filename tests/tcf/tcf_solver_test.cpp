@@ -32,6 +32,9 @@ TEST(TcfSolver, NoiselessIdealDeviceIsExact) {
   EXPECT_LT((s.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 1e-4) << s.BriefReport();
   EXPECT_LT(AxisErrorDeg(s.solution.axis_in_flange, sim.truth.axis_in_flange), 1e-4);
   EXPECT_NEAR(s.blocking_radius_x_mm, 2.5, 1e-5);
+  EXPECT_TRUE(s.converged);
+  EXPECT_EQ(s.tip_events_unused, 0);
+  EXPECT_LT(s.tip_rms_mm, 1e-4);
   // The 5-DOF frame equals the truth (no rotation about the axis in the truth).
   EXPECT_LT(RotationAngleBetween(s.solution.flange_from_tcp.linear(), sim.truth.flange_from_tcp.linear()), 1e-6);
 }

@@ -55,6 +55,10 @@ struct TcfSolverOptions {
   bool self_calibrate_speed = true;
   // Latency (s) assumed when it is not self-calibrated.
   double assumed_latency_s = 0.0;
+  // The axis slope, beam heights and tip are refined as a fixed point: at most this many passes,
+  // stopping when the TCP moves less than tcp_tolerance_mm.
+  int max_iterations = 10;
+  double tcp_tolerance_mm = 1e-7;
   // Largest tool-axis tilt from the device normal the device can measure (deg).
   double max_axis_tilt_deg = 30.0;
   // Uncertainty propagation: 1-sigma timing noise (s) of one event and robot repeatability
@@ -86,9 +90,15 @@ struct TcfSummary {
   // Blocking radius of each beam (3-D distance beam line – tool axis at the state change: tool radius
   // + half the beam width), from the circles' in-plane values and the axis tilt.
   double blocking_radius_x_mm = 0.0, blocking_radius_y_mm = 0.0;
-  int tip_events = 0;         // straight-move events used for the TCP
-  double tip_rms_mm = 0.0;    // RMS spread of the per-event tip positions along the axis
-  double tip_worst_mm = 0.0;  // largest deviation of a per-event tip position
+  // Termination and residuals. The residual of a straight-move event is its tip position along
+  // the axis minus the mean over events.
+  int iterations = 0;
+  bool converged = false;           // the TCP moved less than tcp_tolerance_mm in the last pass
+  int tip_events = 0;               // straight-move events used for the TCP
+  int tip_events_unused = 0;        // events where the tool never reached the blocking radius (outliers)
+  double initial_tip_rms_mm = 0.0;  // residual RMS of the first pass (calibrated heights, vertical slope)
+  double tip_rms_mm = 0.0;          // final residual RMS
+  double tip_worst_mm = 0.0;        // final largest residual
   // First-order 1-sigma uncertainties.
   Mat3 tcp_covariance_mm2 = Mat3::Zero();
   double tcp_sigma_mm = 0.0;    // sqrt(trace)
