@@ -247,6 +247,40 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
   return sim;
 }
 
+std::map<std::string, Vec3> SimulateSensorCalibrationPoints(const TcfTruth& truth,
+                                                            const SensorCalibrationSimulationOptions& o) {
+  std::mt19937_64 rng(o.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  auto noise = [&]() -> Vec3 {
+    const double a = normal(rng), b = normal(rng), c = normal(rng);
+    return o.repeatability_mm * Vec3(a, b, c);
+  };
+  const Isometry3& tb = truth.base_from_lasersensor;
+  const double half = o.pin_radius_mm + 0.5 * truth.beam_width_mm;
+  std::map<std::string, Vec3> out;
+  // Beam b: foot point and direction in the base frame; the flange (pin axis) positions at the
+  // state changes are symmetric about the beam point crossed.
+  auto add = [&](const std::string& label, const Vec3& foot, const Vec3& dir, double s, bool scan_along_y) {
+    const Vec3 pb = foot + s * dir;  // the beam point the passes cross
+    // Horizontal pass with a vertical pin: along Y_b (x beam) or X_b (y beam), 30 mm above.
+    const Vec3 h = scan_along_y ? Vec3::UnitY() : Vec3::UnitX();
+    const double k = half / std::max(1e-6, std::abs(h.dot(Vec3::UnitZ().cross(dir).normalized())));
+    out[label + "1"] = pb - k * h + Vec3(0, 0, 13.0) + noise();
+    out[label + "2"] = pb + k * h + Vec3(0, 0, 13.0) + noise();
+    // Vertical pass with a horizontal pin along the scan direction, offset 13 mm along it.
+    out[label + "3"] = pb + half * Vec3::UnitZ() - 13.0 * h + noise();
+    out[label + "4"] = pb - half * Vec3::UnitZ() - 13.0 * h + noise();
+  };
+  const Vec3 x_foot = tb * Vec3(0, 0, truth.x_beam_z_mm), y_foot = tb * Vec3(0, 0, truth.y_beam_z_mm);
+  const Vec3 x_dir = tb.linear() * Vec3::UnitX();
+  const Vec3 y_dir = tb.linear() * Vec3(std::cos(truth.beta_rad), std::sin(truth.beta_rad), 0.0);
+  add("A", x_foot, x_dir, -o.half_span_mm, true);
+  add("B", x_foot, x_dir, o.half_span_mm, true);
+  add("C", y_foot, y_dir, -o.half_span_mm, false);
+  add("D", y_foot, y_dir, o.half_span_mm, false);
+  return out;
+}
+
 std::string TcfTruthToJson(const TcfTruth& t, const DeviceEffects& fx) {
   using detail::VecToJson;
   nlohmann::json j;

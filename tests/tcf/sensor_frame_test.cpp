@@ -162,3 +162,56 @@ TEST(SensorFrame, BadCsvLabel) {
 
 }  // namespace
 }  // namespace ramtk::tcf
+
+#include "ramtk/tcf/simulator.h"
+
+namespace ramtk::tcf {
+namespace {
+
+TcfTruth SkewedDevice() {
+  TcfTruth t;
+  t.base_from_lasersensor = TcfSimulationOptions::DefaultBaseFromLaserSensor();
+  t.beta_rad = DegToRad(92.15);
+  t.x_beam_z_mm = 0.2;
+  t.y_beam_z_mm = -0.2;
+  t.beam_width_mm = 1.0;
+  return t;
+}
+
+TEST(SensorFrame, SimulatedCalibrationRecoversTheTrueFrame) {
+  const TcfTruth truth = SkewedDevice();
+  SensorCalibrationSimulationOptions o;
+  o.repeatability_mm = 0.0;
+  const SensorFrame f = CalibrateSensorFrame(BeamPointsFromFlangePositions(SimulateSensorCalibrationPoints(truth, o)));
+  EXPECT_LT((f.m_in_base - truth.base_from_lasersensor.translation()).norm(), 1e-9);
+  EXPECT_LT((f.base_from_lasersensor.linear() - truth.base_from_lasersensor.linear()).norm(), 1e-9);
+  EXPECT_NEAR(f.beta_rad, truth.beta_rad, 1e-12);
+  EXPECT_NEAR(f.beam_gap_mm, 0.4, 1e-9);
+  EXPECT_NEAR(f.x_beam_z_mm, 0.2, 1e-9);
+}
+
+TEST(SensorFrame, SimulatedCalibrationNoise) {
+  // 0.03 mm per recorded position: each beam point is a mean of 2 (σ/√2 per axis), so each beam
+  // direction over the 12 mm span has σ ≈ sqrt(2)·(σ/√2)/12 mm = 0.0025 rad per component and the
+  // origin ≈ 0.02 mm per axis.
+  const TcfTruth truth = SkewedDevice();
+  double ss_origin = 0.0, ss_beta = 0.0;
+  const int n = 200;
+  for (int i = 0; i < n; ++i) {
+    SensorCalibrationSimulationOptions o;
+    o.seed = 1000 + i;
+    const SensorFrame f =
+        CalibrateSensorFrame(BeamPointsFromFlangePositions(SimulateSensorCalibrationPoints(truth, o)));
+    ss_origin += (f.m_in_base - truth.base_from_lasersensor.translation()).squaredNorm();
+    ss_beta += std::pow(RadToDeg(f.beta_rad - truth.beta_rad), 2);
+  }
+  const double origin_rms = std::sqrt(ss_origin / n), beta_rms = std::sqrt(ss_beta / n);
+  EXPECT_GT(origin_rms, 0.01);
+  EXPECT_LT(origin_rms, 0.06);
+  // β: the in-plane direction errors of both beams, sqrt(2) · (σ/12 mm) rad ≈ 0.2°.
+  EXPECT_GT(beta_rms, 0.07);
+  EXPECT_LT(beta_rms, 0.3);
+}
+
+}  // namespace
+}  // namespace ramtk::tcf

@@ -15,6 +15,7 @@
 // effects (sensor_plane_tilt tilts the true beam plane, beam_offset moves the beams along Z_s).
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -97,6 +98,21 @@ struct TcfSimulation {
 };
 
 TcfSimulation SimulateTcf(const TcfSimulationOptions& options);
+
+// Simulated sensor-frame calibration (thesis §4.3.1, Table 5-3 procedure) on the true beams: a
+// calibration pin of radius pin_radius_mm on the flange axis is passed through each beam at two
+// points (±half_span_mm from the beam's foot of the common perpendicular): horizontally (vertical
+// pin; A1, A2 / C1, C2) and vertically (horizontal pin; A3, A4 / C3, C4). Each recorded flange
+// position carries a Gaussian error of repeatability_mm per axis. Returns the 16 labelled
+// positions of the Table 5-3 format.
+struct SensorCalibrationSimulationOptions {
+  std::uint64_t seed = 1;
+  double repeatability_mm = 0.03;
+  double pin_radius_mm = 2.5;
+  double half_span_mm = 6.0;
+};
+std::map<std::string, Vec3> SimulateSensorCalibrationPoints(const TcfTruth& truth,
+                                                            const SensorCalibrationSimulationOptions& options);
 
 std::string TcfTruthToJson(const TcfTruth& truth, const DeviceEffects& effects);
 
