@@ -155,3 +155,32 @@ TEST(TcfSolver, SpeedScaleIsNotTakenForLatency) {
 
 }  // namespace
 }  // namespace ramtk::tcf
+
+namespace ramtk::tcf {
+namespace {
+
+// The thesis's measured tool frames, eqs. (5-5) and (5-6), have the 5-DOF form of eq. (4-10):
+// ψ, θ from their Z column rebuild the whole printed rotation to its 4 decimals.
+TEST(TcfSolver, ThesisToolFramesHaveTheFiveDofForm) {
+  const double eq55[3][3] = {{1.0000, -0.0000, -0.0016}, {-0.0000, 1.0000, -0.0012}, {0.0016, 0.0012, 1.0000}};
+  const double eq56[3][3] = {{0.9963, 0.0051, 0.0857}, {0.0051, 0.9929, -0.1187}, {-0.0857, 0.1187, 0.9892}};
+  for (const auto* m : {eq55, eq56}) {
+    const Vec3 z(m[0][2], m[1][2], m[2][2]);
+    double psi, theta;
+    EulerFromAxis(z, &psi, &theta);
+    const Mat3 r = FiveDofRotation(psi, theta);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_NEAR(r(i, j), m[i][j], 1.5e-4) << i << "," << j;
+      }
+    }
+  }
+  // Eq. (5-6): the shimmed tool is tilted by θ = 8.4° towards ψ = 35.8°.
+  double psi, theta;
+  EulerFromAxis(Vec3(0.0857, -0.1187, 0.9892), &psi, &theta);
+  EXPECT_NEAR(RadToDeg(psi), 35.83, 0.05);
+  EXPECT_NEAR(RadToDeg(theta), 8.43, 0.05);
+}
+
+}  // namespace
+}  // namespace ramtk::tcf
