@@ -155,6 +155,16 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     if (spread < 0.5)
       throw InputError({mpath, 0, "circles"}, "the circles' axis points coincide: program circles at two heights");
     axis_f = eig.eigenvectors().col(2).normalized();
+    // Residuals of the circles' axis points from the fitted axis (cw and ccw circles at one height
+    // must agree; with two heights only, these are zero).
+    double css = 0.0, cworst = 0.0;
+    for (const Vec3& p : pts) {
+      const Vec3 d = (p - p_ref) - (p - p_ref).dot(axis_f) * axis_f;
+      css += d.squaredNorm();
+      cworst = std::max(cworst, d.norm());
+    }
+    s.circle_rms_mm = std::sqrt(css / pts.size());
+    s.circle_worst_mm = cworst;
     if (axis_f.dot(p_ref) < 0) axis_f = -axis_f;  // towards the tip, away from the flange
     axis_in_sensor = sensor_from_base.linear() * motion.circles[0].base_from_flange_centre.linear() * axis_f;
     const double tilt = std::acos(std::clamp(-axis_in_sensor.z(), -1.0, 1.0));
@@ -304,10 +314,11 @@ std::string TcfSummary::BriefReport() const {
   const Vec3& t = solution.tcp_in_flange;
   std::snprintf(buf, sizeof(buf),
                 "TCP (%.4f, %.4f, %.4f) mm +- %.4f, psi %.3f theta %.4f deg +- %.4f, beta %.3f deg, latency %.2f ms%s, "
-                "beam dz %.3f mm, %d tip events (rms %.4f mm), %d iterations%s",
+                "beam dz %.3f mm, circle rms %.4f mm, %d tip events (rms %.4f mm), %d iterations%s",
                 t.x(), t.y(), t.z(), tcp_sigma_mm, RadToDeg(solution.psi_rad), RadToDeg(solution.theta_rad),
                 axis_sigma_deg, RadToDeg(beta_used_rad), latency_s * 1e3, latency_estimated ? " (estimated)" : "",
-                beam_height_difference_mm, tip_events, tip_rms_mm, iterations, converged ? "" : " (not converged)");
+                beam_height_difference_mm, circle_rms_mm, tip_events, tip_rms_mm, iterations,
+                converged ? "" : " (not converged)");
   return buf;
 }
 
@@ -425,6 +436,8 @@ std::string TcfSummaryToJson(const TcfSummary& s) {
   j["tip_events_unused"] = s.tip_events_unused;
   j["initial_tip_rms_mm"] = s.initial_tip_rms_mm;
   j["iterations"] = s.iterations;
+  j["circle_rms_mm"] = s.circle_rms_mm;
+  j["circle_worst_mm"] = s.circle_worst_mm;
   j["converged"] = s.converged;
   j["tcp_sigma_mm"] = s.tcp_sigma_mm;
   j["axis_sigma_deg"] = s.axis_sigma_deg;

@@ -35,6 +35,7 @@ TEST(TcfSolver, NoiselessIdealDeviceIsExact) {
   EXPECT_TRUE(s.converged);
   EXPECT_EQ(s.tip_events_unused, 0);
   EXPECT_LT(s.tip_rms_mm, 1e-4);
+  EXPECT_LT(s.circle_rms_mm, 1e-5);
   // The 5-DOF frame equals the truth (no rotation about the axis in the truth).
   EXPECT_LT(RotationAngleBetween(s.solution.flange_from_tcp.linear(), sim.truth.flange_from_tcp.linear()), 1e-6);
 }

@@ -99,6 +99,8 @@ struct TcfSummary {
   double initial_tip_rms_mm = 0.0;  // residual RMS of the first pass (calibrated heights, vertical slope)
   double tip_rms_mm = 0.0;          // final residual RMS
   double tip_worst_mm = 0.0;        // final largest residual
+  // Distances of the circles' axis points from the fitted axis (RMS, largest).
+  double circle_rms_mm = 0.0, circle_worst_mm = 0.0;
   // First-order 1-sigma uncertainties.
   Mat3 tcp_covariance_mm2 = Mat3::Zero();
   double tcp_sigma_mm = 0.0;    // sqrt(trace)
