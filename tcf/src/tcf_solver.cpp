@@ -302,6 +302,7 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
 std::string TcfSolverOptions::Validate() const {
   if (!(max_axis_tilt_deg > 0.0 && max_axis_tilt_deg < 80.0)) return "max_axis_tilt_deg must be in (0, 80)";
   if (max_iterations < 1) return "max_iterations must be >= 1";
+  if (!(min_blocked_duration_s >= 0.0)) return "min_blocked_duration_s must be >= 0";
   if (!(tcp_tolerance_mm > 0.0)) return "tcp_tolerance_mm must be > 0";
   if (!(timing_sigma_s >= 0.0)) return "timing_sigma_s must be >= 0";
   if (!(repeatability_sigma_mm >= 0.0)) return "repeatability_sigma_mm must be >= 0";
@@ -365,12 +366,33 @@ AxisEstimate EstimateToolAxisFromCircles(const std::vector<BeamEvent>& events, c
   return est;
 }
 
-TcfSummary SolveTcf(const std::vector<BeamEvent>& events, const ProgrammedMotion& motion, const SensorFrame& sensor,
+TcfSummary SolveTcf(const std::vector<BeamEvent>& events_in, const ProgrammedMotion& motion, const SensorFrame& sensor,
                     const TcfSolverOptions& options, const std::string& log_path) {
   if (const std::string err = options.Validate(); !err.empty()) throw InputError({"", 0, "TcfSolverOptions"}, err);
-  CheckAlternation(events, log_path);
+  CheckAlternation(events_in, log_path);
+  // Glitches: blocked intervals shorter than min_blocked_duration_s (dust, receiver chatter) are
+  // dropped with their clear event; alternation is kept.
+  std::vector<BeamEvent> events;
+  int glitches = 0;
+  {
+    std::vector<bool> keep(events_in.size(), true);
+    int open_index[2] = {-1, -1};
+    for (std::size_t i = 0; i < events_in.size(); ++i) {
+      const int b = static_cast<int>(events_in[i].beam);
+      if (events_in[i].state == BeamState::kBlocked) {
+        open_index[b] = static_cast<int>(i);
+      } else if (open_index[b] >= 0 &&
+                 events_in[i].time_s - events_in[open_index[b]].time_s < options.min_blocked_duration_s) {
+        keep[i] = keep[open_index[b]] = false;
+        ++glitches;
+      }
+    }
+    for (std::size_t i = 0; i < events_in.size(); ++i)
+      if (keep[i]) events.push_back(events_in[i]);
+  }
   CoreResult base = SolveCore(events, motion, sensor, options, log_path);
   TcfSummary& s = base.summary;
+  s.glitches_removed = glitches;
   if (options.timing_sigma_s > 0.0 || options.repeatability_sigma_mm > 0.0) {
     // First-order propagation: numerical Jacobian of (TCP, axis) w.r.t. every event time and
     // every segment's translation.
@@ -436,6 +458,7 @@ std::string TcfSummaryToJson(const TcfSummary& s) {
   j["tip_events_unused"] = s.tip_events_unused;
   j["initial_tip_rms_mm"] = s.initial_tip_rms_mm;
   j["iterations"] = s.iterations;
+  j["glitches_removed"] = s.glitches_removed;
   j["circle_rms_mm"] = s.circle_rms_mm;
   j["circle_worst_mm"] = s.circle_worst_mm;
   j["converged"] = s.converged;

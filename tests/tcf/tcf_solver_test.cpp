@@ -185,3 +185,35 @@ TEST(TcfSolver, ThesisToolFramesHaveTheFiveDofForm) {
 
 }  // namespace
 }  // namespace ramtk::tcf
+
+namespace ramtk::tcf {
+namespace {
+
+TEST(TcfSolver, ReceiverGlitchesAreDropped) {
+  const TcfSimulation sim = SimulateTcf(Noiseless());
+  TcfSolverOptions opt;
+  opt.timing_sigma_s = 0;
+  opt.repeatability_sigma_mm = 0;
+  const TcfSummary clean = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, opt);
+  // A 0.3 ms blocked/clear chatter on the x beam in the middle of the first circle.
+  std::vector<BeamEvent> ev = sim.events;
+  const double t = sim.motion.circles[0].start_time_s + 0.05;
+  ev.push_back({t, Beam::kX, BeamState::kBlocked, 0});
+  ev.push_back({t + 3e-4, Beam::kX, BeamState::kClear, 0});
+  std::sort(ev.begin(), ev.end(), [](const BeamEvent& a, const BeamEvent& b) { return a.time_s < b.time_s; });
+  const TcfSummary filtered = SolveTcf(ev, sim.motion, sim.calibrated_sensor, opt);
+  EXPECT_EQ(filtered.glitches_removed, 1);
+  EXPECT_LT((filtered.solution.tcp_in_flange - clean.solution.tcp_in_flange).norm(), 1e-12);
+  // Without the filter the glitch is taken for a crossing and the circle is misread.
+  opt.min_blocked_duration_s = 0.0;
+  bool differs = true;
+  try {
+    const TcfSummary raw = SolveTcf(ev, sim.motion, sim.calibrated_sensor, opt);
+    differs = (raw.solution.tcp_in_flange - clean.solution.tcp_in_flange).norm() > 0.01;
+  } catch (const InputError&) {
+  }
+  EXPECT_TRUE(differs);
+}
+
+}  // namespace
+}  // namespace ramtk::tcf

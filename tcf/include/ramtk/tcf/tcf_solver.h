@@ -59,6 +59,9 @@ struct TcfSolverOptions {
   // stopping when the TCP moves less than tcp_tolerance_mm.
   int max_iterations = 10;
   double tcp_tolerance_mm = 1e-7;
+  // Blocked intervals shorter than this (s) are receiver glitches and are dropped (a real crossing
+  // of a 5 mm tool at the programmed speeds lasts > 0.1 s).
+  double min_blocked_duration_s = 2e-3;
   // Largest tool-axis tilt from the device normal the device can measure (deg).
   double max_axis_tilt_deg = 30.0;
   // Uncertainty propagation: 1-sigma timing noise (s) of one event and robot repeatability
@@ -94,6 +97,7 @@ struct TcfSummary {
   // the axis minus the mean over events.
   int iterations = 0;
   bool converged = false;           // the TCP moved less than tcp_tolerance_mm in the last pass
+  int glitches_removed = 0;         // blocked/clear pairs shorter than min_blocked_duration_s
   int tip_events = 0;               // straight-move events used for the TCP
   int tip_events_unused = 0;        // events where the tool never reached the blocking radius (outliers)
   double initial_tip_rms_mm = 0.0;  // residual RMS of the first pass (calibrated heights, vertical slope)
