@@ -16,5 +16,6 @@ inline constexpr int kExitNoSolution = 3;
 void RegisterFkCommand(CLI::App& app, int* exit_code);
 void RegisterIkCommand(CLI::App& app, int* exit_code);
 void RegisterThermalCommands(CLI::App& app, int* exit_code);  // simulate thermal, thermal ...
+void RegisterTcfCommand(CLI::App& app, int* exit_code);  // tcf … and simulate tcf
 
 }  // namespace ramtk::tools

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterFkCommand(app, &exit_code);
   ramtk::tools::RegisterIkCommand(app, &exit_code);
   ramtk::tools::RegisterThermalCommands(app, &exit_code);
+  ramtk::tools::RegisterTcfCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
