@@ -1,0 +1,150 @@
+// ramtk calib sensor-robot | calib cameras | simulate sensor-robot: thin wrappers over ramtk::calib.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/calib/sensor_robot.h"
+#include "ramtk/calib/sensor_robot_io.h"
+#include "ramtk/calib/sensor_robot_sim.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/units.h"
+#include "ramtk/kinematics/robot_io.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct SensorRobotCommandOptions {
+  std::string robot_path;         // robot model YAML
+  std::string measurements_path;  // ball measurement CSV
+  std::string output_path;        // result JSON
+  std::string method = "manifold";
+  std::string loss = "huber";
+  double loss_scale_mm = 0.1;
+  double penalty = 1e8;
+  int min_poses = 5;
+};
+
+int RunSensorRobot(const SensorRobotCommandOptions& opt) {
+  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  const std::vector<calib::BallObservation> obs = calib::ReadBallObservations(opt.measurements_path);
+  calib::SensorRobotSummary summary;
+  calib::SensorRobotCalibration result;
+  try {
+    if (opt.method == "thesis") {
+      calib::ThesisCalibrationOptions o;
+      o.penalty_factor = opt.penalty;
+      o.checks.min_poses = opt.min_poses;
+      result = calib::CalibrateSensorRobotThesis(model, obs, o, &summary);
+    } else {
+      calib::SensorRobotOptions o;
+      o.loss = opt.loss == "none" ? calib::RobustLoss::kNone
+               : opt.loss == "cauchy" ? calib::RobustLoss::kCauchy
+                                      : calib::RobustLoss::kHuber;
+      o.loss_scale_mm = opt.loss_scale_mm;
+      o.checks.min_poses = opt.min_poses;
+      result = calib::CalibrateSensorRobot(model, obs, o, &summary);
+    }
+  } catch (const InputError& e) {
+    if (!e.where().file.empty()) throw;
+    throw InputError({opt.measurements_path, 0, e.where().field}, e.message());
+  }
+  calib::WriteSensorRobotResult(opt.output_path, result, summary, obs);
+  const Isometry3& t = result.sensor_from_base;
+  const KukaAbc abc = KukaAbcFromRotation(t.linear());
+  std::printf("%s\n", summary.BriefReport().c_str());
+  std::printf("sensor_from_base  t (mm) %12.4f %12.4f %12.4f   A,B,C (deg) %10.5f %10.5f %10.5f\n", t.translation().x(),
+              t.translation().y(), t.translation().z(), RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c));
+  std::printf("ball_in_flange      (mm) %12.4f %12.4f %12.4f\n", result.ball_in_flange.x(), result.ball_in_flange.y(),
+              result.ball_in_flange.z());
+  if (result.has_covariance) {
+    const Vec3 sr = result.RotationStdArcsec(), st = result.TranslationStdMm(), sb = result.BallStdMm();
+    std::printf("std: rotation (arcsec) %.2f %.2f %.2f  translation (mm) %.4f %.4f %.4f  ball (mm) %.4f %.4f %.4f\n",
+                sr.x(), sr.y(), sr.z(), st.x(), st.y(), st.z(), sb.x(), sb.y(), sb.z());
+  }
+  for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
+  std::printf("wrote %s\n", opt.output_path.c_str());
+  return summary.termination == calib::SensorRobotTermination::kFailed ? kExitNoSolution : kExitOk;
+}
+
+struct SimulateSensorRobotOptions {
+  std::string robot_path;
+  std::string csv_path;
+  std::string truth_path;
+  int poses = 9;
+  double center_noise_mm = 0.010;
+  double repeatability_mm = 0.05;
+  double max_tilt_deg = 35.0;
+  std::uint64_t seed = 1;
+  std::uint64_t noise_seed = 1;
+};
+
+int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
+  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  calib::SensorRobotSimOptions o;
+  o.num_poses = opt.poses;
+  o.center_noise_mm = opt.center_noise_mm;
+  o.repeatability_mm = opt.repeatability_mm;
+  o.max_tilt_deg = opt.max_tilt_deg;
+  o.seed = opt.seed;
+  o.noise_seed = opt.noise_seed;
+  const calib::SensorRobotSimulation sim = calib::SimulateSensorRobot(model, o);
+  const std::string truth = calib::SensorRobotTruthJson(sim, o);
+  kinematics::WriteRobotMeasurements(calib::MeasurementsFromObservations(sim.observations), opt.csv_path);
+  WriteFileAtomically(opt.truth_path, truth);
+  std::printf("simulated %d poses (centre noise %.4f mm, repeatability %.4f mm); wrote %s and %s\n", opt.poses,
+              opt.center_noise_mm, opt.repeatability_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
+  return kExitOk;
+}
+
+// The `name` subcommand of `app`, created if no other command made it yet.
+CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_name() == name) return sub;
+  }
+  CLI::App* sub = app.add_subcommand(name, description);
+  sub->require_subcommand(1);
+  return sub;
+}
+
+}  // namespace
+
+void RegisterCalibCommands(CLI::App& app, int* exit_code) {
+  CLI::App* calib = GetOrAddSubcommand(app, "calib", "Calibrations: sensor-to-robot, camera sessions");
+  {
+    auto opt = std::make_shared<SensorRobotCommandOptions>();
+    CLI::App* sub = calib->add_subcommand(
+        "sensor-robot", "sensor_from_base and ball_in_flange from ball centres measured at several robot poses");
+    sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
+    sub->add_option("--measurements", opt->measurements_path, "Ball measurement CSV (cycle,time_s,pose,q1..q6,x,y,z)")
+        ->required();
+    sub->add_option("--output", opt->output_path, "Result JSON")->required();
+    sub->add_option("--method", opt->method, "manifold (closed form + Ceres on SO(3)) or thesis (eqs. 3-11..3-19)")
+        ->check(CLI::IsMember({"manifold", "thesis"}));
+    sub->add_option("--loss", opt->loss, "Robust loss of the manifold method: huber, cauchy or none")
+        ->check(CLI::IsMember({"huber", "cauchy", "none"}));
+    sub->add_option("--loss-scale", opt->loss_scale_mm, "Robust loss scale (mm)");
+    sub->add_option("--penalty", opt->penalty, "Orthogonality penalty factor M of the thesis method (eq. 3-18)");
+    sub->add_option("--min-poses", opt->min_poses, "Fewest poses accepted");
+    sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
+  }
+  CLI::App* simulate = GetOrAddSubcommand(app, "simulate", "Simulators with known truth");
+  {
+    auto opt = std::make_shared<SimulateSensorRobotOptions>();
+    CLI::App* sub = simulate->add_subcommand(
+        "sensor-robot", "Ball centres measured by a fixed sensor at N robot poses (truth: thesis eqs. 5-1, 5-2)");
+    sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
+    sub->add_option("--output", opt->csv_path, "Ball measurement CSV to write")->required();
+    sub->add_option("--truth", opt->truth_path, "Truth JSON to write")->required();
+    sub->add_option("--poses", opt->poses, "Number of poses");
+    sub->add_option("--center-noise", opt->center_noise_mm, "Sphere-centre noise per axis (mm, 1 sigma)");
+    sub->add_option("--repeatability", opt->repeatability_mm, "Robot repeatability ISO 9283 RP (mm)");
+    sub->add_option("--max-tilt", opt->max_tilt_deg, "Largest flange tilt from the nominal orientation (deg)");
+    sub->add_option("--seed", opt->seed, "Seed of the pose geometry");
+    sub->add_option("--noise-seed", opt->noise_seed, "Seed of the noise");
+    sub->callback([opt, exit_code]() { *exit_code = RunSimulateSensorRobot(*opt); });
+  }
+}
+
+}  // namespace ramtk::tools
