@@ -3,7 +3,13 @@
 #include <iostream>
 #include <memory>
 
+#include <algorithm>
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+
 #include "commands.h"
+#include "ramtk/calib/camera_calibration.h"
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/calib/sensor_robot_sim.h"
@@ -98,6 +104,83 @@ int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
   return kExitOk;
 }
 
+
+struct CamerasCommandOptions {
+  std::string left;     // folder (or single image) of left-camera views
+  std::string right;    // folder of right-camera views; empty → single camera
+  std::string board;    // board description, e.g. chessboard:9x6:25
+  std::string output;   // calibration YAML
+  std::string coverage;  // PNG picture; default: output with _coverage.png
+  double outlier_factor = 3.0;
+  double outlier_min_px = 0.25;
+  bool free_k3 = false;
+};
+
+std::vector<std::string> ListImages(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  if (!fs::is_directory(dir)) throw InputError({dir, 0, ""}, "not a folder of images");
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".png" || ext == ".bmp" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff") {
+      files.push_back(e.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError({dir, 0, ""}, "no images (png, bmp, jpg, tif) in the folder");
+  return files;
+}
+
+std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+int RunCameras(const CamerasCommandOptions& opt) {
+  const calib::BoardSpec board = calib::ParseBoardSpec(opt.board, {"", 0, "--board"});
+  calib::CameraCalibrationOptions co;
+  co.outlier_factor = opt.outlier_factor;
+  co.outlier_min_px = opt.outlier_min_px;
+  co.fix_k3 = !opt.free_k3;
+  const std::string bad = co.Validate();
+  if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
+  const std::vector<std::string> left_files = ListImages(opt.left);
+  cv::Size size;
+  std::vector<calib::RejectedView> not_found;
+  std::vector<calib::ViewPoints> left = calib::DetectBoardInImages(left_files, board, &size, &not_found);
+  const std::string coverage_path =
+      !opt.coverage.empty() ? opt.coverage
+                            : std::filesystem::path(opt.output).replace_extension("").string() + "_coverage.png";
+  calib::CameraCalibrationSummary summary;
+  std::string yaml;
+  cv::Mat picture;
+  if (opt.right.empty()) {
+    const calib::CameraCalibrationResult r = calib::CalibrateCamera(left, size, co, &summary);
+    yaml = calib::CameraCalibrationYaml(r, board);
+    picture = calib::DrawCoverage(r, left);
+  } else {
+    const std::vector<std::string> right_files = ListImages(opt.right);
+    if (right_files.size() != left_files.size()) {
+      throw InputError({opt.right, 0, "--right"}, std::to_string(right_files.size()) + " images, but " +
+                                                      std::to_string(left_files.size()) + " in " + opt.left);
+    }
+    cv::Size right_size = size;
+    std::vector<calib::ViewPoints> right = calib::DetectBoardInImages(right_files, board, &right_size, &not_found);
+    const calib::StereoCalibrationResult st = calib::CalibrateStereo(left, right, size, co, &summary);
+    yaml = calib::StereoCalibrationYaml(st, board);
+    cv::hconcat(calib::DrawCoverage(st.left, left), calib::DrawCoverage(st.right, right), picture);
+  }
+  std::vector<unsigned char> png;
+  cv::imencode(".png", picture, png);
+  WriteFileAtomically(opt.output, yaml);
+  WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
+  std::printf("%s\n", summary.BriefReport().c_str());
+  for (const calib::RejectedView& r : not_found) std::printf("skipped %s: %s\n", ShortName(r.name).c_str(), r.reason.c_str());
+  for (const calib::RejectedView& r : summary.rejected) {
+    std::printf("rejected %s: %s\n", r.name.c_str(), r.reason.c_str());
+  }
+  std::printf("wrote %s and %s\n", opt.output.c_str(), coverage_path.c_str());
+  return kExitOk;
+}
+
 // The `name` subcommand of `app`, created if no other command made it yet.
 CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
@@ -128,6 +211,23 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--penalty", opt->penalty, "Orthogonality penalty factor M of the thesis method (eq. 3-18)");
     sub->add_option("--min-poses", opt->min_poses, "Fewest poses accepted");
     sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
+  }
+  {
+    auto opt = std::make_shared<CamerasCommandOptions>();
+    CLI::App* sub = calib->add_subcommand("cameras", "Single or stereo camera calibration from board images");
+    sub->add_option("--left", opt->left, "Folder of (left) camera images, sorted by name")->required();
+    sub->add_option("--right", opt->right, "Folder of right camera images (same count and order); stereo if given");
+    sub->add_option("--board", opt->board,
+                    "Board: chessboard:9x6:25 | circles:7x5:25 | acircles:4x11:20 | charuco:10x7:25:18[:DICT_5X5_100] "
+                    "(COLSxROWS, then mm)")
+        ->required();
+    sub->add_option("--output", opt->output, "Calibration YAML (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...)")
+        ->required();
+    sub->add_option("--coverage", opt->coverage, "Coverage/residual picture (PNG); default <output>_coverage.png");
+    sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");
+    sub->add_option("--outlier-min-px", opt->outlier_min_px, "... and above this RMS (px)");
+    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
+    sub->callback([opt, exit_code]() { *exit_code = RunCameras(*opt); });
   }
   CLI::App* simulate = GetOrAddSubcommand(app, "simulate", "Simulators with known truth");
   {

@@ -152,11 +152,15 @@ BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, int min_
     case BoardType::kChessboard:
       // The sector-based detector is the accurate one (≈0.02 px on rendered boards against
       // ≈0.08 px for findChessboardCorners + cornerSubPix); the classic one is the fallback.
-      d.found = cv::findChessboardCornersSB(gray, pattern, pts, cv::CALIB_CB_ACCURACY);
-      if (!d.found) {
-        d.found = cv::findChessboardCorners(gray, pattern, pts,
-                                            cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
-        if (d.found) {
+      // The classic detector with its fast check goes first: it decides quickly that a board is
+      // absent, where the sector-based one searches for seconds.
+      d.found = cv::findChessboardCorners(
+          gray, pattern, pts, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_FAST_CHECK);
+      if (d.found) {
+        std::vector<cv::Point2f> accurate;
+        if (cv::findChessboardCornersSB(gray, pattern, accurate, cv::CALIB_CB_ACCURACY)) {
+          pts = accurate;
+        } else {
           cv::cornerSubPix(gray, pts, cv::Size(5, 5), cv::Size(-1, -1),
                            cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-4));
         }
