@@ -1,0 +1,56 @@
+#pragma once
+// Robot-world / hand-eye calibration for a fixed camera that sees a board carried by the robot
+// (camera on a stand), through OpenCV's cv::calibrateRobotWorldHandEye (Shah 2013 or Li 2010).
+//
+// Per pose i the camera measures camera_from_board_i (e.g. cv::solvePnP on a detected board):
+//   camera_from_board_i = camera_from_base · base_from_flange(q_i) · flange_from_board.
+// OpenCV's equation is ᶜT_w · ʷT_b = ᶜT_g · ᵍT_b; with OpenCV's "world" = our board, its
+// "base" = our flange and its "gripper" = our robot base, its outputs are board_from_flange and
+// camera_from_base. camera_from_base plays the role of sensor_from_base of §3.3.
+
+#include <string>
+#include <vector>
+
+#include "ramtk/core/rotation.h"
+#include "ramtk/kinematics/robot_model.h"
+
+namespace ramtk::calib {
+
+struct BoardPoseObservation {
+  kinematics::JointVector q_controller = kinematics::JointVector::Zero();  // rad
+  Isometry3 camera_from_board = Isometry3::Identity();                     // mm
+};
+
+enum class HandEyeMethod { kShah, kLi };
+
+struct HandEyeOptions {
+  HandEyeMethod method = HandEyeMethod::kShah;
+  int min_poses = 3;  // OpenCV needs at least 3
+
+  std::string Validate() const;
+};
+
+struct HandEyeResult {
+  Isometry3 camera_from_base = Isometry3::Identity();
+  Isometry3 flange_from_board = Isometry3::Identity();
+  // Per pose: measured vs predicted camera_from_board (rotation angle in rad, translation in mm).
+  std::vector<double> rotation_residual_rad;
+  std::vector<double> translation_residual_mm;
+};
+
+struct HandEyeSummary {
+  std::string method;
+  int num_poses = 0;
+  double rms_rotation_deg = 0.0;
+  double rms_translation_mm = 0.0;
+  double worst_translation_mm = 0.0;
+  int worst_pose = -1;
+
+  std::string BriefReport() const;
+};
+
+// InputError (field "poses") for fewer than min_poses poses.
+HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const std::vector<BoardPoseObservation>& obs,
+                                     const HandEyeOptions& options = {}, HandEyeSummary* summary = nullptr);
+
+}  // namespace ramtk::calib
