@@ -1,5 +1,6 @@
 #include "sensor_robot_internal.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ramtk/core/error.h"
@@ -26,10 +27,14 @@ void FillSummaryResiduals(const SensorRobotCalibration& c, double outlier_factor
   s->rms_mm = c.rms_mm;
   s->max_residual_mm = c.max_residual_mm;
   s->outliers.clear();
-  for (int i = 0; i < static_cast<int>(c.residuals_mm.size()); ++i) {
-    const double r = c.residuals_mm[i].norm();
-    if (r == c.max_residual_mm) s->worst_pose = i;
-    if (r > outlier_factor * c.rms_mm) s->outliers.push_back(i);
+  std::vector<double> norms;
+  for (const Vec3& r : c.residuals_mm) norms.push_back(r.norm());
+  std::vector<double> sorted = norms;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  for (int i = 0; i < static_cast<int>(norms.size()); ++i) {
+    if (norms[i] == c.max_residual_mm) s->worst_pose = i;
+    if (norms[i] > outlier_factor * median) s->outliers.push_back(i);
   }
 }
 

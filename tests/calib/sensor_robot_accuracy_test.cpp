@@ -96,3 +96,46 @@ TEST(SensorRobotAccuracy, ReportedCovarianceMatchesMonteCarloScatter) {
 
 }  // namespace
 }  // namespace ramtk::calib
+
+namespace ramtk::calib {
+namespace {
+
+// One pose with a 1 mm blunder (a mis-fitted sphere): the robust loss keeps the estimate near
+// the clean one, plain least squares does not, and the pose is listed as an outlier.
+TEST(SensorRobotAccuracy, RobustLossResistsABlunderAndNamesIt) {
+  const kinematics::RobotModel model = testing::Kr150();
+  SensorRobotSimOptions o;
+  o.num_poses = 12;
+  SensorRobotSimulation sim = SimulateSensorRobot(model, o);
+  const SensorRobotCalibration clean = CalibrateSensorRobot(model, sim.observations);
+  sim.observations[7].ball_in_sensor += Vec3(0.6, -0.5, 0.6);
+  SensorRobotOptions plain, cauchy;
+  plain.loss = RobustLoss::kNone;
+  cauchy.loss = RobustLoss::kCauchy;
+  cauchy.loss_scale_mm = 0.05;
+  SensorRobotSummary s_plain, s_huber, s_cauchy;
+  const SensorRobotCalibration a = CalibrateSensorRobot(model, sim.observations, plain, &s_plain);
+  const SensorRobotCalibration h = CalibrateSensorRobot(model, sim.observations, {}, &s_huber);
+  const SensorRobotCalibration c = CalibrateSensorRobot(model, sim.observations, cauchy, &s_cauchy);
+  const auto e_clean = testing::ErrorsAgainstTruth(clean, sim);
+  for (auto* p : {&a, &h, &c}) {
+    const auto e = testing::ErrorsAgainstTruth(*p, sim);
+    std::printf("blunder: rot %.2f arcsec, t %.1f um, ball %.1f um (clean data: %.2f, %.1f, %.1f)\n", e.rotation_arcsec,
+                e.translation_um, e.ball_um, e_clean.rotation_arcsec, e_clean.translation_um, e_clean.ball_um);
+  }
+  // Distance from the clean-data estimate (sensor translation: the most sensitive unknown).
+  auto moved = [&](const SensorRobotCalibration& x) {
+    return (x.sensor_from_base.translation() - clean.sensor_from_base.translation()).norm();
+  };
+  EXPECT_LT(moved(h), 0.5 * moved(a));
+  EXPECT_LT(moved(c), 0.5 * moved(h));
+  // Cauchy: back to within 20 µm of the clean-data ball offset.
+  EXPECT_LT((c.ball_in_flange - clean.ball_in_flange).norm(), 0.020);
+  for (const SensorRobotSummary* s : {&s_plain, &s_huber, &s_cauchy}) {
+    ASSERT_EQ(s->outliers.size(), 1u) << s->BriefReport();
+    EXPECT_EQ(s->outliers[0], 7);
+  }
+}
+
+}  // namespace
+}  // namespace ramtk::calib

@@ -144,7 +144,8 @@ struct SensorRobotOptions {
   // are plain least squares; Huber down-weights a pose beyond it linearly.
   RobustLoss loss = RobustLoss::kHuber;
   double loss_scale_mm = 0.1;
-  // A pose is listed as an outlier when |residual| exceeds this many times the RMS residual.
+  // A pose is listed as an outlier when |residual| exceeds this many times the median |residual|
+  // (for Gaussian noise the median is 1.54σ, so 4× is beyond 6σ).
   double outlier_factor = 4.0;
   int max_iterations = 100;
   double function_tolerance = 1e-15;
