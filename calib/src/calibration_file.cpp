@@ -31,6 +31,8 @@ std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const Board
   WriteCamera(fs, st.right, "2");
   fs << "R" << cv::Mat(st.rotation);
   fs << "T" << cv::Mat(st.translation);
+  fs << "std_R" << cv::Mat(cv::Vec3d(st.std_rt[0], st.std_rt[1], st.std_rt[2])).reshape(1, 1);  // rotation vector, rad
+  fs << "std_T" << cv::Mat(cv::Vec3d(st.std_rt[3], st.std_rt[4], st.std_rt[5])).reshape(1, 1);  // mm
   fs << "rms" << st.rms_px;
   cv::Mat per_pair(static_cast<int>(st.per_pair_rms_px.size()), 2, CV_64F);
   for (int i = 0; i < per_pair.rows; ++i) {

@@ -10,6 +10,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
+#include "stereo_covariance.h"
 
 namespace ramtk::calib {
 namespace {
@@ -186,8 +187,9 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
     cv::Mat k1(st.left.camera_matrix), k2(st.right.camera_matrix);
     cv::Mat d1(st.left.distortion, true), d2(st.right.distortion, true);
     cv::Mat rot, tr, e, f, per_view;
+    // Joint refinement of both cameras and the rig from the single-camera starts.
     st.rms_px = cv::stereoCalibrate(obj, il, ir, k1, d1, k2, d2, image_size, rot, tr, e, f, per_view,
-                                    cv::CALIB_FIX_INTRINSIC, kCriteria);
+                                    cv::CALIB_USE_INTRINSIC_GUESS | options.OpenCvFlags(), kCriteria);
     ++rounds;
     std::vector<double> worst_of_pair;
     for (int i = 0; i < per_view.rows; ++i) {
@@ -203,6 +205,17 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
     }
     st.rotation = cv::Matx33d(rot);
     st.translation = cv::Vec3d(tr);
+    st.left.camera_matrix = cv::Matx33d(k1);
+    st.right.camera_matrix = cv::Matx33d(k2);
+    st.left.distortion.assign(d1.begin<double>(), d1.end<double>());
+    st.right.distortion.assign(d2.begin<double>(), d2.end<double>());
+    st.left.distortion.resize(5, 0.0);
+    st.right.distortion.resize(5, 0.0);
+    if (!internal::StereoExtrinsicStd(obj, il, ir, st.left.camera_matrix, st.left.distortion, st.right.camera_matrix,
+                                      st.right.distortion, st.rotation, st.translation, options.fix_k3, &st.std_rt,
+                                      &st.left.std_intrinsics, &st.right.std_intrinsics)) {
+      RAMTK_LOG(kWarning) << "stereo calibration: standard deviations could not be computed";
+    }
     st.pair_names.clear();
     st.per_pair_rms_px.clear();
     for (int i = 0; i < per_view.rows; ++i) {

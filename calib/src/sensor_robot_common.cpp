@@ -85,7 +85,7 @@ const char* TerminationName(SensorRobotTermination t) {
 std::string SensorRobotSummary::BriefReport() const {
   char buf[400];
   std::snprintf(buf, sizeof(buf),
-                "%s: %s after %d iterations, cost %.6g -> %.6g, RMS %.4f mm, worst %.4f mm (pose %d), %zu outliers, "
+                "%s: %s after %d iterations, cost %.6g -> %.6g, RMS %.4f mm, worst %.4f mm (index %d), %zu outliers, "
                 "%d poses, rotation spread %.1f deg, condition number %.3g",
                 method.c_str(), TerminationName(termination), iterations, initial_cost, final_cost, rms_mm,
                 max_residual_mm, worst_pose, outliers.size(), diagnostics.num_poses, diagnostics.rotation_spread_deg,

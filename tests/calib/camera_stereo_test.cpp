@@ -68,7 +68,7 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
     }
   }
   const double n = static_cast<double>(st.pair_names.size());
-  // Plus the intrinsics, fixed during the stereo step: a principal-point error δc turns a camera
+  // Plus the intrinsics: a principal-point error δc turns a camera
   // by δc/f (rad), which moves T by about that angle times the board distance, and a focal error
   // scales T.
   double angle_var = 0.0, scale_var = 0.0, distance = 0.0;
@@ -87,6 +87,16 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   EXPECT_EQ(st.pair_names.size(), 12u);
   EXPECT_LT(cv::norm(dr), 5.0 * sigma_r);
   EXPECT_LT(cv::norm(st.translation - t_true), 5.0 * sigma_t);
+  // The σ the tool reports for R and T (joint Jacobian, intrinsics included): each component of
+  // the error within 3.5σ, and of the size of the hand-propagated σ above.
+  std::printf("reported std: R (deg) %.4f %.4f %.4f, T (mm) %.4f %.4f %.4f; errors R %.4f %.4f %.4f, T %.4f %.4f %.4f\n",
+              st.std_rt[0] * 180 / CV_PI, st.std_rt[1] * 180 / CV_PI, st.std_rt[2] * 180 / CV_PI, st.std_rt[3],
+              st.std_rt[4], st.std_rt[5], dr[0] * 180 / CV_PI, dr[1] * 180 / CV_PI, dr[2] * 180 / CV_PI,
+              st.translation[0] - t_true[0], st.translation[1] - t_true[1], st.translation[2] - t_true[2]);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT(std::abs(dr[k]), 3.5 * st.std_rt[k]) << k;
+    EXPECT_LT(std::abs(st.translation[k] - t_true[k]), 3.5 * st.std_rt[3 + k]) << k;
+  }
   // The file: standard keys, read back with cv::FileStorage as any OpenCV user would.
   const std::string path = ::testing::TempDir() + "/stereo.yml";
   WriteFileAtomically(path, StereoCalibrationYaml(st, board));
@@ -117,6 +127,31 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   const cv::Mat pic = DrawCoverage(st.left, s.left);
   EXPECT_EQ(pic.size(), cv::Size(640, 480));
   EXPECT_GT(cv::norm(pic, cv::NORM_L1), 0.0);
+}
+
+
+// T along the optical axis is where the first-order σ is too optimistic: over seeds 11–14 the
+// T_z errors were 1.2, 5.6, 0.3 and 2.2 σ (R, T_x, T_y stayed within 2.3σ). Likely cause: the
+// detector's own error (≈0.04 px, see BoardRenderer test) is correlated between neighbouring
+// corners and between the two cameras, which the independent-noise model behind every OpenCV σ
+// ignores. This test pins that finding: T_z within 6σ, everything else within 3.5σ.
+TEST(StereoCalibration, ReportedRigStdOverSeeds) {
+  const BoardSpec board = ParseBoardSpec("chessboard:9x6:20", {});
+  cv::Matx33d r_true;
+  cv::Vec3d t_true;
+  TruthStereo(&r_true, &t_true);
+  for (unsigned seed : {12u, 13u}) {
+    const StereoSession s = RenderStereo(board, 12, seed, 2.0);
+    const StereoCalibrationResult st = CalibrateStereo(s.left, s.right, cv::Size(640, 480), {});
+    cv::Vec3d dr;
+    cv::Rodrigues(st.rotation * r_true.t(), dr);
+    for (int k = 0; k < 3; ++k) {
+      std::printf("seed %u: R[%d] error %.2f sigma, T[%d] error %.2f sigma\n", seed, k, dr[k] / st.std_rt[k], k,
+                  (st.translation[k] - t_true[k]) / st.std_rt[3 + k]);
+      EXPECT_LT(std::abs(dr[k]), 3.5 * st.std_rt[k]) << seed << " " << k;
+      EXPECT_LT(std::abs(st.translation[k] - t_true[k]), (k == 2 ? 6.0 : 3.5) * st.std_rt[3 + k]) << seed << " " << k;
+    }
+  }
 }
 
 // Circle grids and ChArUco: the intrinsics within the reported σ (looser for circles: the

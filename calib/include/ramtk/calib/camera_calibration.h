@@ -81,6 +81,10 @@ struct StereoCalibrationResult {
   CameraCalibrationResult left, right;  // each calibrated alone (with its own rejections)
   cv::Matx33d rotation = cv::Matx33d::eye();  // R: right_from_left (x_right = R·x_left + T)
   cv::Vec3d translation;                      // T (mm)
+  // Standard deviations of R's rotation vector (rad) and T (mm) from the joint Jacobian of both
+  // cameras' residuals (intrinsics, R, T, board poses), scaled by the residual variance: the
+  // intrinsics' uncertainty is included. Zero if it could not be computed.
+  cv::Vec6d std_rt = cv::Vec6d::all(0.0);
   double rms_px = 0.0;                        // stereo RMS with the intrinsics fixed
   std::vector<std::string> pair_names;        // used pairs
   std::vector<cv::Vec2d> per_pair_rms_px;     // left, right per used pair
