@@ -1,11 +1,9 @@
 // ramtk calib sensor-robot | calib cameras | simulate sensor-robot: thin wrappers over ramtk::calib.
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
-
-#include <algorithm>
-#include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.h"
@@ -45,7 +43,7 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
       result = calib::CalibrateSensorRobotThesis(model, obs, o, &summary);
     } else {
       calib::SensorRobotOptions o;
-      o.loss = opt.loss == "none" ? calib::RobustLoss::kNone
+      o.loss = opt.loss == "none"     ? calib::RobustLoss::kNone
                : opt.loss == "cauchy" ? calib::RobustLoss::kCauchy
                                       : calib::RobustLoss::kHuber;
       o.loss_scale_mm = opt.loss_scale_mm;
@@ -104,12 +102,11 @@ int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
   return kExitOk;
 }
 
-
 struct CamerasCommandOptions {
-  std::string left;     // folder (or single image) of left-camera views
-  std::string right;    // folder of right-camera views; empty → single camera
-  std::string board;    // board description, e.g. chessboard:9x6:25
-  std::string output;   // calibration YAML
+  std::string left;      // folder (or single image) of left-camera views
+  std::string right;     // folder of right-camera views; empty → single camera
+  std::string board;     // board description, e.g. chessboard:9x6:25
+  std::string output;    // calibration YAML
   std::string coverage;  // PNG picture; default: output with _coverage.png
   double outlier_factor = 3.0;
   double outlier_min_px = 0.25;
@@ -122,7 +119,8 @@ std::vector<std::string> ListImages(const std::string& dir) {
   if (!fs::is_directory(dir)) throw InputError({dir, 0, ""}, "not a folder of images");
   for (const auto& e : fs::directory_iterator(dir)) {
     std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext == ".png" || ext == ".bmp" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff") {
       files.push_back(e.path().string());
     }
@@ -173,7 +171,8 @@ int RunCameras(const CamerasCommandOptions& opt) {
   WriteFileAtomically(opt.output, yaml);
   WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
   std::printf("%s\n", summary.BriefReport().c_str());
-  for (const calib::RejectedView& r : not_found) std::printf("skipped %s: %s\n", ShortName(r.name).c_str(), r.reason.c_str());
+  for (const calib::RejectedView& r : not_found)
+    std::printf("skipped %s: %s\n", ShortName(r.name).c_str(), r.reason.c_str());
   for (const calib::RejectedView& r : summary.rejected) {
     std::printf("rejected %s: %s\n", r.name.c_str(), r.reason.c_str());
   }

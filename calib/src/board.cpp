@@ -1,28 +1,32 @@
 #include "ramtk/calib/board.h"
 
-#include <cstdio>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
-
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ramtk/core/parse.h"
 #include "board_internal.h"
+#include "ramtk/core/parse.h"
 
 namespace ramtk::calib {
 namespace {
 
 const std::map<std::string, int>& Dictionaries() {
-  static const std::map<std::string, int> d = {
-      {"DICT_4X4_50", cv::aruco::DICT_4X4_50},     {"DICT_4X4_100", cv::aruco::DICT_4X4_100},
-      {"DICT_4X4_250", cv::aruco::DICT_4X4_250},   {"DICT_5X5_50", cv::aruco::DICT_5X5_50},
-      {"DICT_5X5_100", cv::aruco::DICT_5X5_100},   {"DICT_5X5_250", cv::aruco::DICT_5X5_250},
-      {"DICT_6X6_50", cv::aruco::DICT_6X6_50},     {"DICT_6X6_100", cv::aruco::DICT_6X6_100},
-      {"DICT_6X6_250", cv::aruco::DICT_6X6_250},   {"DICT_7X7_100", cv::aruco::DICT_7X7_100},
-      {"DICT_ARUCO_ORIGINAL", cv::aruco::DICT_ARUCO_ORIGINAL}, {"DICT_APRILTAG_36h11", cv::aruco::DICT_APRILTAG_36h11}};
+  static const std::map<std::string, int> d = {{"DICT_4X4_50", cv::aruco::DICT_4X4_50},
+                                               {"DICT_4X4_100", cv::aruco::DICT_4X4_100},
+                                               {"DICT_4X4_250", cv::aruco::DICT_4X4_250},
+                                               {"DICT_5X5_50", cv::aruco::DICT_5X5_50},
+                                               {"DICT_5X5_100", cv::aruco::DICT_5X5_100},
+                                               {"DICT_5X5_250", cv::aruco::DICT_5X5_250},
+                                               {"DICT_6X6_50", cv::aruco::DICT_6X6_50},
+                                               {"DICT_6X6_100", cv::aruco::DICT_6X6_100},
+                                               {"DICT_6X6_250", cv::aruco::DICT_6X6_250},
+                                               {"DICT_7X7_100", cv::aruco::DICT_7X7_100},
+                                               {"DICT_ARUCO_ORIGINAL", cv::aruco::DICT_ARUCO_ORIGINAL},
+                                               {"DICT_APRILTAG_36h11", cv::aruco::DICT_APRILTAG_36h11}};
   return d;
 }
 
@@ -31,8 +35,8 @@ const std::map<std::string, int>& Dictionaries() {
 namespace internal {
 
 cv::Ptr<cv::aruco::CharucoBoard> MakeCharucoBoard(const BoardSpec& board) {
-  const cv::Ptr<cv::aruco::Dictionary> dict =
-      cv::aruco::getPredefinedDictionary(static_cast<cv::aruco::PREDEFINED_DICTIONARY_NAME>(Dictionaries().at(board.dictionary)));
+  const cv::Ptr<cv::aruco::Dictionary> dict = cv::aruco::getPredefinedDictionary(
+      static_cast<cv::aruco::PREDEFINED_DICTIONARY_NAME>(Dictionaries().at(board.dictionary)));
   return cv::aruco::CharucoBoard::create(board.cols, board.rows, static_cast<float>(board.square_mm),
                                          static_cast<float>(board.marker_mm), dict);
 }
@@ -102,8 +106,10 @@ BoardSpec ParseBoardSpec(const std::string& text, const InputLocation& where) {
   const std::size_t min_parts = b.type == BoardType::kCharuco ? 4 : 3;
   const std::size_t max_parts = b.type == BoardType::kChessboard ? 3 : b.type == BoardType::kCharuco ? 5 : 4;
   if (parts.size() < min_parts || parts.size() > max_parts) {
-    throw InputError(where, "expected e.g. chessboard:9x6:25, circles:4x11:20, acircles:4x11:20, "
-                            "charuco:10x7:25:18:DICT_5X5_100; got '" + text + "'");
+    throw InputError(where,
+                     "expected e.g. chessboard:9x6:25, circles:4x11:20, acircles:4x11:20, "
+                     "charuco:10x7:25:18:DICT_5X5_100; got '" +
+                         text + "'");
   }
   const std::size_t x = parts[1].find('x');
   if (x == std::string::npos) throw InputError(where, "board size must read COLSxROWS, got '" + parts[1] + "'");

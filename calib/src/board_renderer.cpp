@@ -1,11 +1,10 @@
 #include "ramtk/calib/board_renderer.h"
 
 #include <cmath>
-#include <random>
-
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "board_internal.h"
 #include "ramtk/core/error.h"

@@ -16,15 +16,19 @@ void WriteCamera(cv::FileStorage& fs, const CameraCalibrationResult& c, const st
   for (const std::string& n : c.view_names) fs << n;
   fs << "]";
   fs << ("rejected_views" + suffix) << "[";
-  for (const RejectedView& r : c.rejected) fs << "{" << "name" << r.name << "reason" << r.reason << "}";
+  for (const RejectedView& r : c.rejected)
+    fs << "{"
+       << "name" << r.name << "reason" << r.reason << "}";
   fs << "]";
 }
 
 }  // namespace
 
 std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const BoardSpec& board) {
-  cv::FileStorage fs("calibration.yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-  fs.writeComment("ramtk stereo calibration: x_right = R * x_left + T (mm); std_intrinsics order fx fy cx cy k1 k2 p1 p2 k3");
+  cv::FileStorage fs("calibration.yml",
+                     cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  fs.writeComment(
+      "ramtk stereo calibration: x_right = R * x_left + T (mm); std_intrinsics order fx fy cx cy k1 k2 p1 p2 k3");
   fs << "image_size" << st.left.image_size;
   fs << "board" << board.ToString();
   WriteCamera(fs, st.left, "1");
@@ -40,14 +44,18 @@ std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const Board
     per_pair.at<double>(i, 1) = st.per_pair_rms_px[i][1];
   }
   fs << "per_view_errors" << per_pair;
-  fs << "rejected_pairs" << "[";
-  for (const RejectedView& r : st.rejected_pairs) fs << "{" << "name" << r.name << "reason" << r.reason << "}";
+  fs << "rejected_pairs"
+     << "[";
+  for (const RejectedView& r : st.rejected_pairs)
+    fs << "{"
+       << "name" << r.name << "reason" << r.reason << "}";
   fs << "]";
   return fs.releaseAndGetString();
 }
 
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board) {
-  cv::FileStorage fs("calibration.yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
+  cv::FileStorage fs("calibration.yml",
+                     cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   fs.writeComment("ramtk single-camera calibration; std_intrinsics order fx fy cx cy k1 k2 p1 p2 k3");
   fs << "image_size" << camera.image_size;
   fs << "board" << board.ToString();

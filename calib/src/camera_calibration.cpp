@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -57,9 +56,10 @@ int CameraCalibrationOptions::OpenCvFlags() const {
 
 std::string CameraCalibrationSummary::BriefReport() const {
   char buf[400];
-  std::snprintf(buf, sizeof(buf), "%s: %d rounds, %d views used, %zu rejected, RMS %.4f px (first round %.4f px), worst view %s %.4f px",
-                termination.c_str(), rounds, used_views, rejected.size(), final_rms_px, initial_rms_px, worst_view.c_str(),
-                worst_view_rms_px);
+  std::snprintf(buf, sizeof(buf),
+                "%s: %d rounds, %d views used, %zu rejected, RMS %.4f px (first round %.4f px), worst view %s %.4f px",
+                termination.c_str(), rounds, used_views, rejected.size(), final_rms_px, initial_rms_px,
+                worst_view.c_str(), worst_view_rms_px);
   return buf;
 }
 
@@ -154,8 +154,10 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
   };
   std::vector<Pair> pairs;
   for (std::size_t i = 0; i < left.size(); ++i) {
-    const bool in_l = std::find(st.left.view_names.begin(), st.left.view_names.end(), left[i].name) != st.left.view_names.end();
-    const bool in_r = std::find(st.right.view_names.begin(), st.right.view_names.end(), right[i].name) != st.right.view_names.end();
+    const bool in_l =
+        std::find(st.left.view_names.begin(), st.left.view_names.end(), left[i].name) != st.left.view_names.end();
+    const bool in_r =
+        std::find(st.right.view_names.begin(), st.right.view_names.end(), right[i].name) != st.right.view_names.end();
     if (!in_l || !in_r) continue;
     std::map<int, std::size_t> right_index;
     for (std::size_t k = 0; k < right[i].ids.size(); ++k) right_index[right[i].ids[k]] = k;
@@ -196,8 +198,9 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       worst_of_pair.push_back(std::max(per_view.at<double>(i, 0), per_view.at<double>(i, 1)));
     }
     std::string reason;
-    const int worst =
-        static_cast<int>(st.rejected_pairs.size()) < max_rejections ? WorstOutlier(worst_of_pair, options, &reason) : -1;
+    const int worst = static_cast<int>(st.rejected_pairs.size()) < max_rejections
+                          ? WorstOutlier(worst_of_pair, options, &reason)
+                          : -1;
     if (worst >= 0) {
       st.rejected_pairs.push_back({pairs[worst].name, "stereo " + reason});
       pairs.erase(pairs.begin() + worst);
@@ -278,7 +281,8 @@ cv::Mat DrawCoverage(const CameraCalibrationResult& cam, const std::vector<ViewP
     const std::size_t i = static_cast<std::size_t>(it - cam.view_names.begin());
     std::vector<cv::Point2f> proj;
     cv::projectPoints(v.object_points, cam.rvecs[i], cam.tvecs[i], cam.camera_matrix, cam.distortion, proj);
-    cv::Mat hue(1, 1, CV_8UC3, cv::Scalar(static_cast<int>(170 * i / std::max<std::size_t>(1, cam.view_names.size())), 200, 200));
+    cv::Mat hue(1, 1, CV_8UC3,
+                cv::Scalar(static_cast<int>(170 * i / std::max<std::size_t>(1, cam.view_names.size())), 200, 200));
     cv::cvtColor(hue, hue, cv::COLOR_HSV2BGR);
     const cv::Vec3b c = hue.at<cv::Vec3b>(0, 0);
     for (std::size_t k = 0; k < v.image_points.size(); ++k) {

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -34,7 +33,8 @@ std::string HandEyeOptions::Validate() const { return min_poses < 3 ? "min_poses
 
 std::string HandEyeSummary::BriefReport() const {
   char buf[300];
-  std::snprintf(buf, sizeof(buf), "hand-eye (%s): %d poses, RMS rotation %.4f deg, RMS translation %.4f mm, worst %.4f mm (pose %d)",
+  std::snprintf(buf, sizeof(buf),
+                "hand-eye (%s): %d poses, RMS rotation %.4f deg, RMS translation %.4f mm, worst %.4f mm (pose %d)",
                 method.c_str(), num_poses, rms_rotation_deg, rms_translation_mm, worst_translation_mm, worst_pose);
   return buf;
 }
@@ -60,10 +60,10 @@ HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const 
     t_base2gripper.push_back(ToCvT(flange.back().translation()));
   }
   cv::Mat r_board_from_flange, t_board_from_flange, r_cam_from_base, t_cam_from_base;
-  cv::calibrateRobotWorldHandEye(r_world2cam, t_world2cam, r_base2gripper, t_base2gripper, r_board_from_flange,
-                                 t_board_from_flange, r_cam_from_base, t_cam_from_base,
-                                 options.method == HandEyeMethod::kShah ? cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH
-                                                                        : cv::CALIB_ROBOT_WORLD_HAND_EYE_LI);
+  cv::calibrateRobotWorldHandEye(
+      r_world2cam, t_world2cam, r_base2gripper, t_base2gripper, r_board_from_flange, t_board_from_flange,
+      r_cam_from_base, t_cam_from_base,
+      options.method == HandEyeMethod::kShah ? cv::CALIB_ROBOT_WORLD_HAND_EYE_SHAH : cv::CALIB_ROBOT_WORLD_HAND_EYE_LI);
   HandEyeResult r;
   r.camera_from_base = FromCv(r_cam_from_base, t_cam_from_base);
   r.flange_from_board = FromCv(r_board_from_flange, t_board_from_flange).inverse();

@@ -1,11 +1,10 @@
 // Shared pieces of the sensor-to-robot calibration: observations, predictions, the closed-form
 // linear solution, pose-set diagnostics and the report helpers.
+#include <Eigen/SVD>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
-
-#include <Eigen/SVD>
 
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/error.h"

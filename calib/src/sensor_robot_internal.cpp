@@ -15,7 +15,8 @@ void FillResiduals(const kinematics::RobotModel& model, const std::vector<BallOb
   double sum2 = 0.0;
   c->max_residual_mm = 0.0;
   for (const BallObservation& o : obs) {
-    const Vec3 r = o.ball_in_sensor - PredictBallInSensor(model, c->sensor_from_base, c->ball_in_flange, o.q_controller);
+    const Vec3 r =
+        o.ball_in_sensor - PredictBallInSensor(model, c->sensor_from_base, c->ball_in_flange, o.q_controller);
     c->residuals_mm.push_back(r);
     sum2 += r.squaredNorm();
     c->max_residual_mm = std::max(c->max_residual_mm, r.norm());

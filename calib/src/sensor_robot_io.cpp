@@ -46,8 +46,8 @@ std::string SensorRobotResultJson(const SensorRobotCalibration& c, const SensorR
       for (int k = 0; k < 9; ++k) row.push_back(cov(r, k));
       rows.push_back(row);
     }
-    j["covariance"]["order"] = {"phi_x_deg", "phi_y_deg", "phi_z_deg", "tx_mm", "ty_mm", "tz_mm",
-                                "ball_x_mm", "ball_y_mm", "ball_z_mm"};
+    j["covariance"]["order"] = {"phi_x_deg", "phi_y_deg", "phi_z_deg", "tx_mm",    "ty_mm",
+                                "tz_mm",     "ball_x_mm", "ball_y_mm", "ball_z_mm"};
     j["covariance"]["matrix"] = rows;
   } else {
     j["covariance"] = nullptr;

@@ -1,9 +1,9 @@
 // Closed-form start + Ceres fit of the 9 unknowns (rotation on the SO(3) manifold), robust loss,
 // covariance from the Jacobian.
-#include <cmath>
-
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+
+#include <cmath>
 
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/error.h"
@@ -44,8 +44,8 @@ std::string SensorRobotOptions::Validate() const {
 }
 
 SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
-                                            const std::vector<BallObservation>& obs,
-                                            const SensorRobotOptions& options, SensorRobotSummary* summary) {
+                                            const std::vector<BallObservation>& obs, const SensorRobotOptions& options,
+                                            SensorRobotSummary* summary) {
   const std::string bad = options.Validate();
   if (!bad.empty()) throw InputError({"", 0, "SensorRobotOptions"}, bad);
   SensorRobotSummary local;
@@ -86,7 +86,7 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE     ? SensorRobotTermination::kConverged
+  s.termination = cs.termination_type == ceres::CONVERGENCE      ? SensorRobotTermination::kConverged
                   : cs.termination_type == ceres::NO_CONVERGENCE ? SensorRobotTermination::kNoConvergence
                                                                  : SensorRobotTermination::kFailed;
 

@@ -1,13 +1,13 @@
 // Simulated sensor-to-robot calibration measurements with known truth.
+#include "ramtk/calib/sensor_robot_sim.h"
+
+#include <Eigen/SVD>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <stdexcept>
 
-#include <Eigen/SVD>
-#include <nlohmann/json.hpp>
-
-#include "ramtk/calib/sensor_robot_sim.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
@@ -57,8 +57,8 @@ SensorRobotSimulation SimulateSensorRobot(const kinematics::RobotModel& model, c
   std::mt19937_64 geometry(options.seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   kinematics::JointVector seed;
-  seed << std::atan2(center_in_base.y(), center_in_base.x()) * model.mapping[0].sign, DegToRad(-60.0),
-      DegToRad(100.0), 0.0, DegToRad(30.0), 0.0;
+  seed << std::atan2(center_in_base.y(), center_in_base.x()) * model.mapping[0].sign, DegToRad(-60.0), DegToRad(100.0),
+      0.0, DegToRad(30.0), 0.0;
   kinematics::InverseKinematicsOptions ik;
   ik.reach_position_tolerance_mm = 1e-6;
   std::vector<kinematics::JointVector> joints;

@@ -1,9 +1,9 @@
 // The thesis method for sensor_from_base and ball_in_flange, eqs. (3-11)..(3-19), as printed,
 // with the two misprints of eq. (3-15) corrected (see docs/calib.md): B is 3×12, and the block
 // multiplying P_e is −(R_1 − R_2), as eq. (3-14) requires.
-#include <cmath>
-
 #include <ceres/ceres.h>
+
+#include <cmath>
 
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/error.h"
@@ -33,7 +33,9 @@ struct OrthogonalityPenalty {
   double sqrt_m;
   template <typename T>
   bool operator()(const T* k, T* residual) const {
-    auto row = [&](int i, int j) { return k[3 * i] * k[3 * j] + k[3 * i + 1] * k[3 * j + 1] + k[3 * i + 2] * k[3 * j + 2]; };
+    auto row = [&](int i, int j) {
+      return k[3 * i] * k[3 * j] + k[3 * i + 1] * k[3 * j + 1] + k[3 * i + 2] * k[3 * j + 2];
+    };
     residual[0] = sqrt_m * (row(0, 0) - T(1));
     residual[1] = sqrt_m * (row(1, 1) - T(1));
     residual[2] = sqrt_m * (row(2, 2) - T(1));
@@ -117,7 +119,7 @@ SensorRobotCalibration CalibrateSensorRobotThesis(const kinematics::RobotModel& 
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE     ? SensorRobotTermination::kConverged
+  s.termination = cs.termination_type == ceres::CONVERGENCE      ? SensorRobotTermination::kConverged
                   : cs.termination_type == ceres::NO_CONVERGENCE ? SensorRobotTermination::kNoConvergence
                                                                  : SensorRobotTermination::kFailed;
 

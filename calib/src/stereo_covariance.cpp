@@ -31,8 +31,7 @@ bool StereoExtrinsicStd(const std::vector<std::vector<cv::Point3f>>& object,
     cv::Mat jl, jr;
     cv::projectPoints(object[v], rv, tv, k1, d1, pl, jl);
     cv::Mat rv3, tv3, dr3dr1, dr3dt1, dr3dr2, dr3dt2, dt3dr1, dt3dt1, dt3dr2, dt3dt2;
-    cv::composeRT(rv, tv, rv_rl, translation, rv3, tv3, dr3dr1, dr3dt1, dr3dr2, dr3dt2, dt3dr1, dt3dt1, dt3dr2,
-                  dt3dt2);
+    cv::composeRT(rv, tv, rv_rl, translation, rv3, tv3, dr3dr1, dr3dt1, dr3dr2, dr3dt2, dt3dr1, dt3dt1, dt3dr2, dt3dt2);
     cv::projectPoints(object[v], rv3, tv3, k2, d2, pr, jr);
     Eigen::MatrixXd el, er;
     cv::cv2eigen(jl, el);  // 2m × (3 rot, 3 trans, 2 f, 2 c, ndist)

@@ -4,9 +4,8 @@
 // cameras with respect to both cameras' intrinsics (fx fy cx cy k1 k2 p1 p2 [k3]), R, T and the
 // board poses, scaled by the residual variance — the same first-order model as OpenCV's
 // stdDeviationsIntrinsics — so the intrinsics' uncertainty is carried into R and T.
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace ramtk::calib::internal {
 

@@ -1,8 +1,8 @@
 // Camera calibration on rendered boards with known intrinsics and extrinsics.
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 #include <opencv2/calib3d.hpp>
 
 #include "camera_test_util.h"
@@ -100,11 +100,11 @@ TEST(CameraCalibration, RecoversTruthWithinReportedStdAtTwoNoiseLevels) {
       const Session s = RenderSession(Chessboard(), cam, 12, seed, noise);
       CameraCalibrationSummary sum;
       const CameraCalibrationResult r = CalibrateCamera(s.views, cam.image_size, {}, &sum);
-      std::printf("noise %.1f seed %u: %s; fx %.3f±%.3f fy %.3f±%.3f cx %.3f±%.3f cy %.3f±%.3f k1 %.5f±%.5f k2 %.4f±%.4f\n",
-                  noise, seed, sum.BriefReport().c_str(), r.camera_matrix(0, 0), r.std_intrinsics[0],
-                  r.camera_matrix(1, 1), r.std_intrinsics[1], r.camera_matrix(0, 2), r.std_intrinsics[2],
-                  r.camera_matrix(1, 2), r.std_intrinsics[3], r.distortion[0], r.std_intrinsics[4], r.distortion[1],
-                  r.std_intrinsics[5]);
+      std::printf(
+          "noise %.1f seed %u: %s; fx %.3f±%.3f fy %.3f±%.3f cx %.3f±%.3f cy %.3f±%.3f k1 %.5f±%.5f k2 %.4f±%.4f\n",
+          noise, seed, sum.BriefReport().c_str(), r.camera_matrix(0, 0), r.std_intrinsics[0], r.camera_matrix(1, 1),
+          r.std_intrinsics[1], r.camera_matrix(0, 2), r.std_intrinsics[2], r.camera_matrix(1, 2), r.std_intrinsics[3],
+          r.distortion[0], r.std_intrinsics[4], r.distortion[1], r.std_intrinsics[5]);
       CollectZ(r, cam, s, &z_intr, &z_extr);
       mean_std_fx += r.std_intrinsics[0] / 3;
     }
@@ -112,8 +112,8 @@ TEST(CameraCalibration, RecoversTruthWithinReportedStdAtTwoNoiseLevels) {
     int beyond3 = 0;
     for (double z : z_intr) max_zi = std::max(max_zi, std::abs(z)), rms_zi += z * z / z_intr.size();
     for (double z : z_extr) rms_ze += z * z / z_extr.size(), beyond3 += std::abs(z) > 3.0;
-    std::printf("noise %.1f: intrinsics |z| max %.2f rms %.2f; extrinsics rms z %.2f, %d of %zu beyond 3 sigma\n", noise,
-                max_zi, std::sqrt(rms_zi), std::sqrt(rms_ze), beyond3, z_extr.size());
+    std::printf("noise %.1f: intrinsics |z| max %.2f rms %.2f; extrinsics rms z %.2f, %d of %zu beyond 3 sigma\n",
+                noise, max_zi, std::sqrt(rms_zi), std::sqrt(rms_ze), beyond3, z_extr.size());
     // Every intrinsic within 3.5 reported σ of the truth, and the reported σ not too optimistic
     // on average (a consistent σ gives rms z ≈ 1).
     EXPECT_LT(max_zi, 3.5) << "noise " << noise;
@@ -127,7 +127,8 @@ TEST(CameraCalibration, OutlierViewIsRejectedWithTheReason) {
   const PinholeCamera cam = TruthCamera();
   Session s = RenderSession(Chessboard(), cam, 12, 4, 1.0);
   // A view whose corners were mis-detected: every other corner off by 2 px.
-  for (std::size_t i = 0; i < s.views[5].image_points.size(); i += 2) s.views[5].image_points[i] += cv::Point2f(2.0f, -1.5f);
+  for (std::size_t i = 0; i < s.views[5].image_points.size(); i += 2)
+    s.views[5].image_points[i] += cv::Point2f(2.0f, -1.5f);
   CameraCalibrationSummary sum;
   const CameraCalibrationResult r = CalibrateCamera(s.views, cam.image_size, {}, &sum);
   ASSERT_EQ(r.rejected.size(), 1u) << sum.BriefReport();

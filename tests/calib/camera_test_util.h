@@ -1,10 +1,9 @@
 #pragma once
 // Rendered calibration sessions with known truth for the camera calibration tests.
 #include <cmath>
+#include <opencv2/calib3d.hpp>
 #include <random>
 #include <vector>
-
-#include <opencv2/calib3d.hpp>
 
 #include "ramtk/calib/board_renderer.h"
 #include "ramtk/calib/camera_calibration.h"
@@ -15,7 +14,8 @@ namespace ramtk::calib::testing {
 inline PinholeCamera TruthCamera(bool right = false) {
   PinholeCamera c;
   c.image_size = cv::Size(640, 480);
-  c.camera_matrix = right ? cv::Matx33d(760, 0, 315, 0, 758, 246, 0, 0, 1) : cv::Matx33d(750, 0, 328, 0, 752, 236, 0, 0, 1);
+  c.camera_matrix =
+      right ? cv::Matx33d(760, 0, 315, 0, 758, 246, 0, 0, 1) : cv::Matx33d(750, 0, 328, 0, 752, 236, 0, 0, 1);
   c.distortion = right ? cv::Vec<double, 5>(-0.15, 0.10, -0.0004, 0.0006, 0.0)
                        : cv::Vec<double, 5>(-0.12, 0.08, 0.0005, -0.0003, 0.0);
   return c;
@@ -31,7 +31,8 @@ inline void TruthStereo(cv::Matx33d* r, cv::Vec3d* t) {
 inline std::vector<cv::Point3f> BoardOutline(const BoardSpec& b) {
   const std::vector<cv::Point3f> p = BoardObjectPoints(b);
   float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
-  for (const cv::Point3f& q : p) x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
+  for (const cv::Point3f& q : p)
+    x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x), y1 = std::max(y1, q.y);
   const float m = static_cast<float>(b.square_mm);
   return {{x0 - m, y0 - m, 0}, {x1 + m, y0 - m, 0}, {x1 + m, y1 + m, 0}, {x0 - m, y1 + m, 0}};
 }

@@ -1,10 +1,11 @@
 // Camera-on-a-stand robot-world/hand-eye calibration (OpenCV calibrateRobotWorldHandEye) on
 // simulated board poses with known truth.
-#include <random>
+#include "ramtk/calib/hand_eye.h"
 
 #include <gtest/gtest.h>
 
-#include "ramtk/calib/hand_eye.h"
+#include <random>
+
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/forward.h"
 #include "sensor_robot_test_util.h"
@@ -27,7 +28,8 @@ std::vector<BoardPoseObservation> Simulate(const SensorRobotSimulation& sim, con
     o.camera_from_board = sim.sensor_from_base * kinematics::BaseFromFlange(model, b.q_controller) * flange_from_board;
     const Vec3 w(g(rng), g(rng), g(rng));
     o.camera_from_board.linear() =
-        Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() * o.camera_from_board.linear();
+        Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() *
+        o.camera_from_board.linear();
     o.camera_from_board.translation() += sigma_mm * Vec3(g(rng), g(rng), g(rng));
     obs.push_back(o);
   }

@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "camera_test_util.h"

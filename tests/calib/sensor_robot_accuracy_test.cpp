@@ -1,9 +1,9 @@
 // Accuracy against simulator truth: the thesis method and the manifold estimator side by side over
 // 5..20 poses, and the reported covariance against Monte-Carlo scatter.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "sensor_robot_test_util.h"
 
@@ -32,9 +32,10 @@ struct ErrorRms {
 TEST(SensorRobotAccuracy, ManifoldAtLeastAsAccurateAsThesisFrom5To20Poses) {
   const kinematics::RobotModel model = Kr150();
   const int kSeeds = 20;
-  std::printf("poses | thesis: rot(arcsec) t(um) ball(um) | manifold: rot(arcsec) t(um) ball(um)   [RMS over %d seeds, "
-              "centre noise 10 um, RP 0.05 mm]\n",
-              kSeeds);
+  std::printf(
+      "poses | thesis: rot(arcsec) t(um) ball(um) | manifold: rot(arcsec) t(um) ball(um)   [RMS over %d seeds, "
+      "centre noise 10 um, RP 0.05 mm]\n",
+      kSeeds);
   for (int poses : {5, 7, 9, 12, 15, 20}) {
     ErrorRms thesis, ours;
     for (int seed = 1; seed <= kSeeds; ++seed) {
@@ -52,8 +53,8 @@ TEST(SensorRobotAccuracy, ManifoldAtLeastAsAccurateAsThesisFrom5To20Poses) {
     }
     thesis.Finish();
     ours.Finish();
-    std::printf("%5d | %10.2f %8.1f %8.1f | %10.2f %8.1f %8.1f\n", poses, thesis.rotation_arcsec,
-                thesis.translation_um, thesis.ball_um, ours.rotation_arcsec, ours.translation_um, ours.ball_um);
+    std::printf("%5d | %10.2f %8.1f %8.1f | %10.2f %8.1f %8.1f\n", poses, thesis.rotation_arcsec, thesis.translation_um,
+                thesis.ball_um, ours.rotation_arcsec, ours.translation_um, ours.ball_um);
     EXPECT_LE(ours.rotation_arcsec, thesis.rotation_arcsec) << poses << " poses";
     EXPECT_LE(ours.translation_um, thesis.translation_um) << poses << " poses";
     EXPECT_LE(ours.ball_um, thesis.ball_um) << poses << " poses";

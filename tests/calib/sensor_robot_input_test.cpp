@@ -1,8 +1,8 @@
 // Bad input: malformed measurement files and pose sets that cannot determine the unknowns.
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/core/error.h"
@@ -33,21 +33,24 @@ std::string ErrorOf(const std::string& path) {
 }
 
 TEST(SensorRobotInput, MalformedRowNamesTheLine) {
-  const std::string path = WriteTemp("bad_row.csv", std::string(kHeader) + kGoodRow + "1,1.0,2,10,-80,95,20,abc,-40,1,2,3\n");
+  const std::string path =
+      WriteTemp("bad_row.csv", std::string(kHeader) + kGoodRow + "1,1.0,2,10,-80,95,20,abc,-40,1,2,3\n");
   const std::string e = ErrorOf(path);
   EXPECT_NE(e.find("bad_row.csv:3"), std::string::npos) << e;
   EXPECT_NE(e.find("q5"), std::string::npos) << e;
 }
 
 TEST(SensorRobotInput, NanIsRefusedWithItsLine) {
-  const std::string path = WriteTemp("nan.csv", std::string(kHeader) + kGoodRow + kGoodRow + "1,2.0,3,10,-80,95,20,35,-40,nan,2,3\n");
+  const std::string path =
+      WriteTemp("nan.csv", std::string(kHeader) + kGoodRow + kGoodRow + "1,2.0,3,10,-80,95,20,35,-40,nan,2,3\n");
   const std::string e = ErrorOf(path);
   EXPECT_NE(e.find("nan.csv:4"), std::string::npos) << e;
 }
 
 TEST(SensorRobotInput, WrongJointCount) {
   // Five joint columns: q6 is missing from the header.
-  const std::string path = WriteTemp("five_joints.csv", "cycle,time_s,pose,q1,q2,q3,q4,q5,x,y,z\n1,0,1,1,2,3,4,5,1,2,3\n");
+  const std::string path =
+      WriteTemp("five_joints.csv", "cycle,time_s,pose,q1,q2,q3,q4,q5,x,y,z\n1,0,1,1,2,3,4,5,1,2,3\n");
   const std::string e = ErrorOf(path);
   EXPECT_NE(e.find("q6"), std::string::npos) << e;
   // A row with one joint value too few.
@@ -57,7 +60,8 @@ TEST(SensorRobotInput, WrongJointCount) {
 }
 
 TEST(SensorRobotInput, MonitoringFileIsNotABallFile) {
-  const std::string path = WriteTemp("points.csv", "cycle,time_s,point,q1,q2,q3,q4,q5,q6,x,y,z\n" + std::string(kGoodRow));
+  const std::string path =
+      WriteTemp("points.csv", "cycle,time_s,point,q1,q2,q3,q4,q5,q6,x,y,z\n" + std::string(kGoodRow));
   EXPECT_NE(ErrorOf(path).find("ball measurement"), std::string::npos);
 }
 

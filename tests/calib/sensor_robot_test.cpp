@@ -16,15 +16,18 @@ TEST(SensorRobotSim, ThesisTruthAndMeasurementVolume) {
   const SensorRobotSimulation sim = SimulateSensorRobot(model, o);
   ASSERT_EQ(sim.observations.size(), 9u);
   // Eq. (5-1) is printed with 4 decimals: its polar projection moves entries by < 2e-4.
-  const Mat3 printed = (Mat3() << 0.9003, -0.1695, -0.4009, -0.1695, 0.7117, -0.6817, 0.4009, 0.6817, 0.6120).finished();
+  const Mat3 printed =
+      (Mat3() << 0.9003, -0.1695, -0.4009, -0.1695, 0.7117, -0.6817, 0.4009, 0.6817, 0.6120).finished();
   EXPECT_LT((sim.sensor_from_base.linear() - printed).cwiseAbs().maxCoeff(), 2e-4);
   EXPECT_LT(OrthonormalityError(sim.sensor_from_base.linear()), 1e-12);
   EXPECT_NEAR(sim.sensor_from_base.translation().norm(), 2715.22, 0.01);  // |t| of eq. (5-1)
   for (std::size_t i = 0; i < sim.observations.size(); ++i) {
     // Noise-free centre is exactly eq. (3-1) of the stored joints, and inside the volume box.
-    const Vec3 p = PredictBallInSensor(model, sim.sensor_from_base, sim.ball_in_flange, sim.observations[i].q_controller);
+    const Vec3 p =
+        PredictBallInSensor(model, sim.sensor_from_base, sim.ball_in_flange, sim.observations[i].q_controller);
     EXPECT_LT((p - sim.true_ball_in_sensor[i]).norm(), 1e-9);
-    const Vec3 rel = (sim.sensor_from_base.inverse() * p) - (sim.sensor_from_base.inverse() * o.volume_center_in_sensor);
+    const Vec3 rel =
+        (sim.sensor_from_base.inverse() * p) - (sim.sensor_from_base.inverse() * o.volume_center_in_sensor);
     EXPECT_LE(rel.cwiseAbs().maxCoeff(), o.volume_half_size_mm + 1e-6);
     // Noise: centre 10 µm + repeatability 0.05/3.6 mm per axis → |noise| well under 0.15 mm.
     EXPECT_LT((sim.observations[i].ball_in_sensor - p).norm(), 0.15);

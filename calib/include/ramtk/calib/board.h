@@ -2,10 +2,9 @@
 // Calibration boards: chessboard, symmetric / asymmetric circle grid, ChArUco. Object points
 // follow OpenCV's conventions (z = 0 plane, mm), so detections feed cv::calibrateCamera directly.
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "ramtk/core/error.h"
 
@@ -23,8 +22,8 @@ struct BoardSpec {
   // Square side (chessboard, ChArUco) or circle spacing (mm). For the asymmetric grid this is
   // OpenCV's unit: centres at ((2j + i mod 2)·s, i·s).
   double square_mm = 25.0;
-  double marker_mm = 18.0;           // ChArUco marker side (mm)
-  double circle_diameter_mm = 0.0;   // circle grids; 0 → 0.5·square_mm (symmetric), 0.7·square_mm (asymmetric)
+  double marker_mm = 18.0;          // ChArUco marker side (mm)
+  double circle_diameter_mm = 0.0;  // circle grids; 0 → 0.5·square_mm (symmetric), 0.7·square_mm (asymmetric)
   std::string dictionary = "DICT_5X5_100";  // ChArUco dictionary (cv::aruco predefined name)
 
   std::string Validate() const;  // empty if valid

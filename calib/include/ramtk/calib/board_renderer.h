@@ -6,7 +6,6 @@
 // are sampled bilinearly from OpenCV's board drawing. Gaussian noise is added with a fixed seed.
 
 #include <cstdint>
-
 #include <opencv2/core.hpp>
 
 #include "ramtk/calib/board.h"
@@ -21,13 +20,13 @@ struct PinholeCamera {
 };
 
 struct BoardRenderOptions {
-  int supersample = 3;          // sub-pixel rays per axis
-  double black = 40.0;          // grey level of dark board areas
-  double white = 215.0;         // grey level of bright board areas
-  double background = 100.0;    // grey level off the board
-  double blur_sigma_px = 0.0;   // Gaussian blur of the optics (px, 1σ) before the noise; 0 = none
-  double noise_sigma = 1.0;     // Gaussian noise (grey levels, 1σ) added before rounding to 8 bit
-  double margin_squares = 1.0;  // white border around the pattern, in squares / spacings
+  int supersample = 3;             // sub-pixel rays per axis
+  double black = 40.0;             // grey level of dark board areas
+  double white = 215.0;            // grey level of bright board areas
+  double background = 100.0;       // grey level off the board
+  double blur_sigma_px = 0.0;      // Gaussian blur of the optics (px, 1σ) before the noise; 0 = none
+  double noise_sigma = 1.0;        // Gaussian noise (grey levels, 1σ) added before rounding to 8 bit
+  double margin_squares = 1.0;     // white border around the pattern, in squares / spacings
   double texture_px_per_mm = 8.0;  // ChArUco texture resolution
 
   std::string Validate() const;
@@ -49,8 +48,8 @@ class BoardRenderer {
   BoardSpec board_;
   PinholeCamera camera_;
   BoardRenderOptions options_;
-  cv::Mat rays_;              // CV_64FC2, (height·s) × (width·s): normalized undistorted x, y
-  cv::Mat texture_;           // ChArUco only: CV_32F in [0, 1]
+  cv::Mat rays_;                    // CV_64FC2, (height·s) × (width·s): normalized undistorted x, y
+  cv::Mat texture_;                 // ChArUco only: CV_32F in [0, 1]
   cv::Matx23d texture_from_board_;  // ChArUco only
   double min_x_ = 0, min_y_ = 0, max_x_ = 0, max_y_ = 0;  // board extent incl. margin (mm)
   double ray_map_error_px_ = 0.0;

@@ -4,10 +4,9 @@
 // parameter standard deviations, a picture of image coverage and residuals, and the stereo
 // calibration file of DESIGN.md (OpenCV FileStorage, keys K1 D1 K2 D2 R T image_size).
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "ramtk/calib/board.h"
 #include "ramtk/core/progress.h"
@@ -28,10 +27,10 @@ struct RejectedView {
 };
 
 struct CameraCalibrationOptions {
-  bool fix_k3 = true;              // estimate k1 k2 p1 p2 only (k3 = 0), OpenCV's CALIB_FIX_K3
-  bool zero_tangential = false;    // p1 = p2 = 0 (CALIB_ZERO_TANGENT_DIST)
-  bool fix_aspect_ratio = false;   // fx = fy (CALIB_FIX_ASPECT_RATIO)
-  int min_views = 4;               // fewer usable views is an error
+  bool fix_k3 = true;             // estimate k1 k2 p1 p2 only (k3 = 0), OpenCV's CALIB_FIX_K3
+  bool zero_tangential = false;   // p1 = p2 = 0 (CALIB_ZERO_TANGENT_DIST)
+  bool fix_aspect_ratio = false;  // fx = fy (CALIB_FIX_ASPECT_RATIO)
+  int min_views = 4;              // fewer usable views is an error
   // A view is rejected when its RMS reprojection error exceeds outlier_factor × the median view
   // RMS and also outlier_min_px; the worst such view goes first, then the camera is re-calibrated.
   double outlier_factor = 3.0;
@@ -60,8 +59,8 @@ struct CameraCalibrationResult {
 };
 
 struct CameraCalibrationSummary {
-  std::string termination;  // "converged" or the reason for failure
-  int rounds = 0;           // calibrations run (1 + one per rejected view)
+  std::string termination;      // "converged" or the reason for failure
+  int rounds = 0;               // calibrations run (1 + one per rejected view)
   double initial_rms_px = 0.0;  // first round, all views
   double final_rms_px = 0.0;
   double worst_view_rms_px = 0.0;
@@ -78,16 +77,16 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views, cv
                                         CameraCalibrationSummary* summary = nullptr);
 
 struct StereoCalibrationResult {
-  CameraCalibrationResult left, right;  // each calibrated alone (with its own rejections)
+  CameraCalibrationResult left, right;        // each calibrated alone (with its own rejections)
   cv::Matx33d rotation = cv::Matx33d::eye();  // R: right_from_left (x_right = R·x_left + T)
   cv::Vec3d translation;                      // T (mm)
   // Standard deviations of R's rotation vector (rad) and T (mm) from the joint Jacobian of both
   // cameras' residuals (intrinsics, R, T, board poses), scaled by the residual variance: the
   // intrinsics' uncertainty is included. Zero if it could not be computed.
   cv::Vec6d std_rt = cv::Vec6d::all(0.0);
-  double rms_px = 0.0;                        // stereo RMS with the intrinsics fixed
-  std::vector<std::string> pair_names;        // used pairs
-  std::vector<cv::Vec2d> per_pair_rms_px;     // left, right per used pair
+  double rms_px = 0.0;                     // stereo RMS with the intrinsics fixed
+  std::vector<std::string> pair_names;     // used pairs
+  std::vector<cv::Vec2d> per_pair_rms_px;  // left, right per used pair
   std::vector<RejectedView> rejected_pairs;
 };
 

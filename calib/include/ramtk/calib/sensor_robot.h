@@ -14,10 +14,9 @@
 // Both check the pose set first (DiagnosePoseSet) and refuse sets that cannot determine the
 // unknowns.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "ramtk/core/rotation.h"
 #include "ramtk/kinematics/measurements_io.h"
@@ -108,9 +107,9 @@ struct SensorRobotSummary {
   double final_cost = 0.0;
   double rms_mm = 0.0;
   double max_residual_mm = 0.0;
-  int worst_pose = -1;               // index into the observations of the largest residual
-  std::vector<int> outliers;         // observations whose residual exceeds the outlier limit
-  PoseSetDiagnostics diagnostics;    // of the pose set
+  int worst_pose = -1;                // index into the observations of the largest residual
+  std::vector<int> outliers;          // observations whose residual exceeds the outlier limit
+  PoseSetDiagnostics diagnostics;     // of the pose set
   std::vector<std::string> warnings;  // diagnostics warnings and solver remarks
 
   std::string BriefReport() const;  // one line

@@ -39,8 +39,8 @@ struct SensorRobotSimOptions {
 };
 
 struct SensorRobotSimulation {
-  std::vector<BallObservation> observations;  // noisy
-  std::vector<Vec3> true_ball_in_sensor;      // noise-free
+  std::vector<BallObservation> observations;           // noisy
+  std::vector<Vec3> true_ball_in_sensor;               // noise-free
   Isometry3 sensor_from_base = Isometry3::Identity();  // truth
   Vec3 ball_in_flange = Vec3::Zero();                  // truth
   double center_noise_mm = 0.0;
