@@ -177,23 +177,26 @@ cv::Mat BoardRenderer::Render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, std:
   cv::Mat ideal(camera_.image_size, CV_64F);
   std::mt19937_64 rng(noise_seed * 0x9E3779B97F4A7C15ULL + 12345);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  for (int y = 0; y < camera_.image_size.height; ++y) {
-    for (int x = 0; x < camera_.image_size.width; ++x) {
-      double sum = 0.0;
-      for (int sy = 0; sy < s; ++sy) {
-        const cv::Vec2d* row = rays_.ptr<cv::Vec2d>(y * s + sy);
-        for (int sx = 0; sx < s; ++sx) {
-          const cv::Vec2d& d = row[x * s + sx];
-          const cv::Vec3d b = hinv * cv::Vec3d(d[0], d[1], 1.0);
-          double value = -1.0;
-          // In front of the camera: the point λ·d with λ = 1 / b[2] must have λ > 0.
-          if (b[2] > 0.0) value = BoardValue(b[0] / b[2], b[1] / b[2]);
-          sum += value < 0.0 ? options_.background : options_.black + value * (options_.white - options_.black);
+  cv::parallel_for_(cv::Range(0, camera_.image_size.height), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      for (int x = 0; x < camera_.image_size.width; ++x) {
+        double sum = 0.0;
+        for (int sy = 0; sy < s; ++sy) {
+          const cv::Vec2d* row = rays_.ptr<cv::Vec2d>(y * s + sy);
+          for (int sx = 0; sx < s; ++sx) {
+            const cv::Vec2d& d = row[x * s + sx];
+            const cv::Vec3d b = hinv * cv::Vec3d(d[0], d[1], 1.0);
+            double value = -1.0;
+            // In front of the camera: the point λ·d with λ = 1 / b[2] must have λ > 0.
+            if (b[2] > 0.0) value = BoardValue(b[0] / b[2], b[1] / b[2]);
+            sum += value < 0.0 ? options_.background : options_.black + value * (options_.white - options_.black);
+          }
         }
+        ideal.at<double>(y, x) = sum / (s * s);
       }
-      ideal.at<double>(y, x) = sum / (s * s);
     }
-  }
+  });
+  // Noise drawn in a fixed order after the parallel part, so images do not depend on threads.
   if (options_.blur_sigma_px > 0.0) cv::GaussianBlur(ideal, ideal, cv::Size(0, 0), options_.blur_sigma_px);
   cv::Mat out(camera_.image_size, CV_8U);
   for (int y = 0; y < out.rows; ++y) {
