@@ -133,7 +133,29 @@ std::vector<std::string> ListImages(const std::string& dir) {
 std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 int RunCameras(const CamerasCommandOptions& opt) {
-  const calib::BoardSpec board = calib::ParseBoardSpec(opt.board, {"", 0, "--board"});
+  // --board is the description itself or a file holding it (first line that is not a comment).
+  std::string board_text = opt.board;
+  InputLocation board_where{"", 0, "--board"};
+  if (std::filesystem::is_regular_file(opt.board)) {
+    const std::string contents = ReadTextFile(opt.board);
+    std::size_t start = 0;
+    int line = 0;
+    board_text.clear();
+    while (start <= contents.size() && board_text.empty()) {
+      const std::size_t end = std::min(contents.find('\n', start), contents.size());
+      std::string l = contents.substr(start, end - start);
+      ++line;
+      l.erase(0, l.find_first_not_of(" \t\r"));
+      l.erase(l.find_last_not_of(" \t\r") + 1);
+      if (!l.empty() && l[0] != '#') {
+        board_text = l;
+        board_where = {opt.board, line, "board"};
+      }
+      start = end + 1;
+    }
+    if (board_text.empty()) throw InputError({opt.board, 0, "board"}, "no board description in the file");
+  }
+  const calib::BoardSpec board = calib::ParseBoardSpec(board_text, board_where);
   calib::CameraCalibrationOptions co;
   co.outlier_factor = opt.outlier_factor;
   co.outlier_min_px = opt.outlier_min_px;
@@ -218,7 +240,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--right", opt->right, "Folder of right camera images (same count and order); stereo if given");
     sub->add_option("--board", opt->board,
                     "Board: chessboard:9x6:25 | circles:7x5:25 | acircles:4x11:20 | charuco:10x7:25:18[:DICT_5X5_100] "
-                    "(COLSxROWS, then mm)")
+                    "(COLSxROWS, then mm), or a file holding that text")
         ->required();
     sub->add_option("--output", opt->output, "Calibration YAML (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...)")
         ->required();
