@@ -29,6 +29,20 @@ Isometry3 FromCv(const cv::Mat& r, const cv::Mat& t) {
 
 }  // namespace
 
+bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
+                     const std::vector<double>& distortion, Isometry3* camera_from_board) {
+  if (!detection.found || detection.image_points.size() < 4) return false;
+  cv::Vec3d rvec, tvec;
+  if (!cv::solvePnP(detection.object_points, detection.image_points, camera_matrix, distortion, rvec, tvec, false,
+                    cv::SOLVEPNP_ITERATIVE)) {
+    return false;
+  }
+  cv::Mat r;
+  cv::Rodrigues(rvec, r);
+  *camera_from_board = FromCv(r, cv::Mat(tvec));
+  return true;
+}
+
 std::string HandEyeOptions::Validate() const { return min_poses < 3 ? "min_poses must be at least 3" : ""; }
 
 std::string HandEyeSummary::BriefReport() const {

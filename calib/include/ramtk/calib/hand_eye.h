@@ -8,9 +8,11 @@
 // "base" = our flange and its "gripper" = our robot base, its outputs are board_from_flange and
 // camera_from_base. camera_from_base plays the role of sensor_from_base of §3.3.
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
+#include "ramtk/calib/board.h"
 #include "ramtk/core/rotation.h"
 #include "ramtk/kinematics/robot_model.h"
 
@@ -48,6 +50,12 @@ struct HandEyeSummary {
 
   std::string BriefReport() const;
 };
+
+// camera_from_board from a board detection and the camera's intrinsics (cv::solvePnP, iterative
+// Levenberg–Marquardt on the reprojection error). False if the detection has < 4 points or the
+// solver fails.
+bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
+                     const std::vector<double>& distortion, Isometry3* camera_from_board);
 
 // InputError (field "poses") for fewer than min_poses poses.
 HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const std::vector<BoardPoseObservation>& obs,
