@@ -1,5 +1,7 @@
 #include "ramtk/calib/hand_eye.h"
 
+#include <ceres/ceres.h>
+
 #include <cmath>
 #include <cstdio>
 #include <opencv2/calib3d.hpp>
@@ -27,6 +29,25 @@ Isometry3 FromCv(const cv::Mat& r, const cv::Mat& t) {
   return out;
 }
 
+// measured − predicted camera-frame position of one board point:
+// predicted = camera_from_base · base_from_flange · flange_from_board · point.
+struct BoardPointResidual {
+  Isometry3 base_from_flange;
+  Vec3 measured;
+  Vec3 point;
+  template <typename T>
+  bool operator()(const T* q_cb, const T* t_cb, const T* q_fb, const T* t_fb, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> r_cb(q_cb), r_fb(q_fb);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tc(t_cb), tf(t_fb);
+    const Eigen::Matrix<T, 3, 1> in_flange = r_fb * point.cast<T>() + tf;
+    const Eigen::Matrix<T, 3, 1> in_base =
+        base_from_flange.linear().cast<T>() * in_flange + base_from_flange.translation().cast<T>();
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = measured.cast<T>() - (r_cb * in_base + tc);
+    return true;
+  }
+};
+
 }  // namespace
 
 bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
@@ -43,13 +64,18 @@ bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_
   return true;
 }
 
-std::string HandEyeOptions::Validate() const { return min_poses < 3 ? "min_poses must be at least 3" : ""; }
+std::string HandEyeOptions::Validate() const {
+  if (min_poses < 3) return "min_poses must be at least 3";
+  if (!(refine_length_mm > 0.0)) return "refine_length_mm must be positive";
+  return "";
+}
 
 std::string HandEyeSummary::BriefReport() const {
   char buf[300];
   std::snprintf(buf, sizeof(buf),
-                "hand-eye (%s): %d poses, RMS rotation %.4f deg, RMS translation %.4f mm, worst %.4f mm (pose %d)",
-                method.c_str(), num_poses, rms_rotation_deg, rms_translation_mm, worst_translation_mm, worst_pose);
+                "hand-eye (%s%s): %d poses, RMS rotation %.4f deg, RMS translation %.4f mm, worst %.4f mm (index %d)",
+                method.c_str(), refined ? " + Ceres" : "", num_poses, rms_rotation_deg, rms_translation_mm,
+                worst_translation_mm, worst_pose);
   return buf;
 }
 
@@ -83,6 +109,43 @@ HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const 
   r.flange_from_board = FromCv(r_board_from_flange, t_board_from_flange).inverse();
   HandEyeSummary s;
   s.method = options.method == HandEyeMethod::kShah ? "shah" : "li";
+  if (options.refine) {
+    Eigen::Quaterniond q_cb(r.camera_from_base.linear()), q_fb(r.flange_from_board.linear());
+    q_cb.normalize();
+    q_fb.normalize();
+    Vec3 t_cb = r.camera_from_base.translation(), t_fb = r.flange_from_board.translation();
+    const double l = options.refine_length_mm;
+    const Vec3 points[5] = {Vec3::Zero(), Vec3(l, 0, 0), Vec3(-l, 0, 0), Vec3(0, l, 0), Vec3(0, -l, 0)};
+    ceres::Problem problem;
+    for (std::size_t i = 0; i < obs.size(); ++i) {
+      for (const Vec3& p : points) {
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BoardPointResidual, 3, 4, 3, 4, 3>(
+                                     new BoardPointResidual{flange[i], obs[i].camera_from_board * p, p}),
+                                 nullptr, q_cb.coeffs().data(), t_cb.data(), q_fb.coeffs().data(), t_fb.data());
+      }
+    }
+    problem.SetManifold(q_cb.coeffs().data(), new ceres::EigenQuaternionManifold);
+    problem.SetManifold(q_fb.coeffs().data(), new ceres::EigenQuaternionManifold);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = 100;
+    so.function_tolerance = 1e-14;
+    so.parameter_tolerance = 1e-14;
+    so.num_threads = 1;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary cs;
+    ceres::Solve(so, &problem, &cs);
+    if (cs.IsSolutionUsable()) {
+      r.camera_from_base.linear() = q_cb.normalized().toRotationMatrix();
+      r.camera_from_base.translation() = t_cb;
+      r.flange_from_board.linear() = q_fb.normalized().toRotationMatrix();
+      r.flange_from_board.translation() = t_fb;
+      s.refined = true;
+      s.iterations = static_cast<int>(cs.iterations.size()) - 1;
+      s.initial_cost = cs.initial_cost;
+      s.final_cost = cs.final_cost;
+    }
+  }
   s.num_poses = static_cast<int>(obs.size());
   double sr = 0.0, st = 0.0;
   for (std::size_t i = 0; i < obs.size(); ++i) {

@@ -69,26 +69,34 @@ TEST(HandEye, NoisyBoardPosesStayWithinTheNoise) {
   const SensorRobotSimulation sim = SimulateSensorRobot(model, so);
   // PnP-like noise on a board 0.7 m away: 0.02° and 0.1 mm.
   const std::vector<BoardPoseObservation> obs = Simulate(sim, BoardOnFlange(), 0.02, 0.1, 2);
-  for (HandEyeMethod m : {HandEyeMethod::kShah, HandEyeMethod::kLi}) {
-    HandEyeOptions o;
-    o.method = m;
-    HandEyeSummary s;
-    const HandEyeResult r = CalibrateCameraToRobot(model, obs, o, &s);
-    const double rot_err_deg =
-        RadToDeg(RotationAngleBetween(r.camera_from_base.linear(), sim.sensor_from_base.linear()));
-    const double t_err = (r.camera_from_base.translation() - sim.sensor_from_base.translation()).norm();
-    const double board_err = (r.flange_from_board.translation() - BoardOnFlange().translation()).norm();
-    std::printf("%s; camera_from_base error %.4f deg, %.3f mm; board offset error %.3f mm\n", s.BriefReport().c_str(),
-                rot_err_deg, t_err, board_err);
-    // Residuals at the noise level: rotation σ 0.02° per axis → RMS angle ≈ 0.02·sqrt(3) ≈ 0.035°;
-    // translation 0.1 mm per axis plus the rotation noise times the board offset.
-    EXPECT_LT(s.rms_rotation_deg, 0.08) << s.method;
-    // The estimate must not be worse than one pose's error at 3σ (0.1°; closed-form methods,
-    // not averaged optimally), and the camera translation follows the rotation error through
-    // the ≈2.7 m lever arm.
-    EXPECT_LT(rot_err_deg, 0.1) << s.method;
-    EXPECT_LT(t_err, 2.8e3 * DegToRad(0.1)) << s.method;
-    EXPECT_LT(board_err, 1.0) << s.method;
+  for (bool refine : {false, true}) {
+    for (HandEyeMethod m : {HandEyeMethod::kShah, HandEyeMethod::kLi}) {
+      HandEyeOptions o;
+      o.method = m;
+      o.refine = refine;
+      HandEyeSummary s;
+      const HandEyeResult r = CalibrateCameraToRobot(model, obs, o, &s);
+      const double rot_err_deg =
+          RadToDeg(RotationAngleBetween(r.camera_from_base.linear(), sim.sensor_from_base.linear()));
+      const double t_err = (r.camera_from_base.translation() - sim.sensor_from_base.translation()).norm();
+      const double board_err = (r.flange_from_board.translation() - BoardOnFlange().translation()).norm();
+      std::printf("%s; camera_from_base error %.4f deg, %.3f mm; board offset error %.3f mm\n", s.BriefReport().c_str(),
+                  rot_err_deg, t_err, board_err);
+      // Residuals at the noise level: rotation σ 0.02° per axis → RMS angle ≈ 0.02·sqrt(3) ≈ 0.035°;
+      // translation 0.1 mm per axis plus the rotation noise times the board offset.
+      EXPECT_LT(s.rms_rotation_deg, 0.08) << s.method;
+      // The estimate must not be worse than one pose's error at 3σ (0.1°; closed-form methods,
+      // not averaged optimally), and the camera translation follows the rotation error through
+      // the ≈2.7 m lever arm.
+      EXPECT_LT(rot_err_deg, 0.1) << s.method;
+      EXPECT_LT(t_err, 2.8e3 * DegToRad(0.1)) << s.method;
+      EXPECT_LT(board_err, 1.0) << s.method;
+      // The refinement is least squares on the pose errors: its residual is no larger than the
+      // closed form's (Li's closed form leaves ≈2 mm here).
+      if (refine) {
+        EXPECT_LT(s.rms_translation_mm, 0.5) << s.BriefReport();
+      }
+    }
   }
 }
 
@@ -150,6 +158,13 @@ TEST(HandEye, RenderedBoardImagesThroughPnP) {
     obs.push_back(o);
   }
   ASSERT_GE(obs.size(), 8u);
+  HandEyeSummary s0;
+  HandEyeOptions closed_form;
+  closed_form.refine = false;
+  const HandEyeResult r0 = CalibrateCameraToRobot(model, obs, closed_form, &s0);
+  std::printf("rendered, closed form: %s; camera_from_base error %.4f deg, %.3f mm\n", s0.BriefReport().c_str(),
+              RadToDeg(RotationAngleBetween(r0.camera_from_base.linear(), sim.sensor_from_base.linear())),
+              (r0.camera_from_base.translation() - sim.sensor_from_base.translation()).norm());
   HandEyeSummary s;
   const HandEyeResult r = CalibrateCameraToRobot(model, obs, {}, &s);
   const double rot_err_deg = RadToDeg(RotationAngleBetween(r.camera_from_base.linear(), sim.sensor_from_base.linear()));

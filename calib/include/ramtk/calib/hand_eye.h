@@ -28,6 +28,11 @@ enum class HandEyeMethod { kShah, kLi };
 struct HandEyeOptions {
   HandEyeMethod method = HandEyeMethod::kShah;
   int min_poses = 3;  // OpenCV needs at least 3
+  // Refine OpenCV's closed form with Ceres (both rotations on the SO(3) manifold): least squares
+  // on the camera-frame positions of board points at (0,0), (±L,0), (0,±L) (L = the length
+  // below), i.e. the pose error with rotation weighted by the board's size.
+  bool refine = true;
+  double refine_length_mm = 100.0;
 
   std::string Validate() const;
 };
@@ -42,6 +47,10 @@ struct HandEyeResult {
 
 struct HandEyeSummary {
   std::string method;
+  bool refined = false;
+  int iterations = 0;         // Ceres iterations of the refinement (0 if not refined)
+  double initial_cost = 0.0;  // refinement cost before / after (½Σ|r|², mm²)
+  double final_cost = 0.0;
   int num_poses = 0;
   double rms_rotation_deg = 0.0;
   double rms_translation_mm = 0.0;
