@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "ramtk/calib/camera_calibration.h"
+#include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/calib/sensor_robot_sim.h"
@@ -202,6 +203,74 @@ int RunCameras(const CamerasCommandOptions& opt) {
   return kExitOk;
 }
 
+struct HandEyeCommandOptions {
+  std::string robot_path;
+  std::string poses_path;   // board-pose CSV
+  std::string output_path;  // result JSON
+  std::string method = "shah";
+  bool no_refine = false;
+};
+
+int RunHandEye(const HandEyeCommandOptions& opt) {
+  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  const std::vector<calib::BoardPoseObservation> obs = calib::ReadBoardPoseObservations(opt.poses_path);
+  calib::HandEyeOptions o;
+  o.method = opt.method == "li" ? calib::HandEyeMethod::kLi : calib::HandEyeMethod::kShah;
+  o.refine = !opt.no_refine;
+  calib::HandEyeSummary summary;
+  calib::HandEyeResult r;
+  try {
+    r = calib::CalibrateCameraToRobot(model, obs, o, &summary);
+  } catch (const InputError& e) {
+    if (!e.where().file.empty()) throw;
+    throw InputError({opt.poses_path, 0, e.where().field}, e.message());
+  }
+  WriteFileAtomically(opt.output_path, calib::HandEyeResultJson(r, summary));
+  const KukaAbc abc = KukaAbcFromRotation(r.camera_from_base.linear());
+  std::printf("%s\n", summary.BriefReport().c_str());
+  std::printf("camera_from_base  t (mm) %12.4f %12.4f %12.4f   A,B,C (deg) %10.5f %10.5f %10.5f\n",
+              r.camera_from_base.translation().x(), r.camera_from_base.translation().y(),
+              r.camera_from_base.translation().z(), RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c));
+  std::printf("wrote %s\n", opt.output_path.c_str());
+  return kExitOk;
+}
+
+struct SimulateHandEyeOptions {
+  std::string robot_path;
+  std::string csv_path;
+  std::string truth_path;
+  int poses = 12;
+  double rotation_noise_deg = 0.02;
+  double translation_noise_mm = 0.1;
+  unsigned seed = 1;
+};
+
+int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
+  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  calib::SensorRobotSimOptions so;  // robot poses and camera (= the thesis sensor frame, eq. 5-1)
+  so.num_poses = opt.poses;
+  so.seed = opt.seed;
+  const calib::SensorRobotSimulation sim = calib::SimulateSensorRobot(model, so);
+  Isometry3 flange_from_board = Isometry3::Identity();
+  flange_from_board.linear() = RotZ(DegToRad(30.0)) * RotX(DegToRad(10.0));
+  flange_from_board.translation() = so.ball_in_flange;
+  std::vector<kinematics::JointVector> joints;
+  for (const calib::BallObservation& b : sim.observations) joints.push_back(b.q_controller);
+  const std::vector<calib::BoardPoseObservation> obs =
+      calib::SimulateBoardPoses(model, joints, sim.sensor_from_base, flange_from_board, opt.rotation_noise_deg,
+                                opt.translation_noise_mm, opt.seed);
+  calib::HandEyeResult truth;
+  truth.camera_from_base = sim.sensor_from_base;
+  truth.flange_from_board = flange_from_board;
+  calib::HandEyeSummary ts;
+  ts.method = "truth";
+  WriteFileAtomically(opt.csv_path, calib::FormatBoardPoseObservations(obs));
+  WriteFileAtomically(opt.truth_path, calib::HandEyeResultJson(truth, ts));
+  std::printf("simulated %d board poses (noise %.4f deg, %.4f mm); wrote %s and %s\n", opt.poses,
+              opt.rotation_noise_deg, opt.translation_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
+  return kExitOk;
+}
+
 // The `name` subcommand of `app`, created if no other command made it yet.
 CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
@@ -250,6 +319,20 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
     sub->callback([opt, exit_code]() { *exit_code = RunCameras(*opt); });
   }
+  {
+    auto opt = std::make_shared<HandEyeCommandOptions>();
+    CLI::App* sub =
+        calib->add_subcommand("hand-eye",
+                              "Camera on a stand, board on the flange: camera_from_base and flange_from_board (OpenCV "
+                              "calibrateRobotWorldHandEye + Ceres refinement)");
+    sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
+    sub->add_option("--poses", opt->poses_path, "Board-pose CSV: pose,q1..q6 (deg),x,y,z (mm),a,b,c (KUKA deg)")
+        ->required();
+    sub->add_option("--output", opt->output_path, "Result JSON")->required();
+    sub->add_option("--method", opt->method, "shah or li")->check(CLI::IsMember({"shah", "li"}));
+    sub->add_flag("--no-refine", opt->no_refine, "Keep OpenCV's closed form (no Ceres refinement)");
+    sub->callback([opt, exit_code]() { *exit_code = RunHandEye(*opt); });
+  }
   CLI::App* simulate = GetOrAddSubcommand(app, "simulate", "Simulators with known truth");
   {
     auto opt = std::make_shared<SimulateSensorRobotOptions>();
@@ -265,6 +348,19 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--seed", opt->seed, "Seed of the pose geometry");
     sub->add_option("--noise-seed", opt->noise_seed, "Seed of the noise");
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateSensorRobot(*opt); });
+  }
+  {
+    auto opt = std::make_shared<SimulateHandEyeOptions>();
+    CLI::App* sub = simulate->add_subcommand(
+        "hand-eye", "Board poses seen by a fixed camera (the thesis sensor frame) at N robot poses");
+    sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
+    sub->add_option("--output", opt->csv_path, "Board-pose CSV to write")->required();
+    sub->add_option("--truth", opt->truth_path, "Truth JSON to write")->required();
+    sub->add_option("--poses", opt->poses, "Number of poses");
+    sub->add_option("--rotation-noise", opt->rotation_noise_deg, "Board-pose rotation noise (deg, 1 sigma)");
+    sub->add_option("--translation-noise", opt->translation_noise_mm, "Board-pose translation noise (mm per axis)");
+    sub->add_option("--seed", opt->seed, "Seed of poses and noise");
+    sub->callback([opt, exit_code]() { *exit_code = RunSimulateHandEye(*opt); });
   }
 }
 

@@ -19,22 +19,10 @@ namespace {
 // Noise: rotation σ_deg about a random axis, translation σ_mm per axis (a PnP-like error).
 std::vector<BoardPoseObservation> Simulate(const SensorRobotSimulation& sim, const Isometry3& flange_from_board,
                                            double sigma_deg, double sigma_mm, unsigned seed) {
-  const kinematics::RobotModel model = testing::Kr150();
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::vector<BoardPoseObservation> obs;
-  for (const BallObservation& b : sim.observations) {
-    BoardPoseObservation o;
-    o.q_controller = b.q_controller;
-    o.camera_from_board = sim.sensor_from_base * kinematics::BaseFromFlange(model, b.q_controller) * flange_from_board;
-    const Vec3 w(g(rng), g(rng), g(rng));
-    o.camera_from_board.linear() =
-        Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() *
-        o.camera_from_board.linear();
-    o.camera_from_board.translation() += sigma_mm * Vec3(g(rng), g(rng), g(rng));
-    obs.push_back(o);
-  }
-  return obs;
+  std::vector<kinematics::JointVector> joints;
+  for (const BallObservation& b : sim.observations) joints.push_back(b.q_controller);
+  return SimulateBoardPoses(testing::Kr150(), joints, sim.sensor_from_base, flange_from_board, sigma_deg, sigma_mm,
+                            seed);
 }
 
 Isometry3 BoardOnFlange() {

@@ -71,3 +71,26 @@ HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const 
                                      const HandEyeOptions& options = {}, HandEyeSummary* summary = nullptr);
 
 }  // namespace ramtk::calib
+
+namespace ramtk::calib {
+
+// Board-pose files (CSV with a header): `pose,q1,...,q6,x,y,z,a,b,c` — controller joints (deg)
+// and camera_from_board as translation (mm) and KUKA A,B,C (deg, R = RotZ(a)·RotY(b)·RotX(c)).
+// InputError names the file, line and column of anything malformed.
+std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path);
+std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>& obs);
+
+// The result as JSON text (camera_from_base and flange_from_board: 4×4, mm, KUKA A,B,C deg;
+// per-pose residuals; summary).
+std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary);
+
+// Simulated board poses for a board at flange_from_board, seen by a camera at camera_from_base,
+// at the given joints; noise: a rotation of sigma_deg·|w| about a random axis (w ~ N(0, I)) and
+// sigma_mm per axis of translation, from `seed`.
+std::vector<BoardPoseObservation> SimulateBoardPoses(const kinematics::RobotModel& model,
+                                                     const std::vector<kinematics::JointVector>& joints,
+                                                     const Isometry3& camera_from_base,
+                                                     const Isometry3& flange_from_board, double sigma_deg,
+                                                     double sigma_mm, unsigned seed);
+
+}  // namespace ramtk::calib
