@@ -3,7 +3,6 @@
 
 #include <Eigen/SVD>
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <stdexcept>

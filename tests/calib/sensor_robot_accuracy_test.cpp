@@ -148,3 +148,42 @@ TEST(SensorRobotAccuracy, RobustLossResistsABlunderAndNamesIt) {
 
 }  // namespace
 }  // namespace ramtk::calib
+
+namespace ramtk::calib {
+namespace {
+
+// The thesis gives no value for the penalty factor M of eq. (3-18). Small M leaves R_s visibly
+// non-orthonormal and biases t_s (which is averaged through R_s, eq. 3-19); the default 1e8
+// makes the penalty exact to ~1e-7 without hurting the fit.
+TEST(SensorRobotAccuracy, ThesisPenaltyFactorSweep) {
+  const kinematics::RobotModel model = testing::Kr150();
+  const int kSeeds = 20;
+  double t_small_m = 0.0, t_default = 0.0, orth_default = 0.0;
+  for (double m : {1e2, 1e4, 1e6, 1e8}) {
+    double rot2 = 0.0, t2 = 0.0, ball2 = 0.0, orth = 0.0;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      SensorRobotSimOptions o;
+      o.seed = 100 + seed;
+      o.noise_seed = seed;
+      const SensorRobotSimulation sim = SimulateSensorRobot(model, o);
+      ThesisCalibrationOptions to;
+      to.penalty_factor = m;
+      const SensorRobotCalibration c = CalibrateSensorRobotThesis(model, sim.observations, to);
+      const testing::Errors e = testing::ErrorsAgainstTruth(c, sim);
+      rot2 += e.rotation_arcsec * e.rotation_arcsec / kSeeds;
+      t2 += e.translation_um * e.translation_um / kSeeds;
+      ball2 += e.ball_um * e.ball_um / kSeeds;
+      orth = std::max(orth, c.orthonormality_error);
+    }
+    std::printf("M %.0e: rotation %.2f arcsec, t %.1f um, ball %.1f um, worst orthonormality error %.2e\n", m,
+                std::sqrt(rot2), std::sqrt(t2), std::sqrt(ball2), orth);
+    if (m == 1e2) t_small_m = std::sqrt(t2);
+    if (m == 1e8) t_default = std::sqrt(t2), orth_default = orth;
+  }
+  EXPECT_EQ(ThesisCalibrationOptions().penalty_factor, 1e8);
+  EXPECT_LT(orth_default, 1e-6);
+  EXPECT_LT(t_default, t_small_m);
+}
+
+}  // namespace
+}  // namespace ramtk::calib
