@@ -15,6 +15,6 @@ inline constexpr int kExitNoSolution = 3;
 // Sets *exit_code when the subcommand runs.
 void RegisterFkCommand(CLI::App& app, int* exit_code);
 void RegisterIkCommand(CLI::App& app, int* exit_code);
-void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras, simulate sensor-robot
+void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
 
 }  // namespace ramtk::tools
