@@ -17,5 +17,6 @@ void RegisterFkCommand(CLI::App& app, int* exit_code);
 void RegisterIkCommand(CLI::App& app, int* exit_code);
 void RegisterThermalCommands(CLI::App& app, int* exit_code);  // simulate thermal, thermal ...
 void RegisterTcfCommand(CLI::App& app, int* exit_code);  // tcf … and simulate tcf
+void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
 
 }  // namespace ramtk::tools

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterIkCommand(app, &exit_code);
   ramtk::tools::RegisterThermalCommands(app, &exit_code);
   ramtk::tools::RegisterTcfCommand(app, &exit_code);
+  ramtk::tools::RegisterCalibCommands(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,54 @@
+#pragma once
+// Calibration boards: chessboard, symmetric / asymmetric circle grid, ChArUco. Object points
+// follow OpenCV's conventions (z = 0 plane, mm), so detections feed cv::calibrateCamera directly.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::calib {
+
+enum class BoardType { kChessboard, kSymmetricCircles, kAsymmetricCircles, kCharuco };
+
+struct BoardSpec {
+  BoardType type = BoardType::kChessboard;
+  // Chessboard: inner corners per row (cols) and per column (rows). Circle grids: circles per
+  // row and per column as OpenCV's patternSize (asymmetric: rows are offset by half a step).
+  // ChArUco: squares per row and per column.
+  int cols = 9;
+  int rows = 6;
+  // Square side (chessboard, ChArUco) or circle spacing (mm). For the asymmetric grid this is
+  // OpenCV's unit: centres at ((2j + i mod 2)·s, i·s).
+  double square_mm = 25.0;
+  double marker_mm = 18.0;          // ChArUco marker side (mm)
+  double circle_diameter_mm = 0.0;  // circle grids; 0 → 0.5·square_mm (symmetric), 0.7·square_mm (asymmetric)
+  std::string dictionary = "DICT_5X5_100";  // ChArUco dictionary (cv::aruco predefined name)
+
+  std::string Validate() const;  // empty if valid
+  double CircleDiameterMm() const;
+  std::string ToString() const;  // the text ParseBoardSpec reads
+};
+
+// "chessboard:9x6:25", "circles:4x11:20[:diameter]", "acircles:4x11:20[:diameter]",
+// "charuco:10x7:25:18[:DICT_5X5_100]" (COLSxROWS, then mm). InputError at `where`.
+BoardSpec ParseBoardSpec(const std::string& text, const InputLocation& where);
+
+// Every feature of the board in board coordinates (mm, z = 0), in OpenCV's order. For ChArUco,
+// index i is the chessboard corner with id i.
+std::vector<cv::Point3f> BoardObjectPoints(const BoardSpec& board);
+
+struct BoardDetection {
+  bool found = false;
+  std::vector<cv::Point2f> image_points;   // pixels (OpenCV: integer coordinates at pixel centres)
+  std::vector<cv::Point3f> object_points;  // matching board points (mm)
+  std::vector<int> ids;                    // feature index into BoardObjectPoints
+  std::string reason;                      // why not found
+};
+
+// Detects the board in an 8-bit grey image (sub-pixel refined for chessboards). A ChArUco
+// detection needs at least `min_charuco_corners` corners.
+BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, int min_charuco_corners = 6);
+
+}  // namespace ramtk::calib

@@ -1,0 +1,117 @@
+#pragma once
+// Camera calibration sessions: board detections → single-camera and stereo calibration with
+// OpenCV, per-view reprojection errors, automatic rejection of outlier views (with the reason),
+// parameter standard deviations, a picture of image coverage and residuals, and the stereo
+// calibration file of DESIGN.md (OpenCV FileStorage, keys K1 D1 K2 D2 R T image_size).
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/calib/board.h"
+#include "ramtk/core/progress.h"
+
+namespace ramtk::calib {
+
+// One image's board features.
+struct ViewPoints {
+  std::string name;                        // image file or label
+  std::vector<cv::Point2f> image_points;   // px
+  std::vector<cv::Point3f> object_points;  // mm, board frame
+  std::vector<int> ids;                    // feature ids (BoardObjectPoints index)
+};
+
+struct RejectedView {
+  std::string name;
+  std::string reason;  // e.g. "board not found", "RMS 2.31 px > 3 x median 0.12 px"
+};
+
+struct CameraCalibrationOptions {
+  bool fix_k3 = true;             // estimate k1 k2 p1 p2 only (k3 = 0), OpenCV's CALIB_FIX_K3
+  bool zero_tangential = false;   // p1 = p2 = 0 (CALIB_ZERO_TANGENT_DIST)
+  bool fix_aspect_ratio = false;  // fx = fy (CALIB_FIX_ASPECT_RATIO)
+  int min_views = 4;              // fewer usable views is an error
+  // A view is rejected when its RMS reprojection error exceeds outlier_factor × the median view
+  // RMS and also outlier_min_px; the worst such view goes first, then the camera is re-calibrated.
+  double outlier_factor = 3.0;
+  double outlier_min_px = 0.25;
+  double max_rejected_fraction = 0.3;  // never reject more than this share of the views
+  // Stereo: pairs whose stereo RMS exceeds the same limits are rejected likewise.
+  ProgressCallback progress;
+
+  std::string Validate() const;
+  int OpenCvFlags() const;
+};
+
+struct CameraCalibrationResult {
+  cv::Size image_size;
+  cv::Matx33d camera_matrix = cv::Matx33d::eye();
+  std::vector<double> distortion;  // k1 k2 p1 p2 k3
+  double rms_px = 0.0;             // over every point of the used views
+  // Standard deviations of fx fy cx cy k1 k2 p1 p2 k3 (OpenCV's stdDeviationsIntrinsics, from
+  // the Jacobian scaled by the residual variance); 0 for fixed parameters.
+  std::vector<double> std_intrinsics;
+  std::vector<std::string> view_names;    // used views
+  std::vector<double> per_view_rms_px;    // per used view
+  std::vector<cv::Vec3d> rvecs, tvecs;    // camera_from_board per used view (Rodrigues, mm)
+  std::vector<cv::Vec6d> std_extrinsics;  // per used view: rvec (rad) then tvec (mm)
+  std::vector<RejectedView> rejected;
+};
+
+struct CameraCalibrationSummary {
+  std::string termination;      // "converged" or the reason for failure
+  int rounds = 0;               // calibrations run (1 + one per rejected view)
+  double initial_rms_px = 0.0;  // first round, all views
+  double final_rms_px = 0.0;
+  double worst_view_rms_px = 0.0;
+  std::string worst_view;
+  int used_views = 0;
+  std::vector<RejectedView> rejected;  // the outliers
+
+  std::string BriefReport() const;
+};
+
+// Calibrates one camera from board views. InputError if fewer than min_views remain.
+CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views, cv::Size image_size,
+                                        const CameraCalibrationOptions& options,
+                                        CameraCalibrationSummary* summary = nullptr);
+
+struct StereoCalibrationResult {
+  CameraCalibrationResult left, right;        // each calibrated alone (with its own rejections)
+  cv::Matx33d rotation = cv::Matx33d::eye();  // R: right_from_left (x_right = R·x_left + T)
+  cv::Vec3d translation;                      // T (mm)
+  // Standard deviations of R's rotation vector (rad) and T (mm) from the joint Jacobian of both
+  // cameras' residuals (intrinsics, R, T, board poses), scaled by the residual variance: the
+  // intrinsics' uncertainty is included. Zero if it could not be computed.
+  cv::Vec6d std_rt = cv::Vec6d::all(0.0);
+  double rms_px = 0.0;                     // stereo RMS with the intrinsics fixed
+  std::vector<std::string> pair_names;     // used pairs
+  std::vector<cv::Vec2d> per_pair_rms_px;  // left, right per used pair
+  std::vector<RejectedView> rejected_pairs;
+};
+
+// Stereo: left[i] and right[i] are the same board pose. Each camera is calibrated alone, then
+// cv::stereoCalibrate (CALIB_FIX_INTRINSIC) on the pairs both kept, with pair rejection.
+StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
+                                        cv::Size image_size, const CameraCalibrationOptions& options,
+                                        CameraCalibrationSummary* summary = nullptr);
+
+// Detects the board in image files (8-bit grey or colour; anything cv::imread reads). Images
+// where the board is not found are listed in `rejected`. InputError names an unreadable file and
+// a file whose size differs from the first one.
+std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& paths, const BoardSpec& board,
+                                            cv::Size* image_size, std::vector<RejectedView>* rejected,
+                                            const ProgressCallback& progress = {});
+
+// The stereo calibration file (OpenCV FileStorage YAML text): K1 D1 K2 D2 R T image_size, plus
+// rms, per_view_errors, std_intrinsics1/2 (fx fy cx cy k1 k2 p1 p2 k3), rejected views.
+std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board);
+// Single camera: K1 D1 image_size rms per_view_errors std_intrinsics1.
+std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board);
+
+// Coverage and residual picture of one camera: every used feature (a dot per view colour) and
+// its residual vector magnified residual_scale times; rejected views' features in grey.
+cv::Mat DrawCoverage(const CameraCalibrationResult& camera, const std::vector<ViewPoints>& views,
+                     double residual_scale = 100.0);
+
+}  // namespace ramtk::calib

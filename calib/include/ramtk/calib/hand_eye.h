@@ -1,0 +1,96 @@
+#pragma once
+// Robot-world / hand-eye calibration for a fixed camera that sees a board carried by the robot
+// (camera on a stand), through OpenCV's cv::calibrateRobotWorldHandEye (Shah 2013 or Li 2010).
+//
+// Per pose i the camera measures camera_from_board_i (e.g. cv::solvePnP on a detected board):
+//   camera_from_board_i = camera_from_base · base_from_flange(q_i) · flange_from_board.
+// OpenCV's equation is ᶜT_w · ʷT_b = ᶜT_g · ᵍT_b; with OpenCV's "world" = our board, its
+// "base" = our flange and its "gripper" = our robot base, its outputs are board_from_flange and
+// camera_from_base. camera_from_base plays the role of sensor_from_base of §3.3.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/calib/board.h"
+#include "ramtk/core/rotation.h"
+#include "ramtk/kinematics/robot_model.h"
+
+namespace ramtk::calib {
+
+struct BoardPoseObservation {
+  kinematics::JointVector q_controller = kinematics::JointVector::Zero();  // rad
+  Isometry3 camera_from_board = Isometry3::Identity();                     // mm
+};
+
+enum class HandEyeMethod { kShah, kLi };
+
+struct HandEyeOptions {
+  HandEyeMethod method = HandEyeMethod::kShah;
+  int min_poses = 3;  // OpenCV needs at least 3
+  // Refine OpenCV's closed form with Ceres (both rotations on the SO(3) manifold): least squares
+  // on the camera-frame positions of board points at (0,0), (±L,0), (0,±L) (L = the length
+  // below), i.e. the pose error with rotation weighted by the board's size.
+  bool refine = true;
+  double refine_length_mm = 100.0;
+
+  std::string Validate() const;
+};
+
+struct HandEyeResult {
+  Isometry3 camera_from_base = Isometry3::Identity();
+  Isometry3 flange_from_board = Isometry3::Identity();
+  // Per pose: measured vs predicted camera_from_board (rotation angle in rad, translation in mm).
+  std::vector<double> rotation_residual_rad;
+  std::vector<double> translation_residual_mm;
+};
+
+struct HandEyeSummary {
+  std::string method;
+  bool refined = false;
+  int iterations = 0;         // Ceres iterations of the refinement (0 if not refined)
+  double initial_cost = 0.0;  // refinement cost before / after (½Σ|r|², mm²)
+  double final_cost = 0.0;
+  int num_poses = 0;
+  double rms_rotation_deg = 0.0;
+  double rms_translation_mm = 0.0;
+  double worst_translation_mm = 0.0;
+  int worst_pose = -1;
+
+  std::string BriefReport() const;
+};
+
+// camera_from_board from a board detection and the camera's intrinsics (cv::solvePnP, iterative
+// Levenberg–Marquardt on the reprojection error). False if the detection has < 4 points or the
+// solver fails.
+bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
+                     const std::vector<double>& distortion, Isometry3* camera_from_board);
+
+// InputError (field "poses") for fewer than min_poses poses.
+HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const std::vector<BoardPoseObservation>& obs,
+                                     const HandEyeOptions& options = {}, HandEyeSummary* summary = nullptr);
+
+}  // namespace ramtk::calib
+
+namespace ramtk::calib {
+
+// Board-pose files (CSV with a header): `pose,q1,...,q6,x,y,z,a,b,c` — controller joints (deg)
+// and camera_from_board as translation (mm) and KUKA A,B,C (deg, R = RotZ(a)·RotY(b)·RotX(c)).
+// InputError names the file, line and column of anything malformed.
+std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path);
+std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>& obs);
+
+// The result as JSON text (camera_from_base and flange_from_board: 4×4, mm, KUKA A,B,C deg;
+// per-pose residuals; summary).
+std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary);
+
+// Simulated board poses for a board at flange_from_board, seen by a camera at camera_from_base,
+// at the given joints; noise: a rotation of sigma_deg·|w| about a random axis (w ~ N(0, I)) and
+// sigma_mm per axis of translation, from `seed`.
+std::vector<BoardPoseObservation> SimulateBoardPoses(const kinematics::RobotModel& model,
+                                                     const std::vector<kinematics::JointVector>& joints,
+                                                     const Isometry3& camera_from_base,
+                                                     const Isometry3& flange_from_board, double sigma_deg,
+                                                     double sigma_mm, unsigned seed);
+
+}  // namespace ramtk::calib
