@@ -1,0 +1,202 @@
+// Self-calibrating removal of the phase ripple caused by a non-linear projector response.
+#include "ramtk/vision/nonlinearity.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::vision {
+namespace {
+
+// Median camera fringe period (px) from the gradient of the unwrapped phase.
+double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
+  std::vector<float> g;
+  for (int y = 0; y + 1 < phase.rows; y += 2) {
+    const float* p = phase.ptr<float>(y);
+    const float* pn = phase.ptr<float>(y + 1);
+    const uchar* m = mask.ptr<uchar>(y);
+    const uchar* mn = mask.ptr<uchar>(y + 1);
+    for (int x = 0; x + 1 < phase.cols; x += 2) {
+      if (!m[x] || !m[x + 1] || !mn[x]) continue;
+      const double gx = p[x + 1] - p[x], gy = pn[x] - p[x];
+      const double gm = std::hypot(gx, gy);
+      if (gm > 1e-6 && gm < 3.0) g.push_back(static_cast<float>(gm));
+    }
+  }
+  if (g.empty()) return 0;
+  std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+  return 2 * CV_PI / g[g.size() / 2];
+}
+
+// Masked box mean: (box(v*m) / box(m)).
+cv::Mat MaskedMean(const cv::Mat& v, const cv::Mat& mf, const cv::Mat& den, int w) {
+  cv::Mat num;
+  cv::boxFilter(v.mul(mf), num, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::Mat out;
+  cv::divide(num, cv::max(den, 1e-6), out);
+  return out;
+}
+
+}  // namespace
+
+void NonlinearityOptions::Validate() const {
+  if (orders < 1 || orders > 6) throw InputError({"", 0, "orders"}, "expected 1..6");
+  if (passes < 1 || passes > 10) throw InputError({"", 0, "passes"}, "expected 1..10");
+  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0)) throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
+  if (!(outlier_rad > 0)) throw InputError({"", 0, "outlier_rad"}, "must be positive");
+}
+
+std::string NonlinearityEstimate::BriefReport() const {
+  std::ostringstream s;
+  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << ", s1 " << (sin_rad.empty() ? 0.0 : sin_rad[0])
+    << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma " << equivalent_gamma << ", high-pass RMS "
+    << residual_rms_before_rad << " -> " << residual_rms_after_rad << " rad over " << pixels_used << " px";
+  return s.str();
+}
+
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask, int steps,
+                                              const NonlinearityOptions& options) {
+  options.Validate();
+  NonlinearityEstimate est;
+  est.steps = steps;
+  est.sin_rad.assign(options.orders, 0.0);
+  est.cos_rad.assign(options.orders, 0.0);
+  int w = options.window_px;
+  if (w == 0) {
+    const double period = CameraFringePeriod(abs_phase, mask);
+    if (!(period > 0)) return est;
+    w = std::clamp(static_cast<int>(std::lround(2 * period)) | 1, 7, 101);
+  }
+  est.window_px = w;
+  const int nb = 2 * options.orders;
+  cv::Mat mf;
+  mask.convertTo(mf, CV_64F, 1.0 / 255.0);
+  cv::Mat den;
+  cv::boxFilter(mf, den, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  const double full = w * w - 0.5;  // only windows with every pixel valid
+  // Basis functions of the measured phase and their high-passed versions (independent of the pass).
+  std::vector<cv::Mat> basis(nb), hp_basis(nb);
+  for (int m = 0; m < options.orders; ++m) {
+    basis[2 * m].create(wrapped.size(), CV_64F);
+    basis[2 * m + 1].create(wrapped.size(), CV_64F);
+    for (int y = 0; y < wrapped.rows; ++y) {
+      const float* p = wrapped.ptr<float>(y);
+      for (int x = 0; x < wrapped.cols; ++x) {
+        const double a = (m + 1.0) * steps * p[x];
+        basis[2 * m].ptr<double>(y)[x] = std::sin(a);
+        basis[2 * m + 1].ptr<double>(y)[x] = std::cos(a);
+      }
+    }
+  }
+  for (int i = 0; i < nb; ++i) hp_basis[i] = basis[i] - MaskedMean(basis[i], mf, den, w);
+
+  for (int pass = 0; pass < options.passes; ++pass) {
+    cv::Mat clean;
+    abs_phase.convertTo(clean, CV_64F);
+    clean.setTo(0, mask == 0);
+    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(nb + 1, nb + 1);
+    Eigen::VectorXd atb = Eigen::VectorXd::Zero(nb + 1);
+    Eigen::VectorXd row(nb + 1);
+    double ss = 0;
+    long used = 0;
+    for (int y = 0; y < hp.rows; ++y) {
+      const double* r = hp.ptr<double>(y);
+      const double* d = den.ptr<double>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < hp.cols; ++x) {
+        if (!m[x] || d[x] < full || !(std::abs(r[x]) < options.outlier_rad)) continue;
+        row[0] = 1.0;
+        for (int i = 0; i < nb; ++i) row[i + 1] = hp_basis[i].ptr<double>(y)[x];
+        ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+        atb += row * r[x];
+        ss += r[x] * r[x];
+        ++used;
+      }
+    }
+    est.pixels_used = used;
+    est.passes = pass + 1;
+    if (used < options.min_pixels) break;
+    if (pass == 0) est.residual_rms_before_rad = std::sqrt(ss / used);
+    const Eigen::MatrixXd full_ata = ata.selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd coef = full_ata.ldlt().solve(atb);
+    for (int mo = 0; mo < options.orders; ++mo) {
+      est.sin_rad[mo] += coef[1 + 2 * mo];
+      est.cos_rad[mo] += coef[2 + 2 * mo];
+    }
+    // Subtract this pass's ripple.
+    for (int y = 0; y < abs_phase.rows; ++y) {
+      float* p = abs_phase.ptr<float>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < abs_phase.cols; ++x) {
+        if (!m[x]) continue;
+        double ripple = 0;
+        for (int i = 0; i < nb; ++i) ripple += coef[1 + i] * basis[i].ptr<double>(y)[x];
+        p[x] = static_cast<float>(p[x] - ripple);
+      }
+    }
+    est.applied = true;
+  }
+  if (est.applied) {
+    // Residual after the correction, same pixel selection rule.
+    cv::Mat clean;
+    abs_phase.convertTo(clean, CV_64F);
+    clean.setTo(0, mask == 0);
+    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    double ss = 0;
+    long used = 0;
+    for (int y = 0; y < hp.rows; ++y) {
+      const double* r = hp.ptr<double>(y);
+      const double* d = den.ptr<double>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < hp.cols; ++x)
+        if (m[x] && d[x] >= full && std::abs(r[x]) < options.outlier_rad) ss += r[x] * r[x], ++used;
+    }
+    est.residual_rms_after_rad = used ? std::sqrt(ss / used) : 0;
+  }
+  double r2 = 0;
+  for (int m = 0; m < options.orders; ++m) r2 += est.sin_rad[m] * est.sin_rad[m] + est.cos_rad[m] * est.cos_rad[m];
+  est.ripple_rms_rad = std::sqrt(r2 / 2);
+  est.equivalent_gamma = EquivalentGamma(est.sin_rad[0], steps);
+  return est;
+}
+
+double RippleOfGamma(double gamma, int steps) {
+  const int samples = 720;
+  double num = 0, den = 0;
+  for (int i = 0; i < samples; ++i) {
+    const double phi = 2 * CV_PI * i / samples;
+    double s = 0, c = 0;
+    for (int k = 0; k < steps; ++k) {
+      const double d = 2 * CV_PI * k / steps;
+      const double v = std::pow(0.5 + 0.5 * std::cos(phi + d), gamma);
+      s += v * std::sin(d);
+      c += v * std::cos(d);
+    }
+    const double measured = std::atan2(-s, c);
+    const double err = std::remainder(measured - phi, 2 * CV_PI);
+    const double b = std::sin(steps * measured);
+    num += err * b;
+    den += b * b;
+  }
+  return num / den;
+}
+
+double EquivalentGamma(double ripple_sin1, int steps) {
+  double prev_g = 0.3, prev_r = RippleOfGamma(prev_g, steps);
+  for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) {
+    const double r = RippleOfGamma(g, steps);
+    if ((prev_r - ripple_sin1) * (r - ripple_sin1) <= 0 && r != prev_r)
+      return prev_g + (g - prev_g) * (ripple_sin1 - prev_r) / (r - prev_r);
+    prev_g = g;
+    prev_r = r;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace ramtk::vision
