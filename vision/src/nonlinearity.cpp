@@ -167,8 +167,11 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
 }
 
 double RippleOfGamma(double gamma, int steps) {
-  const int samples = 720;
-  double num = 0, den = 0;
+  // Same regression as the estimator (constant + orders 1..3 of N*phi', phi uniform in the
+  // true phase), so the non-uniform density of phi' affects both alike.
+  const int samples = 720, orders = 3;
+  Eigen::MatrixXd a(samples, 1 + 2 * orders);
+  Eigen::VectorXd e(samples);
   for (int i = 0; i < samples; ++i) {
     const double phi = 2 * CV_PI * i / samples;
     double s = 0, c = 0;
@@ -179,24 +182,33 @@ double RippleOfGamma(double gamma, int steps) {
       c += v * std::cos(d);
     }
     const double measured = std::atan2(-s, c);
-    const double err = std::remainder(measured - phi, 2 * CV_PI);
-    const double b = std::sin(steps * measured);
-    num += err * b;
-    den += b * b;
+    e[i] = std::remainder(measured - phi, 2 * CV_PI);
+    a(i, 0) = 1;
+    for (int m = 0; m < orders; ++m) {
+      a(i, 1 + 2 * m) = std::sin((m + 1.0) * steps * measured);
+      a(i, 2 + 2 * m) = std::cos((m + 1.0) * steps * measured);
+    }
   }
-  return num / den;
+  const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(e);
+  return coef[1];
 }
 
 double EquivalentGamma(double ripple_sin1, int steps) {
-  double prev_g = 0.3, prev_r = RippleOfGamma(prev_g, steps);
-  for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) {
-    const double r = RippleOfGamma(g, steps);
-    if ((prev_r - ripple_sin1) * (r - ripple_sin1) <= 0 && r != prev_r)
-      return prev_g + (g - prev_g) * (ripple_sin1 - prev_r) / (r - prev_r);
-    prev_g = g;
-    prev_r = r;
-  }
-  return std::numeric_limits<double>::quiet_NaN();
+  // Projectors are expansive (gamma > 1), so [1, 5] is searched first, then [0.3, 1]. For N = 4
+  // the ripple of a power law vanishes at gamma 1 and 2, so small ripples have two roots.
+  auto scan = [&](double from, double to) {
+    double prev_g = from, prev_r = RippleOfGamma(from, steps);
+    for (double g = from + 0.05; g <= to + 1e-9; g += 0.05) {
+      const double r = RippleOfGamma(g, steps);
+      if ((prev_r - ripple_sin1) * (r - ripple_sin1) <= 0 && r != prev_r)
+        return prev_g + (g - prev_g) * (ripple_sin1 - prev_r) / (r - prev_r);
+      prev_g = g;
+      prev_r = r;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const double high = scan(1.0, 5.0);
+  return std::isfinite(high) ? high : scan(0.3, 1.0);
 }
 
 }  // namespace ramtk::vision

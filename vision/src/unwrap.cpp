@@ -13,6 +13,13 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 double Wrap01(double t) { return t - std::floor(t); }
 
+// Fraction of a beat with `cycles` <= 1 across the projector, wrapped into the interval centred
+// on its valid range [0, cycles) so noise at the projector edges does not wrap around.
+double WrapBeat(double t, double cycles) {
+  const double lo = -(1.0 - cycles) / 2;
+  return t - std::floor(t - lo);
+}
+
 }  // namespace
 
 double PeriodFraction(double phi, double phase_at_origin_rad) { return Wrap01((phi - phase_at_origin_rad) / kTwoPi); }
@@ -43,7 +50,6 @@ UnwrapResult UnwrapGrayCode(const cv::Mat& wrapped, double phase_at_origin_rad, 
   r.coordinate.create(wrapped.size(), CV_32F);
   r.valid.create(wrapped.size(), CV_8U);
   const double period = extent / cycles;
-  const int max_order = static_cast<int>(std::lround(cycles));
   std::vector<long> corrected(wrapped.rows, 0), rejected(wrapped.rows, 0);
   cv::parallel_for_(cv::Range(0, wrapped.rows), [&](const cv::Range& range) {
     for (int y = range.start; y < range.end; ++y) {
@@ -61,12 +67,13 @@ UnwrapResult UnwrapGrayCode(const cv::Mat& wrapped, double phase_at_origin_rad, 
         } else {
           n = cell[x];
         }
-        if (n < 0 || n >= max_order) {
+        const double coord = (n + t) * period;
+        if (coord < -0.5 || coord >= extent - 0.5) {  // outside the projector's pixel centres
           u[x] = kNaN;
           ok[x] = 0;
           ++rejected[y];
         } else {
-          u[x] = static_cast<float>((n + t) * period);
+          u[x] = static_cast<float>(coord);
           ok[x] = 255;
         }
       }
@@ -101,18 +108,18 @@ UnwrapResult UnwrapHeterodyne(const std::vector<cv::Mat>& wrapped, const std::ve
         if (three) {
           const double t3 = PeriodFraction(wrapped[2].ptr<float>(y)[x], phase_at_origin_rad);
           const double t23 = Wrap01(t2 - t3);
-          const double t123 = Wrap01(t12 - t23);  // c123 <= 1 cycle: absolute
+          const double t123 = WrapBeat(t12 - t23, c123);  // c123 <= 1 cycle: absolute
           const double e12 = t123 * c12 / c123 - t12;
           big12 = t12 + std::round(e12);
           worst = std::abs(e12 - std::round(e12));
         } else {
-          big12 = t12;  // c12 <= 1 cycle: absolute
+          big12 = WrapBeat(t1 - t2, c12);  // c12 <= 1 cycle: absolute
         }
         const double e1 = big12 * c1 / c12 - t1;
         const double n = std::round(e1);
         worst = std::max(worst, std::abs(e1 - n));
         const double coord = (t1 + n) * period;
-        if (worst > max_order_residual || n < 0 || n >= std::ceil(c1) || coord >= extent) {
+        if (worst > max_order_residual || coord < -0.5 || coord >= extent - 0.5) {
           u[x] = kNaN;
           ok[x] = 0;
           ++rejected[y];

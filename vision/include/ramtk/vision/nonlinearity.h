@@ -53,7 +53,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
 
 // First-order ripple coefficient s_1 that a projector gamma produces in an N-step LS phase.
 double RippleOfGamma(double gamma, int steps);
-// Inverse of RippleOfGamma over gamma in [0.3, 5]; NaN if s_1 is outside that range.
+// Inverse of RippleOfGamma: the first root in [1, 5], else in [0.3, 1]; NaN if none.
 double EquivalentGamma(double ripple_sin1, int steps);
 
 }  // namespace ramtk::vision
