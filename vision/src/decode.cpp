@@ -54,7 +54,13 @@ std::string DecodeSummary::BriefReport() const {
     << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, " << unwrap_rejected
     << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS " << fit_residual_rms_dn
     << " DN (phase " << phase_residual_rms_rad << " rad), median B " << median_modulation_dn << " DN, median sigma_phi "
-    << median_sigma_phase_rad << " rad; " << nonlinearity.BriefReport();
+    << median_sigma_phase_rad << " rad; ";
+  if (!harmonic_ratios.empty()) {
+    s << "harmonics B_h/B_1 (h=2..):";
+    for (double r : harmonic_ratios) s << " " << r;
+    s << " (power-law gamma " << gamma_from_harmonics << "); ";
+  }
+  s << nonlinearity.BriefReport();
   return s.str();
 }
 
@@ -203,6 +209,9 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
     RAMTK_LOG(kWarning) << "3-step set and no intensity noise given: sigma_phi uses quantisation noise only";
   }
   out.sigma_phase = PhaseSigma(fine.modulation, n, sum.sigma_intensity_dn);
+  sum.harmonic_ratios = MeasureHarmonicRatios(ps_frames[0], mask);
+  sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                         : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
 
   // Projector nonlinearity: ripple of N*phi' in the unwrapped phase.
   cv::Mat coord = unwrapped.coordinate;
@@ -292,6 +301,9 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
                        {"highpass_rms_after_rad", nl.residual_rms_after_rad},
                        {"window_px", nl.window_px},
                        {"pixels_used", nl.pixels_used}};
+  j["harmonic_ratios"] = s.harmonic_ratios;
+  j["gamma_from_harmonics"] =
+      std::isfinite(s.gamma_from_harmonics) ? nlohmann::json(s.gamma_from_harmonics) : nlohmann::json();
   j["brief"] = s.BriefReport();
   return j.dump(2) + "\n";
 }

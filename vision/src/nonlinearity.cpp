@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -164,6 +165,60 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   est.ripple_rms_rad = std::sqrt(r2 / 2);
   est.equivalent_gamma = EquivalentGamma(est.sin_rad[0], steps);
   return est;
+}
+
+std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<double> ratios;
+  const int max_h = (n + 1) / 2 - 1;
+  if (n < 5 || max_h < 2) return ratios;
+  std::vector<double> sum(max_h + 1, 0.0);
+  long count = 0;
+  for (int y = 0; y < mask.rows; ++y) {
+    const uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!m[x]) continue;
+      std::vector<std::complex<double>> c(max_h + 1);
+      for (int k = 0; k < n; ++k) {
+        const double v = frames[k].ptr<float>(y)[x];
+        for (int h = 1; h <= max_h; ++h) c[h] += v * std::polar(1.0, -2 * CV_PI * h * k / n);
+      }
+      const double a1 = std::abs(c[1]);
+      if (a1 <= 0) continue;
+      const std::complex<double> unit = std::conj(c[1]) / a1;  // e^{-i phi}
+      std::complex<double> rot = unit;
+      for (int h = 2; h <= max_h; ++h) {
+        rot *= unit;
+        sum[h] += (c[h] * rot).real() / a1;
+      }
+      ++count;
+    }
+  }
+  for (int h = 2; h <= max_h; ++h) ratios.push_back(count ? sum[h] / count : 0.0);
+  return ratios;
+}
+
+double SecondHarmonicOfGamma(double gamma) {
+  const int samples = 720;
+  double c1 = 0, c2 = 0;
+  for (int i = 0; i < samples; ++i) {
+    const double t = 2 * CV_PI * (i + 0.5) / samples;
+    const double v = std::pow(0.5 + 0.5 * std::cos(t), gamma);
+    c1 += v * std::cos(t);
+    c2 += v * std::cos(2 * t);
+  }
+  return c2 / c1;
+}
+
+double GammaFromSecondHarmonic(double r2) {
+  double prev_g = 0.3, prev_r = SecondHarmonicOfGamma(prev_g);
+  for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) {
+    const double r = SecondHarmonicOfGamma(g);
+    if ((prev_r - r2) * (r - r2) <= 0 && r != prev_r) return prev_g + (g - prev_g) * (r2 - prev_r) / (r - prev_r);
+    prev_g = g;
+    prev_r = r;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 double RippleOfGamma(double gamma, int steps) {

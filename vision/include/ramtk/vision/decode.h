@@ -56,7 +56,11 @@ struct DecodeSummary {
   double phase_residual_rms_rad = 0;  // RMS over valid px of sqrt(2/N) * residual_rms / B
   double median_modulation_dn = 0;    // median B of valid pixels
   double median_sigma_phase_rad = 0;  // median sigma_phi of valid pixels
-  NonlinearityEstimate nonlinearity;  // harmonic content and correction
+  NonlinearityEstimate nonlinearity;  // ripple (aliased harmonic content) and correction
+  // N >= 5: directly measured harmonic ratios B_h/B_1, h = 2.. (see MeasureHarmonicRatios), and
+  // the power-law gamma with the same B_2/B_1 (NaN if out of range or N < 5).
+  std::vector<double> harmonic_ratios;
+  double gamma_from_harmonics = 0;
   // Solver-style view: iterations = nonlinearity passes; costs = high-pass phase RMS (rad)
   // before and after the nonlinearity correction.
   int iterations = 0;

@@ -51,6 +51,15 @@ struct NonlinearityEstimate {
 NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask, int steps,
                                               const NonlinearityOptions& options = {});
 
+// Direct harmonic content for N >= 5 steps (harmonics h < N/2 are resolved per pixel): the
+// signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over
+// the pixels where `mask` is non-zero, for h = 2 .. ceil(N/2) - 1. Empty for N < 5.
+std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask);
+// r_2 = B_2 / B_1 of a power-law response (0.5 + 0.5 cos)^gamma.
+double SecondHarmonicOfGamma(double gamma);
+// Inverse of SecondHarmonicOfGamma over [0.3, 5]; NaN if out of range.
+double GammaFromSecondHarmonic(double r2);
+
 // First-order ripple coefficient s_1 that a projector gamma produces in an N-step LS phase.
 double RippleOfGamma(double gamma, int steps);
 // Inverse of RippleOfGamma: the first root in [1, 5], else in [0.3, 1]; NaN if none.
