@@ -6,10 +6,9 @@
 // relative, so its best constant offset and sign are fitted to the truth first - a favour).
 #include <benchmark/benchmark.h>
 
-#include <opencv2/structured_light.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <opencv2/structured_light.hpp>
 #include <vector>
 
 #include "decode_synth.h"
@@ -22,8 +21,8 @@ using namespace ramtk::vision;
 struct BenchData {
   FringeManifest manifest;
   cv::Mat truth;
-  std::vector<cv::Mat> frames;      // CV_32F, ramtk input (3 phase + 6 code images)
-  std::vector<cv::Mat> frames_u8;   // the same images as CV_8U
+  std::vector<cv::Mat> frames;     // CV_32F, ramtk input (3 phase + 6 code images)
+  std::vector<cv::Mat> frames_u8;  // the same images as CV_8U
   double period = 0;
 };
 
@@ -48,9 +47,9 @@ const BenchData& Data() {
 }
 
 struct Accuracy {
-  double rms_px = 0;         // RMS error of pixels within half a period of the truth
-  double wrong_order = 0;    // fraction of compared pixels off by more than half a period
-  double compared = 0;       // fraction of all pixels compared
+  double rms_px = 0;       // RMS error of pixels within half a period of the truth
+  double wrong_order = 0;  // fraction of compared pixels off by more than half a period
+  double compared = 0;     // fraction of all pixels compared
 };
 
 // `coordinate` in projector px (NaN = invalid); `fit_offset` fits sign and constant first.

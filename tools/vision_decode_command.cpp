@@ -10,12 +10,12 @@ namespace ramtk::tools {
 namespace {
 
 struct DecodeCommandOptions {
-  std::string manifest;            // fringe image set manifest (JSON)
-  std::string camera = "all";      // camera name or "all"
-  std::string out;                 // output folder
-  double min_modulation = 0.02;    // B threshold, fraction of full scale
-  double sigma_intensity = 0;      // DN; 0 = estimate
-  bool no_nonlinearity = false;    // skip the gamma ripple correction
+  std::string manifest;          // fringe image set manifest (JSON)
+  std::string camera = "all";    // camera name or "all"
+  std::string out;               // output folder
+  double min_modulation = 0.02;  // B threshold, fraction of full scale
+  double sigma_intensity = 0;    // DN; 0 = estimate
+  bool no_nonlinearity = false;  // skip the gamma ripple correction
 };
 
 int RunDecode(const DecodeCommandOptions& opt) {
@@ -47,7 +47,8 @@ int RunDecode(const DecodeCommandOptions& opt) {
 
 void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
   auto opt = std::make_shared<DecodeCommandOptions>();
-  CLI::App* sub = app.add_subcommand("decode", "Decode a fringe image set into projector coordinates (TIFF + PNG previews)");
+  CLI::App* sub =
+      app.add_subcommand("decode", "Decode a fringe image set into projector coordinates (TIFF + PNG previews)");
   sub->add_option("manifest", opt->manifest, "Fringe image set manifest (JSON)")->required();
   sub->add_option("--camera", opt->camera, "Camera name in the manifest, or all")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();

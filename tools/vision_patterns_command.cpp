@@ -47,7 +47,8 @@ int RunPatterns(const PatternsCommandOptions& opt) {
     b.phase_at_origin_rad = phase0;
     m.sequence.push_back(b);
   } else {
-    if ((opt.cycles > 0) == (opt.period > 0)) throw InputError({"", 0, "--cycles"}, "give exactly one of --cycles and --period");
+    if ((opt.cycles > 0) == (opt.period > 0))
+      throw InputError({"", 0, "--cycles"}, "give exactly one of --cycles and --period");
     SequenceBlock ps;
     ps.type = BlockType::kPhaseShift;
     ps.steps = opt.steps;
@@ -61,15 +62,17 @@ int RunPatterns(const PatternsCommandOptions& opt) {
       gc.bits = static_cast<int>(std::lround(std::log2(ps.cycles[0]))) + (gc.complementary ? 1 : 0);
       m.sequence.push_back(gc);
     } else if (opt.scheme != "phase_shift") {
-      throw InputError({"", 0, "--scheme"}, "expected phase_shift, gray_code, complementary_gray_code or heterodyne, got '" +
-                                                opt.scheme + "'");
+      throw InputError(
+          {"", 0, "--scheme"},
+          "expected phase_shift, gray_code, complementary_gray_code or heterodyne, got '" + opt.scheme + "'");
     }
   }
   m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
   m.cameras["projector"].resize(m.ImageCount());
   m.Validate();
   WritePatternSet(opt.out, m, opt.bits);
-  std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out << "\n";
+  std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out
+            << "\n";
   return kExitOk;
 }
 
@@ -88,7 +91,8 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--cycles", opt->cycles, "Fringe periods across the projector (a power of 2 with Gray code)");
   sub->add_option("--period", opt->period, "Fringe period in projector px (instead of --cycles)");
   sub->add_option("--heterodyne-cycles", opt->heterodyne, "Heterodyne cycles, finest first")->capture_default_str();
-  sub->add_option("--phase-at-origin", opt->phase_at_origin_deg, "Phase at projector pixel 0, degrees")->capture_default_str();
+  sub->add_option("--phase-at-origin", opt->phase_at_origin_deg, "Phase at projector pixel 0, degrees")
+      ->capture_default_str();
   sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->callback([opt, exit_code]() { *exit_code = RunPatterns(*opt); });

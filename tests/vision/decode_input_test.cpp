@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 class BadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(RAMTK_TEST_OUTPUT_DIR) / ("bad_input_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    dir_ = fs::path(RAMTK_TEST_OUTPUT_DIR) /
+           ("bad_input_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -36,8 +37,10 @@ class BadInput : public ::testing::Test {
       for (int x = 0; x < img.cols; ++x)
         for (int y = 0; y < img.rows; ++y) {
           const double v = 0.5 + 0.4 * std::cos(2 * M_PI * x / 32.0 - M_PI + 2 * M_PI * k / 4);
-          if (bits == 8) img.at<uchar>(y, x) = cv::saturate_cast<uchar>(v * 255);
-          else img.at<uint16_t>(y, x) = cv::saturate_cast<uint16_t>(v * 65535);
+          if (bits == 8)
+            img.at<uchar>(y, x) = cv::saturate_cast<uchar>(v * 255);
+          else
+            img.at<uint16_t>(y, x) = cv::saturate_cast<uint16_t>(v * 65535);
         }
       const std::string name = "img" + std::to_string(k) + ".png";
       WriteImage((dir_ / name).string(), img);
@@ -93,7 +96,8 @@ TEST_F(BadInput, MixedBitDepthsAreNamed) {
 
 TEST_F(BadInput, AllDarkSetIsNamed) {
   FringeManifest m = WriteGoodSet();
-  for (int k = 0; k < 4; ++k) WriteImage((dir_ / ("img" + std::to_string(k) + ".png")).string(), cv::Mat(24, 32, CV_8U, cv::Scalar(2)));
+  for (int k = 0; k < 4; ++k)
+    WriteImage((dir_ / ("img" + std::to_string(k) + ".png")).string(), cv::Mat(24, 32, CV_8U, cv::Scalar(2)));
   const std::string e = ErrorOf(m);
   EXPECT_NE(e.find("img0.png: all 4 images are dark"), std::string::npos) << e;
 }
@@ -131,18 +135,25 @@ TEST_F(BadInput, ManifestFieldErrors) {
     return "";
   };
   const std::string head = R"({"projector": {"width": 1024, "height": 768}, "direction": "vertical", )";
-  EXPECT_NE(error_for(head + R"("sequence": [{"type": "phase_shift", "steps": 2, "cycles": 1}], "cameras": {"c": ["a","b"]}})")
+  EXPECT_NE(error_for(head +
+                      R"("sequence": [{"type": "phase_shift", "steps": 2, "cycles": 1}], "cameras": {"c": ["a","b"]}})")
                 .find("sequence[0].steps"),
             std::string::npos);
-  EXPECT_NE(error_for(head + R"("sequence": [{"type": "phase_shift", "steps": 4, "cycles": 32}, {"type": "gray_code", "bits": 5, "complementary": true}], "cameras": {"c": []}})")
-                .find("bits = log2(cycles)+1"),
+  EXPECT_NE(
+      error_for(
+          head +
+          R"("sequence": [{"type": "phase_shift", "steps": 4, "cycles": 32}, {"type": "gray_code", "bits": 5, "complementary": true}], "cameras": {"c": []}})")
+          .find("bits = log2(cycles)+1"),
+      std::string::npos);
+  EXPECT_NE(error_for(head + R"("sequence": [{"type": "spiral"}], "cameras": {}})").find("sequence[0].type"),
             std::string::npos);
-  EXPECT_NE(error_for(head + R"("sequence": [{"type": "spiral"}], "cameras": {}})").find("sequence[0].type"), std::string::npos);
   EXPECT_NE(error_for(R"({"projector": {"width": 1024}})").find("projector.height"), std::string::npos);
   EXPECT_NE(error_for("{not json").find("not valid JSON"), std::string::npos);
-  EXPECT_NE(error_for(head + R"("sequence": [{"type": "heterodyne", "steps": 4, "cycles": [64, 59, 50]}], "cameras": {"c": []}})")
-                .find("beat"),
-            std::string::npos);
+  EXPECT_NE(
+      error_for(head +
+                R"("sequence": [{"type": "heterodyne", "steps": 4, "cycles": [64, 59, 50]}], "cameras": {"c": []}})")
+          .find("beat"),
+      std::string::npos);
 }
 
 TEST_F(BadInput, ManifestRoundTrip) {

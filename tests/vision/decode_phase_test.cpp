@@ -13,9 +13,9 @@ namespace {
 using testing::SynthOptions;
 
 struct PhaseErrorStats {
-  double rms_error = 0;   // RMS of the wrapped-phase error vs truth (rad)
-  double rms_bound = 0;   // RMS of the per-pixel sigma_phi (rad)
-  double sigma_est = 0;   // sigma_I the decoder estimated (DN)
+  double rms_error = 0;  // RMS of the wrapped-phase error vs truth (rad)
+  double rms_bound = 0;  // RMS of the per-pixel sigma_phi (rad)
+  double sigma_est = 0;  // sigma_I the decoder estimated (DN)
   long valid = 0;
 };
 
@@ -58,8 +58,9 @@ TEST_P(WrappedPhaseNoise, RmsErrorWithinTheSigmaPhiBound) {
   const PhaseErrorStats s = RunCase(steps, noise, EffectiveSigma(noise));
   RecordProperty("rms_error_rad", std::to_string(s.rms_error));
   RecordProperty("rms_bound_rad", std::to_string(s.rms_bound));
-  std::cout << "N=" << steps << " noise " << noise << " DN: wrapped-phase RMS error " << s.rms_error << " rad, sigma_phi bound "
-            << s.rms_bound << " rad, ratio " << s.rms_error / s.rms_bound << " (" << s.valid << " px)\n";
+  std::cout << "N=" << steps << " noise " << noise << " DN: wrapped-phase RMS error " << s.rms_error
+            << " rad, sigma_phi bound " << s.rms_bound << " rad, ratio " << s.rms_error / s.rms_bound << " (" << s.valid
+            << " px)\n";
   EXPECT_GT(s.valid, 100000);
   EXPECT_LE(s.rms_error, 1.2 * s.rms_bound);
   // The bound is a prediction, not just a ceiling: the error is not far below it either.

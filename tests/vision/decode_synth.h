@@ -5,10 +5,9 @@
 // Gaussian intensity noise with a fixed seed, and 8-bit quantisation with clipping.
 
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <random>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/patterns.h"
@@ -84,9 +83,13 @@ inline std::vector<cv::Mat> SynthesizeFrames(const FringeManifest& m, const cv::
       for (int k = 0; k < b.steps; ++k)
         emit([&](double u) {
           auto light = [&](double uu) {
-            return std::pow(0.5 + 0.5 * std::cos(PatternPhase(uu, cycles, extent, b.phase_at_origin_rad) + 2 * M_PI * k / b.steps), o.gamma);
+            return std::pow(
+                0.5 + 0.5 * std::cos(PatternPhase(uu, cycles, extent, b.phase_at_origin_rad) + 2 * M_PI * k / b.steps),
+                o.gamma);
           };
-          if (o.gamma == 1.0) return 0.5 + 0.5 * attenuation * std::cos(PatternPhase(u, cycles, extent, b.phase_at_origin_rad) + 2 * M_PI * k / b.steps);
+          if (o.gamma == 1.0)
+            return 0.5 + 0.5 * attenuation *
+                             std::cos(PatternPhase(u, cycles, extent, b.phase_at_origin_rad) + 2 * M_PI * k / b.steps);
           // The projector's response comes first, then the optics blur the emitted light.
           double sum = 0, wsum = 0;
           for (int i = 0; i < 7; ++i) {

@@ -1,12 +1,13 @@
 // Projector gamma 2.2 on 3- and 4-step sets: phase error against truth before and after the
 // self-calibrated correction.
+#include "ramtk/vision/nonlinearity.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "decode_synth.h"
 #include "ramtk/vision/decode.h"
-#include "ramtk/vision/nonlinearity.h"
 
 namespace ramtk::vision {
 namespace {
@@ -19,7 +20,7 @@ using testing::SynthOptions;
 double CoordinateRms(int steps, double gamma, bool correct, NonlinearityEstimate* estimate = nullptr) {
   SynthOptions o;
   o.gamma = gamma;
-  o.blur_px = 0.3;  // in focus: defocus would attenuate the harmonics and lower the apparent gamma
+  o.blur_px = 0.3;      // in focus: defocus would attenuate the harmonics and lower the apparent gamma
   o.seed = 77 + steps;  // same noise with and without gamma
   const double scale = steps == 3 ? 1.0 : 257.0;
   o.full_scale = 255 * scale;

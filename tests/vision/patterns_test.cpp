@@ -1,5 +1,7 @@
 // Pattern generation: layout (SLMaster convention) and decode round trips where the truth is the
 // projector pixel index itself.
+#include "ramtk/vision/patterns.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,7 +9,6 @@
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/image_io.h"
 #include "ramtk/vision/manifest.h"
-#include "ramtk/vision/patterns.h"
 
 namespace ramtk::vision {
 namespace {
@@ -116,7 +117,7 @@ TEST(Patterns, WritePatternSetWritesPngsAndManifest) {
   const cv::Mat img = LoadImageDn(m.Resolve(m.cameras.at("projector")[3]), &bits);
   EXPECT_EQ(bits, 16);
   EXPECT_EQ(img.cols, 256);
-  EXPECT_EQ(img.at<float>(0, 0), 0.0f);       // first code image: left half dark
+  EXPECT_EQ(img.at<float>(0, 0), 0.0f);        // first code image: left half dark
   EXPECT_EQ(img.at<float>(0, 200), 65535.0f);  // right half bright
 }
 

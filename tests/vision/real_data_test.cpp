@@ -44,8 +44,8 @@ TEST_P(SlmasterBinocular, DecodesWithSmoothCoordinates) {
       sum_dx += du;
       if (std::abs(du) > s.period_px / 2) ++jumps;
     }
-  std::cout << camera << ": " << jumps << " jumps > P/2 in " << pairs << " adjacent pairs, mean du/dx " << sum_dx / pairs
-            << " projector px per camera px\n";
+  std::cout << camera << ": " << jumps << " jumps > P/2 in " << pairs << " adjacent pairs, mean du/dx "
+            << sum_dx / pairs << " projector px per camera px\n";
   EXPECT_LT(jumps, 0.002 * pairs);
   EXPECT_GT(sum_dx / pairs, 0.0);  // vertical fringes: the projector column grows left to right
   // A 12-step fit of a good camera: residual well below the modulation.

@@ -1,10 +1,11 @@
 // Temporal unwrapping against analytic truth: period-order errors for heterodyne, plain and
 // complementary Gray code under projector blur and noise.
+#include "ramtk/vision/unwrap.h"
+
 #include <gtest/gtest.h>
 
 #include "decode_synth.h"
 #include "ramtk/vision/decode.h"
-#include "ramtk/vision/unwrap.h"
 
 namespace ramtk::vision {
 namespace {
@@ -62,8 +63,8 @@ TEST(Unwrap, ThreeFrequencyHeterodyneHasNoOrderErrorsAtNominalNoise) {
   const auto frames = testing::SynthesizeFrames(m, truth, o);
   const DecodedCamera d = DecodeFrames(m, frames, 255.0, Plain(), "cam");
   const auto c = testing::CompareToTruth(d.coordinate, d.mask, truth, m.Extent() / 64.0);
-  std::cout << "heterodyne 64/60/57: " << c.order_errors << " order errors in " << c.valid << " valid px, RMS " << c.rms_px
-            << " px, rejected " << d.summary.unwrap_rejected << "\n";
+  std::cout << "heterodyne 64/60/57: " << c.order_errors << " order errors in " << c.valid << " valid px, RMS "
+            << c.rms_px << " px, rejected " << d.summary.unwrap_rejected << "\n";
   EXPECT_GT(c.valid, 0.99 * truth.total());
   EXPECT_EQ(c.order_errors, 0);
 }

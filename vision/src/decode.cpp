@@ -49,12 +49,12 @@ void DecodeOptions::Validate() const {
 std::string DecodeSummary::BriefReport() const {
   std::ostringstream s;
   s.precision(4);
-  s << "decode " << (camera.empty() ? "" : camera + " ") << termination << ": " << width << "x" << height << ", N=" << steps
-    << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels << " px; masked: "
-    << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, " << unwrap_rejected
-    << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS " << fit_residual_rms_dn
-    << " DN (phase " << phase_residual_rms_rad << " rad), median B " << median_modulation_dn << " DN, median sigma_phi "
-    << median_sigma_phase_rad << " rad; ";
+  s << "decode " << (camera.empty() ? "" : camera + " ") << termination << ": " << width << "x" << height
+    << ", N=" << steps << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels
+    << " px; masked: " << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, "
+    << unwrap_rejected << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS "
+    << fit_residual_rms_dn << " DN (phase " << phase_residual_rms_rad << " rad), median B " << median_modulation_dn
+    << " DN, median sigma_phi " << median_sigma_phase_rad << " rad; ";
   if (!harmonic_ratios.empty()) {
     s << "harmonics B_h/B_1 (h=2..):";
     for (double r : harmonic_ratios) s << " " << r;
@@ -70,8 +70,8 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
   m.Validate();
   const std::string where = m.path.empty() ? camera : m.path;
   if (static_cast<int>(frames.size()) != m.ImageCount())
-    throw InputError({where, 0, "cameras." + camera},
-                     "the sequence needs " + std::to_string(m.ImageCount()) + " images, got " + std::to_string(frames.size()));
+    throw InputError({where, 0, "cameras." + camera}, "the sequence needs " + std::to_string(m.ImageCount()) +
+                                                          " images, got " + std::to_string(frames.size()));
   DecodedCamera out;
   DecodeSummary& sum = out.summary;
   sum.camera = camera;
@@ -147,7 +147,8 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
   if (ps_block->type == BlockType::kHeterodyne) {
     std::vector<cv::Mat> w;
     for (const PhaseShiftResult& p : phases) w.push_back(p.wrapped);
-    unwrapped = UnwrapHeterodyne(w, ps_block->cycles, ps_block->phase_at_origin_rad, extent, options.max_order_residual);
+    unwrapped =
+        UnwrapHeterodyne(w, ps_block->cycles, ps_block->phase_at_origin_rad, extent, options.max_order_residual);
   } else if (gc_block) {
     const cv::Mat cells = DecodeGrayCode(gc_frames, fine.background);
     unwrapped = UnwrapGrayCode(fine.wrapped, ps_block->phase_at_origin_rad, ps_block->cycles[0], extent, cells,
@@ -292,15 +293,16 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
   j["median_modulation_dn"] = s.median_modulation_dn;
   j["median_sigma_phase_rad"] = s.median_sigma_phase_rad;
   const NonlinearityEstimate& nl = s.nonlinearity;
-  j["nonlinearity"] = {{"applied", nl.applied},
-                       {"ripple_sin_rad", nl.sin_rad},
-                       {"ripple_cos_rad", nl.cos_rad},
-                       {"ripple_rms_rad", nl.ripple_rms_rad},
-                       {"equivalent_gamma", std::isfinite(nl.equivalent_gamma) ? nlohmann::json(nl.equivalent_gamma) : nlohmann::json()},
-                       {"highpass_rms_before_rad", nl.residual_rms_before_rad},
-                       {"highpass_rms_after_rad", nl.residual_rms_after_rad},
-                       {"window_px", nl.window_px},
-                       {"pixels_used", nl.pixels_used}};
+  j["nonlinearity"] = {
+      {"applied", nl.applied},
+      {"ripple_sin_rad", nl.sin_rad},
+      {"ripple_cos_rad", nl.cos_rad},
+      {"ripple_rms_rad", nl.ripple_rms_rad},
+      {"equivalent_gamma", std::isfinite(nl.equivalent_gamma) ? nlohmann::json(nl.equivalent_gamma) : nlohmann::json()},
+      {"highpass_rms_before_rad", nl.residual_rms_before_rad},
+      {"highpass_rms_after_rad", nl.residual_rms_after_rad},
+      {"window_px", nl.window_px},
+      {"pixels_used", nl.pixels_used}};
   j["harmonic_ratios"] = s.harmonic_ratios;
   j["gamma_from_harmonics"] =
       std::isfinite(s.gamma_from_harmonics) ? nlohmann::json(s.gamma_from_harmonics) : nlohmann::json();

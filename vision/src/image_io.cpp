@@ -12,7 +12,9 @@
 namespace ramtk::vision {
 namespace {
 
-[[noreturn]] void Fail(const std::string& file, const std::string& message) { throw InputError({file, 0, ""}, message); }
+[[noreturn]] void Fail(const std::string& file, const std::string& message) {
+  throw InputError({file, 0, ""}, message);
+}
 
 }  // namespace
 
@@ -32,7 +34,8 @@ cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
   const int w = spec.width, h = spec.height, nc = spec.nchannels;
   if (w <= 0 || h <= 0 || nc <= 0) Fail(path, "image has no pixels");
   std::vector<float> buf(static_cast<std::size_t>(w) * h * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, buf.data())) Fail(path, "cannot read pixels: " + in->geterror());
+  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, buf.data()))
+    Fail(path, "cannot read pixels: " + in->geterror());
   in->close();
   const float scale = bits == 8 ? 255.0f : 65535.0f;
   const int grey_channels = nc >= 3 ? 3 : 1;  // ignore alpha
@@ -100,7 +103,8 @@ void WriteImage(const std::string& path, const cv::Mat& image) {
   cv::Mat img = image.isContinuous() ? image : image.clone();
   if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2RGB);
   const std::filesystem::path target(path);
-  const std::filesystem::path tmp = target.parent_path() / (target.stem().string() + ".tmp" + target.extension().string());
+  const std::filesystem::path tmp =
+      target.parent_path() / (target.stem().string() + ".tmp" + target.extension().string());
   {
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) throw InputError({path, 0, ""}, "no image writer for this extension: " + OIIO::geterror());

@@ -52,7 +52,8 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
     const bool has_cycles = b.contains("cycles");
     const char* period_key = block.type == BlockType::kPhaseShift ? "period_px" : "periods_px";
     const bool has_period = b.contains(period_key);
-    if (has_cycles == has_period) Fail(file, where + "cycles", std::string("give exactly one of 'cycles' and '") + period_key + "'");
+    if (has_cycles == has_period)
+      Fail(file, where + "cycles", std::string("give exactly one of 'cycles' and '") + period_key + "'");
     const std::string key = has_cycles ? "cycles" : period_key;
     const json& v = b.at(key);
     std::vector<double> values;
@@ -69,7 +70,8 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
     }
     block.cycles = values;
     if (b.contains("phase_at_origin_deg"))
-      block.phase_at_origin_rad = GetNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg") * kPi / 180.0;
+      block.phase_at_origin_rad =
+          GetNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg") * kPi / 180.0;
   } else if (type == "gray_code") {
     block.type = BlockType::kGrayCode;
     block.bits = GetInt(Require(b, "bits", file, where), file, where + "bits");
@@ -78,7 +80,8 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
       block.complementary = b.at("complementary").get<bool>();
     }
   } else {
-    Fail(file, where + "type", "expected 'phase_shift', 'gray_code' or 'heterodyne', got " + b.value("type", json()).dump());
+    Fail(file, where + "type",
+         "expected 'phase_shift', 'gray_code' or 'heterodyne', got " + b.value("type", json()).dump());
   }
   return block;
 }
@@ -154,12 +157,15 @@ void FringeManifest::Validate() const {
       double beat = b.cycles[0] - b.cycles[1];
       if (b.cycles.size() == 3) beat -= b.cycles[1] - b.cycles[2];
       if (!(beat > 0) || beat > 1.0 + 1e-9)
-        Fail(path, where + "cycles", "the beat of the frequencies must be in (0, 1] cycles across the projector (got " +
-                                         std::to_string(beat) + ")");
+        Fail(path, where + "cycles",
+             "the beat of the frequencies must be in (0, 1] cycles across the projector (got " + std::to_string(beat) +
+                 ")");
     }
   }
   const bool ok = (n_het == 1 && n_ps == 0 && n_gc == 0) || (n_het == 0 && n_ps == 1 && n_gc <= 1);
-  if (!ok) Fail(path, "sequence", "supported sequences: one heterodyne block, or one phase_shift block with at most one gray_code block");
+  if (!ok)
+    Fail(path, "sequence",
+         "supported sequences: one heterodyne block, or one phase_shift block with at most one gray_code block");
   if (ps && !gc && ps->cycles[0] > 1.0 + 1e-9)
     Fail(path, "sequence", "a phase_shift block with more than one cycle needs a gray_code block to unwrap it");
   if (ps && gc) {
@@ -174,7 +180,8 @@ void FringeManifest::Validate() const {
   for (const auto& [name, files] : cameras) {
     if (static_cast<int>(files.size()) != ImageCount())
       Fail(path, "cameras." + name,
-           "the sequence needs " + std::to_string(ImageCount()) + " images, the camera lists " + std::to_string(files.size()));
+           "the sequence needs " + std::to_string(ImageCount()) + " images, the camera lists " +
+               std::to_string(files.size()));
   }
 }
 

@@ -48,20 +48,22 @@ cv::Mat MaskedMean(const cv::Mat& v, const cv::Mat& mf, const cv::Mat& den, int 
 void NonlinearityOptions::Validate() const {
   if (orders < 1 || orders > 6) throw InputError({"", 0, "orders"}, "expected 1..6");
   if (passes < 1 || passes > 10) throw InputError({"", 0, "passes"}, "expected 1..10");
-  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0)) throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
+  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0))
+    throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
   if (!(outlier_rad > 0)) throw InputError({"", 0, "outlier_rad"}, "must be positive");
 }
 
 std::string NonlinearityEstimate::BriefReport() const {
   std::ostringstream s;
-  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << ", s1 " << (sin_rad.empty() ? 0.0 : sin_rad[0])
-    << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma " << equivalent_gamma << ", high-pass RMS "
-    << residual_rms_before_rad << " -> " << residual_rms_after_rad << " rad over " << pixels_used << " px";
+  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << ", s1 "
+    << (sin_rad.empty() ? 0.0 : sin_rad[0]) << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma "
+    << equivalent_gamma << ", high-pass RMS " << residual_rms_before_rad << " -> " << residual_rms_after_rad
+    << " rad over " << pixels_used << " px";
   return s.str();
 }
 
-NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask, int steps,
-                                              const NonlinearityOptions& options) {
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
+                                              int steps, const NonlinearityOptions& options) {
   options.Validate();
   NonlinearityEstimate est;
   est.steps = steps;

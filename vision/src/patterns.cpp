@@ -56,7 +56,8 @@ std::vector<cv::Mat> GeneratePatterns(const FringeManifest& m) {
       for (int k = 0; k < b.steps; ++k) {
         const double shift = kTwoPi * k / b.steps;
         for (int u = 0; u < extent; ++u)
-          line[u] = static_cast<float>(0.5 + 0.5 * std::cos(PatternPhase(u, cycles, extent, b.phase_at_origin_rad) + shift));
+          line[u] =
+              static_cast<float>(0.5 + 0.5 * std::cos(PatternPhase(u, cycles, extent, b.phase_at_origin_rad) + shift));
         out.push_back(Expand(line, m));
       }
     }
@@ -91,7 +92,8 @@ void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bi
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError({out_dir, 0, "--out"}, "cannot create the output folder: " + ec.message());
-  for (std::size_t i = 0; i < images.size(); ++i) WriteImage((std::filesystem::path(out_dir) / names[i]).string(), images[i]);
+  for (std::size_t i = 0; i < images.size(); ++i)
+    WriteImage((std::filesystem::path(out_dir) / names[i]).string(), images[i]);
   WriteFringeManifest((std::filesystem::path(out_dir) / "manifest.json").string(), manifest);
 }
 

@@ -3,10 +3,9 @@
 // mask and phase noise -> temporal unwrapping -> projector-response (gamma) correction ->
 // absolute projector coordinate per camera pixel.
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "ramtk/core/progress.h"
 #include "ramtk/vision/manifest.h"
@@ -37,22 +36,22 @@ struct DecodeOptions {
 };
 
 struct DecodeSummary {
-  std::string camera;             // camera name from the manifest
-  std::string termination = "ok";  // "ok" or "cancelled"
-  int width = 0, height = 0;       // camera image size
-  int steps = 0;                   // N of the (finest) phase-shift block
-  double period_px = 0;            // finest fringe period, projector px
-  long valid_pixels = 0;           // pixels with an absolute coordinate
-  double valid_fraction = 0;       // valid_pixels / all pixels
-  long outliers = 0;               // invalid pixels (all causes below)
-  long low_modulation = 0;         // masked: B below threshold
-  long saturated = 0;              // masked: a saturated sample
-  long dark = 0;                   // masked: dark pixel
-  long unwrap_rejected = 0;        // masked: order not determined
-  long edge_corrections = 0;       // pixels whose period order was corrected at a code edge
-  double sigma_intensity_dn = 0;   // sigma_I used for sigma_phi
-  double fit_residual_rms_dn = 0;  // RMS intensity residual of the sinusoid fit (valid px, N > 3)
-  double worst_residual_dn = 0;    // largest per-pixel residual RMS (valid px)
+  std::string camera;                 // camera name from the manifest
+  std::string termination = "ok";     // "ok" or "cancelled"
+  int width = 0, height = 0;          // camera image size
+  int steps = 0;                      // N of the (finest) phase-shift block
+  double period_px = 0;               // finest fringe period, projector px
+  long valid_pixels = 0;              // pixels with an absolute coordinate
+  double valid_fraction = 0;          // valid_pixels / all pixels
+  long outliers = 0;                  // invalid pixels (all causes below)
+  long low_modulation = 0;            // masked: B below threshold
+  long saturated = 0;                 // masked: a saturated sample
+  long dark = 0;                      // masked: dark pixel
+  long unwrap_rejected = 0;           // masked: order not determined
+  long edge_corrections = 0;          // pixels whose period order was corrected at a code edge
+  double sigma_intensity_dn = 0;      // sigma_I used for sigma_phi
+  double fit_residual_rms_dn = 0;     // RMS intensity residual of the sinusoid fit (valid px, N > 3)
+  double worst_residual_dn = 0;       // largest per-pixel residual RMS (valid px)
   double phase_residual_rms_rad = 0;  // RMS over valid px of sqrt(2/N) * residual_rms / B
   double median_modulation_dn = 0;    // median B of valid pixels
   double median_sigma_phase_rad = 0;  // median sigma_phi of valid pixels
@@ -69,14 +68,14 @@ struct DecodeSummary {
 };
 
 struct DecodedCamera {
-  cv::Mat coordinate;     // CV_32F projector coordinate (px along the coded direction), NaN invalid
-  cv::Mat wrapped;        // CV_32F wrapped LS phase of the finest block (rad)
-  cv::Mat background;     // CV_32F A (DN)
-  cv::Mat modulation;     // CV_32F B (DN)
-  cv::Mat mask;           // CV_8U 255 = valid
-  cv::Mat sigma_phase;    // CV_32F sigma_phi (rad), NaN invalid
+  cv::Mat coordinate;        // CV_32F projector coordinate (px along the coded direction), NaN invalid
+  cv::Mat wrapped;           // CV_32F wrapped LS phase of the finest block (rad)
+  cv::Mat background;        // CV_32F A (DN)
+  cv::Mat modulation;        // CV_32F B (DN)
+  cv::Mat mask;              // CV_8U 255 = valid
+  cv::Mat sigma_phase;       // CV_32F sigma_phi (rad), NaN invalid
   cv::Mat sigma_coordinate;  // CV_32F sigma of the coordinate (projector px), NaN invalid
-  cv::Mat fit_residual;   // CV_32F per-pixel RMS residual of the sinusoid fit (DN); 0 for N = 3
+  cv::Mat fit_residual;      // CV_32F per-pixel RMS residual of the sinusoid fit (DN); 0 for N = 3
   DecodeSummary summary;
 };
 

@@ -3,10 +3,9 @@
 // matrices in digital numbers (DN) of their native depth (0..255 for 8 bit, 0..65535 for 16
 // bit). Every error names the file. Outputs are written to a temporary file and renamed.
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace ramtk::vision {
 

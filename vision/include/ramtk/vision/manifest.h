@@ -52,7 +52,7 @@ struct FringeManifest {
   int projector_width = 0;   // projector pixels
   int projector_height = 0;  // projector pixels
   FringeDirection direction = FringeDirection::kVertical;
-  std::string calibration;             // stereo calibration file as written (may be "")
+  std::string calibration;              // stereo calibration file as written (may be "")
   std::vector<SequenceBlock> sequence;  // in projection order
   // Camera name ("left", "right", ...) -> ordered image files as written in the manifest.
   std::map<std::string, std::vector<std::string>> cameras;

@@ -14,19 +14,18 @@
 // s_1 = r_{N+1} - r_{N-1}, r_h = B_h/B_1); it is also converted into the equivalent projector
 // gamma of a pure power-law response (I ∝ (0.5 + 0.5 cos)^gamma).
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace ramtk::vision {
 
 struct NonlinearityOptions {
-  int orders = 3;             // ripple orders m = 1..orders (of N*phi')
-  int passes = 2;             // estimate/correct passes (the second refines outlier rejection)
-  int window_px = 0;          // box window (odd, camera px); 0 = about two camera fringe periods
-  double outlier_rad = 0.5;   // high-pass residuals beyond this are left out of the fit
-  long min_pixels = 500;      // fewer usable pixels: no correction (estimate.applied = false)
+  int orders = 3;            // ripple orders m = 1..orders (of N*phi')
+  int passes = 2;            // estimate/correct passes (the second refines outlier rejection)
+  int window_px = 0;         // box window (odd, camera px); 0 = about two camera fringe periods
+  double outlier_rad = 0.5;  // high-pass residuals beyond this are left out of the fit
+  long min_pixels = 500;     // fewer usable pixels: no correction (estimate.applied = false)
   // Throws InputError naming the field when a value is out of range.
   void Validate() const;
 };
@@ -48,8 +47,8 @@ struct NonlinearityEstimate {
 
 // `abs_phase` (CV_32F, radians of the finest block, unwrapped) is corrected in place where
 // `mask` (CV_8U) is non-zero; `wrapped` is the measured LS phase of the same block.
-NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask, int steps,
-                                              const NonlinearityOptions& options = {});
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
+                                              int steps, const NonlinearityOptions& options = {});
 
 // Direct harmonic content for N >= 5 steps (harmonics h < N/2 are resolved per pixel): the
 // signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over

@@ -2,10 +2,9 @@
 // Projector pattern generation for the sequences a fringe manifest describes (phase convention
 // in manifest.h). Patterns are single-channel images of the projector's resolution.
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "ramtk/vision/manifest.h"
 

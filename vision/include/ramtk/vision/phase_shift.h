@@ -4,18 +4,17 @@
 // A = mean(I_k), with S = sum I_k sin(d_k), C = sum I_k cos(d_k).
 // Phase noise from intensity noise sigma_I: sigma_phi = sqrt(2/N) * sigma_I / B.
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace ramtk::vision {
 
 struct PhaseShiftResult {
-  cv::Mat wrapped;        // CV_32F, phi in [-pi, pi)
-  cv::Mat background;     // CV_32F, A (DN)
-  cv::Mat modulation;     // CV_32F, B (DN)
-  cv::Mat residual_ss;    // CV_32F, sum of squared fit residuals (DN^2); 0 for N = 3
-  cv::Mat max_sample;     // CV_32F, brightest of the N samples (DN)
+  cv::Mat wrapped;      // CV_32F, phi in [-pi, pi)
+  cv::Mat background;   // CV_32F, A (DN)
+  cv::Mat modulation;   // CV_32F, B (DN)
+  cv::Mat residual_ss;  // CV_32F, sum of squared fit residuals (DN^2); 0 for N = 3
+  cv::Mat max_sample;   // CV_32F, brightest of the N samples (DN)
   int steps = 0;
 };
 

@@ -8,9 +8,8 @@
 // n = round(centre/P - t) with t the fractional phase. A plain Gray code has no such margin:
 // n is the code cell and a misread edge gives a whole-period jump.
 
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 namespace ramtk::vision {
 
