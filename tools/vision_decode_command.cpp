@@ -20,12 +20,15 @@ struct DecodeCommandOptions {
 
 int RunDecode(const DecodeCommandOptions& opt) {
   using namespace vision;
-  const FringeManifest m = ReadFringeManifest(opt.manifest);
+  if (!(opt.min_modulation >= 0 && opt.min_modulation <= 1))
+    throw InputError({"", 0, "--min-modulation"}, "expected a fraction of full scale in [0, 1]");
+  if (!(opt.sigma_intensity >= 0)) throw InputError({"", 0, "--sigma-intensity"}, "expected a noise level >= 0 DN");
   DecodeOptions options;
   options.min_modulation_fraction = opt.min_modulation;
   options.intensity_sigma_dn = opt.sigma_intensity;
   options.correct_nonlinearity = !opt.no_nonlinearity;
   options.Validate();
+  const FringeManifest m = ReadFringeManifest(opt.manifest);
   std::vector<std::string> cameras;
   if (opt.camera == "all") {
     for (const auto& [name, files] : m.cameras) cameras.push_back(name);

@@ -197,3 +197,36 @@ TEST(DecodeOptions, ValidateNamesTheField) {
 
 }  // namespace
 }  // namespace ramtk::vision
+
+namespace ramtk::vision {
+namespace {
+
+TEST(DecodeProgress, CallbackSeesStagesAndCanCancel) {
+  FringeManifest m;
+  m.projector_width = 64;
+  m.projector_height = 8;
+  SequenceBlock ps;
+  ps.steps = 4;
+  ps.cycles = {1};
+  m.sequence.push_back(ps);
+  m.cameras["cam"].resize(4);
+  std::vector<cv::Mat> frames;
+  for (int k = 0; k < 4; ++k) {
+    cv::Mat f(8, 64, CV_32F);
+    for (int x = 0; x < 64; ++x) f.col(x).setTo(128 + 100 * std::cos(2 * M_PI * x / 64 - M_PI + 2 * M_PI * k / 4));
+    frames.push_back(f);
+  }
+  DecodeOptions opt;
+  std::vector<std::string> stages;
+  opt.progress = [&](const Progress& p) {
+    stages.push_back(p.stage);
+    return true;
+  };
+  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, "ok");
+  EXPECT_EQ(stages, (std::vector<std::string>{"phase", "unwrap", "nonlinearity", "done"}));
+  opt.progress = [](const Progress& p) { return p.stage != "unwrap"; };
+  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, "cancelled");
+}
+
+}  // namespace
+}  // namespace ramtk::vision
