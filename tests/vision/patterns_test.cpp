@@ -123,3 +123,13 @@ TEST(Patterns, WritePatternSetWritesPngsAndManifest) {
 
 }  // namespace
 }  // namespace ramtk::vision
+
+namespace ramtk::vision {
+namespace {
+
+TEST(Patterns, GrayCodeBeforePhaseShiftRoundTrip) {
+  ExpectRoundTrip(Make(FringeDirection::kVertical, {Gray(4, true), Ps(5, 8)}), 8, 0.05);
+}
+
+}  // namespace
+}  // namespace ramtk::vision

@@ -97,3 +97,41 @@ TEST(Unwrap, GrayCodeDecodingIsTheInverseOfTheCode) {
 
 }  // namespace
 }  // namespace ramtk::vision
+
+namespace ramtk::vision {
+namespace {
+
+TEST(QualityMask, SaturatedAndLowModulationPixelsAreMaskedByCause) {
+  // Over-exposed: ambient 100 + gain 180 clips the bright fringe crests; a dark band with little
+  // modulation on the left. Truth decides which pixels should go.
+  testing::SynthOptions o;
+  o.ambient = 100;
+  o.gain = 180;
+  const FringeManifest m = testing::GrayManifest(4, 32, true);
+  const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
+  std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+  // Columns 0..39: replace by a flat grey with 2 DN modulation (below 2 % of 255 = 5.1 DN).
+  for (std::size_t k = 0; k < 4; ++k)
+    for (int y = 0; y < truth.rows; ++y)
+      for (int x = 0; x < 40; ++x) frames[k].at<float>(y, x) = static_cast<float>(120 + (k % 2 ? 2 : -2));
+  DecodeOptions opt;
+  opt.correct_nonlinearity = false;
+  const DecodedCamera d = DecodeFrames(m, frames, 255.0, opt, "cam");
+  long expect_saturated = 0;
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 40; x < truth.cols; ++x) {
+      bool sat = false;
+      for (int k = 0; k < 4; ++k) sat |= frames[k].at<float>(y, x) >= 255.0f * 0.998f;
+      expect_saturated += sat;
+      EXPECT_EQ(d.mask.at<uchar>(y, x) == 0, sat) << x << "," << y;
+      if (HasFailure()) return;
+    }
+  EXPECT_GT(expect_saturated, 1000);
+  EXPECT_EQ(d.summary.saturated, expect_saturated);
+  EXPECT_EQ(d.summary.low_modulation, 40L * truth.rows);
+  const auto c = testing::CompareToTruth(d.coordinate, d.mask, truth, m.Extent() / 32.0);
+  EXPECT_EQ(c.order_errors, 0);
+}
+
+}  // namespace
+}  // namespace ramtk::vision
