@@ -16,12 +16,15 @@ struct DecodeCommandOptions {
   double min_modulation = 0.02;  // B threshold, fraction of full scale
   double sigma_intensity = 0;    // DN; 0 = estimate
   bool no_nonlinearity = false;  // skip the gamma ripple correction
+  std::string format = "tiff";   // float image format: tiff or exr
 };
 
 int RunDecode(const DecodeCommandOptions& opt) {
   using namespace vision;
   if (!(opt.min_modulation >= 0 && opt.min_modulation <= 1))
     throw InputError({"", 0, "--min-modulation"}, "expected a fraction of full scale in [0, 1]");
+  if (opt.format != "tiff" && opt.format != "exr")
+    throw InputError({"", 0, "--format"}, "expected tiff or exr, got '" + opt.format + "'");
   if (!(opt.sigma_intensity >= 0)) throw InputError({"", 0, "--sigma-intensity"}, "expected a noise level >= 0 DN");
   DecodeOptions options;
   options.min_modulation_fraction = opt.min_modulation;
@@ -39,7 +42,7 @@ int RunDecode(const DecodeCommandOptions& opt) {
   std::vector<DecodedCamera> decoded;
   for (const std::string& c : cameras) decoded.push_back(DecodeCamera(m, c, options));
   for (std::size_t i = 0; i < cameras.size(); ++i) {
-    WriteDecodedCamera(opt.out, cameras[i], decoded[i]);
+    WriteDecodedCamera(opt.out, cameras[i], decoded[i], opt.format);
     std::cout << decoded[i].summary.BriefReport() << "\n";
   }
   std::cout << "wrote " << opt.out << "\n";
@@ -59,6 +62,7 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--sigma-intensity", opt->sigma_intensity, "Intensity noise in DN (0: estimate from the fit)")
       ->capture_default_str();
+  sub->add_option("--format", opt->format, "Float image format: tiff or exr")->capture_default_str();
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity");
   sub->callback([opt, exit_code]() { *exit_code = RunDecode(*opt); });
 }

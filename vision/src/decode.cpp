@@ -310,15 +310,25 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
   return j.dump(2) + "\n";
 }
 
-void WriteDecodedCamera(const std::string& out_dir, const std::string& camera, const DecodedCamera& d) {
+void WriteDecodedCamera(const std::string& out_dir, const std::string& camera, const DecodedCamera& d,
+                        const std::string& float_extension) {
+  if (float_extension != "tiff" && float_extension != "exr")
+    throw InputError({"", 0, "--format"}, "expected tiff or exr, got '" + float_extension + "'");
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw InputError({out_dir, 0, "--out"}, "cannot create the output folder: " + ec.message());
   auto path = [&](const std::string& suffix) { return (std::filesystem::path(out_dir) / (camera + suffix)).string(); };
-  WriteImage(path("_coordinate.tiff"), d.coordinate);
-  WriteImage(path("_modulation.tiff"), d.modulation);
-  WriteImage(path("_mask.tiff"), d.mask);
-  WriteImage(path("_sigma_phase.tiff"), d.sigma_phase);
+  const std::string ext = "." + float_extension;
+  cv::Mat mask_float;
+  d.mask.convertTo(mask_float, CV_32F, 1.0 / 255.0);
+  WriteImage(path("_coordinate" + ext), d.coordinate);
+  WriteImage(path("_modulation" + ext), d.modulation);
+  WriteImage(path("_sigma_phase" + ext), d.sigma_phase);
+  if (float_extension == "tiff") {
+    WriteImage(path("_mask.tiff"), d.mask);  // uint8 0/255
+  } else {
+    WriteImage(path("_mask.exr"), mask_float);  // EXR has no 8-bit type: float 0/1
+  }
   WriteImage(path("_coordinate.png"), CoordinatePreview(d.coordinate, d.mask));
   WriteImage(path("_wrapped.png"), WrappedPhasePreview(d.wrapped, d.mask));
   WriteImage(path("_modulation.png"), ScalarPreview(d.modulation, cv::Mat(d.mask.size(), CV_8U, cv::Scalar(255))));

@@ -87,9 +87,11 @@ DecodedCamera DecodeFrames(const FringeManifest& manifest, const std::vector<cv:
 // Loads the camera's images named in the manifest and decodes them.
 DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& camera, const DecodeOptions& options);
 
-// Writes <camera>_coordinate.tiff, _modulation.tiff, _mask.tiff, _sigma_phase.tiff (float TIFF),
-// the PNG previews and <camera>_summary.json into out_dir. Each file is written atomically.
-void WriteDecodedCamera(const std::string& out_dir, const std::string& camera, const DecodedCamera& decoded);
+// Writes <camera>_coordinate, _modulation, _mask and _sigma_phase as float images with the
+// extension `float_extension` ("tiff" or "exr"), the PNG previews and <camera>_summary.json into
+// out_dir. Each file is written atomically.
+void WriteDecodedCamera(const std::string& out_dir, const std::string& camera, const DecodedCamera& decoded,
+                        const std::string& float_extension = "tiff");
 
 // JSON text of a summary.
 std::string DecodeSummaryToJson(const DecodeSummary& summary);
