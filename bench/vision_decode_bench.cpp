@@ -13,6 +13,7 @@
 
 #include "decode_synth.h"
 #include "ramtk/vision/decode.h"
+#include "ramtk/vision/phase_shift.h"
 
 namespace {
 
@@ -117,6 +118,68 @@ void BM_RamtkDecode3StepComplementaryGray(benchmark::State& state) {
   SetCounters(state, Compare(out.coordinate, d.truth, d.period, false));
 }
 BENCHMARK(BM_RamtkDecode3StepComplementaryGray)->Unit(benchmark::kMillisecond);
+
+// Wrapped phase only (the 3 phase images, no unwrapping): RMS error against the true wrapped
+// phase after removing the best constant (for OpenCV also the sign), radians.
+double WrappedRms(const cv::Mat& wrapped, const cv::Mat& mask, const BenchData& d, bool fit_sign) {
+  double best = 1e9;
+  for (int sign : {1, -1}) {
+    if (!fit_sign && sign < 0) continue;
+    double cs = 0, sn = 0;
+    std::vector<double> e;
+    for (int y = 0; y < d.truth.rows; ++y)
+      for (int x = 0; x < d.truth.cols; ++x) {
+        if (!mask.empty() && !mask.at<uchar>(y, x)) continue;
+        const double truth = PatternPhase(d.truth.at<double>(y, x), 32, d.manifest.Extent(), -CV_PI);
+        const double v = sign * wrapped.at<float>(y, x) - truth;
+        e.push_back(v);
+        cs += std::cos(v);
+        sn += std::sin(v);
+      }
+    const double offset = std::atan2(sn, cs);
+    double ss = 0;
+    for (double v : e) ss += std::pow(std::remainder(v - offset, 2 * CV_PI), 2);
+    best = std::min(best, std::sqrt(ss / e.size()));
+  }
+  return best;
+}
+
+void BM_RamtkWrappedPhase3Step(benchmark::State& state) {
+  const BenchData& d = Data();
+  PhaseShiftResult r;
+  for (auto _ : state) {
+    std::vector<cv::Mat> frames;
+    for (int k = 0; k < 3; ++k) {
+      cv::Mat g;
+      d.frames_u8[k].convertTo(g, CV_32F);
+      frames.push_back(g);
+    }
+    r = ComputePhaseShift(frames);
+    benchmark::DoNotOptimize(r.wrapped.data);
+  }
+  state.counters["wrapped_rms_rad"] = WrappedRms(r.wrapped, cv::Mat(), d, false);
+}
+BENCHMARK(BM_RamtkWrappedPhase3Step)->Unit(benchmark::kMillisecond);
+
+void BM_OpenCvPspWrappedPhase3Step(benchmark::State& state) {
+  const BenchData& d = Data();
+  auto params = cv::makePtr<cv::structured_light::SinusoidalPattern::Params>();
+  params->width = d.manifest.projector_width;
+  params->height = d.manifest.projector_height;
+  params->nbrOfPeriods = 32;
+  params->shiftValue = static_cast<float>(2 * CV_PI / 3);
+  params->methodId = cv::structured_light::PSP;
+  params->setMarkers = false;
+  cv::Ptr<cv::structured_light::SinusoidalPattern> sp = cv::structured_light::SinusoidalPattern::create(params);
+  const std::vector<cv::Mat> psp(d.frames_u8.begin(), d.frames_u8.begin() + 3);
+  cv::Mat wrapped, shadow;
+  for (auto _ : state) {
+    sp->computePhaseMap(psp, wrapped, shadow);
+    benchmark::DoNotOptimize(wrapped.data);
+  }
+  state.counters["wrapped_rms_rad"] = WrappedRms(wrapped, shadow, d, true);
+}
+BENCHMARK(BM_OpenCvPspWrappedPhase3Step)->Unit(benchmark::kMillisecond);
 
 void BM_OpenCvSinusoidalPsp3Step(benchmark::State& state) {
   const BenchData& d = Data();
