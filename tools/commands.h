@@ -18,5 +18,7 @@ void RegisterIkCommand(CLI::App& app, int* exit_code);
 void RegisterThermalCommands(CLI::App& app, int* exit_code);  // simulate thermal, thermal ...
 void RegisterTcfCommand(CLI::App& app, int* exit_code);  // tcf … and simulate tcf
 void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
+void RegisterPatternsCommand(CLI::App& app, int* exit_code);
+void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 
 }  // namespace ramtk::tools

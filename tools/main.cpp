@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterThermalCommands(app, &exit_code);
   ramtk::tools::RegisterTcfCommand(app, &exit_code);
   ramtk::tools::RegisterCalibCommands(app, &exit_code);
+  ramtk::tools::RegisterPatternsCommand(app, &exit_code);
+  ramtk::tools::RegisterDecodeCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,98 @@
+// Wrapped phase, modulation and sigma_phi against analytic truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "decode_synth.h"
+#include "ramtk/vision/decode.h"
+#include "ramtk/vision/phase_shift.h"
+
+namespace ramtk::vision {
+namespace {
+
+using testing::SynthOptions;
+
+struct PhaseErrorStats {
+  double rms_error = 0;  // RMS of the wrapped-phase error vs truth (rad)
+  double rms_bound = 0;  // RMS of the per-pixel sigma_phi (rad)
+  double sigma_est = 0;  // sigma_I the decoder estimated (DN)
+  long valid = 0;
+};
+
+PhaseErrorStats RunCase(int steps, double noise_dn, double sigma_given) {
+  SynthOptions o;
+  o.noise_dn = noise_dn;
+  o.seed = 1000 + steps;
+  FringeManifest m = testing::GrayManifest(steps, 32, true);
+  const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
+  const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+  DecodeOptions opt;
+  opt.correct_nonlinearity = false;
+  opt.intensity_sigma_dn = sigma_given;
+  const DecodedCamera d = DecodeFrames(m, frames, 255.0, opt, "cam");
+  PhaseErrorStats s;
+  double se = 0, sb = 0;
+  const SequenceBlock& ps = m.sequence[0];
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      if (!d.mask.at<uchar>(y, x)) continue;
+      const double phi = PatternPhase(truth.at<double>(y, x), ps.cycles[0], m.Extent(), ps.phase_at_origin_rad);
+      const double e = std::remainder(d.wrapped.at<float>(y, x) - phi, 2 * M_PI);
+      se += e * e;
+      sb += std::pow(d.sigma_phase.at<float>(y, x), 2);
+      ++s.valid;
+    }
+  s.rms_error = std::sqrt(se / s.valid);
+  s.rms_bound = std::sqrt(sb / s.valid);
+  s.sigma_est = d.summary.sigma_intensity_dn;
+  return s;
+}
+
+// sigma_I of Gaussian noise plus 8-bit quantisation.
+double EffectiveSigma(double noise_dn) { return std::sqrt(noise_dn * noise_dn + 1.0 / 12.0); }
+
+class WrappedPhaseNoise : public ::testing::TestWithParam<std::tuple<int, double>> {};
+
+TEST_P(WrappedPhaseNoise, RmsErrorWithinTheSigmaPhiBound) {
+  const auto [steps, noise] = GetParam();
+  const PhaseErrorStats s = RunCase(steps, noise, EffectiveSigma(noise));
+  RecordProperty("rms_error_rad", std::to_string(s.rms_error));
+  RecordProperty("rms_bound_rad", std::to_string(s.rms_bound));
+  std::cout << "N=" << steps << " noise " << noise << " DN: wrapped-phase RMS error " << s.rms_error
+            << " rad, sigma_phi bound " << s.rms_bound << " rad, ratio " << s.rms_error / s.rms_bound << " (" << s.valid
+            << " px)\n";
+  EXPECT_GT(s.valid, 100000);
+  EXPECT_LE(s.rms_error, 1.2 * s.rms_bound);
+  // The bound is a prediction, not just a ceiling: the error is not far below it either.
+  EXPECT_GE(s.rms_error, 0.8 * s.rms_bound);
+}
+
+INSTANTIATE_TEST_SUITE_P(TwoNoiseLevels, WrappedPhaseNoise,
+                         ::testing::Combine(::testing::Values(3, 4, 12), ::testing::Values(1.0, 4.0)));
+
+TEST(WrappedPhaseNoise, IntensitySigmaEstimatedFromTheFitResiduals) {
+  // N > 3 leaves N - 3 residual degrees of freedom per pixel: the decoder's sigma_I estimate
+  // must match the synthesised noise.
+  for (double noise : {1.0, 4.0}) {
+    const PhaseErrorStats s = RunCase(8, noise, 0.0);
+    EXPECT_NEAR(s.sigma_est, EffectiveSigma(noise), 0.05 * EffectiveSigma(noise)) << "noise " << noise;
+    EXPECT_LE(s.rms_error, 1.2 * s.rms_bound);
+  }
+}
+
+TEST(PhaseShift, ExactSinusoidClosedForm) {
+  // Noise-free float samples: the LS solution is exact for any N.
+  for (int n : {3, 4, 5, 7, 12}) {
+    std::vector<cv::Mat> frames;
+    const double a = 100, b = 37, phi = -2.3;
+    for (int k = 0; k < n; ++k) frames.emplace_back(1, 1, CV_32F, cv::Scalar(a + b * std::cos(phi + 2 * M_PI * k / n)));
+    const PhaseShiftResult r = ComputePhaseShift(frames);
+    EXPECT_NEAR(r.wrapped.at<float>(0, 0), phi, 1e-5) << n;
+    EXPECT_NEAR(r.background.at<float>(0, 0), a, 1e-4) << n;
+    EXPECT_NEAR(r.modulation.at<float>(0, 0), b, 1e-4) << n;
+    EXPECT_NEAR(r.residual_ss.at<float>(0, 0), 0.0, 1e-2) << n;
+  }
+}
+
+}  // namespace
+}  // namespace ramtk::vision

@@ -1,0 +1,101 @@
+// ramtk patterns: writes a fringe pattern sequence (8/16-bit PNG) and its manifest.
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/parse.h"
+#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/patterns.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct PatternsCommandOptions {
+  std::string scheme = "complementary_gray_code";  // phase_shift | gray_code | complementary_gray_code | heterodyne
+  int width = 1280;                                // projector width, px
+  int height = 720;                                // projector height, px
+  std::string direction = "vertical";              // vertical | horizontal fringes
+  int steps = 12;                                  // phase steps (per frequency)
+  double cycles = 0;                               // periods across the projector (phase_shift / Gray code)
+  double period = 0;                               // or the period in projector px
+  std::string heterodyne = "70,64,59";             // heterodyne cycles, finest first
+  double phase_at_origin_deg = -180;               // phase at projector pixel 0
+  int bits = 8;                                    // PNG bit depth
+  std::string out;                                 // output folder
+};
+
+int RunPatterns(const PatternsCommandOptions& opt) {
+  using namespace vision;
+  FringeManifest m;
+  m.projector_width = opt.width;
+  m.projector_height = opt.height;
+  if (opt.width <= 0 || opt.height <= 0) throw InputError({"", 0, "--width/--height"}, "must be positive");
+  if (opt.direction == "vertical") {
+    m.direction = FringeDirection::kVertical;
+  } else if (opt.direction == "horizontal") {
+    m.direction = FringeDirection::kHorizontal;
+  } else {
+    throw InputError({"", 0, "--direction"}, "expected vertical or horizontal, got '" + opt.direction + "'");
+  }
+  const double phase0 = opt.phase_at_origin_deg * 3.14159265358979323846 / 180.0;
+  if (opt.scheme == "heterodyne") {
+    SequenceBlock b;
+    b.type = BlockType::kHeterodyne;
+    b.steps = opt.steps;
+    b.cycles = ParseDoubleList(opt.heterodyne, {"", 0, "--heterodyne-cycles"});
+    b.phase_at_origin_rad = phase0;
+    m.sequence.push_back(b);
+  } else {
+    if ((opt.cycles > 0) == (opt.period > 0))
+      throw InputError({"", 0, "--cycles"}, "give exactly one of --cycles and --period");
+    SequenceBlock ps;
+    ps.type = BlockType::kPhaseShift;
+    ps.steps = opt.steps;
+    ps.cycles = {opt.cycles > 0 ? opt.cycles : m.Extent() / opt.period};
+    ps.phase_at_origin_rad = phase0;
+    m.sequence.push_back(ps);
+    if (opt.scheme == "gray_code" || opt.scheme == "complementary_gray_code") {
+      SequenceBlock gc;
+      gc.type = BlockType::kGrayCode;
+      gc.complementary = opt.scheme == "complementary_gray_code";
+      gc.bits = static_cast<int>(std::lround(std::log2(ps.cycles[0]))) + (gc.complementary ? 1 : 0);
+      m.sequence.push_back(gc);
+    } else if (opt.scheme != "phase_shift") {
+      throw InputError(
+          {"", 0, "--scheme"},
+          "expected phase_shift, gray_code, complementary_gray_code or heterodyne, got '" + opt.scheme + "'");
+    }
+  }
+  m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
+  m.cameras["projector"].resize(m.ImageCount());
+  m.Validate();
+  WritePatternSet(opt.out, m, opt.bits);
+  std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out
+            << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
+  auto opt = std::make_shared<PatternsCommandOptions>();
+  CLI::App* sub = app.add_subcommand("patterns", "Write fringe projector patterns (PNG) and their manifest");
+  sub->add_option("--scheme", opt->scheme, "phase_shift | gray_code | complementary_gray_code | heterodyne")
+      ->capture_default_str();
+  sub->add_option("--width", opt->width, "Projector width, px")->capture_default_str();
+  sub->add_option("--height", opt->height, "Projector height, px")->capture_default_str();
+  sub->add_option("--direction", opt->direction, "vertical (codes columns) or horizontal (codes rows) fringes")
+      ->capture_default_str();
+  sub->add_option("--steps", opt->steps, "Phase steps N >= 3 (per frequency)")->capture_default_str();
+  sub->add_option("--cycles", opt->cycles, "Fringe periods across the projector (a power of 2 with Gray code)");
+  sub->add_option("--period", opt->period, "Fringe period in projector px (instead of --cycles)");
+  sub->add_option("--heterodyne-cycles", opt->heterodyne, "Heterodyne cycles, finest first")->capture_default_str();
+  sub->add_option("--phase-at-origin", opt->phase_at_origin_deg, "Phase at projector pixel 0, degrees")
+      ->capture_default_str();
+  sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
+  sub->add_option("--out", opt->out, "Output folder")->required();
+  sub->callback([opt, exit_code]() { *exit_code = RunPatterns(*opt); });
+}
+
+}  // namespace ramtk::tools

@@ -1,0 +1,67 @@
+#pragma once
+// Projector response nonlinearity (gamma) estimated from the phase-shift frames themselves and
+// its phase error removed, with no separate calibration capture.
+//
+// A non-sinusoidal fringe profile (harmonics h of the phase) leaks into an N-step LS phase as a
+// periodic error of the *measured* phase phi': harmonics h = mN +- 1 alias onto a ripple
+//   dphi(phi') = sum_m s_m sin(m N phi') + c_m cos(m N phi').
+// On a surface whose true phase is smooth at the scale of a fringe period, this ripple is the
+// only part of the unwrapped phase that oscillates N times per period. We high-pass the
+// unwrapped phase with a box filter (window about two camera fringe periods), apply the same
+// high-pass to each basis function, solve for s_m, c_m by least squares over all valid pixels
+// (residuals beyond `outlier_rad`, e.g. at depth steps, are left out), and subtract the ripple.
+// The first-order coefficient s_1 is the identifiable harmonic content (to first order
+// s_1 = r_{N+1} - r_{N-1}, r_h = B_h/B_1); it is also converted into the equivalent projector
+// gamma of a pure power-law response (I ∝ (0.5 + 0.5 cos)^gamma).
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace ramtk::vision {
+
+struct NonlinearityOptions {
+  int orders = 3;            // ripple orders m = 1..orders (of N*phi')
+  int passes = 2;            // estimate/correct passes (the second refines outlier rejection)
+  int window_px = 0;         // box window (odd, camera px); 0 = about two camera fringe periods
+  double outlier_rad = 0.5;  // high-pass residuals beyond this are left out of the fit
+  long min_pixels = 500;     // fewer usable pixels: no correction (estimate.applied = false)
+  // Throws InputError naming the field when a value is out of range.
+  void Validate() const;
+};
+
+struct NonlinearityEstimate {
+  int steps = 0;                       // N of the phase-shift block
+  std::vector<double> sin_rad;         // s_m, m = 1..orders (radians)
+  std::vector<double> cos_rad;         // c_m
+  double ripple_rms_rad = 0;           // RMS of the fitted ripple sum_m (s_m, c_m)
+  double residual_rms_before_rad = 0;  // RMS of the high-passed phase before correction
+  double residual_rms_after_rad = 0;   // ... and after
+  double equivalent_gamma = 1;         // power-law gamma giving the same s_1 (NaN if out of range)
+  int window_px = 0;                   // window used
+  long pixels_used = 0;                // pixels in the final fit
+  int passes = 0;                      // passes run
+  bool applied = false;                // false if too few pixels: phase left unchanged
+  std::string BriefReport() const;
+};
+
+// `abs_phase` (CV_32F, radians of the finest block, unwrapped) is corrected in place where
+// `mask` (CV_8U) is non-zero; `wrapped` is the measured LS phase of the same block.
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
+                                              int steps, const NonlinearityOptions& options = {});
+
+// Direct harmonic content for N >= 5 steps (harmonics h < N/2 are resolved per pixel): the
+// signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over
+// the pixels where `mask` is non-zero, for h = 2 .. ceil(N/2) - 1. Empty for N < 5.
+std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask);
+// r_2 = B_2 / B_1 of a power-law response (0.5 + 0.5 cos)^gamma.
+double SecondHarmonicOfGamma(double gamma);
+// Inverse of SecondHarmonicOfGamma over [0.3, 5]; NaN if out of range.
+double GammaFromSecondHarmonic(double r2);
+
+// First-order ripple coefficient s_1 that a projector gamma produces in an N-step LS phase.
+double RippleOfGamma(double gamma, int steps);
+// Inverse of RippleOfGamma: the first root in [1, 5], else in [0.3, 1]; NaN if none.
+double EquivalentGamma(double ripple_sin1, int steps);
+
+}  // namespace ramtk::vision

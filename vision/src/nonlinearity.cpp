@@ -1,0 +1,271 @@
+// Self-calibrating removal of the phase ripple caused by a non-linear projector response.
+#include "ramtk/vision/nonlinearity.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::vision {
+namespace {
+
+// Median camera fringe period (px) from the gradient of the unwrapped phase.
+double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
+  std::vector<float> g;
+  for (int y = 0; y + 1 < phase.rows; y += 2) {
+    const float* p = phase.ptr<float>(y);
+    const float* pn = phase.ptr<float>(y + 1);
+    const uchar* m = mask.ptr<uchar>(y);
+    const uchar* mn = mask.ptr<uchar>(y + 1);
+    for (int x = 0; x + 1 < phase.cols; x += 2) {
+      if (!m[x] || !m[x + 1] || !mn[x]) continue;
+      const double gx = p[x + 1] - p[x], gy = pn[x] - p[x];
+      const double gm = std::hypot(gx, gy);
+      if (gm > 1e-6 && gm < 3.0) g.push_back(static_cast<float>(gm));
+    }
+  }
+  if (g.empty()) return 0;
+  std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+  return 2 * CV_PI / g[g.size() / 2];
+}
+
+// Masked box mean: (box(v*m) / box(m)).
+cv::Mat MaskedMean(const cv::Mat& v, const cv::Mat& mf, const cv::Mat& den, int w) {
+  cv::Mat num;
+  cv::boxFilter(v.mul(mf), num, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  cv::Mat out;
+  cv::divide(num, cv::max(den, 1e-6), out);
+  return out;
+}
+
+}  // namespace
+
+void NonlinearityOptions::Validate() const {
+  if (orders < 1 || orders > 6) throw InputError({"", 0, "orders"}, "expected 1..6");
+  if (passes < 1 || passes > 10) throw InputError({"", 0, "passes"}, "expected 1..10");
+  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0))
+    throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
+  if (!(outlier_rad > 0)) throw InputError({"", 0, "outlier_rad"}, "must be positive");
+}
+
+std::string NonlinearityEstimate::BriefReport() const {
+  std::ostringstream s;
+  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << ", s1 "
+    << (sin_rad.empty() ? 0.0 : sin_rad[0]) << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma "
+    << equivalent_gamma << ", high-pass RMS " << residual_rms_before_rad << " -> " << residual_rms_after_rad
+    << " rad over " << pixels_used << " px";
+  return s.str();
+}
+
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
+                                              int steps, const NonlinearityOptions& options) {
+  options.Validate();
+  NonlinearityEstimate est;
+  est.steps = steps;
+  est.sin_rad.assign(options.orders, 0.0);
+  est.cos_rad.assign(options.orders, 0.0);
+  int w = options.window_px;
+  if (w == 0) {
+    const double period = CameraFringePeriod(abs_phase, mask);
+    if (!(period > 0)) return est;
+    w = std::clamp(static_cast<int>(std::lround(2 * period)) | 1, 7, 101);
+  }
+  est.window_px = w;
+  const int nb = 2 * options.orders;
+  cv::Mat mf;
+  mask.convertTo(mf, CV_64F, 1.0 / 255.0);
+  cv::Mat den;
+  cv::boxFilter(mf, den, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+  const double full = w * w - 0.5;  // only windows with every pixel valid
+  // Basis functions of the measured phase and their high-passed versions (independent of the pass).
+  std::vector<cv::Mat> basis(nb), hp_basis(nb);
+  for (int m = 0; m < options.orders; ++m) {
+    basis[2 * m].create(wrapped.size(), CV_64F);
+    basis[2 * m + 1].create(wrapped.size(), CV_64F);
+    for (int y = 0; y < wrapped.rows; ++y) {
+      const float* p = wrapped.ptr<float>(y);
+      for (int x = 0; x < wrapped.cols; ++x) {
+        const double a = (m + 1.0) * steps * p[x];
+        basis[2 * m].ptr<double>(y)[x] = std::sin(a);
+        basis[2 * m + 1].ptr<double>(y)[x] = std::cos(a);
+      }
+    }
+  }
+  for (int i = 0; i < nb; ++i) hp_basis[i] = basis[i] - MaskedMean(basis[i], mf, den, w);
+
+  for (int pass = 0; pass < options.passes; ++pass) {
+    cv::Mat clean;
+    abs_phase.convertTo(clean, CV_64F);
+    clean.setTo(0, mask == 0);
+    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(nb + 1, nb + 1);
+    Eigen::VectorXd atb = Eigen::VectorXd::Zero(nb + 1);
+    Eigen::VectorXd row(nb + 1);
+    double ss = 0;
+    long used = 0;
+    for (int y = 0; y < hp.rows; ++y) {
+      const double* r = hp.ptr<double>(y);
+      const double* d = den.ptr<double>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < hp.cols; ++x) {
+        if (!m[x] || d[x] < full || !(std::abs(r[x]) < options.outlier_rad)) continue;
+        row[0] = 1.0;
+        for (int i = 0; i < nb; ++i) row[i + 1] = hp_basis[i].ptr<double>(y)[x];
+        ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+        atb += row * r[x];
+        ss += r[x] * r[x];
+        ++used;
+      }
+    }
+    est.pixels_used = used;
+    est.passes = pass + 1;
+    if (used < options.min_pixels) break;
+    if (pass == 0) est.residual_rms_before_rad = std::sqrt(ss / used);
+    const Eigen::MatrixXd full_ata = ata.selfadjointView<Eigen::Lower>();
+    const Eigen::VectorXd coef = full_ata.ldlt().solve(atb);
+    for (int mo = 0; mo < options.orders; ++mo) {
+      est.sin_rad[mo] += coef[1 + 2 * mo];
+      est.cos_rad[mo] += coef[2 + 2 * mo];
+    }
+    // Subtract this pass's ripple.
+    for (int y = 0; y < abs_phase.rows; ++y) {
+      float* p = abs_phase.ptr<float>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < abs_phase.cols; ++x) {
+        if (!m[x]) continue;
+        double ripple = 0;
+        for (int i = 0; i < nb; ++i) ripple += coef[1 + i] * basis[i].ptr<double>(y)[x];
+        p[x] = static_cast<float>(p[x] - ripple);
+      }
+    }
+    est.applied = true;
+  }
+  if (est.applied) {
+    // Residual after the correction, same pixel selection rule.
+    cv::Mat clean;
+    abs_phase.convertTo(clean, CV_64F);
+    clean.setTo(0, mask == 0);
+    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    double ss = 0;
+    long used = 0;
+    for (int y = 0; y < hp.rows; ++y) {
+      const double* r = hp.ptr<double>(y);
+      const double* d = den.ptr<double>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < hp.cols; ++x)
+        if (m[x] && d[x] >= full && std::abs(r[x]) < options.outlier_rad) ss += r[x] * r[x], ++used;
+    }
+    est.residual_rms_after_rad = used ? std::sqrt(ss / used) : 0;
+  }
+  double r2 = 0;
+  for (int m = 0; m < options.orders; ++m) r2 += est.sin_rad[m] * est.sin_rad[m] + est.cos_rad[m] * est.cos_rad[m];
+  est.ripple_rms_rad = std::sqrt(r2 / 2);
+  est.equivalent_gamma = EquivalentGamma(est.sin_rad[0], steps);
+  return est;
+}
+
+std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<double> ratios;
+  const int max_h = (n + 1) / 2 - 1;
+  if (n < 5 || max_h < 2) return ratios;
+  std::vector<double> sum(max_h + 1, 0.0);
+  long count = 0;
+  for (int y = 0; y < mask.rows; ++y) {
+    const uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!m[x]) continue;
+      std::vector<std::complex<double>> c(max_h + 1);
+      for (int k = 0; k < n; ++k) {
+        const double v = frames[k].ptr<float>(y)[x];
+        for (int h = 1; h <= max_h; ++h) c[h] += v * std::polar(1.0, -2 * CV_PI * h * k / n);
+      }
+      const double a1 = std::abs(c[1]);
+      if (a1 <= 0) continue;
+      const std::complex<double> unit = std::conj(c[1]) / a1;  // e^{-i phi}
+      std::complex<double> rot = unit;
+      for (int h = 2; h <= max_h; ++h) {
+        rot *= unit;
+        sum[h] += (c[h] * rot).real() / a1;
+      }
+      ++count;
+    }
+  }
+  for (int h = 2; h <= max_h; ++h) ratios.push_back(count ? sum[h] / count : 0.0);
+  return ratios;
+}
+
+double SecondHarmonicOfGamma(double gamma) {
+  const int samples = 720;
+  double c1 = 0, c2 = 0;
+  for (int i = 0; i < samples; ++i) {
+    const double t = 2 * CV_PI * (i + 0.5) / samples;
+    const double v = std::pow(0.5 + 0.5 * std::cos(t), gamma);
+    c1 += v * std::cos(t);
+    c2 += v * std::cos(2 * t);
+  }
+  return c2 / c1;
+}
+
+double GammaFromSecondHarmonic(double r2) {
+  double prev_g = 0.3, prev_r = SecondHarmonicOfGamma(prev_g);
+  for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) {
+    const double r = SecondHarmonicOfGamma(g);
+    if ((prev_r - r2) * (r - r2) <= 0 && r != prev_r) return prev_g + (g - prev_g) * (r2 - prev_r) / (r - prev_r);
+    prev_g = g;
+    prev_r = r;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+double RippleOfGamma(double gamma, int steps) {
+  // Same regression as the estimator (constant + orders 1..3 of N*phi', phi uniform in the
+  // true phase), so the non-uniform density of phi' affects both alike.
+  const int samples = 720, orders = 3;
+  Eigen::MatrixXd a(samples, 1 + 2 * orders);
+  Eigen::VectorXd e(samples);
+  for (int i = 0; i < samples; ++i) {
+    const double phi = 2 * CV_PI * i / samples;
+    double s = 0, c = 0;
+    for (int k = 0; k < steps; ++k) {
+      const double d = 2 * CV_PI * k / steps;
+      const double v = std::pow(0.5 + 0.5 * std::cos(phi + d), gamma);
+      s += v * std::sin(d);
+      c += v * std::cos(d);
+    }
+    const double measured = std::atan2(-s, c);
+    e[i] = std::remainder(measured - phi, 2 * CV_PI);
+    a(i, 0) = 1;
+    for (int m = 0; m < orders; ++m) {
+      a(i, 1 + 2 * m) = std::sin((m + 1.0) * steps * measured);
+      a(i, 2 + 2 * m) = std::cos((m + 1.0) * steps * measured);
+    }
+  }
+  const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(e);
+  return coef[1];
+}
+
+double EquivalentGamma(double ripple_sin1, int steps) {
+  // Projectors are expansive (gamma > 1), so [1, 5] is searched first, then [0.3, 1]. For N = 4
+  // the ripple of a power law vanishes at gamma 1 and 2, so small ripples have two roots.
+  auto scan = [&](double from, double to) {
+    double prev_g = from, prev_r = RippleOfGamma(from, steps);
+    for (double g = from + 0.05; g <= to + 1e-9; g += 0.05) {
+      const double r = RippleOfGamma(g, steps);
+      if ((prev_r - ripple_sin1) * (r - ripple_sin1) <= 0 && r != prev_r)
+        return prev_g + (g - prev_g) * (ripple_sin1 - prev_r) / (r - prev_r);
+      prev_g = g;
+      prev_r = r;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const double high = scan(1.0, 5.0);
+  return std::isfinite(high) ? high : scan(0.3, 1.0);
+}
+
+}  // namespace ramtk::vision
