@@ -15,5 +15,6 @@ inline constexpr int kExitNoSolution = 3;
 // Sets *exit_code when the subcommand runs.
 void RegisterFkCommand(CLI::App& app, int* exit_code);
 void RegisterIkCommand(CLI::App& app, int* exit_code);
+void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
 
 }  // namespace ramtk::tools

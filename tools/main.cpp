@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   int exit_code = ramtk::tools::kExitOk;
   ramtk::tools::RegisterFkCommand(app, &exit_code);
   ramtk::tools::RegisterIkCommand(app, &exit_code);
+  ramtk::tools::RegisterSimulateFringeCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,92 @@
+// ramtk simulate fringe: render a stereo fringe image set with its calibration and ground truth.
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/core/parse.h"
+#include "ramtk/vision/fringe_simulator.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct SimulateFringeOptions {
+  std::string preset = "small";      // thesis | small
+  std::string out_dir;               // output folder
+  std::uint64_t seed = 1;            // random seed
+  std::vector<std::string> effects;  // name=magnitude
+  int bits = 8;                      // camera bit depth
+  int supersampling = 4;             // n×n rays per pixel
+  std::string ball;                  // x,y,z of the ball centre in the left-camera frame, mm
+  double radius = 0.0;               // ball radius, mm (0 = preset)
+  bool no_noise = false;             // noiseless images
+  bool force = false;                // replace an existing output folder
+  bool quiet = false;                // no progress on stderr
+};
+
+int RunSimulateFringe(const SimulateFringeOptions& opt) {
+  vision::FringeSimulationConfig config = vision::MakeFringePreset(opt.preset);
+  config.seed = opt.seed;
+  config.sensor.bits = opt.bits;
+  config.sensor.noise = !opt.no_noise;
+  config.supersampling = opt.supersampling;
+  for (const std::string& e : opt.effects) {
+    const auto eq = e.find('=');
+    if (eq == std::string::npos)
+      throw InputError({"", 0, "--effect"}, "expected name=magnitude, got '" + e + "'");
+    const std::string name = e.substr(0, eq);
+    config.effects.Set(name, ParseDouble(e.substr(eq + 1), {"", 0, "--effect " + name}));
+  }
+  if (!opt.ball.empty()) {
+    const std::vector<double> b = ParseDoubleList(opt.ball, {"", 0, "--ball"}, 3);
+    config.scene.spheres.at(0).centre_in_left = Vec3(b[0], b[1], b[2]);
+  }
+  if (opt.radius != 0.0) config.scene.spheres.at(0).radius = opt.radius;
+  ProgressCallback progress;
+  if (!opt.quiet) {
+    progress = [last = std::make_shared<int>(-1)](const Progress& p) {
+      const int percent = p.total ? static_cast<int>(100 * p.done / p.total) : 0;
+      if (percent / 10 != *last / 10 || p.done == p.total) {
+        *last = percent;
+        std::cerr << "\r" << p.stage << " " << percent << "%   " << (p.done == p.total ? "\n" : "") << std::flush;
+      }
+      return true;
+    };
+  }
+  const vision::FringeSimulationSummary summary =
+      vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
+  std::cout << summary.BriefReport() << '\n';
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
+  CLI::App* simulate = nullptr;
+  try {
+    simulate = app.get_subcommand("simulate");
+  } catch (const CLI::OptionNotFound&) {
+    simulate = app.add_subcommand("simulate", "Simulators: synthetic data with known truth");
+    simulate->require_subcommand(1);
+  }
+  auto opt = std::make_shared<SimulateFringeOptions>();
+  CLI::App* sub = simulate->add_subcommand(
+      "fringe", "Render a stereo fringe-projection image set, its calibration and ground truth");
+  sub->add_option("--preset", opt->preset, "Rig and scene: thesis (3312x2488) or small (640x512 around the ball)")
+      ->capture_default_str();
+  sub->add_option("--out", opt->out_dir, "Output folder (must not exist, or be empty, unless --force)")->required();
+  sub->add_option("--seed", opt->seed, "Random seed (recorded in the output)")->capture_default_str();
+  sub->add_option("--effect", opt->effects,
+                  "Effect name=magnitude, repeatable: projector_nonlinearity (gamma), phase_shift_error (deg), "
+                  "intensity_drift (relative), saturation (exposure factor), defocus (blur sigma px), "
+                  "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1)");
+  sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
+  sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
+  sub->add_option("--ball", opt->ball, "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700)");
+  sub->add_option("--radius", opt->radius, "Ball radius, mm (default 19.05)");
+  sub->add_flag("--no-noise", opt->no_noise, "Render without shot and read noise");
+  sub->add_flag("--force", opt->force, "Replace an existing output folder");
+  sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
+  sub->callback([opt, exit_code]() { *exit_code = RunSimulateFringe(*opt); });
+}
+
+}  // namespace ramtk::tools
