@@ -1,0 +1,178 @@
+// The simulator: seeds reproduce images exactly (also across thread counts), effects do what their
+// magnitudes say, and the written set (manifest, images, calibration, ground truth) reads back.
+#include "ramtk/vision/fringe_simulator.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::vision {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The small preset reduced for speed: 2×2 supersampling and a 3-step sequence.
+FringeSimulationConfig FastConfig() {
+  FringeSimulationConfig c = MakeFringePreset("small");
+  c.supersampling = 2;
+  c.sequence = {{PatternBlock::Type::kPhaseShift, 3, 64.0, 0, false}};
+  return c;
+}
+
+bool Identical(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0.0;
+}
+
+TEST(SimSimulator, SeedsReproduceImagesExactlyAcrossThreadCounts) {
+  FringeSimulationConfig c = FastConfig();
+  c.seed = 1234;
+  const SimulatedCamera a = SimulateCamera(c, 1);
+  SimulatedCamera b;
+  {
+    tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+    b = SimulateCamera(c, 1);
+  }
+  ASSERT_EQ(a.images.size(), 3u);
+  for (std::size_t i = 0; i < a.images.size(); ++i) EXPECT_TRUE(Identical(a.images[i], b.images[i])) << i;
+  c.seed = 1235;
+  const SimulatedCamera other = SimulateCamera(c, 1);
+  EXPECT_FALSE(Identical(a.images[0], other.images[0]));
+  // Same scene, different noise: the noiseless radiance is identical.
+  EXPECT_TRUE(Identical(a.truth.radiance[0], other.truth.radiance[0]));
+}
+
+TEST(SimSimulator, IntensityDriftAndGammaFollowTheirMagnitudes) {
+  FringeSimulationConfig c = FastConfig();
+  c.sensor.bits = 16;
+  c.sensor.noise = false;
+  const SimulatedCamera base = SimulateCamera(c, 0);
+  c.effects.Set("intensity_drift", 0.1);
+  const SimulatedCamera drift = SimulateCamera(c, 0);
+  // Gain 1 + 0.1·k/(n − 1) on frame k: 1, 1.05, 1.1. 16-bit rounding: ±0.5 DN on > 2000 DN.
+  for (int k = 0; k < 3; ++k) {
+    cv::Mat a, b;
+    base.images[k].convertTo(a, CV_64F);
+    drift.images[k].convertTo(b, CV_64F);
+    const cv::Mat mask = a > 2000.0;
+    ASSERT_GT(cv::countNonZero(mask), 10000);
+    cv::Mat ratio = b / a;
+    double lo, hi;
+    cv::minMaxLoc(ratio, &lo, &hi, nullptr, nullptr, mask);
+    EXPECT_NEAR(lo, 1.0 + 0.05 * k, 1e-3) << k;
+    EXPECT_NEAR(hi, 1.0 + 0.05 * k, 1e-3) << k;
+  }
+  // Gamma: with one ray per pixel and no ambient light, radiance = albedo·cos·P^γ. The linear
+  // render gives albedo·cos (twice the mean of a 3-step set) and each P; γ = 2.2 must give
+  // albedo·cos·P^2.2.
+  c.supersampling = 1;  // single ray: P is one value per pixel
+  c.effects = {};
+  const SimulatedCamera lin1 = SimulateCamera(c, 0);
+  c.effects.Set("projector_nonlinearity", 2.2);
+  const SimulatedCamera gam1 = SimulateCamera(c, 0);
+  // Recover P·albedo·cos from the three linear frames: A = mean = albedo·cos·0.5, so P_k = r_k/(2A).
+  int checked = 0;
+  for (int v = 100; v < 400; v += 37) {
+    for (int u = 100; u < 540; u += 41) {
+      if (lin1.truth.lit_fraction.at<float>(v, u) != 1.0f) continue;
+      double a = 0;
+      for (int k = 0; k < 3; ++k) a += lin1.truth.radiance[k].at<float>(v, u) / 3.0;
+      const double shading = 2.0 * a;  // albedo·cos
+      for (int k = 0; k < 3; ++k) {
+        const double p = lin1.truth.radiance[k].at<float>(v, u) / shading;
+        EXPECT_NEAR(gam1.truth.radiance[k].at<float>(v, u), shading * std::pow(p, 2.2), 2e-6) << u << "," << v;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 50);
+}
+
+TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
+  FringeEffects e;
+  EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);
+  EXPECT_THROW(e.Set("defocus", -1.0), InputError);
+  EXPECT_THROW(MakeFringePreset("huge"), InputError);
+  try {
+    e.Set("saturation", 0.0, "--effect saturation");
+    ADD_FAILURE();
+  } catch (const InputError& err) {
+    EXPECT_EQ(err.where().field, "--effect saturation");
+  }
+}
+
+TEST(SimSimulator, UnmodelledDistortionIsRenderedButNotWritten) {
+  FringeSimulationConfig c = FastConfig();
+  c.effects.Set("lens_distortion_unmodelled", 0.02);
+  EXPECT_DOUBLE_EQ(RenderedCameraView(c, 0).intrinsics.distortion.k1, c.cameras.left.distortion.k1 + 0.02);
+  EXPECT_DOUBLE_EQ(WrittenCalibration(c).left.distortion.k1, c.cameras.left.distortion.k1);
+}
+
+std::string TempDir(const std::string& name) {
+  return (fs::temp_directory_path() / ("ramtk_sim_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+TEST(SimSimulator, WritesAReadableSetAndRefusesToOverwrite) {
+  FringeSimulationConfig c = FastConfig();
+  c.sequence.push_back({PatternBlock::Type::kGrayCode, 0, 0.0, 2, false});
+  c.seed = 77;
+  const std::string out = TempDir("set");
+  fs::remove_all(out);
+  const FringeSimulationSummary s = SimulateFringeSet(c, out);
+  EXPECT_EQ(s.frames, 5);
+  std::ifstream in(out + "/manifest.json");
+  const nlohmann::json m = nlohmann::json::parse(in);
+  EXPECT_EQ(m["sequence"][0]["type"], "phase_shift");
+  EXPECT_EQ(m["sequence"][0]["steps"], 3);
+  EXPECT_EQ(m["sequence"][1]["type"], "gray_code");
+  EXPECT_EQ(m["fringe_direction"], "vertical");
+  EXPECT_EQ(m["projector"]["width"], 912);
+  EXPECT_EQ(m["simulation"]["seed"], 77);
+  ASSERT_EQ(m["cameras"].size(), 2u);
+  for (const auto& cam : m["cameras"]) {
+    ASSERT_EQ(cam["images"].size(), 5u);
+    for (const auto& f : cam["images"]) {
+      const cv::Mat img = cv::imread(out + "/" + f.get<std::string>(), cv::IMREAD_UNCHANGED);
+      ASSERT_EQ(img.type(), CV_8U) << f;
+      EXPECT_EQ(img.cols, 640);
+      EXPECT_EQ(img.rows, 512);
+    }
+  }
+  const StereoCalibration calib = ReadStereoCalibration(out + "/" + m["calibration"].get<std::string>());
+  EXPECT_EQ(calib.left.fx, c.cameras.left.fx);
+  EXPECT_EQ(calib.right.cx, c.cameras.right.cx);
+  EXPECT_LT((calib.right_from_left.matrix() - c.cameras.right_from_left.matrix()).cwiseAbs().maxCoeff(), 1e-15);
+  std::ifstream tin(out + "/truth/truth.json");
+  const nlohmann::json t = nlohmann::json::parse(tin);
+  EXPECT_EQ(t["spheres"][0]["radius_mm"], 19.05);
+  EXPECT_EQ(t["seed"], 77);
+  const cv::Mat depth = cv::imread(out + "/truth/left_depth.tif", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(depth.type(), CV_32F);
+  // The ball's front pole is on the left optical axis: depth 700 − r at the ball-centre pixel.
+  const CameraIntrinsics& k = c.cameras.left;
+  EXPECT_NEAR(depth.at<float>(static_cast<int>(std::round(k.cy)), static_cast<int>(std::round(k.cx))),
+              700.0 - 19.05, 0.01);
+
+  // An existing non-empty folder is refused before any rendering, and left untouched.
+  std::ofstream(out + "/keep.txt") << "user data";
+  EXPECT_THROW(SimulateFringeSet(c, out), InputError);
+  EXPECT_TRUE(fs::exists(out + "/keep.txt"));
+  // A failure mid-way (invalid sequence) leaves no output and no temporary folder.
+  const std::string out2 = TempDir("bad");
+  fs::remove_all(out2);
+  c.sequence[0].steps = 2;
+  EXPECT_THROW(SimulateFringeSet(c, out2), InputError);
+  EXPECT_FALSE(fs::exists(out2));
+  for (const auto& entry : fs::directory_iterator(fs::temp_directory_path()))
+    EXPECT_EQ(entry.path().string().find(out2 + ".partial"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace ramtk::vision
