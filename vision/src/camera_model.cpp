@@ -1,6 +1,5 @@
 #include "ramtk/vision/camera_model.h"
 
-#include <Eigen/Dense>
 #include <cmath>
 
 namespace ramtk::vision {
@@ -37,15 +36,22 @@ Eigen::Matrix2d DistortJacobian(const Distortion& d, const Vec2& p) {
 
 }  // namespace
 
-Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted) {
+Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2& initial) {
   if (d.IsZero()) return distorted;
-  Vec2 p = distorted;
+  Vec2 p = initial;
   for (int iter = 0; iter < 30; ++iter) {
     const Vec2 residual = DistortNormalized(d, p) - distorted;
     if (residual.lpNorm<Eigen::Infinity>() < 1e-15) break;
-    p -= DistortJacobian(d, p).partialPivLu().solve(residual);
+    const Eigen::Matrix2d j = DistortJacobian(d, p);
+    const double det = j(0, 0) * j(1, 1) - j(0, 1) * j(1, 0);
+    p.x() -= (j(1, 1) * residual.x() - j(0, 1) * residual.y()) / det;
+    p.y() -= (j(0, 0) * residual.y() - j(1, 0) * residual.x()) / det;
   }
   return p;
+}
+
+Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted) {
+  return UndistortNormalized(d, distorted, distorted);
 }
 
 Vec2 ProjectPoint(const CameraIntrinsics& c, const Vec3& point) {
@@ -54,10 +60,14 @@ Vec2 ProjectPoint(const CameraIntrinsics& c, const Vec3& point) {
   return {c.fx * dist.x() + c.cx, c.fy * dist.y() + c.cy};
 }
 
-Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel) {
+Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel, const Vec2& initial_ideal) {
   const Vec2 distorted((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy);
-  const Vec2 ideal = UndistortNormalized(c.distortion, distorted);
+  const Vec2 ideal = UndistortNormalized(c.distortion, distorted, initial_ideal);
   return Vec3(ideal.x(), ideal.y(), 1.0).normalized();
+}
+
+Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel) {
+  return PixelRay(c, pixel, Vec2((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy));
 }
 
 }  // namespace ramtk::vision

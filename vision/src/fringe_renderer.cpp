@@ -33,6 +33,7 @@ struct RayResult {
   bool lit = false;
   double cosine = 0.0;
   Vec2 projector_pixel = Vec2::Zero();
+  Vec2 ideal = Vec2::Zero();  // ideal normalised coordinates of the ray in the camera
 };
 
 class RayTracer {
@@ -45,9 +46,12 @@ class RayTracer {
     projector_centre_ = projector.view_from_left.inverse().translation();
   }
 
-  RayResult Trace(const Vec2& pixel) const {
+  // `initial_ideal`: ideal normalised coordinates of a nearby ray (speeds up undistortion).
+  RayResult Trace(const Vec2& pixel, const Vec2& initial_ideal) const {
     RayResult r;
-    const Vec3 dir = left_from_camera_rot_ * PixelRay(camera_.intrinsics, pixel);
+    const Vec3 cam_dir = PixelRay(camera_.intrinsics, pixel, initial_ideal);
+    r.ideal = Vec2(cam_dir.x() / cam_dir.z(), cam_dir.y() / cam_dir.z());
+    const Vec3 dir = left_from_camera_rot_ * cam_dir;
     const auto hit = IntersectScene(scene_, camera_centre_, dir);
     if (!hit) return r;
     r.hit = true;
@@ -82,17 +86,13 @@ class RayTracer {
   Vec3 projector_centre_;
 };
 
-// Projected pattern value P in [0, 1] at fringe coordinate c (before the projector response).
-double PatternValue(const PatternFrame& f, double c, double extent) {
-  if (f.type == PatternBlock::Type::kPhaseShift) {
-    const double phase = kTwoPi * f.cycles * c / extent;
-    return 0.5 + 0.5 * std::cos(phase - kTwoPi * f.index / f.steps - f.shift_error_rad);
-  }
-  const double sections = std::ldexp(1.0, f.bits);
-  long long n = static_cast<long long>(std::floor(c * sections / extent));
-  n = std::max(0LL, std::min(n, static_cast<long long>(sections) - 1));
-  const long long gray = n ^ (n >> 1);
-  return ((gray >> (f.bits - 1 - f.index)) & 1) ? 1.0 : 0.0;
+// Gray code word G(n) = n xor (n >> 1) of the section n = floor(c·2^bits / L) holding fringe
+// coordinate c (clamped to the projector). Image i of the block shows bit (bits − 1 − i).
+long long GrayCodeWord(double c, double extent, int bits) {
+  const long long sections = 1LL << bits;
+  long long n = static_cast<long long>(std::floor(c * static_cast<double>(sections) / extent));
+  n = std::max(0LL, std::min(n, sections - 1));
+  return n ^ (n >> 1);
 }
 
 }  // namespace
@@ -168,11 +168,16 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
   tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& range) {
     std::vector<SubSample> sub(samples);
     std::vector<double> cos_phi(samples), sin_phi(samples);
+    std::vector<long long> gray(samples);
     for (int v = range.begin(); v != range.end(); ++v) {
       if (cancel.load(std::memory_order_relaxed)) return;
+      Vec2 previous_ideal((0 - camera.intrinsics.cx) / camera.intrinsics.fx,
+                          (v - camera.intrinsics.cy) / camera.intrinsics.fy);
       for (int u = 0; u < width; ++u) {
         // Ground truth from the pixel-centre ray.
-        const RayResult centre = tracer.Trace(Vec2(u, v));
+        const CameraIntrinsics& k = camera.intrinsics;
+        const RayResult centre = tracer.Trace(Vec2(u, v), previous_ideal);
+        previous_ideal = centre.ideal;
         out.depth.at<float>(v, u) = centre.hit ? static_cast<float>(centre.depth) : static_cast<float>(nan);
         out.object_id.at<int>(v, u) = centre.object;
         out.projector_x.at<float>(v, u) = centre.lit ? static_cast<float>(centre.projector_pixel.x()) : NAN;
@@ -182,7 +187,9 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         for (int i = 0; i < n; ++i) {
           for (int j = 0; j < n; ++j) {
             const Vec2 pixel(u - 0.5 + (j + 0.5) / n, v - 0.5 + (i + 0.5) / n);
-            const RayResult r = tracer.Trace(pixel);
+            // Start from the centre's solution shifted by the sub-pixel offset.
+            const Vec2 guess = centre.ideal + Vec2((pixel.x() - u) / k.fx, (pixel.y() - v) / k.fy);
+            const RayResult r = tracer.Trace(pixel, guess);
             SubSample& s = sub[i * n + j];
             s.albedo = r.albedo;
             s.cosine = r.lit ? r.cosine : 0.0;
@@ -193,26 +200,32 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         }
         out.lit_fraction.at<float>(v, u) = static_cast<float>(lit_same) / samples;
         const double ambient_term = options.ambient * ambient_sum;
-        // Phase-shift frames share cos φ and sin φ per block: cos(φ − δ) = cos φ cos δ + sin φ sin δ.
+        // Frames of one block share per-sample work: cos φ and sin φ for phase shifts
+        // (cos(φ − δ) = cos φ cos δ + sin φ sin δ), the Gray code word for Gray codes.
         int cached_block = -1;
         for (std::size_t f = 0; f < frames.size(); ++f) {
           const PatternFrame& frame = frames[f];
           const bool phase = frame.type == PatternBlock::Type::kPhaseShift;
-          if (phase && frame.block != cached_block) {
+          if (frame.block != cached_block) {
             cached_block = frame.block;
             for (int s = 0; s < samples; ++s) {
-              const double phi = kTwoPi * frame.cycles * sub[s].coord / extent;
-              cos_phi[s] = std::cos(phi);
-              sin_phi[s] = std::sin(phi);
+              if (phase) {
+                const double phi = kTwoPi * frame.cycles * sub[s].coord / extent;
+                cos_phi[s] = std::cos(phi);
+                sin_phi[s] = std::sin(phi);
+              } else {
+                gray[s] = GrayCodeWord(sub[s].coord, extent, frame.bits);
+              }
             }
           }
-          const double delta = kTwoPi * frame.index / std::max(frame.steps, 1) + frame.shift_error_rad;
+          const double delta = phase ? kTwoPi * frame.index / frame.steps + frame.shift_error_rad : 0.0;
           const double cos_delta = std::cos(delta), sin_delta = std::sin(delta);
+          const int shift = frame.bits - 1 - frame.index;
           double sum = ambient_term;
           for (int s = 0; s < samples; ++s) {
             if (sub[s].cosine <= 0.0) continue;
             double p = phase ? 0.5 + 0.5 * (cos_phi[s] * cos_delta + sin_phi[s] * sin_delta)
-                             : PatternValue(frame, sub[s].coord, extent);
+                             : static_cast<double>((gray[s] >> shift) & 1);
             if (options.projector_gamma != 1.0 && p > 0.0) p = std::pow(p, options.projector_gamma);
             sum += sub[s].albedo * sub[s].cosine * p;
           }

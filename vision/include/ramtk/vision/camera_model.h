@@ -48,11 +48,16 @@ Vec2 DistortNormalized(const Distortion& d, const Vec2& undistorted);
 // Inverts DistortNormalized: the ideal (x', y') whose distorted image is `distorted`. Gauss-Newton
 // from the distorted point; converges to ~1e-15 for any lens OpenCV calibrates (|r| < ~1.5).
 Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted);
+// The same, starting Gauss-Newton from `initial` (e.g. a neighbouring solution): one or two
+// iterations instead of four to six.
+Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2& initial);
 
 // Projects a point in the camera frame (Z > 0) to pixel coordinates (cv::projectPoints).
 Vec2 ProjectPoint(const CameraIntrinsics& camera, const Vec3& point_in_camera);
 // Unit direction, in the camera frame, of the ray that images at `pixel` (cv::undistortPoints,
 // then normalised).
 Vec3 PixelRay(const CameraIntrinsics& camera, const Vec2& pixel);
+// The same, with the ideal normalised coordinates of a nearby pixel as the starting guess.
+Vec3 PixelRay(const CameraIntrinsics& camera, const Vec2& pixel, const Vec2& initial_ideal);
 
 }  // namespace ramtk::vision
