@@ -94,6 +94,44 @@ TEST(SimSimulator, IntensityDriftAndGammaFollowTheirMagnitudes) {
   EXPECT_GT(checked, 50);
 }
 
+TEST(SimSimulator, PhaseShiftErrorShiftsEachStepByItsRecordedDraw) {
+  // One ray per pixel, noiseless: the error-free 4-step radiance gives each pixel's shading S and
+  // phase φ exactly; with phase_shift_error on, step k must read S·(0.5 + 0.5 cos(φ − 2πk/4 − ε_k))
+  // with ε_k the draw RealiseEffects records for this seed.
+  FringeSimulationConfig c = FastConfig();
+  c.supersampling = 1;
+  c.sequence = {{PatternBlock::Type::kPhaseShift, 4, 64.0, 0, false}};
+  c.seed = 99;
+  const SimulatedCamera clean = SimulateCamera(c, 0);
+  c.effects.Set("phase_shift_error", 5.0);
+  const SimulatedCamera shifted = SimulateCamera(c, 0);
+  const EffectRealisation draws = RealiseEffects(c, ExpandSequence(c.sequence));
+  double largest = 0.0;
+  for (double e : draws.shift_errors_rad) largest = std::max(largest, std::abs(e));
+  ASSERT_GT(largest, 0.02);  // the draws are not all ~0 (σ = 5° = 0.087 rad)
+  const double two_pi = 6.283185307179586;
+  int checked = 0;
+  for (int v = 60; v < 460; v += 29) {
+    for (int u = 60; u < 580; u += 31) {
+      if (clean.truth.lit_fraction.at<float>(v, u) != 1.0f) continue;
+      double r[4], s = 0, cc = 0;
+      for (int k = 0; k < 4; ++k) {
+        r[k] = clean.truth.radiance[k].at<float>(v, u);
+        s += r[k] * std::sin(two_pi * k / 4);
+        cc += r[k] * std::cos(two_pi * k / 4);
+      }
+      const double shading = (r[0] + r[1] + r[2] + r[3]) / 2.0;
+      const double phi = std::atan2(s, cc);
+      for (int k = 0; k < 4; ++k) {
+        const double expected = shading * (0.5 + 0.5 * std::cos(phi - two_pi * k / 4 - draws.shift_errors_rad[k]));
+        EXPECT_NEAR(shifted.truth.radiance[k].at<float>(v, u), expected, 2e-6) << u << "," << v << " k " << k;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
   FringeEffects e;
   EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);
