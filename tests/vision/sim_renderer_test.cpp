@@ -22,7 +22,7 @@ CameraIntrinsics IdealCamera(int width, int height, double f) {
 
 // A phase-shift frame whose value is 1 − O(1e-10) everywhere: a "white" projector image.
 std::vector<PatternFrame> WhiteFrame() {
-  std::vector<PatternFrame> frames = ExpandSequence({{PatternBlock::Type::kPhaseShift, 3, 1e-6, 0, false}});
+  std::vector<PatternFrame> frames = ExpandSequence({PhaseShiftBlock(3, 1e-6, 0.0)});
   frames.resize(1);
   return frames;
 }
@@ -76,7 +76,7 @@ TEST(SimRenderer, FlatLambertianPlaneMatchesClosedForm) {
 TEST(SimRenderer, DecodedProjectorCoordinateOnTheBallMatchesAnalyticHit) {
   FringeSimulationConfig config = MakeFringePreset("small");
   config.cameras.left.distortion = {};  // ideal pinhole: the analytic ray below needs no undistortion
-  const std::vector<PatternFrame> frames = ExpandSequence({{PatternBlock::Type::kPhaseShift, 4, 64.0, 0, false}});
+  const std::vector<PatternFrame> frames = ExpandSequence({PhaseShiftBlock(4, 64.0)});
   const PinholeView camera{config.cameras.left, Isometry3::Identity()};
   RenderOptions options;
   options.supersampling = 4;
@@ -107,7 +107,7 @@ TEST(SimRenderer, DecodedProjectorCoordinateOnTheBallMatchesAnalyticHit) {
       EXPECT_NEAR(view.projector_x.at<float>(v, u), p.x(), 1e-4);
       EXPECT_NEAR(view.projector_y.at<float>(v, u), p.y(), 1e-4);
       EXPECT_NEAR(view.depth.at<float>(v, u), x.z(), 1e-4);
-      // Least-squares phase of I_k = A + B cos(φ − 2πk/N), unwrapped with the true period.
+      // Least-squares phase of I_k = A + B cos(φ + 2πk/N), unwrapped with the true period.
       double s = 0.0, c = 0.0;
       for (int i = 0; i < 4; ++i) {
         const double value = images[i].at<std::uint16_t>(v, u);
@@ -115,8 +115,8 @@ TEST(SimRenderer, DecodedProjectorCoordinateOnTheBallMatchesAnalyticHit) {
         c += value * std::cos(2 * kPi * i / 4);
       }
       const double period = 912.0 / 64.0;
-      const double phase = std::atan2(s, c);
-      const double true_phase = 2 * kPi * p.x() / period;
+      const double phase = std::atan2(-s, c);
+      const double true_phase = 2 * kPi * p.x() / period - kPi;  // φ0 = −π
       const double wrapped_error = std::remainder(phase - true_phase, 2 * kPi);
       const double error_px = wrapped_error * period / (2 * kPi);
       // Budget: 16-bit quantisation gives σφ ≈ 1e-5 rad (2e-5 projector px); the n×n pixel mean

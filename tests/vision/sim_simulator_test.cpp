@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 FringeSimulationConfig FastConfig() {
   FringeSimulationConfig c = MakeFringePreset("small");
   c.supersampling = 2;
-  c.sequence = {{PatternBlock::Type::kPhaseShift, 3, 64.0, 0, false}};
+  c.sequence = {PhaseShiftBlock(3, 64.0)};
   return c;
 }
 
@@ -96,11 +96,11 @@ TEST(SimSimulator, IntensityDriftAndGammaFollowTheirMagnitudes) {
 
 TEST(SimSimulator, PhaseShiftErrorShiftsEachStepByItsRecordedDraw) {
   // One ray per pixel, noiseless: the error-free 4-step radiance gives each pixel's shading S and
-  // phase φ exactly; with phase_shift_error on, step k must read S·(0.5 + 0.5 cos(φ − 2πk/4 − ε_k))
+  // phase φ exactly; with phase_shift_error on, step k must read S·(0.5 + 0.5 cos(φ + 2πk/4 + ε_k))
   // with ε_k the draw RealiseEffects records for this seed.
   FringeSimulationConfig c = FastConfig();
   c.supersampling = 1;
-  c.sequence = {{PatternBlock::Type::kPhaseShift, 4, 64.0, 0, false}};
+  c.sequence = {PhaseShiftBlock(4, 64.0)};
   c.seed = 99;
   const SimulatedCamera clean = SimulateCamera(c, 0);
   c.effects.Set("phase_shift_error", 5.0);
@@ -121,9 +121,9 @@ TEST(SimSimulator, PhaseShiftErrorShiftsEachStepByItsRecordedDraw) {
         cc += r[k] * std::cos(two_pi * k / 4);
       }
       const double shading = (r[0] + r[1] + r[2] + r[3]) / 2.0;
-      const double phi = std::atan2(s, cc);
+      const double phi = std::atan2(-s, cc);
       for (int k = 0; k < 4; ++k) {
-        const double expected = shading * (0.5 + 0.5 * std::cos(phi - two_pi * k / 4 - draws.shift_errors_rad[k]));
+        const double expected = shading * (0.5 + 0.5 * std::cos(phi + two_pi * k / 4 + draws.shift_errors_rad[k]));
         EXPECT_NEAR(shifted.truth.radiance[k].at<float>(v, u), expected, 2e-6) << u << "," << v << " k " << k;
       }
       ++checked;
@@ -158,7 +158,7 @@ std::string TempDir(const std::string& name) {
 
 TEST(SimSimulator, WritesAReadableSetAndRefusesToOverwrite) {
   FringeSimulationConfig c = FastConfig();
-  c.sequence.push_back({PatternBlock::Type::kGrayCode, 0, 0.0, 2, false});
+  c.sequence.push_back(GrayCodeBlock(2, false));
   c.seed = 77;
   const std::string out = TempDir("set");
   fs::remove_all(out);
@@ -169,13 +169,14 @@ TEST(SimSimulator, WritesAReadableSetAndRefusesToOverwrite) {
   EXPECT_EQ(m["sequence"][0]["type"], "phase_shift");
   EXPECT_EQ(m["sequence"][0]["steps"], 3);
   EXPECT_EQ(m["sequence"][1]["type"], "gray_code");
-  EXPECT_EQ(m["fringe_direction"], "vertical");
+  EXPECT_EQ(m["direction"], "vertical");
+  EXPECT_EQ(m["sequence"][0]["phase_at_origin_deg"], -180.0);
   EXPECT_EQ(m["projector"]["width"], 912);
   EXPECT_EQ(m["simulation"]["seed"], 77);
   ASSERT_EQ(m["cameras"].size(), 2u);
-  for (const auto& cam : m["cameras"]) {
-    ASSERT_EQ(cam["images"].size(), 5u);
-    for (const auto& f : cam["images"]) {
+  for (const auto& [name, images] : m["cameras"].items()) {
+    ASSERT_EQ(images.size(), 5u) << name;
+    for (const auto& f : images) {
       const cv::Mat img = cv::imread(out + "/" + f.get<std::string>(), cv::IMREAD_UNCHANGED);
       ASSERT_EQ(img.type(), CV_8U) << f;
       EXPECT_EQ(img.cols, 640);

@@ -97,8 +97,25 @@ long long GrayCodeWord(double c, double extent, int bits) {
 
 }  // namespace
 
-const char* FringeDirectionName(FringeDirection direction) {
-  return direction == FringeDirection::kVertical ? "vertical" : "horizontal";
+const char* FringeOrientationName(FringeOrientation direction) {
+  return direction == FringeOrientation::kVertical ? "vertical" : "horizontal";
+}
+
+PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad) {
+  PatternBlock b;
+  b.type = PatternBlock::Type::kPhaseShift;
+  b.steps = steps;
+  b.cycles = cycles;
+  b.phase_at_origin_rad = phase_at_origin_rad;
+  return b;
+}
+
+PatternBlock GrayCodeBlock(int bits, bool complementary) {
+  PatternBlock b;
+  b.type = PatternBlock::Type::kGrayCode;
+  b.bits = bits;
+  b.complementary = complementary;
+  return b;
 }
 
 std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks) {
@@ -116,6 +133,7 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks
         f.index = k;
         f.steps = block.steps;
         f.cycles = block.cycles;
+        f.phase_at_origin_rad = block.phase_at_origin_rad;
         frames.push_back(f);
       }
     } else {
@@ -148,7 +166,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
   if (width <= 0 || height <= 0) throw InputError({"", 0, "camera.width"}, "camera image size must be positive");
   const int n = options.supersampling;
   const int samples = n * n;
-  const bool vertical = options.direction == FringeDirection::kVertical;
+  const bool vertical = options.direction == FringeOrientation::kVertical;
   const double extent = vertical ? projector.intrinsics.width : projector.intrinsics.height;
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
@@ -201,7 +219,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         out.lit_fraction.at<float>(v, u) = static_cast<float>(lit_same) / samples;
         const double ambient_term = options.ambient * ambient_sum;
         // Frames of one block share per-sample work: cos φ and sin φ for phase shifts
-        // (cos(φ − δ) = cos φ cos δ + sin φ sin δ), the Gray code word for Gray codes.
+        // (cos(φ + δ) = cos φ cos δ − sin φ sin δ), the Gray code word for Gray codes.
         int cached_block = -1;
         for (std::size_t f = 0; f < frames.size(); ++f) {
           const PatternFrame& frame = frames[f];
@@ -210,7 +228,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
             cached_block = frame.block;
             for (int s = 0; s < samples; ++s) {
               if (phase) {
-                const double phi = kTwoPi * frame.cycles * sub[s].coord / extent;
+                const double phi = kTwoPi * frame.cycles * sub[s].coord / extent + frame.phase_at_origin_rad;
                 cos_phi[s] = std::cos(phi);
                 sin_phi[s] = std::sin(phi);
               } else {
@@ -224,7 +242,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
           double sum = ambient_term;
           for (int s = 0; s < samples; ++s) {
             if (sub[s].cosine <= 0.0) continue;
-            double p = phase ? 0.5 + 0.5 * (cos_phi[s] * cos_delta + sin_phi[s] * sin_delta)
+            double p = phase ? 0.5 + 0.5 * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
                              : static_cast<double>((gray[s] >> shift) & 1);
             if (options.projector_gamma != 1.0 && p > 0.0) p = std::pow(p, options.projector_gamma);
             sum += sub[s].albedo * sub[s].cosine * p;

@@ -59,7 +59,8 @@ json SequenceJson(const std::vector<PatternBlock>& blocks) {
   json seq = json::array();
   for (const PatternBlock& b : blocks) {
     if (b.type == PatternBlock::Type::kPhaseShift) {
-      seq.push_back({{"type", "phase_shift"}, {"steps", b.steps}, {"cycles", b.cycles}});
+      seq.push_back({{"type", "phase_shift"}, {"steps", b.steps}, {"cycles", b.cycles},
+                     {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
     } else {
       seq.push_back({{"type", "gray_code"}, {"bits", b.bits}, {"complementary", b.complementary}});
     }
@@ -77,11 +78,11 @@ void WriteFloatTiff(const std::string& path, const cv::Mat& image) {
     throw InputError({path, 0, ""}, "cannot write: " + out->geterror());
 }
 
-void WriteImage(const std::string& path, const cv::Mat& image) {
+void WritePng(const std::string& path, const cv::Mat& image) {
   bool ok = false;
   try {
     ok = cv::imwrite(path, image);
-  } catch (const cv::Exception& e) {
+  } catch (const cv::Exception&) {
     ok = false;
   }
   if (!ok) throw InputError({path, 0, ""}, "cannot write image");
@@ -194,8 +195,8 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   c.projector.view_from_left = LookAt(Vec3(100.0, -40.0, 0.0), ball);
   c.scene.spheres.push_back({"ball", ball, 38.1 / 2.0, 0.8});
   c.scene.planes.push_back({"backdrop", Vec3(0.0, 0.0, 850.0), Vec3(0.0, 0.0, -1.0), 0.5});
-  c.sequence = {{PatternBlock::Type::kPhaseShift, 12, 64.0, 0, false},
-                {PatternBlock::Type::kGrayCode, 0, 0.0, 7, true}};
+  c.sequence = {PhaseShiftBlock(12, 64.0),
+                GrayCodeBlock(7, true)};
   return c;
 }
 
@@ -278,7 +279,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
     const std::vector<PatternFrame> frames = ExpandSequence(config.sequence);
     const EffectRealisation fx = RealiseEffects(config, frames);
     const char* names[2] = {"left", "right"};
-    json manifest_cameras = json::array();
+    json manifest_cameras = json::object();
     json truth_cameras = json::array();
     for (int cam = 0; cam < 2; ++cam) {
       ProgressCallback cam_progress;
@@ -295,10 +296,10 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       json images = json::array();
       for (std::size_t i = 0; i < sim.images.size(); ++i) {
         const std::string rel = std::string(names[cam]) + "/" + FrameName(static_cast<int>(i));
-        WriteImage((tmp / rel).string(), sim.images[i]);
+        WritePng((tmp / rel).string(), sim.images[i]);
         images.push_back(rel);
       }
-      manifest_cameras.push_back({{"name", names[cam]}, {"images", images}});
+      manifest_cameras[names[cam]] = images;
       const std::string prefix = std::string("truth/") + names[cam] + "_";
       json files;
       for (const auto& [key, mat] : std::vector<std::pair<std::string, const cv::Mat*>>{
@@ -328,11 +329,12 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"format", "ramtk-fringe-set"},
         {"version", 1},
         {"projector", {{"width", config.projector.intrinsics.width}, {"height", config.projector.intrinsics.height}}},
-        {"fringe_direction", FringeDirectionName(config.direction)},
+        {"direction", FringeOrientationName(config.direction)},
         {"sequence", SequenceJson(config.sequence)},
         {"pattern_convention",
-         "phase shift k of N: 0.5+0.5*cos(2*pi*cycles*c/L - 2*pi*k/N); gray code image i: bit (bits-1-i) of "
-         "G(floor(c*2^bits/L)), G(n)=n^(n>>1); c = projector x (vertical fringes) in pixels, centres at integers"},
+         "phase shift k of N: 0.5+0.5*cos(2*pi*cycles*c/L + phase_at_origin + 2*pi*k/N); gray code image i: bit "
+         "(bits-1-i) of G(floor(c*2^bits/L)), G(n)=n^(n>>1), white=1; c = projector x (vertical fringes) in "
+         "pixels, centres at integers"},
         {"cameras", manifest_cameras},
         {"bit_depth", config.sensor.bits},
         {"calibration", "calibration.yml"},

@@ -7,9 +7,11 @@
 //  * The fringe coordinate c is the projector's x (vertical fringes) or y (horizontal fringes) in
 //    projector pixels, pixel centres at integers (OpenCV convention); L is the projector width
 //    (vertical) or height (horizontal).
-//  * Phase shift, step k of N, `cycles` periods across L:
-//      P_k(c) = 0.5 + 0.5·cos(φ(c) − 2πk/N − ε_k),   φ(c) = 2π·cycles·c / L,
-//    so φ = atan2(Σ I_k sin δ_k, Σ I_k cos δ_k) with δ_k = 2πk/N; ε_k is the phase-shift error.
+//  * Phase shift, step k of N, `cycles` periods across L (the convention of the pattern generator
+//    and decoder in manifest.h):
+//      P_k(c) = 0.5 + 0.5·cos(φ(c) + 2πk/N + ε_k),   φ(c) = 2π·cycles·c / L + φ0,
+//    φ0 the phase at the origin (default −π: every period starts dark, as in SLMaster's set), so
+//    φ = atan2(−Σ I_k sin δ_k, Σ I_k cos δ_k) with δ_k = 2πk/N; ε_k is the phase-shift error.
 //  * Gray code, `bits` images, image i (0 = most significant): P = bit (bits−1−i) of
 //    G(floor(c·2^bits / L)), G(n) = n xor (n >> 1). A complementary Gray code for `cycles`
 //    periods has bits = log2(cycles) + 1 (the SLMaster set: 64 periods, 7 images).
@@ -38,8 +40,9 @@ struct PinholeView {
 };
 
 // Which way the fringes run: vertical fringes code the projector x, horizontal ones the y.
-enum class FringeDirection { kVertical, kHorizontal };
-const char* FringeDirectionName(FringeDirection direction);  // "vertical" / "horizontal"
+// (Named apart from the manifest's FringeDirection until the two halves of vision/ are merged.)
+enum class FringeOrientation { kVertical, kHorizontal };
+const char* FringeOrientationName(FringeOrientation direction);  // "vertical" / "horizontal"
 
 // One block of the pattern sequence.
 struct PatternBlock {
@@ -47,9 +50,15 @@ struct PatternBlock {
   Type type = Type::kPhaseShift;
   int steps = 0;               // phase shift: number of steps N ≥ 3
   double cycles = 0.0;         // phase shift: fringe periods across the projector
+  double phase_at_origin_rad = -3.14159265358979323846;  // phase shift: φ0, phase at c = 0
   int bits = 0;                // Gray code: number of code images
   bool complementary = false;  // Gray code: the last bit is the complementary (half-period) code
 };
+
+// A phase-shift block: `steps` ≥ 3 images, `cycles` periods across the projector, phase φ0 at c = 0.
+PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad = -3.14159265358979323846);
+// A Gray-code block of `bits` images (complementary: the last bit splits each period in halves).
+PatternBlock GrayCodeBlock(int bits, bool complementary);
 
 // One projected image of the sequence.
 struct PatternFrame {
@@ -58,6 +67,7 @@ struct PatternFrame {
   int index = 0;                 // step k (phase shift) or image i (Gray code) within the block
   int steps = 0;                 // phase shift: N
   double cycles = 0.0;           // phase shift: periods across the projector
+  double phase_at_origin_rad = 0.0;  // phase shift: φ0
   int bits = 0;                  // Gray code: number of images in the block
   double shift_error_rad = 0.0;  // phase shift: ε_k added to the nominal 2πk/N
 };
@@ -70,7 +80,7 @@ struct RenderOptions {
   int supersampling = 4;                                    // n: n×n rays per camera pixel
   double ambient = 0.0;                                     // ambient irradiance, fraction of projector white
   double projector_gamma = 1.0;                             // projector response P^γ
-  FringeDirection direction = FringeDirection::kVertical;   // fringe direction
+  FringeOrientation direction = FringeOrientation::kVertical;   // fringe direction
   bool shadows = true;                                      // trace projector shadow rays
   ProgressCallback progress;                                // called from worker threads (serialised), rows done
   // Throws InputError naming the field if a value is out of range.

@@ -45,7 +45,7 @@ struct FringeSimulationConfig {
   PinholeView projector;                   // projector intrinsics and projector_from_left
   Scene scene;                             // spheres and planes, left-camera frame, mm
   std::vector<PatternBlock> sequence;      // projected pattern sequence
-  FringeDirection direction = FringeDirection::kVertical;  // fringe direction
+  FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
   int supersampling = 4;                   // n×n rays per camera pixel
   SensorOptions sensor;                    // bit depth, exposure, noise, (blur is set by `defocus`)
   FringeEffects effects;                   // effect magnitudes
