@@ -18,6 +18,9 @@ struct SimulateFringeOptions {
   int supersampling = 4;             // n×n rays per pixel
   std::string ball;                  // x,y,z of the ball centre in the left-camera frame, mm
   double radius = 0.0;               // ball radius, mm (0 = preset)
+  std::vector<std::string> spheres;  // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
+  bool no_backdrop = false;          // remove the backdrop plane
+  std::string direction = "vertical";  // fringe direction
   bool no_noise = false;             // noiseless images
   bool force = false;                // replace an existing output folder
   bool quiet = false;                // no progress on stderr
@@ -41,6 +44,17 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
     config.scene.spheres.at(0).centre_in_left = Vec3(b[0], b[1], b[2]);
   }
   if (opt.radius != 0.0) config.scene.spheres.at(0).radius = opt.radius;
+  for (std::size_t i = 0; i < opt.spheres.size(); ++i) {
+    const std::vector<double> s = ParseDoubleList(opt.spheres[i], {"", 0, "--sphere"}, 4);
+    if (!(s[3] > 0.0)) throw InputError({"", 0, "--sphere"}, "radius must be positive");
+    config.scene.spheres.push_back({"sphere" + std::to_string(i + 2), Vec3(s[0], s[1], s[2]), s[3], 0.8});
+  }
+  if (opt.no_backdrop) config.scene.planes.clear();
+  if (opt.direction == "horizontal") {
+    config.direction = vision::FringeOrientation::kHorizontal;
+  } else if (opt.direction != "vertical") {
+    throw InputError({"", 0, "--direction"}, "expected vertical or horizontal, got '" + opt.direction + "'");
+  }
   ProgressCallback progress;
   if (!opt.quiet) {
     progress = [last = std::make_shared<int>(-1)](const Progress& p) {
@@ -83,6 +97,10 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
   sub->add_option("--ball", opt->ball, "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700)");
   sub->add_option("--radius", opt->radius, "Ball radius, mm (default 19.05)");
+  sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");
+  sub->add_flag("--no-backdrop", opt->no_backdrop, "Remove the backdrop plane");
+  sub->add_option("--direction", opt->direction, "Fringe direction: vertical (codes projector x) or horizontal")
+      ->capture_default_str();
   sub->add_flag("--no-noise", opt->no_noise, "Render without shot and read noise");
   sub->add_flag("--force", opt->force, "Replace an existing output folder");
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");

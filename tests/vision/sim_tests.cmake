@@ -43,3 +43,9 @@ ramtk_sim_cli_test(simulate_fringe_unknown_preset 1
   ARGS simulate fringe --preset huge --out ${SIM_OUT}_bad
   STDERR "field '--preset': unknown preset 'huge'")
 ramtk_sim_cli_test(simulate_fringe_missing_out 2 ARGS simulate fringe --preset small STDERR "--out is required")
+ramtk_sim_cli_test(simulate_fringe_bad_sphere 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --sphere 1,2,700
+  STDERR "field '--sphere': expected 4 comma-separated values, got 3")
+ramtk_sim_cli_test(simulate_fringe_bad_direction 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --direction diagonal
+  STDERR "field '--direction': expected vertical or horizontal")
