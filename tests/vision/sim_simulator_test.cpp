@@ -132,6 +132,27 @@ TEST(SimSimulator, PhaseShiftErrorShiftsEachStepByItsRecordedDraw) {
   EXPECT_GT(checked, 100);
 }
 
+TEST(SimSimulator, ProgressReportsRowsAndCancelsWithoutOutput) {
+  FringeSimulationConfig c = FastConfig();
+  std::size_t calls = 0, last_done = 0, total = 0;
+  const SimulatedCamera done = SimulateCamera(c, 0, [&](const Progress& p) {
+    ++calls;
+    last_done = std::max(last_done, p.done);
+    total = p.total;
+    return true;
+  });
+  EXPECT_EQ(calls, 512u);  // one call per image row
+  EXPECT_EQ(last_done, 512u);
+  EXPECT_EQ(total, 512u);
+  EXPECT_FALSE(done.truth.cancelled);
+  const std::string out = (fs::temp_directory_path() / ("ramtk_sim_cancel_" + std::to_string(::getpid()))).string();
+  fs::remove_all(out);
+  const FringeSimulationSummary s = SimulateFringeSet(c, out, false, [](const Progress& p) { return p.done < 100; });
+  EXPECT_TRUE(s.cancelled);
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial-" + std::to_string(::getpid())));
+}
+
 TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
   FringeEffects e;
   EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);
