@@ -10,20 +10,20 @@ namespace ramtk::tools {
 namespace {
 
 struct SimulateFringeOptions {
-  std::string preset = "small";      // thesis | small
-  std::string out_dir;               // output folder
-  std::uint64_t seed = 1;            // random seed
-  std::vector<std::string> effects;  // name=magnitude
-  int bits = 8;                      // camera bit depth
-  int supersampling = 4;             // n×n rays per pixel
-  std::string ball;                  // x,y,z of the ball centre in the left-camera frame, mm
-  double radius = 0.0;               // ball radius, mm (0 = preset)
-  std::vector<std::string> spheres;  // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
-  bool no_backdrop = false;          // remove the backdrop plane
+  std::string preset = "small";        // thesis | small
+  std::string out_dir;                 // output folder
+  std::uint64_t seed = 1;              // random seed
+  std::vector<std::string> effects;    // name=magnitude
+  int bits = 8;                        // camera bit depth
+  int supersampling = 4;               // n×n rays per pixel
+  std::string ball;                    // x,y,z of the ball centre in the left-camera frame, mm
+  double radius = 0.0;                 // ball radius, mm (0 = preset)
+  std::vector<std::string> spheres;    // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
+  bool no_backdrop = false;            // remove the backdrop plane
   std::string direction = "vertical";  // fringe direction
-  bool no_noise = false;             // noiseless images
-  bool force = false;                // replace an existing output folder
-  bool quiet = false;                // no progress on stderr
+  bool no_noise = false;               // noiseless images
+  bool force = false;                  // replace an existing output folder
+  bool quiet = false;                  // no progress on stderr
 };
 
 int RunSimulateFringe(const SimulateFringeOptions& opt) {
@@ -34,8 +34,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
   config.supersampling = opt.supersampling;
   for (const std::string& e : opt.effects) {
     const auto eq = e.find('=');
-    if (eq == std::string::npos)
-      throw InputError({"", 0, "--effect"}, "expected name=magnitude, got '" + e + "'");
+    if (eq == std::string::npos) throw InputError({"", 0, "--effect"}, "expected name=magnitude, got '" + e + "'");
     const std::string name = e.substr(0, eq);
     config.effects.Set(name, ParseDouble(e.substr(eq + 1), {"", 0, "--effect " + name}));
   }
@@ -66,8 +65,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
       return true;
     };
   }
-  const vision::FringeSimulationSummary summary =
-      vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
+  const vision::FringeSimulationSummary summary = vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
   std::cout << summary.BriefReport() << '\n';
   return kExitOk;
 }

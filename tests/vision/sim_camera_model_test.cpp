@@ -1,11 +1,11 @@
 // Camera model against OpenCV as the peer: projection vs cv::projectPoints, back-projection vs
 // cv::undistortPoints (run to convergence), and the round trip pixel → ray → pixel.
-#include "ramtk/vision/camera_model.h"
-
 #include <gtest/gtest.h>
 
 #include <opencv2/calib3d.hpp>
 #include <random>
+
+#include "ramtk/vision/camera_model.h"
 
 namespace ramtk::vision {
 namespace {
@@ -23,9 +23,8 @@ CameraIntrinsics TestCamera(const Distortion& d) {
 }
 
 std::vector<Distortion> TestDistortions() {
-  return {Distortion{},
-          Distortion{6.26e-4, -3.07e-2, -7.03e-5, -1.24e-4, 1.51e-1},  // caliInfo.yml D1
-          Distortion{-0.12, 0.08, 1e-3, -2e-3, -0.02},                  // a stronger wide-angle lens
+  return {Distortion{}, Distortion{6.26e-4, -3.07e-2, -7.03e-5, -1.24e-4, 1.51e-1},  // caliInfo.yml D1
+          Distortion{-0.12, 0.08, 1e-3, -2e-3, -0.02},                               // a stronger wide-angle lens
           Distortion{0.2, -0.3, -1.5e-3, 8e-4, 0.5}};
 }
 

@@ -1,10 +1,10 @@
 // Ray–sphere and ray–plane intersections against closed forms.
-#include "ramtk/vision/scene.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
+
+#include "ramtk/vision/scene.h"
 
 namespace ramtk::vision {
 namespace {

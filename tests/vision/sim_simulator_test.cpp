@@ -1,7 +1,5 @@
 // The simulator: seeds reproduce images exactly (also across thread counts), effects do what their
 // magnitudes say, and the written set (manifest, images, calibration, ground truth) reads back.
-#include "ramtk/vision/fringe_simulator.h"
-
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -12,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "ramtk/core/error.h"
+#include "ramtk/vision/fringe_simulator.h"
 
 namespace ramtk::vision {
 namespace {
@@ -216,8 +215,8 @@ TEST(SimSimulator, WritesAReadableSetAndRefusesToOverwrite) {
   ASSERT_EQ(depth.type(), CV_32F);
   // The ball's front pole is on the left optical axis: depth 700 − r at the ball-centre pixel.
   const CameraIntrinsics& k = c.cameras.left;
-  EXPECT_NEAR(depth.at<float>(static_cast<int>(std::round(k.cy)), static_cast<int>(std::round(k.cx))),
-              700.0 - 19.05, 0.01);
+  EXPECT_NEAR(depth.at<float>(static_cast<int>(std::round(k.cy)), static_cast<int>(std::round(k.cx))), 700.0 - 19.05,
+              0.01);
 
   // An existing non-empty folder is refused before any rendering, and left untouched.
   std::ofstream(out + "/keep.txt") << "user data";

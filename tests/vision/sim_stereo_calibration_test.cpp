@@ -1,8 +1,6 @@
 // Stereo calibration files: the real SLMaster caliInfo.yml (values typed from the file, and its
 // own essential matrix E as an independent check of the R, T convention), write/read round trips
 // in YAML and JSON, and malformed files that must name the file and key.
-#include "ramtk/vision/stereo_calibration.h"
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -10,6 +8,7 @@
 #include <fstream>
 
 #include "ramtk/core/error.h"
+#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::vision {
 namespace {
@@ -58,8 +57,8 @@ StereoCalibration ExampleCalibration() {
   StereoCalibration c;
   c.left = {7250.5, 7251.25, 1655.75, 1243.5, {-0.08, 0.12, 2e-4, -3e-4, 0.01}, 3312, 2488};
   c.right = {7249.0, 7248.5, 1650.0, 1240.25, {-0.07, 0.1, -1e-4, 2e-4, 0.0}, 3312, 2488};
-  c.right_from_left.linear() = (Eigen::AngleAxisd(-0.28, Vec3::UnitY()) * Eigen::AngleAxisd(0.01, Vec3::UnitX()))
-                                   .toRotationMatrix();
+  c.right_from_left.linear() =
+      (Eigen::AngleAxisd(-0.28, Vec3::UnitY()) * Eigen::AngleAxisd(0.01, Vec3::UnitX())).toRotationMatrix();
   c.right_from_left.translation() = Vec3(-196.1, 0.04, 39.09);
   return c;
 }
@@ -115,11 +114,16 @@ std::string ReadError(const std::string& text, InputLocation* where = nullptr) {
 std::string GoodYamlWith(const std::string& r_data, const std::string& k2_rows = "3") {
   return "%YAML:1.0\n---\n"
          "image_size: [ 640, 512 ]\n"
-         "K1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1000., 0., 320., 0., 1000., 256., 0., 0., 1. ]\n"
+         "K1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1000., 0., 320., 0., 1000., 256., 0., 0., "
+         "1. ]\n"
          "D1: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
-         "K2: !!opencv-matrix\n   rows: " + k2_rows + "\n   cols: 3\n   dt: d\n   data: [ 1000., 0., 320., 0., 1000., 256., 0., 0., 1. ]\n"
+         "K2: !!opencv-matrix\n   rows: " +
+         k2_rows +
+         "\n   cols: 3\n   dt: d\n   data: [ 1000., 0., 320., 0., 1000., 256., 0., 0., 1. ]\n"
          "D2: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n   data: [ 0., 0., 0., 0., 0. ]\n"
-         "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " + r_data + " ]\n"
+         "R: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ " +
+         r_data +
+         " ]\n"
          "T: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -200., 0., 0. ]\n";
 }
 

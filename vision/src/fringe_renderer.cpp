@@ -152,8 +152,7 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks
 }
 
 void RenderOptions::Validate() const {
-  if (supersampling < 1 || supersampling > 16)
-    throw InputError({"", 0, "supersampling"}, "must be in 1..16");
+  if (supersampling < 1 || supersampling > 16) throw InputError({"", 0, "supersampling"}, "must be in 1..16");
   if (!(ambient >= 0.0 && std::isfinite(ambient))) throw InputError({"", 0, "ambient"}, "must be >= 0");
   if (!(projector_gamma > 0.0 && std::isfinite(projector_gamma)))
     throw InputError({"", 0, "projector_gamma"}, "must be > 0");
@@ -266,7 +265,8 @@ void SensorOptions::Validate() const {
   if (!(exposure > 0.0 && std::isfinite(exposure))) throw InputError({"", 0, "exposure"}, "must be > 0");
   if (!(full_well_electrons > 0.0)) throw InputError({"", 0, "full_well_electrons"}, "must be > 0");
   if (!(read_noise_electrons >= 0.0)) throw InputError({"", 0, "read_noise_electrons"}, "must be >= 0");
-  if (!(blur_sigma_px >= 0.0 && blur_sigma_px < 100.0)) throw InputError({"", 0, "blur_sigma_px"}, "must be in [0, 100)");
+  if (!(blur_sigma_px >= 0.0 && blur_sigma_px < 100.0))
+    throw InputError({"", 0, "blur_sigma_px"}, "must be in [0, 100)");
 }
 
 cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o, std::uint64_t seed,
@@ -276,8 +276,8 @@ cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o
   const double max_value = o.MaxValue();
   cv::Mat mean;
   radiance.convertTo(mean, CV_32F, o.exposure * gain * max_value);
-  if (o.blur_sigma_px > 0.0) cv::GaussianBlur(mean, mean, cv::Size(0, 0), o.blur_sigma_px, o.blur_sigma_px,
-                                              cv::BORDER_REFLECT);
+  if (o.blur_sigma_px > 0.0)
+    cv::GaussianBlur(mean, mean, cv::Size(0, 0), o.blur_sigma_px, o.blur_sigma_px, cv::BORDER_REFLECT);
   cv::Mat out(mean.size(), o.bits == 8 ? CV_8U : CV_16U);
   const double dn_per_electron = max_value / o.full_well_electrons;
   const double read_var_dn = std::pow(o.read_noise_electrons * dn_per_electron, 2);

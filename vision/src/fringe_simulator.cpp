@@ -45,7 +45,12 @@ json Vec3Json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 json IntrinsicsJson(const CameraIntrinsics& c) {
   const Distortion& d = c.distortion;
-  return {{"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}, {"width", c.width}, {"height", c.height},
+  return {{"fx", c.fx},
+          {"fy", c.fy},
+          {"cx", c.cx},
+          {"cy", c.cy},
+          {"width", c.width},
+          {"height", c.height},
           {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
 }
 
@@ -59,7 +64,9 @@ json SequenceJson(const std::vector<PatternBlock>& blocks) {
   json seq = json::array();
   for (const PatternBlock& b : blocks) {
     if (b.type == PatternBlock::Type::kPhaseShift) {
-      seq.push_back({{"type", "phase_shift"}, {"steps", b.steps}, {"cycles", b.cycles},
+      seq.push_back({{"type", "phase_shift"},
+                     {"steps", b.steps},
+                     {"cycles", b.cycles},
                      {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
     } else {
       seq.push_back({{"type", "gray_code"}, {"bits", b.bits}, {"complementary", b.complementary}});
@@ -195,8 +202,7 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   c.projector.view_from_left = LookAt(Vec3(100.0, -40.0, 0.0), ball);
   c.scene.spheres.push_back({"ball", ball, 38.1 / 2.0, 0.8});
   c.scene.planes.push_back({"backdrop", Vec3(0.0, 0.0, 850.0), Vec3(0.0, 0.0, -1.0), 0.5});
-  c.sequence = {PhaseShiftBlock(12, 64.0),
-                GrayCodeBlock(7, true)};
+  c.sequence = {PhaseShiftBlock(12, 64.0), GrayCodeBlock(7, true)};
   return c;
 }
 
@@ -302,12 +308,12 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       manifest_cameras[names[cam]] = images;
       const std::string prefix = std::string("truth/") + names[cam] + "_";
       json files;
-      for (const auto& [key, mat] : std::vector<std::pair<std::string, const cv::Mat*>>{
-               {"projector_x", &sim.truth.projector_x},
-               {"projector_y", &sim.truth.projector_y},
-               {"depth", &sim.truth.depth},
-               {"lit_fraction", &sim.truth.lit_fraction},
-               {"object_id", &sim.truth.object_id}}) {
+      for (const auto& [key, mat] :
+           std::vector<std::pair<std::string, const cv::Mat*>>{{"projector_x", &sim.truth.projector_x},
+                                                               {"projector_y", &sim.truth.projector_y},
+                                                               {"depth", &sim.truth.depth},
+                                                               {"lit_fraction", &sim.truth.lit_fraction},
+                                                               {"object_id", &sim.truth.object_id}}) {
         WriteFloatTiff((tmp / (prefix + key + ".tif")).string(), *mat);
         files[key] = prefix + key + ".tif";
       }
@@ -339,18 +345,25 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"bit_depth", config.sensor.bits},
         {"calibration", "calibration.yml"},
         {"simulation",
-         {{"generator", "ramtk simulate fringe"}, {"preset", config.preset}, {"seed", config.seed}, {"effects", effects},
+         {{"generator", "ramtk simulate fringe"},
+          {"preset", config.preset},
+          {"seed", config.seed},
+          {"effects", effects},
           {"truth", "truth/truth.json"}}}};
     WriteFileAtomically((tmp / "manifest.json").string(), manifest.dump(2) + "\n");
 
     json spheres = json::array();
     for (const Sphere& s : config.scene.spheres)
-      spheres.push_back({{"name", s.name}, {"centre_in_left_mm", Vec3Json(s.centre_in_left)}, {"radius_mm", s.radius},
+      spheres.push_back({{"name", s.name},
+                         {"centre_in_left_mm", Vec3Json(s.centre_in_left)},
+                         {"radius_mm", s.radius},
                          {"albedo", s.albedo}});
     json planes = json::array();
     for (const Plane& p : config.scene.planes)
-      planes.push_back({{"name", p.name}, {"point_in_left_mm", Vec3Json(p.point_in_left)},
-                        {"normal_in_left", Vec3Json(p.normal_in_left.normalized())}, {"albedo", p.albedo}});
+      planes.push_back({{"name", p.name},
+                        {"point_in_left_mm", Vec3Json(p.point_in_left)},
+                        {"normal_in_left", Vec3Json(p.normal_in_left.normalized())},
+                        {"albedo", p.albedo}});
     json shift_deg = json::array();
     for (double e : fx.shift_errors_rad) shift_deg.push_back(RadToDeg(e));
     json truth = {
@@ -361,15 +374,21 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"planes", planes},
         {"object_ids", "spheres in order, then planes; -1 = no surface"},
         {"cameras", truth_cameras},
-        {"projector", {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
-                       {"projector_from_left", PoseJson(config.projector.view_from_left)}}},
+        {"projector",
+         {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
+          {"projector_from_left", PoseJson(config.projector.view_from_left)}}},
         {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
-        {"render", {{"supersampling", config.supersampling}, {"ambient", config.effects.ambient_light},
-                    {"projector_gamma", config.effects.projector_nonlinearity}}},
-        {"sensor", {{"bits", config.sensor.bits}, {"exposure", config.sensor.exposure * config.effects.saturation},
-                    {"full_well_electrons", config.sensor.full_well_electrons},
-                    {"read_noise_electrons", config.sensor.read_noise_electrons},
-                    {"blur_sigma_px", config.effects.defocus}, {"noise", config.sensor.noise}}},
+        {"render",
+         {{"supersampling", config.supersampling},
+          {"ambient", config.effects.ambient_light},
+          {"projector_gamma", config.effects.projector_nonlinearity}}},
+        {"sensor",
+         {{"bits", config.sensor.bits},
+          {"exposure", config.sensor.exposure * config.effects.saturation},
+          {"full_well_electrons", config.sensor.full_well_electrons},
+          {"read_noise_electrons", config.sensor.read_noise_electrons},
+          {"blur_sigma_px", config.effects.defocus},
+          {"noise", config.sensor.noise}}},
         {"truth_images",
          "float32 TIFF per camera: projector_x/projector_y = projector pixel of the pixel-centre ray's first hit "
          "(NaN where the projector does not light it), depth = z in that camera's frame (mm, NaN: no surface), "

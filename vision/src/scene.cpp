@@ -6,8 +6,8 @@ namespace ramtk::vision {
 
 std::optional<double> IntersectSphere(const Sphere& s, const Vec3& origin, const Vec3& direction, double t_min) {
   const Vec3 oc = s.centre_in_left - origin;
-  const double b = oc.dot(direction);               // distance to the closest approach
-  const Vec3 perp = oc - b * direction;              // centre's offset from the ray
+  const double b = oc.dot(direction);    // distance to the closest approach
+  const Vec3 perp = oc - b * direction;  // centre's offset from the ray
   const double h2 = s.radius * s.radius - perp.squaredNorm();
   if (h2 < 0.0) return std::nullopt;
   const double h = std::sqrt(h2);

@@ -17,8 +17,8 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 
 // Reads a matrix node (an opencv-matrix or a plain sequence of numbers) as doubles, row-major.
 // Returns false if the key is absent.
-bool ReadNumbers(const cv::FileNode& node, const std::string& path, const std::string& key,
-                 std::vector<double>* values, int* rows, int* cols) {
+bool ReadNumbers(const cv::FileNode& node, const std::string& path, const std::string& key, std::vector<double>* values,
+                 int* rows, int* cols) {
   if (node.empty() || node.isNone()) return false;
   values->clear();
   if (node.isSeq()) {
@@ -52,8 +52,7 @@ bool ReadNumbers(const cv::FileNode& node, const std::string& path, const std::s
 }
 
 std::vector<double> RequireNumbers(const cv::FileStorage& fs, const std::string& path,
-                                   const std::vector<std::string>& keys, int* rows, int* cols,
-                                   std::string* used_key) {
+                                   const std::vector<std::string>& keys, int* rows, int* cols, std::string* used_key) {
   std::vector<double> values;
   for (const std::string& key : keys) {
     if (ReadNumbers(fs[key], path, key, &values, rows, cols)) {
@@ -74,8 +73,8 @@ CameraIntrinsics ReadCamera(const cv::FileStorage& fs, const std::string& path, 
   std::string key;
   const std::vector<double> k = RequireNumbers(fs, path, {k_key, k_alias}, &rows, &cols, &key);
   if (rows != 3 || cols != 3)
-    throw InputError({path, 0, key}, "expected a 3x3 camera matrix, got " + std::to_string(rows) + "x" +
-                                         std::to_string(cols));
+    throw InputError({path, 0, key},
+                     "expected a 3x3 camera matrix, got " + std::to_string(rows) + "x" + std::to_string(cols));
   if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || std::abs(k[8] - 1.0) > 1e-12)
     throw InputError({path, 0, key}, "not a pinhole camera matrix [fx 0 cx; 0 fy cy; 0 0 1] (skew unsupported)");
   if (!(k[0] > 0.0 && k[4] > 0.0)) throw InputError({path, 0, key}, "focal lengths must be positive");
@@ -85,8 +84,8 @@ CameraIntrinsics ReadCamera(const cv::FileStorage& fs, const std::string& path, 
   cam.fy = k[4];
   cam.cy = k[5];
   const std::vector<double> d = RequireNumbers(fs, path, {d_key}, &rows, &cols, &key);
-  if (std::min(rows, cols) != 1 || (d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 &&
-                                    d.size() != 14))
+  if (std::min(rows, cols) != 1 ||
+      (d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 && d.size() != 14))
     throw InputError({path, 0, key}, "expected 4, 5, 8, 12 or 14 distortion coefficients in one row, got " +
                                          std::to_string(rows) + "x" + std::to_string(cols));
   for (std::size_t i = 5; i < d.size(); ++i)
@@ -98,8 +97,8 @@ CameraIntrinsics ReadCamera(const cv::FileStorage& fs, const std::string& path, 
 }
 
 // Image size [w, h] from image_size / S / image_width+image_height.
-void ReadImageSize(const cv::FileStorage& fs, const std::string& path, const std::vector<std::string>& keys,
-                   int* width, int* height) {
+void ReadImageSize(const cv::FileStorage& fs, const std::string& path, const std::vector<std::string>& keys, int* width,
+                   int* height) {
   std::vector<double> v;
   int rows = 0, cols = 0;
   for (const std::string& key : keys) {
@@ -120,8 +119,9 @@ void ReadImageSize(const cv::FileStorage& fs, const std::string& path, const std
     if (*width <= 0 || *height <= 0) throw InputError({path, 0, "image_width"}, "image size must be positive");
     return;
   }
-  throw InputError({path, 0, keys.front()}, "missing key (expected the image size as image_size, S or "
-                                            "image_width + image_height)");
+  throw InputError({path, 0, keys.front()},
+                   "missing key (expected the image size as image_size, S or "
+                   "image_width + image_height)");
 }
 
 std::string FormatDouble(double v) {
@@ -152,15 +152,14 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
   ReadImageSize(fs, path, {"image_size", "S", "imageSize"}, &calib.left.width, &calib.left.height);
   calib.right.width = calib.left.width;
   calib.right.height = calib.left.height;
-  if (!fs["image_size2"].empty())
-    ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
+  if (!fs["image_size2"].empty()) ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
 
   int rows = 0, cols = 0;
   std::string key;
   const std::vector<double> r = RequireNumbers(fs, path, {"R", "Rlr"}, &rows, &cols, &key);
   if (rows != 3 || cols != 3)
-    throw InputError({path, 0, key}, "expected a 3x3 rotation, got " + std::to_string(rows) + "x" +
-                                         std::to_string(cols));
+    throw InputError({path, 0, key},
+                     "expected a 3x3 rotation, got " + std::to_string(rows) + "x" + std::to_string(cols));
   Mat3 rotation;
   for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = r[i];
   const double ortho = OrthonormalityError(rotation);
@@ -170,15 +169,14 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
                                          FormatDouble(kMaxRotationOrthonormalityError) + ")");
   const std::vector<double> t = RequireNumbers(fs, path, {"T", "Tlr"}, &rows, &cols, &key);
   if (t.size() != 3 || std::min(rows, cols) != 1)
-    throw InputError({path, 0, key}, "expected a 3-vector translation (mm), got " + std::to_string(rows) + "x" +
-                                         std::to_string(cols));
+    throw InputError({path, 0, key},
+                     "expected a 3-vector translation (mm), got " + std::to_string(rows) + "x" + std::to_string(cols));
   calib.right_from_left.linear() = rotation;
   calib.right_from_left.translation() = Vec3(t[0], t[1], t[2]);
 
   std::vector<double> v;
   if (ReadNumbers(fs["rms_px"], path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];
-  if (ReadNumbers(fs["per_view_errors_px"], path, "per_view_errors_px", &v, &rows, &cols))
-    calib.per_view_errors_px = v;
+  if (ReadNumbers(fs["per_view_errors_px"], path, "per_view_errors_px", &v, &rows, &cols)) calib.per_view_errors_px = v;
   if (ReadNumbers(fs["parameter_std"], path, "parameter_std", &v, &rows, &cols)) calib.parameter_std = v;
   return calib;
 }

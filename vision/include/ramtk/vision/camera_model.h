@@ -31,13 +31,13 @@ struct Distortion {
 
 // Intrinsics of one pinhole camera (or projector) and its image size.
 struct CameraIntrinsics {
-  double fx = 1.0;         // focal length along u, pixels
-  double fy = 1.0;         // focal length along v, pixels
-  double cx = 0.0;         // principal point u, pixels
-  double cy = 0.0;         // principal point v, pixels
-  Distortion distortion;   // lens distortion (zero = ideal pinhole)
-  int width = 0;           // image width, pixels
-  int height = 0;          // image height, pixels
+  double fx = 1.0;        // focal length along u, pixels
+  double fy = 1.0;        // focal length along v, pixels
+  double cx = 0.0;        // principal point u, pixels
+  double cy = 0.0;        // principal point v, pixels
+  Distortion distortion;  // lens distortion (zero = ideal pinhole)
+  int width = 0;          // image width, pixels
+  int height = 0;         // image height, pixels
 
   // The 3×3 camera matrix K.
   Mat3 K() const;

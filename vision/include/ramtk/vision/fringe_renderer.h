@@ -35,8 +35,8 @@ namespace ramtk::vision {
 
 // A pinhole camera or projector placed in the scene (left-camera) frame.
 struct PinholeView {
-  CameraIntrinsics intrinsics;                           // intrinsics and image size
-  Isometry3 view_from_left = Isometry3::Identity();      // maps left-camera coordinates into this view
+  CameraIntrinsics intrinsics;                       // intrinsics and image size
+  Isometry3 view_from_left = Isometry3::Identity();  // maps left-camera coordinates into this view
 };
 
 // Which way the fringes run: vertical fringes code the projector x, horizontal ones the y.
@@ -48,10 +48,10 @@ const char* FringeOrientationName(FringeOrientation direction);  // "vertical" /
 struct PatternBlock {
   enum class Type { kPhaseShift, kGrayCode };
   Type type = Type::kPhaseShift;
-  int steps = 0;               // phase shift: number of steps N ≥ 3
-  double cycles = 0.0;         // phase shift: fringe periods across the projector
+  int steps = 0;                                         // phase shift: number of steps N ≥ 3
+  double cycles = 0.0;                                   // phase shift: fringe periods across the projector
   double phase_at_origin_rad = -3.14159265358979323846;  // phase shift: φ0, phase at c = 0
-  int bits = 0;                // Gray code: number of code images
+  int bits = 0;                                          // Gray code: number of code images
   bool complementary = false;  // Gray code: the last bit is the complementary (half-period) code
 };
 
@@ -63,13 +63,13 @@ PatternBlock GrayCodeBlock(int bits, bool complementary);
 // One projected image of the sequence.
 struct PatternFrame {
   PatternBlock::Type type = PatternBlock::Type::kPhaseShift;
-  int block = 0;                 // index of its block in the sequence
-  int index = 0;                 // step k (phase shift) or image i (Gray code) within the block
-  int steps = 0;                 // phase shift: N
-  double cycles = 0.0;           // phase shift: periods across the projector
+  int block = 0;                     // index of its block in the sequence
+  int index = 0;                     // step k (phase shift) or image i (Gray code) within the block
+  int steps = 0;                     // phase shift: N
+  double cycles = 0.0;               // phase shift: periods across the projector
   double phase_at_origin_rad = 0.0;  // phase shift: φ0
-  int bits = 0;                  // Gray code: number of images in the block
-  double shift_error_rad = 0.0;  // phase shift: ε_k added to the nominal 2πk/N
+  int bits = 0;                      // Gray code: number of images in the block
+  double shift_error_rad = 0.0;      // phase shift: ε_k added to the nominal 2πk/N
 };
 
 // Expands blocks into frames (with zero shift errors). Throws InputError (field "sequence[i]") for
@@ -77,12 +77,12 @@ struct PatternFrame {
 std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks);
 
 struct RenderOptions {
-  int supersampling = 4;                                    // n: n×n rays per camera pixel
-  double ambient = 0.0;                                     // ambient irradiance, fraction of projector white
-  double projector_gamma = 1.0;                             // projector response P^γ
-  FringeOrientation direction = FringeOrientation::kVertical;   // fringe direction
-  bool shadows = true;                                      // trace projector shadow rays
-  ProgressCallback progress;                                // called from worker threads (serialised), rows done
+  int supersampling = 4;                                       // n: n×n rays per camera pixel
+  double ambient = 0.0;                                        // ambient irradiance, fraction of projector white
+  double projector_gamma = 1.0;                                // projector response P^γ
+  FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
+  bool shadows = true;                                         // trace projector shadow rays
+  ProgressCallback progress;                                   // called from worker threads (serialised), rows done
   // Throws InputError naming the field if a value is out of range.
   void Validate() const;
 };

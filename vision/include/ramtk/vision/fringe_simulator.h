@@ -40,16 +40,16 @@ struct FringeEffects {
 
 // Everything that defines a simulated stereo fringe set.
 struct FringeSimulationConfig {
-  std::string preset;                      // preset it was made from ("thesis", "small", or "")
-  StereoCalibration cameras;               // true cameras: intrinsics, distortion, right_from_left
-  PinholeView projector;                   // projector intrinsics and projector_from_left
-  Scene scene;                             // spheres and planes, left-camera frame, mm
-  std::vector<PatternBlock> sequence;      // projected pattern sequence
+  std::string preset;                                          // preset it was made from ("thesis", "small", or "")
+  StereoCalibration cameras;                                   // true cameras: intrinsics, distortion, right_from_left
+  PinholeView projector;                                       // projector intrinsics and projector_from_left
+  Scene scene;                                                 // spheres and planes, left-camera frame, mm
+  std::vector<PatternBlock> sequence;                          // projected pattern sequence
   FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
-  int supersampling = 4;                   // n×n rays per camera pixel
-  SensorOptions sensor;                    // bit depth, exposure, noise, (blur is set by `defocus`)
-  FringeEffects effects;                   // effect magnitudes
-  std::uint64_t seed = 1;                  // seeds every random draw (effects and noise)
+  int supersampling = 4;                                       // n×n rays per camera pixel
+  SensorOptions sensor;                                        // bit depth, exposure, noise, (blur is set by `defocus`)
+  FringeEffects effects;                                       // effect magnitudes
+  std::uint64_t seed = 1;                                      // seeds every random draw (effects and noise)
 
   // Throws InputError naming the field for invalid values.
   void Validate() const;
@@ -83,11 +83,11 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
 
 // What SimulateFringeSet wrote.
 struct FringeSimulationSummary {
-  std::string out_dir;      // the output folder
-  int frames = 0;           // images per camera
+  std::string out_dir;  // the output folder
+  int frames = 0;       // images per camera
   int width = 0, height = 0;
-  double seconds = 0.0;     // wall time
-  bool cancelled = false;   // the progress callback stopped it; nothing was written
+  double seconds = 0.0;    // wall time
+  bool cancelled = false;  // the progress callback stopped it; nothing was written
   std::string BriefReport() const;
 };
 

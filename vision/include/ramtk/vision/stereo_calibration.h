@@ -24,8 +24,8 @@ namespace ramtk::vision {
 inline constexpr double kMaxRotationOrthonormalityError = 1e-6;
 
 struct StereoCalibration {
-  CameraIntrinsics left;       // camera 1 (the reference frame of every 3-D result)
-  CameraIntrinsics right;      // camera 2
+  CameraIntrinsics left;                              // camera 1 (the reference frame of every 3-D result)
+  CameraIntrinsics right;                             // camera 2
   Isometry3 right_from_left = Isometry3::Identity();  // R, T; translation in mm
 
   // Quality figures from a calibration session; NaN / empty when unknown (e.g. simulated).
