@@ -177,9 +177,11 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   FringeSimulationConfig c;
   c.preset = name;
   const Vec3 ball(0.0, 0.0, 700.0);
-  // Cameras: 3312×2488, f = 7250 px (a 25 mm lens on 3.45 µm pixels), both aimed at the ball.
-  CameraIntrinsics left{7250.0, 7250.0, 1655.5, 1243.5, {-0.06, 0.10, 1e-4, -2e-4, 0.0}, 3312, 2488};
-  CameraIntrinsics right{7245.0, 7247.0, 1650.0, 1240.0, {-0.05, 0.08, -1e-4, 1e-4, 0.0}, 3312, 2488};
+  // Cameras as in thesis §5.1 (IMPERX B3320M, 3312×2488, 5.5 µm pixels, ZEISS 25 mm lenses):
+  // focused at 700 mm the image distance is 25.9 mm, f = 4700 px, a 493 × 370 mm field per camera
+  // (the thesis quotes ~570 × 430 mm for the pair). Distortion ~0.5 % in the corners.
+  CameraIntrinsics left{4700.0, 4700.0, 1655.5, 1243.5, {-0.03, 0.05, 1e-4, -2e-4, 0.0}, 3312, 2488};
+  CameraIntrinsics right{4696.0, 4698.0, 1650.0, 1240.0, {-0.025, 0.04, -1e-4, 1e-4, 0.0}, 3312, 2488};
   const Isometry3 right_from_left = LookAt(Vec3(200.0, 0.0, 0.0), ball);
   if (name == "small") {
     // Crop 640×512 windows around where the ball centre images.
@@ -197,8 +199,9 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   c.cameras.right = right;
   c.cameras.right_from_left = right_from_left;
   // Projector between the cameras, slightly above, aimed at the ball: 912×1140, square pixels,
-  // f = 1900 px (≈ 336 mm × 420 mm at 700 mm).
-  c.projector.intrinsics = {1900.0, 1900.0, 455.5, 569.5, {}, 912, 1140};
+  // LightCrafter 4500: 912 columns × 1140 rows on a 16:10 image, so rows are at half the column
+  // pitch (fy = 2·fx); fx = 1280 px lights ≈ 500 × 312 mm at 700 mm.
+  c.projector.intrinsics = {1280.0, 2560.0, 455.5, 569.5, {}, 912, 1140};
   c.projector.view_from_left = LookAt(Vec3(100.0, -40.0, 0.0), ball);
   c.scene.spheres.push_back({"ball", ball, 38.1 / 2.0, 0.8});
   c.scene.planes.push_back({"backdrop", Vec3(0.0, 0.0, 850.0), Vec3(0.0, 0.0, -1.0), 0.5});

@@ -55,7 +55,7 @@ struct FringeSimulationConfig {
   void Validate() const;
 };
 
-// Presets: "thesis" — 3312×2488 cameras (f = 7250 px), a 912×1140 projector, ~700 mm working
+// Presets: "thesis" — 3312×2488 cameras (f = 4700 px), a 912×1140 projector, ~700 mm working
 // distance, 200 mm baseline, the 38.1 mm ball at 700 mm in front of the left camera and a backdrop
 // plane at 850 mm; the SLMaster sequence (12-step phase shift, 64 cycles, 7-bit complementary Gray
 // code). "small" — the same rig with 640×512 cameras cropped around the ball (tests use it).
