@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -152,6 +153,28 @@ TEST(SimSimulator, ProgressReportsRowsAndCancelsWithoutOutput) {
   EXPECT_FALSE(fs::exists(out + ".partial-" + std::to_string(::getpid())));
 }
 
+TEST(SimSimulator, TwelveBitImagesAreWrittenAtSixteenBitFullScale) {
+  FringeSimulationConfig c = FastConfig();
+  c.supersampling = 1;
+  c.sensor.bits = 12;
+  c.effects.Set("saturation", 3.0);  // clip the bright fringes
+  const std::string out = (fs::temp_directory_path() / ("ramtk_sim_12bit_" + std::to_string(::getpid()))).string();
+  fs::remove_all(out);
+  SimulateFringeSet(c, out);
+  const cv::Mat written = cv::imread(out + "/left/00.png", cv::IMREAD_UNCHANGED);
+  const SimulatedCamera sim = SimulateCamera(c, 0);  // same seed: the same 12-bit values
+  ASSERT_EQ(written.type(), CV_16U);
+  double lo, hi;
+  cv::minMaxLoc(sim.images[0], &lo, &hi);
+  EXPECT_EQ(hi, 4095.0);
+  for (int v = 0; v < written.rows; v += 7)
+    for (int u = 0; u < written.cols; u += 7) {
+      const int q = sim.images[0].at<std::uint16_t>(v, u);
+      ASSERT_EQ(written.at<std::uint16_t>(v, u), static_cast<int>(std::lround(q * 65535.0 / 4095.0))) << u << "," << v;
+    }
+  fs::remove_all(out);
+}
+
 TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
   FringeEffects e;
   EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);
@@ -182,7 +205,7 @@ TEST(SimSimulator, WritesAReadableSetAndRefusesToOverwrite) {
   c.seed = 77;
   const std::string out = TempDir("set");
   fs::remove_all(out);
-  const FringeSimulationSummary s = SimulateFringeSet(c, out);
+  const FringeSimulationSummary s = SimulateFringeSet(c, out + "/");  // a trailing slash names the same folder
   EXPECT_EQ(s.frames, 5);
   std::ifstream in(out + "/manifest.json");
   const nlohmann::json m = nlohmann::json::parse(in);

@@ -85,10 +85,20 @@ void WriteFloatTiff(const std::string& path, const cv::Mat& image) {
     throw InputError({path, 0, ""}, "cannot write: " + out->geterror());
 }
 
-void WritePng(const std::string& path, const cv::Mat& image) {
+// Writes an 8-bit image as is; a 10/12/16-bit one as 16-bit PNG scaled to 16-bit full scale
+// (q·65535 / (2^bits − 1), rounded), so 16-bit readers see saturation at 65535.
+void WritePng(const std::string& path, const cv::Mat& image, int bits) {
+  cv::Mat out = image;
+  if (bits > 8 && bits < 16) {
+    out = cv::Mat(image.size(), CV_16U);
+    const double scale = 65535.0 / ((1 << bits) - 1);
+    for (int v = 0; v < image.rows; ++v)
+      for (int u = 0; u < image.cols; ++u)
+        out.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(image.at<std::uint16_t>(v, u) * scale));
+  }
   bool ok = false;
   try {
-    ok = cv::imwrite(path, image);
+    ok = cv::imwrite(path, out);
   } catch (const cv::Exception&) {
     ok = false;
   }
@@ -270,13 +280,15 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
   const auto start = std::chrono::steady_clock::now();
   config.Validate();
   std::error_code ec;
-  const fs::path target(out_dir);
+  // "DIR/" and "DIR" name the same folder; the temporary folder must be its sibling.
+  fs::path target = fs::path(out_dir).lexically_normal();
+  if (target.filename().empty()) target = target.parent_path();
   if (out_dir.empty()) throw InputError({"", 0, "--out"}, "output folder is empty");
   if (fs::exists(target, ec) && !overwrite && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
     throw InputError({out_dir, 0, "--out"}, "output exists and is not an empty folder (pass --force to replace it)");
   if (target.has_parent_path() && !target.parent_path().empty() && !fs::is_directory(target.parent_path(), ec))
     throw InputError({out_dir, 0, "--out"}, "parent folder does not exist");
-  const fs::path tmp = fs::path(out_dir + ".partial-" + std::to_string(::getpid()));
+  const fs::path tmp = fs::path(target.string() + ".partial-" + std::to_string(::getpid()));
   fs::remove_all(tmp, ec);
   if (!fs::create_directories(tmp / "left", ec) || !fs::create_directories(tmp / "right", ec) ||
       !fs::create_directories(tmp / "truth", ec))
@@ -305,7 +317,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       json images = json::array();
       for (std::size_t i = 0; i < sim.images.size(); ++i) {
         const std::string rel = std::string(names[cam]) + "/" + FrameName(static_cast<int>(i));
-        WritePng((tmp / rel).string(), sim.images[i]);
+        WritePng((tmp / rel).string(), sim.images[i], config.sensor.bits);
         images.push_back(rel);
       }
       manifest_cameras[names[cam]] = images;
@@ -400,7 +412,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
 
     // Move into place.
     if (fs::exists(target, ec)) {
-      const fs::path old = fs::path(out_dir + ".old-" + std::to_string(::getpid()));
+      const fs::path old = fs::path(target.string() + ".old-" + std::to_string(::getpid()));
       fs::rename(target, old);
       fs::rename(tmp, target);
       fs::remove_all(old, ec);

@@ -92,7 +92,8 @@ struct FringeSimulationSummary {
 };
 
 // Renders both cameras and writes into `out_dir` (created; it must not exist or be empty unless
-// `overwrite`): manifest.json, calibration.yml, left/NN.png, right/NN.png, and truth/ (per camera
+// `overwrite`): manifest.json, calibration.yml, left/NN.png, right/NN.png (10/12-bit images scaled
+// to 16-bit full scale), and truth/ (per camera
 // float TIFFs projector_x, projector_y, depth, lit_fraction and object_id, plus truth.json).
 // Everything is written into a temporary sibling folder renamed into place at the end, so a
 // failure leaves no partial output.
