@@ -21,13 +21,16 @@ struct SimulateFringeOptions {
   std::vector<std::string> spheres;    // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
   bool no_backdrop = false;            // remove the backdrop plane
   std::string direction = "vertical";  // fringe direction
+  std::string calibration;             // cameras from a stereo calibration file instead of the preset
   bool no_noise = false;               // noiseless images
   bool force = false;                  // replace an existing output folder
   bool quiet = false;                  // no progress on stderr
 };
 
 int RunSimulateFringe(const SimulateFringeOptions& opt) {
-  vision::FringeSimulationConfig config = vision::MakeFringePreset(opt.preset);
+  vision::FringeSimulationConfig config =
+      opt.calibration.empty() ? vision::MakeFringePreset(opt.preset)
+                              : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
   config.sensor.bits = opt.bits;
   config.sensor.noise = !opt.no_noise;
@@ -95,6 +98,9 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
   sub->add_option("--ball", opt->ball, "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700)");
   sub->add_option("--radius", opt->radius, "Ball radius, mm (default 19.05)");
+  sub->add_option("--calib", opt->calibration,
+                  "Take both cameras from this stereo calibration (e.g. caliInfo.yml); the ball goes where "
+                  "the optical axes meet");
   sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");
   sub->add_flag("--no-backdrop", opt->no_backdrop, "Remove the backdrop plane");
   sub->add_option("--direction", opt->direction, "Fringe direction: vertical (codes projector x) or horizontal")

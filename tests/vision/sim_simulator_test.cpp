@@ -229,6 +229,28 @@ TEST(SimSimulator, WrittenCalibrationMakesBothCamerasAgree) {
   RecordProperty("stereo_truth_disagreement_unmodelled_px", std::to_string(unmodelled));
 }
 
+TEST(SimSimulator, SceneAroundTheRealSlmasterCalibration) {
+  const std::string path = std::string(RAMTK_SHARED_DIR) + "/data/slmaster-binocular/caliInfo.yml";
+  if (!fs::exists(path)) GTEST_SKIP() << "shared data not found: " << path;
+  FringeSimulationConfig c = MakeFringeConfigForCalibration(ReadStereoCalibration(path));
+  c.supersampling = 1;
+  c.sequence = {PhaseShiftBlock(3, 64.0)};
+  // The optical axes of caliInfo.yml come closest ~572 mm in front of the left camera (Rlr turns
+  // the right camera by 20.05° about y; its centre −Rlrᵀ·Tlr is (197.7, 0.0, 30.5) mm, so the
+  // axes meet where x = 0 on the right axis: z = 30.5 + 197.7 / tan 20.05° = 572.1 mm).
+  const Vec3 ball = c.scene.spheres[0].centre_in_left;
+  EXPECT_NEAR(ball.z(), 572.1, 0.5);
+  for (int cam = 0; cam < 2; ++cam) {
+    const SimulatedCamera sim = SimulateCamera(c, cam);
+    const PinholeView view = RenderedCameraView(c, cam);
+    const Vec2 px = ProjectPoint(view.intrinsics, view.view_from_left * ball);
+    const int u = static_cast<int>(std::round(px.x())), v = static_cast<int>(std::round(px.y()));
+    ASSERT_TRUE(u >= 0 && v >= 0 && u < 1280 && v < 1024) << cam;
+    EXPECT_EQ(sim.truth.object_id.at<int>(v, u), 0) << cam;
+    EXPECT_EQ(sim.truth.lit_fraction.at<float>(v, u), 1.0f) << cam;
+  }
+}
+
 TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
   FringeEffects e;
   EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);

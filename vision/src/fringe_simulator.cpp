@@ -219,6 +219,30 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   return c;
 }
 
+FringeSimulationConfig MakeFringeConfigForCalibration(const StereoCalibration& cameras) {
+  FringeSimulationConfig c = MakeFringePreset("small");
+  c.preset = "calibration";
+  c.cameras = cameras;
+  // The ball where the optical axes come closest: on the left axis (0, 0, z) at the z that
+  // minimises the distance to the right axis x = C + s·a.
+  const Isometry3 left_from_right = cameras.right_from_left.inverse();
+  const Vec3 centre = left_from_right.translation();
+  const Vec3 axis = left_from_right.linear().col(2);
+  const Vec3 e = Vec3::UnitZ();
+  const double b = e.dot(axis), d = e.dot(centre), f = axis.dot(centre);
+  double z = (d - b * f) / std::max(1.0 - b * b, 1e-12);
+  if (!(z > 100.0 && z < 5000.0)) z = 700.0;  // parallel or diverging axes
+  const Vec3 ball(0.0, 0.0, z);
+  c.scene.spheres[0].centre_in_left = ball;
+  c.scene.planes[0].point_in_left = Vec3(0.0, 0.0, z + 150.0);
+  // Projector between the cameras, slightly above, aimed at the ball; the preset's throw scaled to
+  // the distance.
+  c.projector.view_from_left = LookAt(0.5 * centre + Vec3(0.0, -40.0, 0.0), ball);
+  c.projector.intrinsics.fx *= z / 700.0;
+  c.projector.intrinsics.fy *= z / 700.0;
+  return c;
+}
+
 EffectRealisation RealiseEffects(const FringeSimulationConfig& config, const std::vector<PatternFrame>& frames) {
   EffectRealisation r;
   std::seed_seq seq{static_cast<std::uint32_t>(config.seed), static_cast<std::uint32_t>(config.seed >> 32), 0xEFFEC7u};

@@ -62,6 +62,11 @@ struct FringeSimulationConfig {
 // Throws InputError (field "--preset") for another name.
 FringeSimulationConfig MakeFringePreset(const std::string& name);
 
+// The "small" preset's scene and projector around the cameras of a stereo calibration (e.g.
+// SLMaster's caliInfo.yml): the ball where the two optical axes come closest (on the left axis),
+// the backdrop 150 mm behind it, the projector between the cameras aimed at the ball.
+FringeSimulationConfig MakeFringeConfigForCalibration(const StereoCalibration& cameras);
+
 // Random realisations of the effects for one seed.
 struct EffectRealisation {
   std::vector<double> shift_errors_rad;  // ε_k per frame (0 for Gray-code frames)
