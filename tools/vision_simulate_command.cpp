@@ -1,6 +1,7 @@
 // ramtk simulate fringe: render a stereo fringe image set with its calibration and ground truth.
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "commands.h"
 #include "ramtk/core/parse.h"
@@ -22,16 +23,54 @@ struct SimulateFringeOptions {
   bool no_backdrop = false;            // remove the backdrop plane
   std::string direction = "vertical";  // fringe direction
   std::string calibration;             // cameras from a stereo calibration file instead of the preset
+  std::string sequence;                // pattern sequence spec ("" = the preset's)
   bool no_noise = false;               // noiseless images
   bool force = false;                  // replace an existing output folder
   bool quiet = false;                  // no progress on stderr
 };
+
+// "ps:12:64,cgc:7" → blocks. Items: ps:STEPS:CYCLES (phase shift), gc:BITS (Gray code),
+// cgc:BITS (complementary Gray code), het:STEPS:C1/C2[/C3] (heterodyne, finest first).
+std::vector<vision::PatternBlock> ParseSequence(const std::string& spec) {
+  std::vector<vision::PatternBlock> blocks;
+  std::stringstream items(spec);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    std::vector<std::string> parts;
+    std::stringstream fields(item);
+    std::string part;
+    while (std::getline(fields, part, ':')) parts.push_back(part);
+    const InputLocation where{"", 0, "--sequence"};
+    auto integer = [&](const std::string& text) {
+      const double v = ParseDouble(text, where);
+      if (v != static_cast<int>(v)) throw InputError(where, "expected an integer, got '" + text + "'");
+      return static_cast<int>(v);
+    };
+    if (parts.size() == 3 && parts[0] == "ps") {
+      blocks.push_back(vision::PhaseShiftBlock(integer(parts[1]), ParseDouble(parts[2], where)));
+    } else if (parts.size() == 2 && (parts[0] == "gc" || parts[0] == "cgc")) {
+      blocks.push_back(vision::GrayCodeBlock(integer(parts[1]), parts[0] == "cgc"));
+    } else if (parts.size() == 3 && parts[0] == "het") {
+      std::vector<double> cycles;
+      std::stringstream list(parts[2]);
+      std::string c;
+      while (std::getline(list, c, '/')) cycles.push_back(ParseDouble(c, where));
+      blocks.push_back(vision::HeterodyneBlock(integer(parts[1]), cycles));
+    } else {
+      throw InputError(where, "cannot read block '" + item +
+                                  "' (expected ps:STEPS:CYCLES, gc:BITS, cgc:BITS or het:STEPS:C1/C2[/C3])");
+    }
+  }
+  if (blocks.empty()) throw InputError({"", 0, "--sequence"}, "no blocks given");
+  return blocks;
+}
 
 int RunSimulateFringe(const SimulateFringeOptions& opt) {
   vision::FringeSimulationConfig config =
       opt.calibration.empty() ? vision::MakeFringePreset(opt.preset)
                               : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
+  if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
   config.sensor.bits = opt.bits;
   config.sensor.noise = !opt.no_noise;
   config.supersampling = opt.supersampling;
@@ -101,6 +140,10 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--calib", opt->calibration,
                   "Take both cameras from this stereo calibration (e.g. caliInfo.yml); the ball goes where "
                   "the optical axes meet");
+  sub->add_option("--sequence", opt->sequence,
+                  "Pattern sequence, e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
+                  "het:4:70/64/59 (ps = phase shift STEPS:CYCLES, gc/cgc = (complementary) Gray code BITS, "
+                  "het = heterodyne STEPS:CYCLES/...)");
   sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");
   sub->add_flag("--no-backdrop", opt->no_backdrop, "Remove the backdrop plane");
   sub->add_option("--direction", opt->direction, "Fringe direction: vertical (codes projector x) or horizontal")

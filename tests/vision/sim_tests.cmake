@@ -49,3 +49,9 @@ ramtk_sim_cli_test(simulate_fringe_bad_sphere 1
 ramtk_sim_cli_test(simulate_fringe_bad_direction 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --direction diagonal
   STDERR "field '--direction': expected vertical or horizontal")
+ramtk_sim_cli_test(simulate_fringe_bad_sequence 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --sequence ps:4
+  STDERR "field '--sequence': cannot read block 'ps:4'")
+ramtk_sim_cli_test(simulate_fringe_heterodyne 0
+  ARGS simulate fringe --out ${SIM_OUT}_het --force -q --supersampling 1 --sequence het:4:70/64/59
+  STDOUT "simulated 2 x 12 fringe images 640x512")

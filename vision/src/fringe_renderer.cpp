@@ -110,6 +110,15 @@ PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_ra
   return b;
 }
 
+PatternBlock HeterodyneBlock(int steps, const std::vector<double>& cycles, double phase_at_origin_rad) {
+  PatternBlock b;
+  b.type = PatternBlock::Type::kHeterodyne;
+  b.steps = steps;
+  b.heterodyne_cycles = cycles;
+  b.phase_at_origin_rad = phase_at_origin_rad;
+  return b;
+}
+
 PatternBlock GrayCodeBlock(int bits, bool complementary) {
   PatternBlock b;
   b.type = PatternBlock::Type::kGrayCode;
@@ -123,18 +132,24 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const PatternBlock& block = blocks[b];
     const std::string field = "sequence[" + std::to_string(b) + "]";
-    if (block.type == PatternBlock::Type::kPhaseShift) {
+    if (block.type != PatternBlock::Type::kGrayCode) {
       if (block.steps < 3) throw InputError({"", 0, field + ".steps"}, "a phase shift needs at least 3 steps");
-      if (!(block.cycles > 0.0)) throw InputError({"", 0, field + ".cycles"}, "cycles must be positive");
-      for (int k = 0; k < block.steps; ++k) {
-        PatternFrame f;
-        f.type = block.type;
-        f.block = static_cast<int>(b);
-        f.index = k;
-        f.steps = block.steps;
-        f.cycles = block.cycles;
-        f.phase_at_origin_rad = block.phase_at_origin_rad;
-        frames.push_back(f);
+      const bool heterodyne = block.type == PatternBlock::Type::kHeterodyne;
+      const std::vector<double> all_cycles = heterodyne ? block.heterodyne_cycles : std::vector<double>{block.cycles};
+      if (heterodyne && all_cycles.size() < 2)
+        throw InputError({"", 0, field + ".cycles"}, "a heterodyne block needs at least 2 frequencies");
+      for (double cycles : all_cycles) {
+        if (!(cycles > 0.0)) throw InputError({"", 0, field + ".cycles"}, "cycles must be positive");
+        for (int k = 0; k < block.steps; ++k) {
+          PatternFrame f;
+          f.type = PatternBlock::Type::kPhaseShift;
+          f.block = static_cast<int>(b);
+          f.index = k;
+          f.steps = block.steps;
+          f.cycles = cycles;
+          f.phase_at_origin_rad = block.phase_at_origin_rad;
+          frames.push_back(f);
+        }
       }
     } else {
       if (block.bits < 1 || block.bits > 16) throw InputError({"", 0, field + ".bits"}, "bits must be 1..16");
@@ -220,11 +235,13 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         // Frames of one block share per-sample work: cos φ and sin φ for phase shifts
         // (cos(φ + δ) = cos φ cos δ − sin φ sin δ), the Gray code word for Gray codes.
         int cached_block = -1;
+        double cached_cycles = 0.0;
         for (std::size_t f = 0; f < frames.size(); ++f) {
           const PatternFrame& frame = frames[f];
           const bool phase = frame.type == PatternBlock::Type::kPhaseShift;
-          if (frame.block != cached_block) {
+          if (frame.block != cached_block || frame.cycles != cached_cycles) {
             cached_block = frame.block;
+            cached_cycles = frame.cycles;
             for (int s = 0; s < samples; ++s) {
               if (phase) {
                 const double phi = kTwoPi * frame.cycles * sub[s].coord / extent + frame.phase_at_origin_rad;

@@ -63,7 +63,12 @@ json PoseJson(const Isometry3& t) {
 json SequenceJson(const std::vector<PatternBlock>& blocks) {
   json seq = json::array();
   for (const PatternBlock& b : blocks) {
-    if (b.type == PatternBlock::Type::kPhaseShift) {
+    if (b.type == PatternBlock::Type::kHeterodyne) {
+      seq.push_back({{"type", "heterodyne"},
+                     {"steps", b.steps},
+                     {"cycles", b.heterodyne_cycles},
+                     {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
+    } else if (b.type == PatternBlock::Type::kPhaseShift) {
       seq.push_back({{"type", "phase_shift"},
                      {"steps", b.steps},
                      {"cycles", b.cycles},

@@ -46,10 +46,11 @@ const char* FringeOrientationName(FringeOrientation direction);  // "vertical" /
 
 // One block of the pattern sequence.
 struct PatternBlock {
-  enum class Type { kPhaseShift, kGrayCode };
+  enum class Type { kPhaseShift, kGrayCode, kHeterodyne };
   Type type = Type::kPhaseShift;
   int steps = 0;                                         // phase shift: number of steps N ≥ 3
   double cycles = 0.0;                                   // phase shift: fringe periods across the projector
+  std::vector<double> heterodyne_cycles;                 // heterodyne: periods per frequency, finest first
   double phase_at_origin_rad = -3.14159265358979323846;  // phase shift: φ0, phase at c = 0
   int bits = 0;                                          // Gray code: number of code images
   bool complementary = false;  // Gray code: the last bit is the complementary (half-period) code
@@ -57,13 +58,16 @@ struct PatternBlock {
 
 // A phase-shift block: `steps` ≥ 3 images, `cycles` periods across the projector, phase φ0 at c = 0.
 PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad = -3.14159265358979323846);
+// A heterodyne block: for each entry of `cycles` (finest first), `steps` phase-shift images.
+PatternBlock HeterodyneBlock(int steps, const std::vector<double>& cycles,
+                             double phase_at_origin_rad = -3.14159265358979323846);
 // A Gray-code block of `bits` images (complementary: the last bit splits each period in halves).
 PatternBlock GrayCodeBlock(int bits, bool complementary);
 
-// One projected image of the sequence.
+// One projected image of the sequence (heterodyne blocks expand to phase-shift frames).
 struct PatternFrame {
-  PatternBlock::Type type = PatternBlock::Type::kPhaseShift;
-  int block = 0;                     // index of its block in the sequence
+  PatternBlock::Type type = PatternBlock::Type::kPhaseShift;  // kPhaseShift or kGrayCode
+  int block = 0;                                              // index of its block in the sequence
   int index = 0;                     // step k (phase shift) or image i (Gray code) within the block
   int steps = 0;                     // phase shift: N
   double cycles = 0.0;               // phase shift: periods across the projector
