@@ -66,8 +66,13 @@ std::vector<vision::PatternBlock> ParseSequence(const std::string& spec) {
 }
 
 int RunSimulateFringe(const SimulateFringeOptions& opt) {
+  Vec3 ball(0.0, 0.0, 700.0);
+  if (!opt.ball.empty()) {
+    const std::vector<double> b = ParseDoubleList(opt.ball, {"", 0, "--ball"}, 3);
+    ball = Vec3(b[0], b[1], b[2]);
+  }
   vision::FringeSimulationConfig config =
-      opt.calibration.empty() ? vision::MakeFringePreset(opt.preset)
+      opt.calibration.empty() ? vision::MakeFringePreset(opt.preset, ball)
                               : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
   if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
@@ -80,10 +85,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
     const std::string name = e.substr(0, eq);
     config.effects.Set(name, ParseDouble(e.substr(eq + 1), {"", 0, "--effect " + name}));
   }
-  if (!opt.ball.empty()) {
-    const std::vector<double> b = ParseDoubleList(opt.ball, {"", 0, "--ball"}, 3);
-    config.scene.spheres.at(0).centre_in_left = Vec3(b[0], b[1], b[2]);
-  }
+  if (!opt.ball.empty()) config.scene.spheres.at(0).centre_in_left = ball;
   if (opt.radius != 0.0) config.scene.spheres.at(0).radius = opt.radius;
   for (std::size_t i = 0; i < opt.spheres.size(); ++i) {
     const std::vector<double> s = ParseDoubleList(opt.spheres[i], {"", 0, "--sphere"}, 4);
@@ -135,7 +137,9 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1)");
   sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
-  sub->add_option("--ball", opt->ball, "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700)");
+  sub->add_option(
+      "--ball", opt->ball,
+      "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700; the small preset's windows follow it)");
   sub->add_option("--radius", opt->radius, "Ball radius, mm (default 19.05)");
   sub->add_option("--calib", opt->calibration,
                   "Take both cameras from this stereo calibration (e.g. caliInfo.yml); the ball goes where "

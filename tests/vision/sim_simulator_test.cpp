@@ -283,6 +283,23 @@ TEST(SimSimulator, HeterodyneFramesCarryTheirOwnFrequencies) {
   EXPECT_GT(checked, 200);
 }
 
+TEST(SimSimulator, SmallPresetWindowsFollowTheBall) {
+  // The rig stays aimed at (0, 0, 700); the 640×512 windows are cropped where the ball images, so
+  // the ball centre lands within half a pixel of the window centre (319.5, 255.5) in both cameras.
+  const Vec3 ball(60.0, -40.0, 720.0);
+  const FringeSimulationConfig c = MakeFringePreset("small", ball);
+  const FringeSimulationConfig thesis = MakeFringePreset("thesis", ball);
+  EXPECT_LT((c.cameras.right_from_left.matrix() - thesis.cameras.right_from_left.matrix()).norm(), 1e-15);
+  EXPECT_EQ(c.scene.spheres[0].centre_in_left, ball);
+  for (int cam = 0; cam < 2; ++cam) {
+    const PinholeView view = RenderedCameraView(c, cam);
+    const Vec2 px = ProjectPoint(view.intrinsics, view.view_from_left * ball);
+    EXPECT_NEAR(px.x(), 319.5, 0.5) << cam;
+    EXPECT_NEAR(px.y(), 255.5, 0.5) << cam;
+  }
+  EXPECT_THROW(MakeFringePreset("small", Vec3(600.0, 0.0, 700.0)), InputError);
+}
+
 TEST(SimSimulator, UnknownEffectAndBadMagnitudeAreInputErrors) {
   FringeEffects e;
   EXPECT_THROW(e.Set("projector_gamma", 2.2), InputError);

@@ -187,22 +187,30 @@ void FringeSimulationConfig::Validate() const {
 }
 
 FringeSimulationConfig MakeFringePreset(const std::string& name) {
+  return MakeFringePreset(name, Vec3(0.0, 0.0, 700.0));
+}
+
+FringeSimulationConfig MakeFringePreset(const std::string& name, const Vec3& ball_in_left) {
   if (name != "thesis" && name != "small")
     throw InputError({"", 0, "--preset"}, "unknown preset '" + name + "' (known: thesis, small)");
   FringeSimulationConfig c;
   c.preset = name;
-  const Vec3 ball(0.0, 0.0, 700.0);
+  // The rig is aimed at (0, 0, 700); the ball may sit elsewhere in the field.
+  const Vec3 aim(0.0, 0.0, 700.0);
+  const Vec3 ball = ball_in_left;
   // Cameras as in thesis §5.1 (IMPERX B3320M, 3312×2488, 5.5 µm pixels, ZEISS 25 mm lenses):
   // focused at 700 mm the image distance is 25.9 mm, f = 4700 px, a 493 × 370 mm field per camera
   // (the thesis quotes ~570 × 430 mm for the pair). Distortion ~0.5 % in the corners.
   CameraIntrinsics left{4700.0, 4700.0, 1655.5, 1243.5, {-0.03, 0.05, 1e-4, -2e-4, 0.0}, 3312, 2488};
   CameraIntrinsics right{4696.0, 4698.0, 1650.0, 1240.0, {-0.025, 0.04, -1e-4, 1e-4, 0.0}, 3312, 2488};
-  const Isometry3 right_from_left = LookAt(Vec3(200.0, 0.0, 0.0), ball);
+  const Isometry3 right_from_left = LookAt(Vec3(200.0, 0.0, 0.0), aim);
   if (name == "small") {
-    // Crop 640×512 windows around where the ball centre images.
+    // Crop 640×512 windows (camera ROIs) around where the ball centre images.
     for (CameraIntrinsics* cam : {&left, &right}) {
       const Isometry3 view = cam == &left ? Isometry3::Identity() : right_from_left;
       const Vec2 px = ProjectPoint(*cam, view * ball);
+      if (!((view * ball).z() > 0.0) || px.x() < 0 || px.y() < 0 || px.x() > cam->width - 1 || px.y() > cam->height - 1)
+        throw InputError({"", 0, "--ball"}, "the ball centre is outside the thesis cameras' field");
       const double u0 = std::round(px.x() - 319.5), v0 = std::round(px.y() - 255.5);
       cam->cx -= u0;
       cam->cy -= v0;
@@ -217,7 +225,7 @@ FringeSimulationConfig MakeFringePreset(const std::string& name) {
   // LightCrafter 4500: 912 columns × 1140 rows on a 16:10 image, so rows are at half the column
   // pitch (fy = 2·fx); fx = 1280 px lights ≈ 500 × 312 mm at 700 mm.
   c.projector.intrinsics = {1280.0, 2560.0, 455.5, 569.5, {}, 912, 1140};
-  c.projector.view_from_left = LookAt(Vec3(100.0, -40.0, 0.0), ball);
+  c.projector.view_from_left = LookAt(Vec3(100.0, -40.0, 0.0), aim);
   c.scene.spheres.push_back({"ball", ball, 38.1 / 2.0, 0.8});
   c.scene.planes.push_back({"backdrop", Vec3(0.0, 0.0, 850.0), Vec3(0.0, 0.0, -1.0), 0.5});
   c.sequence = {PhaseShiftBlock(12, 64.0), GrayCodeBlock(7, true)};

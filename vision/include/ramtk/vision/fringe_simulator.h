@@ -61,6 +61,9 @@ struct FringeSimulationConfig {
 // code). "small" — the same rig with 640×512 cameras cropped around the ball (tests use it).
 // Throws InputError (field "--preset") for another name.
 FringeSimulationConfig MakeFringePreset(const std::string& name);
+// The same rig (still aimed at (0, 0, 700)) with the ball at `ball_in_left`; the "small" preset's
+// 640×512 windows are cropped around where it images (InputError, field "--ball", if outside).
+FringeSimulationConfig MakeFringePreset(const std::string& name, const Vec3& ball_in_left);
 
 // The "small" preset's scene and projector around the cameras of a stereo calibration (e.g.
 // SLMaster's caliInfo.yml): the ball where the two optical axes come closest (on the left axis),
