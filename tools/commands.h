@@ -20,5 +20,6 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code);  // tcf … and simulate
 void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
 void RegisterPatternsCommand(CLI::App& app, int* exit_code);
 void RegisterDecodeCommand(CLI::App& app, int* exit_code);
+void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
 
 }  // namespace ramtk::tools

@@ -1,0 +1,161 @@
+// ramtk simulate fringe: render a stereo fringe image set with its calibration and ground truth.
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "commands.h"
+#include "ramtk/core/parse.h"
+#include "ramtk/vision/fringe_simulator.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct SimulateFringeOptions {
+  std::string preset = "small";        // thesis | small
+  std::string out_dir;                 // output folder
+  std::uint64_t seed = 1;              // random seed
+  std::vector<std::string> effects;    // name=magnitude
+  int bits = 8;                        // camera bit depth
+  int supersampling = 4;               // n×n rays per pixel
+  std::string ball;                    // x,y,z of the ball centre in the left-camera frame, mm
+  double radius = 0.0;                 // ball radius, mm (0 = preset)
+  std::vector<std::string> spheres;    // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
+  bool no_backdrop = false;            // remove the backdrop plane
+  std::string direction = "vertical";  // fringe direction
+  std::string calibration;             // cameras from a stereo calibration file instead of the preset
+  std::string sequence;                // pattern sequence spec ("" = the preset's)
+  bool no_noise = false;               // noiseless images
+  bool force = false;                  // replace an existing output folder
+  bool quiet = false;                  // no progress on stderr
+};
+
+// "ps:12:64,cgc:7" → blocks. Items: ps:STEPS:CYCLES (phase shift), gc:BITS (Gray code),
+// cgc:BITS (complementary Gray code), het:STEPS:C1/C2[/C3] (heterodyne, finest first).
+std::vector<vision::PatternBlock> ParseSequence(const std::string& spec) {
+  std::vector<vision::PatternBlock> blocks;
+  std::stringstream items(spec);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    std::vector<std::string> parts;
+    std::stringstream fields(item);
+    std::string part;
+    while (std::getline(fields, part, ':')) parts.push_back(part);
+    const InputLocation where{"", 0, "--sequence"};
+    auto integer = [&](const std::string& text) {
+      const double v = ParseDouble(text, where);
+      if (v != static_cast<int>(v)) throw InputError(where, "expected an integer, got '" + text + "'");
+      return static_cast<int>(v);
+    };
+    if (parts.size() == 3 && parts[0] == "ps") {
+      blocks.push_back(vision::PhaseShiftBlock(integer(parts[1]), ParseDouble(parts[2], where)));
+    } else if (parts.size() == 2 && (parts[0] == "gc" || parts[0] == "cgc")) {
+      blocks.push_back(vision::GrayCodeBlock(integer(parts[1]), parts[0] == "cgc"));
+    } else if (parts.size() == 3 && parts[0] == "het") {
+      std::vector<double> cycles;
+      std::stringstream list(parts[2]);
+      std::string c;
+      while (std::getline(list, c, '/')) cycles.push_back(ParseDouble(c, where));
+      blocks.push_back(vision::HeterodyneBlock(integer(parts[1]), cycles));
+    } else {
+      throw InputError(where, "cannot read block '" + item +
+                                  "' (expected ps:STEPS:CYCLES, gc:BITS, cgc:BITS or het:STEPS:C1/C2[/C3])");
+    }
+  }
+  if (blocks.empty()) throw InputError({"", 0, "--sequence"}, "no blocks given");
+  return blocks;
+}
+
+int RunSimulateFringe(const SimulateFringeOptions& opt) {
+  Vec3 ball(0.0, 0.0, 700.0);
+  if (!opt.ball.empty()) {
+    const std::vector<double> b = ParseDoubleList(opt.ball, {"", 0, "--ball"}, 3);
+    ball = Vec3(b[0], b[1], b[2]);
+  }
+  vision::FringeSimulationConfig config =
+      opt.calibration.empty() ? vision::MakeFringePreset(opt.preset, ball)
+                              : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
+  config.seed = opt.seed;
+  if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
+  config.sensor.bits = opt.bits;
+  config.sensor.noise = !opt.no_noise;
+  config.supersampling = opt.supersampling;
+  for (const std::string& e : opt.effects) {
+    const auto eq = e.find('=');
+    if (eq == std::string::npos) throw InputError({"", 0, "--effect"}, "expected name=magnitude, got '" + e + "'");
+    const std::string name = e.substr(0, eq);
+    config.effects.Set(name, ParseDouble(e.substr(eq + 1), {"", 0, "--effect " + name}));
+  }
+  if (!opt.ball.empty()) config.scene.spheres.at(0).centre_in_left = ball;
+  if (opt.radius != 0.0) config.scene.spheres.at(0).radius = opt.radius;
+  for (std::size_t i = 0; i < opt.spheres.size(); ++i) {
+    const std::vector<double> s = ParseDoubleList(opt.spheres[i], {"", 0, "--sphere"}, 4);
+    if (!(s[3] > 0.0)) throw InputError({"", 0, "--sphere"}, "radius must be positive");
+    config.scene.spheres.push_back({"sphere" + std::to_string(i + 2), Vec3(s[0], s[1], s[2]), s[3], 0.8});
+  }
+  if (opt.no_backdrop) config.scene.planes.clear();
+  if (opt.direction == "horizontal") {
+    config.direction = vision::FringeOrientation::kHorizontal;
+  } else if (opt.direction != "vertical") {
+    throw InputError({"", 0, "--direction"}, "expected vertical or horizontal, got '" + opt.direction + "'");
+  }
+  ProgressCallback progress;
+  if (!opt.quiet) {
+    progress = [last = std::make_shared<int>(-1)](const Progress& p) {
+      const int percent = p.total ? static_cast<int>(100 * p.done / p.total) : 0;
+      if (percent / 10 != *last / 10 || p.done == p.total) {
+        *last = percent;
+        std::cerr << "\r" << p.stage << " " << percent << "%   " << (p.done == p.total ? "\n" : "") << std::flush;
+      }
+      return true;
+    };
+  }
+  const vision::FringeSimulationSummary summary = vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
+  std::cout << summary.BriefReport() << '\n';
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
+  CLI::App* simulate = nullptr;
+  try {
+    simulate = app.get_subcommand("simulate");
+  } catch (const CLI::OptionNotFound&) {
+    simulate = app.add_subcommand("simulate", "Simulators: synthetic data with known truth");
+    simulate->require_subcommand(1);
+  }
+  auto opt = std::make_shared<SimulateFringeOptions>();
+  CLI::App* sub = simulate->add_subcommand(
+      "fringe", "Render a stereo fringe-projection image set, its calibration and ground truth");
+  sub->add_option("--preset", opt->preset, "Rig and scene: thesis (3312x2488) or small (640x512 around the ball)")
+      ->capture_default_str();
+  sub->add_option("--out", opt->out_dir, "Output folder (must not exist, or be empty, unless --force)")->required();
+  sub->add_option("--seed", opt->seed, "Random seed (recorded in the output)")->capture_default_str();
+  sub->add_option("--effect", opt->effects,
+                  "Effect name=magnitude, repeatable: projector_nonlinearity (gamma), phase_shift_error (deg), "
+                  "intensity_drift (relative), saturation (exposure factor), defocus (blur sigma px), "
+                  "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1)");
+  sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
+  sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
+  sub->add_option(
+      "--ball", opt->ball,
+      "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700; the small preset's windows follow it)");
+  sub->add_option("--radius", opt->radius, "Ball radius, mm (default 19.05)");
+  sub->add_option("--calib", opt->calibration,
+                  "Take both cameras from this stereo calibration (e.g. caliInfo.yml); the ball goes where "
+                  "the optical axes meet");
+  sub->add_option("--sequence", opt->sequence,
+                  "Pattern sequence, e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
+                  "het:4:70/64/59 (ps = phase shift STEPS:CYCLES, gc/cgc = (complementary) Gray code BITS, "
+                  "het = heterodyne STEPS:CYCLES/...)");
+  sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");
+  sub->add_flag("--no-backdrop", opt->no_backdrop, "Remove the backdrop plane");
+  sub->add_option("--direction", opt->direction, "Fringe direction: vertical (codes projector x) or horizontal")
+      ->capture_default_str();
+  sub->add_flag("--no-noise", opt->no_noise, "Render without shot and read noise");
+  sub->add_flag("--force", opt->force, "Replace an existing output folder");
+  sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
+  sub->callback([opt, exit_code]() { *exit_code = RunSimulateFringe(*opt); });
+}
+
+}  // namespace ramtk::tools

@@ -1,0 +1,47 @@
+#pragma once
+// Stereo camera calibration: two pinhole cameras with OpenCV distortion and the rigid transform
+// between them, read from and written to OpenCV FileStorage files (YAML or JSON).
+//
+// Read layouts (docs/formats.md, "Stereo calibration"):
+//  * standard keys: K1 D1 K2 D2 R T and the image size as `image_size: [w, h]` (or `S`, or
+//    `image_width` + `image_height`); an optional `image_size2` when the right camera differs;
+//  * SLMaster's caliInfo.yml: M1 D1 M2 D2 Rlr Tlr S (S = [w, h]); its rectification extras
+//    (R1 R2 P1 P2 Q E F epilines*) are ignored.
+// R, T follow cv::stereoCalibrate: x_in_right = R·x_in_left + T, T in millimetres.
+// Written with the standard keys (plus rms_px, per_view_errors_px and parameter_std when known).
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/rotation.h"
+#include "ramtk/vision/camera_model.h"
+
+namespace ramtk::vision {
+
+// Largest OrthonormalityError accepted for R in a calibration file (stored rotations round to
+// ~1e-16 relative; a file edited by hand or stored with few digits fails this).
+inline constexpr double kMaxRotationOrthonormalityError = 1e-6;
+
+struct StereoCalibration {
+  CameraIntrinsics left;                              // camera 1 (the reference frame of every 3-D result)
+  CameraIntrinsics right;                             // camera 2
+  Isometry3 right_from_left = Isometry3::Identity();  // R, T; translation in mm
+
+  // Quality figures from a calibration session; NaN / empty when unknown (e.g. simulated).
+  double rms_px = std::numeric_limits<double>::quiet_NaN();  // reprojection RMS, pixels
+  std::vector<double> per_view_errors_px;                    // RMS per calibration view, pixels
+  std::vector<double> parameter_std;                         // std devs of the estimated parameters
+};
+
+// Reads either layout. Throws InputError naming the file and the key for: an unreadable or
+// unparsable file, a missing key, a matrix of the wrong size, a K that is not a pinhole matrix,
+// distortion beyond the 5-coefficient model, an R that is not a rotation (its orthonormality
+// error is reported), a non-positive image size.
+StereoCalibration ReadStereoCalibration(const std::string& path);
+
+// Writes the standard keys; JSON if `path` ends in ".json", YAML otherwise. Atomic (temporary
+// file + rename). Throws InputError if the file cannot be written.
+void WriteStereoCalibration(const std::string& path, const StereoCalibration& calibration);
+
+}  // namespace ramtk::vision

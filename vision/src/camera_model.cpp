@@ -1,0 +1,73 @@
+#include "ramtk/vision/camera_model.h"
+
+#include <cmath>
+
+namespace ramtk::vision {
+
+Mat3 CameraIntrinsics::K() const {
+  Mat3 k;
+  k << fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;
+  return k;
+}
+
+Vec2 DistortNormalized(const Distortion& d, const Vec2& p) {
+  const double x = p.x(), y = p.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  return {x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x),
+          y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y};
+}
+
+namespace {
+
+// Jacobian of DistortNormalized with respect to (x', y').
+Eigen::Matrix2d DistortJacobian(const Distortion& d, const Vec2& p) {
+  const double x = p.x(), y = p.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  const double dradial_dr2 = d.k1 + r2 * (2.0 * d.k2 + 3.0 * r2 * d.k3);
+  Eigen::Matrix2d j;
+  j(0, 0) = radial + x * dradial_dr2 * 2.0 * x + 2.0 * d.p1 * y + d.p2 * 6.0 * x;
+  j(0, 1) = x * dradial_dr2 * 2.0 * y + 2.0 * d.p1 * x + d.p2 * 2.0 * y;
+  j(1, 0) = y * dradial_dr2 * 2.0 * x + d.p1 * 2.0 * x + 2.0 * d.p2 * y;
+  j(1, 1) = radial + y * dradial_dr2 * 2.0 * y + d.p1 * 6.0 * y + 2.0 * d.p2 * x;
+  return j;
+}
+
+}  // namespace
+
+Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2& initial) {
+  if (d.IsZero()) return distorted;
+  Vec2 p = initial;
+  for (int iter = 0; iter < 30; ++iter) {
+    const Vec2 residual = DistortNormalized(d, p) - distorted;
+    if (residual.lpNorm<Eigen::Infinity>() < 1e-15) break;
+    const Eigen::Matrix2d j = DistortJacobian(d, p);
+    const double det = j(0, 0) * j(1, 1) - j(0, 1) * j(1, 0);
+    p.x() -= (j(1, 1) * residual.x() - j(0, 1) * residual.y()) / det;
+    p.y() -= (j(0, 0) * residual.y() - j(1, 0) * residual.x()) / det;
+  }
+  return p;
+}
+
+Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted) {
+  return UndistortNormalized(d, distorted, distorted);
+}
+
+Vec2 ProjectPoint(const CameraIntrinsics& c, const Vec3& point) {
+  const Vec2 ideal(point.x() / point.z(), point.y() / point.z());
+  const Vec2 dist = DistortNormalized(c.distortion, ideal);
+  return {c.fx * dist.x() + c.cx, c.fy * dist.y() + c.cy};
+}
+
+Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel, const Vec2& initial_ideal) {
+  const Vec2 distorted((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy);
+  const Vec2 ideal = UndistortNormalized(c.distortion, distorted, initial_ideal);
+  return Vec3(ideal.x(), ideal.y(), 1.0).normalized();
+}
+
+Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel) {
+  return PixelRay(c, pixel, Vec2((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy));
+}
+
+}  // namespace ramtk::vision
