@@ -9,6 +9,8 @@ find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs calib3d featu
              structured_light phase_unwrapping aruco)
 find_package(OpenImageIO REQUIRED)
 find_package(Ceres 2.1 REQUIRED)
+# Boost (headers only): statistical distributions in diagnose/.
+find_package(Boost 1.74 REQUIRED)
 # PCL pulls VTK; only the components ramtk uses are requested.
 find_package(PCL 1.13 REQUIRED COMPONENTS common io search kdtree sample_consensus)
 if(RAMTK_BUILD_TESTS)

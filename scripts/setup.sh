@@ -19,6 +19,7 @@ PACKAGES=(
   libopencv-dev libopencv-contrib-dev  # calibration, image ops, structured_light peer
   libopenimageio-dev       # image and EXR I/O
   libceres-dev             # non-linear least squares
+  libboost-dev             # header-only: statistical distributions (diagnose)
   libpcl-dev               # clouds, RANSAC, search (pulls VTK)
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev         # bench/

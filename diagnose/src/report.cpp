@@ -1,0 +1,128 @@
+#include "ramtk/diagnose/report.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "ramtk/core/file_io.h"
+
+namespace ramtk::diagnose {
+namespace {
+
+nlohmann::json Finite(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json MapJson(const std::map<std::string, double>& m) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [k, v] : m) j[k] = Finite(v);
+  return j;
+}
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << v;
+  return out.str();
+}
+
+}  // namespace
+
+std::string DiagnosisJson(const Diagnosis& d) {
+  nlohmann::json j;
+  j["kind"] = DataKindName(d.kind);
+  j["data"] = d.data;
+  j["model"] = d.model;
+  j["unit"] = d.unit;
+  j["num_residuals"] = d.num_residuals;
+  j["noise_floor_rms"] = Finite(d.noise_floor_rms);
+  j["residual_rms"] = Finite(d.residual_rms);
+  j["structure_found"] = d.structure_found;
+  j["structure_p_value"] = Finite(d.structure_p_value);
+  j["findings"] = d.findings;
+  j["cause"] = d.cause;
+  j["parameters"] = MapJson(d.parameters);
+  j["sigmas"] = MapJson(d.sigmas);
+  j["confidence"] = Finite(d.confidence);
+  if (!d.explaining_variable.empty()) j["explaining_variable"] = d.explaining_variable;
+  j["heldout"] = {{"rms_before", Finite(d.rms_before)},
+                  {"rms_after", Finite(d.rms_after)},
+                  {"excess_removed", Finite(d.excess_removed)}};
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const CandidateFit& c : d.candidates) {
+    candidates.push_back({{"effect", c.effect},
+                          {"num_parameters", c.num_parameters},
+                          {"parameters", MapJson(c.parameters)},
+                          {"sigmas", MapJson(c.sigmas)},
+                          {"train_rms", Finite(c.train_rms)},
+                          {"heldout_rms", Finite(c.heldout_rms)},
+                          {"heldout_count", c.heldout_count},
+                          {"score", Finite(c.score)},
+                          {"weight", Finite(c.weight)}});
+  }
+  j["candidates"] = candidates;
+  nlohmann::json pictures = nlohmann::json::array();
+  for (const Picture& p : d.pictures) pictures.push_back({{"file", p.file}, {"caption", p.caption}});
+  j["pictures"] = pictures;
+  return j.dump(2) + "\n";
+}
+
+std::string OneLine(const Diagnosis& d) {
+  std::ostringstream out;
+  out << DataKindName(d.kind) << ": ";
+  if (d.cause == kNoEffect) {
+    out << "no effect: residual RMS " << Fixed(d.residual_rms, 4) << " " << d.unit << " against a noise floor of "
+        << Fixed(d.noise_floor_rms, 4) << " " << d.unit
+        << (d.structure_found ? " (structure, but no extension pays)" : " (white)");
+    return out.str();
+  }
+  out << "cause '" << d.cause << "'";
+  if (d.cause == kUnexplained && !d.explaining_variable.empty())
+    out << " (explained by " << d.explaining_variable << ")";
+  out << " (confidence " << Fixed(d.confidence, 3) << "): held-out RMS " << Fixed(d.rms_before, 4) << " -> "
+      << Fixed(d.rms_after, 4) << " " << d.unit << ", " << Fixed(100.0 * d.excess_removed, 3)
+      << "% of the excess over the noise floor removed";
+  return out.str();
+}
+
+std::string DiagnosisMarkdown(const Diagnosis& d) {
+  std::ostringstream md;
+  md << "# Diagnosis: " << DataKindName(d.kind) << " data\n\n";
+  md << "- data: `" << d.data << "`\n- model: " << d.model << "\n- residuals: " << d.num_residuals << " (" << d.unit
+     << ")\n\n";
+  md << "**" << OneLine(d) << "**\n\n";
+  md << "## Residual of the current model\n\n";
+  md << "RMS " << Fixed(d.residual_rms, 4) << " " << d.unit << "; expected from the noise alone "
+     << Fixed(d.noise_floor_rms, 4) << " " << d.unit << ". "
+     << (d.structure_found ? "The residual has structure" : "The residual is consistent with the noise")
+     << " (smallest corrected p-value " << Fixed(d.structure_p_value, 3) << ").\n\n";
+  for (const std::string& f : d.findings) md << "- " << f << "\n";
+  md << "\n## Candidate extensions (cross-validated)\n\n";
+  md << "| effect | extra parameters | train RMS | held-out RMS | score | weight | estimates |\n";
+  md << "|---|---|---|---|---|---|---|\n";
+  for (const CandidateFit& c : d.candidates) {
+    md << "| `" << c.effect << "` | " << c.num_parameters << " | " << Fixed(c.train_rms, 4) << " | "
+       << Fixed(c.heldout_rms, 4) << " | " << Fixed(c.score, 6) << " | " << Fixed(c.weight, 3) << " | ";
+    bool first = true;
+    for (const auto& [k, v] : c.parameters) {
+      md << (first ? "" : ", ") << k << " = " << Fixed(v, 4);
+      const auto s = c.sigmas.find(k);
+      if (s != c.sigmas.end()) md << " ± " << Fixed(s->second, 2);
+      first = false;
+    }
+    md << " |\n";
+  }
+  if (!d.pictures.empty()) {
+    md << "\n## Pictures\n\n";
+    for (const Picture& p : d.pictures) md << "![" << p.caption << "](" << p.file << ")\n\n" << p.caption << "\n\n";
+  }
+  return md.str();
+}
+
+void WriteDiagnosis(const Diagnosis& diagnosis, const std::string& folder) {
+  std::filesystem::create_directories(folder);
+  const std::filesystem::path dir(folder);
+  WriteFileAtomically((dir / "diagnosis.json").string(), DiagnosisJson(diagnosis));
+  WriteFileAtomically((dir / "report.md").string(), DiagnosisMarkdown(diagnosis));
+}
+
+}  // namespace ramtk::diagnose

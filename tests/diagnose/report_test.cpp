@@ -1,0 +1,71 @@
+#include "ramtk/diagnose/report.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "ramtk/diagnose/catalogue.h"
+#include "ramtk/diagnose/plot.h"
+
+namespace ramtk::diagnose {
+namespace {
+
+TEST(Catalogue, HoldsTheStableNamesOfDesignMd) {
+  EXPECT_EQ(EffectsOf(DataKind::kFringe).size(), 7u);
+  EXPECT_EQ(EffectsOf(DataKind::kRobot).size(), 7u);
+  EXPECT_EQ(EffectsOf(DataKind::kLaser).size(), 7u);
+  EXPECT_TRUE(IsKnownCause("thermal_angle_drift"));
+  EXPECT_TRUE(IsKnownCause(kNoEffect));
+  EXPECT_FALSE(IsKnownCause("gremlins"));
+}
+
+TEST(Report, JsonCarriesCauseGainAndCandidates) {
+  Diagnosis d;
+  d.kind = DataKind::kLaser;
+  d.unit = "mm";
+  d.cause = "trigger_latency";
+  d.parameters = {{"latency_s", 0.0021}};
+  d.confidence = 0.97;
+  d.rms_before = 0.2, d.rms_after = 0.05, d.noise_floor_rms = 0.04;
+  d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, d.noise_floor_rms);
+  CandidateFit c;
+  c.effect = "trigger_latency";
+  c.num_parameters = 1;
+  d.candidates = {c};
+  const nlohmann::json j = nlohmann::json::parse(DiagnosisJson(d));
+  EXPECT_EQ(j["cause"], "trigger_latency");
+  EXPECT_EQ(j["kind"], "laser");
+  EXPECT_DOUBLE_EQ(j["parameters"]["latency_s"].get<double>(), 0.0021);
+  EXPECT_NEAR(j["heldout"]["excess_removed"].get<double>(), (0.04 - 0.0025) / (0.04 - 0.0016), 1e-12);
+  EXPECT_EQ(j["candidates"].size(), 1u);
+  EXPECT_NE(DiagnosisMarkdown(d).find("trigger_latency"), std::string::npos);
+}
+
+TEST(Report, WritesJsonReportAndAReadablePlot) {
+  const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/report";
+  std::filesystem::remove_all(dir);
+  Diagnosis d;
+  PlotSeries s;
+  for (int i = 0; i < 50; ++i) s.x.push_back(i), s.y.push_back(std::sin(i * 0.3));
+  s.label = "residual";
+  PlotOptions o;
+  o.title = "residual against time";
+  o.band = 0.5;
+  std::filesystem::create_directories(dir);
+  WritePlot({s}, o, dir + "/residual.png");
+  d.pictures.push_back({"residual.png", "residual against time"});
+  WriteDiagnosis(d, dir);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/diagnosis.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/report.md"));
+  const cv::Mat img = cv::imread(dir + "/residual.png");
+  ASSERT_FALSE(img.empty());
+  EXPECT_EQ(img.cols, o.width);
+  EXPECT_EQ(img.rows, o.height);
+  EXPECT_THROW(WritePlot({}, o, dir + "/empty.png"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ramtk::diagnose

@@ -1,0 +1,93 @@
+// `ramtk diagnose DATA`: hold measured data against the simulation, name the cause of what the
+// model gets wrong, extend it and measure the held-out gain. The analysis is in ramtk::diagnose;
+// this file only detects the kind, calls it and writes the report.
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/core/error.h"
+#include "ramtk/diagnose/diagnose.h"
+#include "ramtk/diagnose/report.h"
+#if __has_include("ramtk/diagnose/robot.h")
+#include "ramtk/diagnose/robot.h"
+#define RAMTK_DIAGNOSE_ROBOT 1
+#endif
+#if __has_include("ramtk/diagnose/fringe.h")
+#include "ramtk/diagnose/fringe.h"
+#define RAMTK_DIAGNOSE_FRINGE 1
+#endif
+#if __has_include("ramtk/diagnose/laser.h")
+#include "ramtk/diagnose/laser.h"
+#define RAMTK_DIAGNOSE_LASER 1
+#endif
+
+namespace ramtk::tools {
+namespace {
+
+int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kind_override) {
+  options.Validate();
+  diagnose::DataKind kind = diagnose::DetectKind(options.data);
+  if (kind_override == "fringe") kind = diagnose::DataKind::kFringe;
+  if (kind_override == "robot") kind = diagnose::DataKind::kRobot;
+  if (kind_override == "laser") kind = diagnose::DataKind::kLaser;
+  diagnose::Diagnosis result;
+  bool available = false;
+  switch (kind) {
+    case diagnose::DataKind::kRobot:
+#ifdef RAMTK_DIAGNOSE_ROBOT
+      result = diagnose::DiagnoseRobot(options), available = true;
+#endif
+      break;
+    case diagnose::DataKind::kFringe:
+#ifdef RAMTK_DIAGNOSE_FRINGE
+      result = diagnose::DiagnoseFringe(options), available = true;
+#endif
+      break;
+    case diagnose::DataKind::kLaser:
+#ifdef RAMTK_DIAGNOSE_LASER
+      result = diagnose::DiagnoseLaser(options), available = true;
+#endif
+      break;
+  }
+  if (!available) {
+    std::cerr << "ramtk: error: diagnosing " << diagnose::DataKindName(kind) << " data is not built in\n";
+    return kExitUsage;
+  }
+  if (!options.output_folder.empty()) diagnose::WriteDiagnosis(result, options.output_folder);
+  std::cout << diagnose::OneLine(result) << '\n';
+  if (!options.output_folder.empty()) std::cout << "wrote " << options.output_folder << "/report.md\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
+  auto options = std::make_shared<diagnose::DiagnoseOptions>();
+  auto kind = std::make_shared<std::string>();
+  CLI::App* sub = app.add_subcommand(
+      "diagnose", "What the simulation gets wrong on measured data: residual structure, named cause, held-out gain");
+  sub->add_option("data", options->data,
+                  "Fringe manifest (.json), robot measurements CSV, laser log or sensor-frame points CSV")
+      ->required();
+  sub->add_option("--model", options->model,
+                  "Current model: robot YAML, stereo calibration, sensor frame JSON (kind's default if empty)");
+  sub->add_option("--with", options->with,
+                  "Further input the kind needs (motion JSON, thermal set-up JSON...); repeatable");
+  sub->add_option("--out", options->output_folder, "Folder for report.md, diagnosis.json and pictures");
+  sub->add_option("--folds", options->folds, "Cross-validation folds")->capture_default_str();
+  sub->add_option("--noise", options->noise,
+                  "Expected noise sigma of one residual in the data's unit (0 = kind's default)");
+  sub->add_option("--alpha", options->alpha, "Significance level of the structure tests")->capture_default_str();
+  sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
+  sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
+  sub->callback([options, kind, exit_code]() {
+    options->progress = [](const Progress& p) {
+      std::cerr << "\r" << p.stage << " " << p.done << "/" << p.total << std::flush;
+      if (p.total > 0 && p.done == p.total) std::cerr << '\n';
+      return true;
+    };
+    *exit_code = RunDiagnose(*options, *kind);
+  });
+}
+
+}  // namespace ramtk::tools
