@@ -271,16 +271,6 @@ int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
   return kExitOk;
 }
 
-// The `name` subcommand of `app`, created if no other command made it yet.
-CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description) {
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-    if (sub->get_name() == name) return sub;
-  }
-  CLI::App* sub = app.add_subcommand(name, description);
-  sub->require_subcommand(1);
-  return sub;
-}
-
 }  // namespace
 
 void RegisterCalibCommands(CLI::App& app, int* exit_code) {
@@ -333,7 +323,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_flag("--no-refine", opt->no_refine, "Keep OpenCV's closed form (no Ceres refinement)");
     sub->callback([opt, exit_code]() { *exit_code = RunHandEye(*opt); });
   }
-  CLI::App* simulate = GetOrAddSubcommand(app, "simulate", "Simulators with known truth");
+  CLI::App* simulate = SimulateCommand(app);
   {
     auto opt = std::make_shared<SimulateSensorRobotOptions>();
     CLI::App* sub = simulate->add_subcommand(

@@ -4,6 +4,7 @@
 //   0 success, 1 bad input (file, field or value), 2 command-line usage, 3 no solution.
 
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace ramtk::tools {
 
@@ -12,12 +13,18 @@ inline constexpr int kExitBadInput = 1;
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitNoSolution = 3;
 
+// The `name` subcommand of `app` (a group such as `calib`), created by the first module that asks.
+CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description);
+// `ramtk simulate`: every module's simulator registers below it.
+CLI::App* SimulateCommand(CLI::App& app);
+
 // Sets *exit_code when the subcommand runs.
 void RegisterFkCommand(CLI::App& app, int* exit_code);
 void RegisterIkCommand(CLI::App& app, int* exit_code);
 void RegisterThermalCommands(CLI::App& app, int* exit_code);  // simulate thermal, thermal ...
-void RegisterTcfCommand(CLI::App& app, int* exit_code);  // tcf … and simulate tcf
-void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
+void RegisterTcfCommand(CLI::App& app, int* exit_code);       // tcf … and simulate tcf
+void RegisterCalibCommands(CLI::App& app,
+                           int* exit_code);  // calib sensor-robot|cameras|hand-eye, simulate sensor-robot|hand-eye
 void RegisterPatternsCommand(CLI::App& app, int* exit_code);
 void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);

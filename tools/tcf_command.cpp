@@ -238,14 +238,7 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   r->add_option("--points", sc->points, "CSV with columns x,y,z")->required();
   r->callback([sc, exit_code]() { *exit_code = RunScatter(*sc); });
 
-  // `ramtk simulate` may be shared with other modules' simulators: reuse it if it exists.
-  CLI::App* simulate = nullptr;
-  try {
-    simulate = app.get_subcommand("simulate");
-  } catch (const CLI::OptionNotFound&) {
-    simulate = app.add_subcommand("simulate", "Simulators writing data and truth");
-    simulate->require_subcommand(1);
-  }
+  CLI::App* simulate = SimulateCommand(app);
   auto so = std::make_shared<SimulateOptions>();
   CLI::App* st = simulate->add_subcommand("tcf", "Cross-laser device: laser log, motion, sensor frame and truth");
   st->add_option("--out-dir", so->out_dir, "Existing folder for laser_log.csv, motion.json, sensor.json, truth.json")

@@ -450,19 +450,11 @@ int RunPredict(const PredictOptions& opt) {
   return kExitOk;
 }
 
-CLI::App* GetOrAdd(CLI::App& app, const std::string& name, const std::string& help) {
-  auto found = app.get_subcommands([&](CLI::App* a) { return a->get_name() == name; });
-  if (!found.empty()) return found.front();
-  CLI::App* sub = app.add_subcommand(name, help);
-  sub->require_subcommand(1);
-  return sub;
-}
-
 }  // namespace
 
 void RegisterThermalCommands(CLI::App& app, int* exit_code) {
   {
-    CLI::App* simulate = GetOrAdd(app, "simulate", "Simulators that write data sets with ground truth");
+    CLI::App* simulate = SimulateCommand(app);
     auto opt = std::make_shared<SimulateThermalOptions>();
     CLI::App* sub =
         simulate->add_subcommand("thermal", "Thermal drift experiment (thesis §5.1): ball, monitoring, truth");
@@ -478,7 +470,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--out", opt->out_dir, "Output folder")->required();
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateThermal(*opt); });
   }
-  CLI::App* thermal = GetOrAdd(app, "thermal", "Thermal drift: identify, screen parameters, compensate, predict");
+  CLI::App* thermal = GetOrAddSubcommand(app, "thermal", "Thermal drift: identify, screen parameters, compensate, predict");
   {
     auto opt = std::make_shared<IdentifyOptions>();
     CLI::App* sub = thermal->add_subcommand("identify", "Identify the parameter drift per cycle (eqs. 3-5..3-10)");

@@ -117,13 +117,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
 }  // namespace
 
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
-  CLI::App* simulate = nullptr;
-  try {
-    simulate = app.get_subcommand("simulate");
-  } catch (const CLI::OptionNotFound&) {
-    simulate = app.add_subcommand("simulate", "Simulators: synthetic data with known truth");
-    simulate->require_subcommand(1);
-  }
+  CLI::App* simulate = SimulateCommand(app);
   auto opt = std::make_shared<SimulateFringeOptions>();
   CLI::App* sub = simulate->add_subcommand(
       "fringe", "Render a stereo fringe-projection image set, its calibration and ground truth");
