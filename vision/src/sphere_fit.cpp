@@ -92,6 +92,7 @@ void SphereFitOptions::Validate() const {
   Require(viewpoint_mm.allFinite(), "viewpoint_mm", "must be finite");
   Require(std::isfinite(perpendicular_sigma_ratio) && perpendicular_sigma_ratio > 0 && perpendicular_sigma_ratio <= 1,
           "perpendicular_sigma_ratio", "must be in (0, 1]");
+  Require(max_robust_points >= 100, "max_robust_points", "must be >= 100");
   Require(max_solver_iterations >= 1, "max_solver_iterations", "must be >= 1");
 }
 
@@ -174,9 +175,17 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     normal_sigma.Evaluate(near, candidate.centre, &sigma_n);
     double scale = std::max(RobustScale(points, sigma_n, in_band, candidate.centre, candidate.radius), min_scale);
     const bool robust = options.loss != SphereLoss::kNone;
+    // The robust pass only starts and classifies: a strided subset of at most max_robust_points.
+    std::vector<int> subset = robust ? near : in_band;
+    if (static_cast<int>(subset.size()) > options.max_robust_points) {
+      const double step = static_cast<double>(subset.size()) / options.max_robust_points;
+      std::vector<int> thinned;
+      for (int k = 0; k < options.max_robust_points; ++k) thinned.push_back(subset[static_cast<size_t>(k * step)]);
+      subset.swap(thinned);
+    }
     const GeometricFit rough = sphere_internal::FitGeometric(
-        points, sigma_n, robust ? near : in_band, candidate.centre, radius0, options.fix_radius, options.loss,
-        options.robust_loss_scale * scale, options.max_solver_iterations);
+        points, sigma_n, subset, candidate.centre, radius0, options.fix_radius, options.loss,
+        options.robust_loss_scale * scale, options.max_solver_iterations, false);
     // Classify with the robust scale at the robust solution.
     normal_sigma.Evaluate(near, rough.centre, &sigma_n);
     scale = std::max(RobustScale(points, sigma_n, near, rough.centre, rough.radius), min_scale);
@@ -192,7 +201,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     // Final: weighted least squares on the inliers.
     const GeometricFit fit =
         sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius, options.fix_radius,
-                                      SphereLoss::kNone, 1.0, options.max_solver_iterations);
+                                      SphereLoss::kNone, 1.0, options.max_solver_iterations, true);
     if (!fit.converged) {
       RAMTK_LOG(kWarning) << "sphere fit: Ceres did not report convergence";
     }
@@ -215,12 +224,11 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       const double dist = d.norm();
       const double r = dist - fit.radius;
       const Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
-      normal.selfadjointView<Eigen::Lower>().rankUpdate(g);
+      normal.noalias() += g * g.transpose();
       chi2 += (r / sigma_n[i]) * (r / sigma_n[i]);
       sum_r2 += r * r;
       worst = std::max(worst, std::abs(r));
     }
-    normal = normal.selfadjointView<Eigen::Lower>();
     result.rms_mm = std::sqrt(sum_r2 / static_cast<double>(inliers.size()));
     result.worst_mm = worst;
     result.variance_factor = chi2 / static_cast<double>(inliers.size() - num_params);

@@ -56,9 +56,10 @@ struct GeometricFit {
 };
 
 // Ceres fit of sum rho((|p_i - c| - R) / sigma_i) over `indices`; loss scale in units of the
-// normalised residual (ignored for SphereLoss::kNone). sigma indexed like points.
+// normalised residual (ignored for SphereLoss::kNone). sigma indexed like points. `precise`: run
+// to rounding level, else stop at a relative cost change of 1e-7.
 GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
-                          bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations);
+                          bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise);
 
 }  // namespace ramtk::vision::sphere_internal

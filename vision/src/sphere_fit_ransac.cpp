@@ -64,7 +64,6 @@ const std::vector<int>& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
         auto it = cells_.find(Pack(ci + di, cj + dj, ck + dk));
         if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
       }
-  std::sort(out.begin(), out.end());
   return out;
 }
 
@@ -80,10 +79,9 @@ bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<
   for (int i : indices) {
     const Eigen::Vector3d q = points[i] - mean;
     const Eigen::Vector4d row(2 * q.x(), 2 * q.y(), 2 * q.z(), 1.0);
-    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    ata.noalias() += row * row.transpose();
     atb += row * q.squaredNorm();
   }
-  ata = ata.selfadjointView<Eigen::Lower>();
   Eigen::LDLT<Eigen::Matrix4d> ldlt(ata);
   if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-14)) return false;
   const Eigen::Vector4d sol = ldlt.solve(atb);

@@ -77,6 +77,10 @@ struct SphereFitOptions {
   // and with thousands of points the factor is known to a few percent. Without sigmas the
   // covariance is always scaled (the residual scatter is then the only noise level there is).
   bool scale_covariance = true;
+  // The robust fit (one Ceres residual block per point, for the per-point loss) runs on a strided
+  // subset of at most this many candidate points; it only starts the final fit and sorts out the
+  // outliers. The final weighted least-squares fit uses every inlier.
+  int max_robust_points = 2000;
   // Maximum Ceres iterations of each geometric fit.
   int max_solver_iterations = 50;
   // Called after each sphere; returning false stops the search (termination "cancelled").
