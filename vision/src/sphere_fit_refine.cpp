@@ -1,0 +1,121 @@
+// Geometric sphere fit with Ceres: residual (|p - c| - R) / sigma per point (analytic Jacobian),
+// optional Huber or Cauchy loss, radius free or held constant.
+
+#include <ceres/ceres.h>
+
+#include <memory>
+
+#include "sphere_fit_internal.h"
+
+namespace ramtk::vision::sphere_internal {
+namespace {
+
+class SphereResidual final : public ceres::SizedCostFunction<1, 3, 1> {
+ public:
+  SphereResidual(const Eigen::Vector3d& p, double inv_sigma) : p_(p), inv_sigma_(inv_sigma) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::Vector3d d = p_ - Eigen::Map<const Eigen::Vector3d>(parameters[0]);
+    const double n = d.norm();
+    if (!(n > 0)) return false;
+    residuals[0] = (n - parameters[1][0]) * inv_sigma_;
+    if (jacobians != nullptr) {
+      if (jacobians[0] != nullptr) {
+        Eigen::Map<Eigen::Vector3d> dc(jacobians[0]);
+        dc = -d * (inv_sigma_ / n);
+      }
+      if (jacobians[1] != nullptr) jacobians[1][0] = -inv_sigma_;
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Vector3d p_;
+  double inv_sigma_;
+};
+
+// All points in one residual block (no robust loss): one evaluation call per iteration instead
+// of one per point.
+class SphereResiduals final : public ceres::CostFunction {
+ public:
+  SphereResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                  const std::vector<int>& indices)
+      : points_(points), sigma_(sigma), indices_(indices) {
+    set_num_residuals(static_cast<int>(indices.size()));
+    mutable_parameter_block_sizes()->push_back(3);
+    mutable_parameter_block_sizes()->push_back(1);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::Vector3d c(parameters[0][0], parameters[0][1], parameters[0][2]);
+    const double radius = parameters[1][0];
+    for (size_t k = 0; k < indices_.size(); ++k) {
+      const int i = indices_[k];
+      const Eigen::Vector3d d = points_[i] - c;
+      const double n = d.norm();
+      if (!(n > 0)) return false;
+      const double inv_sigma = 1.0 / sigma_[i];
+      residuals[k] = (n - radius) * inv_sigma;
+      if (jacobians != nullptr) {
+        if (jacobians[0] != nullptr) {
+          const double f = -inv_sigma / n;
+          jacobians[0][3 * k + 0] = f * d.x();
+          jacobians[0][3 * k + 1] = f * d.y();
+          jacobians[0][3 * k + 2] = f * d.z();
+        }
+        if (jacobians[1] != nullptr) jacobians[1][k] = -inv_sigma;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const std::vector<Eigen::Vector3d>& points_;
+  const std::vector<double>& sigma_;
+  const std::vector<int>& indices_;
+};
+
+}  // namespace
+
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                          const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
+                          bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise) {
+  double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
+  double radius = radius0;
+  // One loss object shared by all residuals; it outlives the problem, which does not own it.
+  std::unique_ptr<ceres::LossFunction> loss_function;
+  if (loss == SphereLoss::kHuber) loss_function = std::make_unique<ceres::HuberLoss>(loss_scale);
+  if (loss == SphereLoss::kCauchy) loss_function = std::make_unique<ceres::CauchyLoss>(loss_scale);
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  if (loss == SphereLoss::kNone) {
+    problem.AddResidualBlock(new SphereResiduals(points, sigma, indices), nullptr, centre, &radius);
+  } else {
+    for (int i : indices)
+      problem.AddResidualBlock(new SphereResidual(points[i], 1.0 / sigma[i]), loss_function.get(), centre, &radius);
+  }
+  if (fix_radius) problem.SetParameterBlockConstant(&radius);
+
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  // A start-and-classify pass stops at 1e-7 relative change of the cost; the final fit runs to
+  // rounding level (noise-free data must come back exact).
+  solver_options.function_tolerance = precise ? 1e-12 : 1e-7;
+  solver_options.gradient_tolerance = precise ? 1e-14 : 1e-10;
+  solver_options.parameter_tolerance = precise ? 1e-12 : 1e-8;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+
+  GeometricFit fit;
+  fit.centre = Eigen::Vector3d(centre[0], centre[1], centre[2]);
+  fit.radius = radius;
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.initial_cost = summary.initial_cost;
+  fit.final_cost = summary.final_cost;
+  fit.converged = summary.termination_type == ceres::CONVERGENCE;
+  return fit;
+}
+
+}  // namespace ramtk::vision::sphere_internal
