@@ -11,47 +11,34 @@ ramtk_add_gtest(vision_sim_tests
 target_link_libraries(vision_sim_tests PRIVATE ramtk::vision ${OpenCV_LIBS} TBB::tbb nlohmann_json::nlohmann_json)
 
 # `ramtk simulate fringe` run as a user would (the expect_run.cmake script of tests/tools).
-function(ramtk_sim_cli_test name exit_code)
-  cmake_parse_arguments(T "" "STDOUT;STDERR" "ARGS" ${ARGN})
-  set(defs -DEXIT=${exit_code})
-  if(DEFINED T_STDOUT)
-    list(APPEND defs "-DSTDOUT_REGEX=${T_STDOUT}")
-  endif()
-  if(DEFINED T_STDERR)
-    list(APPEND defs "-DSTDERR_REGEX=${T_STDERR}")
-  endif()
-  string(JOIN "|" cmd "$<TARGET_FILE:ramtk>" ${T_ARGS})
-  add_test(NAME cli.${name} COMMAND ${CMAKE_COMMAND} "-DCMD=${cmd}" ${defs}
-           -P ${PROJECT_SOURCE_DIR}/tests/tools/expect_run.cmake)
-endfunction()
 
 set(SIM_OUT ${CMAKE_CURRENT_BINARY_DIR}/cli_sim_out)
-ramtk_sim_cli_test(simulate_fringe_small 0
+ramtk_cli_test(simulate_fringe_small 0
   ARGS simulate fringe --preset small --out ${SIM_OUT} --seed 5 --supersampling 1 --effect defocus=1.5
        --effect projector_nonlinearity=2.2 --force -q
   STDOUT "simulated 2 x 19 fringe images 640x512 in .*cli_sim_out")
-ramtk_sim_cli_test(simulate_fringe_unknown_effect 1
+ramtk_cli_test(simulate_fringe_unknown_effect 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --effect gamma=2.2
   STDERR "field '--effect': unknown effect 'gamma'")
-ramtk_sim_cli_test(simulate_fringe_bad_magnitude 1
+ramtk_cli_test(simulate_fringe_bad_magnitude 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --effect defocus=wide
   STDERR "field '--effect defocus': expected a number, got 'wide'")
-ramtk_sim_cli_test(simulate_fringe_negative_magnitude 1
+ramtk_cli_test(simulate_fringe_negative_magnitude 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --effect defocus=-2
   STDERR "effect defocus: magnitude \\(blur sigma, px\\) must be in")
-ramtk_sim_cli_test(simulate_fringe_unknown_preset 1
+ramtk_cli_test(simulate_fringe_unknown_preset 1
   ARGS simulate fringe --preset huge --out ${SIM_OUT}_bad
   STDERR "field '--preset': unknown preset 'huge'")
-ramtk_sim_cli_test(simulate_fringe_missing_out 2 ARGS simulate fringe --preset small STDERR "--out is required")
-ramtk_sim_cli_test(simulate_fringe_bad_sphere 1
+ramtk_cli_test(simulate_fringe_missing_out 2 ARGS simulate fringe --preset small STDERR "--out is required")
+ramtk_cli_test(simulate_fringe_bad_sphere 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --sphere 1,2,700
   STDERR "field '--sphere': expected 4 comma-separated values, got 3")
-ramtk_sim_cli_test(simulate_fringe_bad_direction 1
+ramtk_cli_test(simulate_fringe_bad_direction 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --direction diagonal
   STDERR "field '--direction': expected vertical or horizontal")
-ramtk_sim_cli_test(simulate_fringe_bad_sequence 1
+ramtk_cli_test(simulate_fringe_bad_sequence 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --sequence ps:4
   STDERR "field '--sequence': cannot read block 'ps:4'")
-ramtk_sim_cli_test(simulate_fringe_heterodyne 0
+ramtk_cli_test(simulate_fringe_heterodyne 0
   ARGS simulate fringe --out ${SIM_OUT}_het --force -q --supersampling 1 --sequence het:4:70/64/59
   STDOUT "simulated 2 x 12 fringe images 640x512")
