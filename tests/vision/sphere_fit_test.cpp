@@ -1,0 +1,285 @@
+// Sphere fit against truth: closed-form spheres (exact points -> error at machine precision),
+// synthetic caps of a 38.1 mm ball seen from 700 mm with anisotropic noise, a backdrop plane and
+// outliers (error against the simulated truth), known vs free radius, a ball bar, no-sphere and
+// too-few-points cases, bad input and the JSON result.
+
+#include "ramtk/vision/sphere_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "ramtk/core/error.h"
+#include "sphere_synth.h"
+
+namespace ramtk::vision {
+namespace {
+
+using test::CapScene;
+using test::MakeCapCloud;
+using test::SynthCloud;
+
+SphereFitOptions BallOptions(const SynthCloud& cloud) {
+  SphereFitOptions o;
+  o.radius_mm = 19.05;
+  o.noise_model = PointNoiseModel::kAlongLineOfSight;
+  o.viewpoint_mm = cloud.viewpoint;
+  o.perpendicular_sigma_ratio = 0.25;
+  return o;
+}
+
+TEST(SphereThroughFourPoints, ClosedFormRecoversTheSphere) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0, 1);
+  const Eigen::Vector3d centre(12.5, -40.25, 701.0);
+  const double radius = 19.05;
+  Eigen::Vector3d p[4];
+  for (auto& x : p) x = centre + radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+  Eigen::Vector3d c;
+  double r = 0;
+  ASSERT_TRUE(SphereThroughFourPoints(p[0], p[1], p[2], p[3], &c, &r));
+  EXPECT_LT((c - centre).norm(), 1e-10);
+  EXPECT_NEAR(r, radius, 1e-10);
+  // Four coplanar points have no sphere.
+  EXPECT_FALSE(SphereThroughFourPoints({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, &c, &r));
+}
+
+// Integer points on a sphere of integer radius about an integer centre are exact in float:
+// a noise-free cap, fitted free and with known radius, must come back to rounding error.
+TEST(FindSpheres, ExactIntegerCapToMachinePrecision) {
+  const Eigen::Vector3d centre(100, -50, 700);
+  const int radius = 45;  // 261 integer points on the half sphere
+  std::vector<Eigen::Vector3f> points;
+  for (int x = -radius; x <= radius; ++x)
+    for (int y = -radius; y <= radius; ++y)
+      for (int z = -radius; z <= 0; ++z)  // the half facing the camera (z towards it is negative)
+        if (x * x + y * y + z * z == radius * radius)
+          points.push_back((centre + Eigen::Vector3d(x, y, z)).cast<float>());
+  ASSERT_EQ(points.size(), 261u);
+  for (bool fix : {false, true}) {
+    SphereFitOptions o;
+    o.radius_mm = radius + 0.5;  // a prior, not the truth
+    o.radius_tolerance_mm = 1.0;
+    o.min_points = 50;
+    if (fix) o.radius_mm = radius;
+    o.fix_radius = fix;
+    const SphereFitSummary s = FindSpheres(points, {}, o);
+    ASSERT_EQ(s.spheres.size(), 1u) << s.BriefReport();
+    EXPECT_LT((s.spheres[0].centre_mm - centre).norm(), 1e-9) << "fix_radius " << fix;
+    EXPECT_NEAR(s.spheres[0].radius_mm, radius, 1e-9);
+    EXPECT_EQ(s.spheres[0].num_points, static_cast<int>(points.size()));
+    EXPECT_LT(s.spheres[0].rms_mm, 1e-9);
+  }
+}
+
+TEST(FindSpheres, NoisyCapWithBackdropAndOutliersMatchesTruth) {
+  const CapScene scene;
+  const SynthCloud cloud = MakeCapCloud(scene, 11);
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, BallOptions(cloud));
+  ASSERT_EQ(s.spheres.size(), 1u) << s.BriefReport();
+  const SphereResult& r = s.spheres[0];
+  const Eigen::Vector3d err = r.centre_mm - scene.centre;
+  const Eigen::Vector3d sig = r.CentreSigma();
+  // Within 4 predicted sigma per axis, and the sigmas are micrometre-level (noise 5..30 um).
+  for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(err[k]), 4 * sig[k]) << "axis " << k << " " << s.BriefReport();
+  EXPECT_LT(sig.maxCoeff(), 0.005);
+  EXPECT_LT(std::abs(r.radius_mm - scene.radius), 4 * r.radius_sigma_mm);
+  // The honest sigmas give a variance factor near 1.
+  EXPECT_NEAR(r.variance_factor, 1.0, 0.15);
+  // Inliers: nearly every true sphere point, and no backdrop, spike or outlier point.
+  // (A uniform outlier may land within the 4-sigma shell: ~0.4 expected, allow 2.)
+  int true_in = 0;
+  for (int i : r.inlier_indices) true_in += cloud.on_sphere[i];
+  EXPECT_LE(r.num_points - true_in, 2);
+  EXPECT_GT(r.num_points, 0.99 * cloud.sphere_points);
+  EXPECT_GT(r.num_outliers, 0);  // the spikes near the surface
+}
+
+TEST(FindSpheres, KnownRadiusTightensTheCentreAlongTheSight) {
+  const CapScene scene;
+  const SynthCloud cloud = MakeCapCloud(scene, 12);
+  SphereFitOptions free_radius = BallOptions(cloud);
+  SphereFitOptions known = free_radius;
+  known.fix_radius = true;
+  const SphereFitSummary a = FindSpheres(cloud.points, cloud.sigma, free_radius);
+  const SphereFitSummary b = FindSpheres(cloud.points, cloud.sigma, known);
+  ASSERT_EQ(a.spheres.size(), 1u);
+  ASSERT_EQ(b.spheres.size(), 1u);
+  EXPECT_EQ(b.spheres[0].radius_mm, scene.radius);
+  EXPECT_EQ(b.spheres[0].radius_sigma_mm, 0.0);
+  // A cap fixes the centre along the sight line only together with the radius: the known radius
+  // makes the depth sigma several times smaller, and the error stays within it.
+  const double free_z = a.spheres[0].CentreSigma().z(), known_z = b.spheres[0].CentreSigma().z();
+  EXPECT_LT(known_z, 0.5 * free_z);
+  const Eigen::Vector3d err = b.spheres[0].centre_mm - scene.centre;
+  for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(err[k]), 4 * b.spheres[0].CentreSigma()[k]);
+  // A wrong known radius moves the centre along the sight line by about the radius error.
+  SphereFitOptions wrong = known;
+  wrong.radius_mm = scene.radius + 0.05;
+  const SphereFitSummary c = FindSpheres(cloud.points, cloud.sigma, wrong);
+  ASSERT_EQ(c.spheres.size(), 1u);
+  EXPECT_GT((c.spheres[0].centre_mm - scene.centre).z(), 0.03);
+}
+
+TEST(FindSpheres, BallBarCentreDistance) {
+  CapScene scene;
+  scene.centre = Eigen::Vector3d(100, 0, 700);
+  Eigen::Vector3d ca, cb;
+  const double length = 150.0;
+  const SynthCloud cloud = test::MakeBallBarCloud(scene, length, Eigen::Vector3d(1, 0.3, 0.2), 21, &ca, &cb);
+  SphereFitOptions o = BallOptions(cloud);
+  o.max_spheres = 2;
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
+  ASSERT_EQ(s.spheres.size(), 2u) << s.BriefReport();
+  EXPECT_EQ(s.termination, "ok");
+  // Match found spheres to the truth by proximity.
+  const SphereResult& a = (s.spheres[0].centre_mm - ca).norm() < 1 ? s.spheres[0] : s.spheres[1];
+  const SphereResult& b = (s.spheres[0].centre_mm - ca).norm() < 1 ? s.spheres[1] : s.spheres[0];
+  EXPECT_LT((a.centre_mm - ca).norm(), 0.01);
+  EXPECT_LT((b.centre_mm - cb).norm(), 0.01);
+  const CentreDistance d = ComputeCentreDistance(a, b);
+  EXPECT_GT(d.sigma_mm, 0);
+  EXPECT_LT(d.sigma_mm, 0.005);
+  EXPECT_LT(std::abs(d.distance_mm - length), 4 * d.sigma_mm) << s.BriefReport();
+  // No point is claimed by both spheres.
+  std::vector<int> seen(cloud.points.size(), 0);
+  for (const SphereResult& r : s.spheres)
+    for (int i : r.inlier_indices) EXPECT_EQ(seen[i]++, 0);
+}
+
+TEST(FindSpheres, PlaneAndClutterAloneIsNoSphere) {
+  CapScene scene;
+  SynthCloud cloud;
+  std::mt19937_64 rng(3);
+  test::AddBackdrop({scene}, rng, &cloud);
+  std::uniform_real_distribution<double> u(-40, 40);
+  for (int k = 0; k < 2000; ++k)
+    cloud.points.push_back((scene.centre + Eigen::Vector3d(u(rng), u(rng), u(rng))).cast<float>());
+  cloud.sigma.assign(cloud.points.size(), 0.02f);
+  SphereFitOptions o = BallOptions(cloud);
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
+  EXPECT_TRUE(s.spheres.empty()) << s.BriefReport();
+  EXPECT_EQ(s.termination, "no sphere found");
+  EXPECT_FALSE(s.no_sphere_reason.empty());
+  // The plane alone: no 4-point sample gives a sphere anywhere near the prior radius.
+  SynthCloud plane;
+  test::AddBackdrop({scene}, rng, &plane);
+  for (auto& p : plane.points) p.z() = static_cast<float>(scene.centre.z() + 60);  // exactly flat
+  const SphereFitSummary t = FindSpheres(plane.points, {}, o);
+  EXPECT_TRUE(t.spheres.empty());
+  EXPECT_NE(t.no_sphere_reason.find("no candidate sphere with radius in"), std::string::npos) << t.no_sphere_reason;
+}
+
+TEST(FindSpheres, TooFewPointsIsNoSphere) {
+  CapScene scene;
+  scene.pitch_mm = 3.0;  // a sparse cap: about 100 points
+  scene.backdrop = false;
+  const SynthCloud cloud = MakeCapCloud(scene, 5);
+  ASSERT_LT(cloud.sphere_points, 200);
+  ASSERT_GT(cloud.sphere_points, 40);
+  SphereFitOptions o = BallOptions(cloud);
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
+  EXPECT_TRUE(s.spheres.empty());
+  EXPECT_NE(s.no_sphere_reason.find("fewer than min_points 200"), std::string::npos) << s.no_sphere_reason;
+  EXPECT_NE(s.BriefReport().find("no sphere found"), std::string::npos);
+  // With a lower threshold the same points give the right sphere.
+  o.min_points = 30;
+  const SphereFitSummary t = FindSpheres(cloud.points, cloud.sigma, o);
+  ASSERT_EQ(t.spheres.size(), 1u) << t.BriefReport();
+  EXPECT_LT((t.spheres[0].centre_mm - scene.centre).norm(), 0.05);
+}
+
+TEST(FindSpheres, UnweightedFitEstimatesTheNoiseLevel) {
+  CapScene scene;
+  scene.sigma_min_mm = scene.sigma_max_mm = 0.02;
+  scene.perpendicular_ratio = 1.0;  // isotropic noise of 20 um
+  const SynthCloud cloud = MakeCapCloud(scene, 9);
+  SphereFitOptions o;
+  o.radius_mm = 19.05;
+  o.inlier_threshold_mm = 0.1;
+  const SphereFitSummary s = FindSpheres(cloud.points, {}, o);
+  ASSERT_EQ(s.spheres.size(), 1u) << s.BriefReport();
+  // Without sigmas the covariance comes from the residual scatter: rms ~ 20 um.
+  EXPECT_NEAR(s.spheres[0].rms_mm, 0.02, 0.002);
+  const Eigen::Vector3d err = s.spheres[0].centre_mm - scene.centre;
+  for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(err[k]), 4 * s.spheres[0].CentreSigma()[k]);
+}
+
+TEST(FindSpheres, BadInputNamesTheField) {
+  std::vector<Eigen::Vector3f> points(10, Eigen::Vector3f::Zero());
+  SphereFitOptions o;
+  try {
+    FindSpheres(points, std::vector<float>(9, 0.01f), o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "sigma_mm");
+  }
+  try {
+    FindSpheres(points, std::vector<float>(10, -1.0f), o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "sigma_mm[0]");
+  }
+  o.fix_radius = true;  // without a radius
+  try {
+    FindSpheres(points, {}, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "fix_radius");
+  }
+  SphereFitOptions p;
+  p.min_points = 3;
+  EXPECT_THROW(p.Validate(), InputError);
+  // Non-finite points are skipped, not fitted.
+  const CapScene scene;
+  SynthCloud cloud = MakeCapCloud(scene, 4);
+  cloud.points.push_back(Eigen::Vector3f(NAN, 0, 700));
+  cloud.sigma.push_back(0.01f);
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, BallOptions(cloud));
+  ASSERT_EQ(s.spheres.size(), 1u);
+  EXPECT_LT((s.spheres[0].centre_mm - scene.centre).norm(), 0.01);
+}
+
+TEST(SphereFitJson, CarriesTheResult) {
+  CapScene scene;
+  Eigen::Vector3d ca, cb;
+  const SynthCloud cloud = test::MakeBallBarCloud(scene, 120.0, Eigen::Vector3d::UnitX(), 2, &ca, &cb);
+  SphereFitOptions o = BallOptions(cloud);
+  o.max_spheres = 2;
+  const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
+  ASSERT_EQ(s.spheres.size(), 2u);
+  const auto path = std::filesystem::temp_directory_path() / "ramtk_sphere_fit_test.json";
+  WriteSphereFitJson(path.string(), s, "left_camera");
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  std::filesystem::remove(path);
+  EXPECT_EQ(j["format"], "ramtk-sphere-fit");
+  EXPECT_EQ(j["frame"], "left_camera");
+  ASSERT_EQ(j["spheres"].size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    const auto& js = j["spheres"][k];
+    const SphereResult& r = s.spheres[k];
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_EQ(js["centre_mm"][a].get<double>(), r.centre_mm[a]);
+      for (int b = 0; b < 3; ++b)
+        EXPECT_EQ(js["centre_covariance_mm2"][a][b].get<double>(), r.centre_covariance_mm2(a, b));
+    }
+    EXPECT_EQ(js["radius_mm"].get<double>(), r.radius_mm);
+    EXPECT_EQ(js["rms_mm"].get<double>(), r.rms_mm);
+    EXPECT_EQ(js["num_points"].get<int>(), r.num_points);
+    EXPECT_EQ(js["num_outliers"].get<int>(), r.num_outliers);
+  }
+  EXPECT_NEAR(j["centre_distances"][0]["distance_mm"].get<double>(), 120.0, 0.01);
+  // The covariance is symmetric and positive definite.
+  const Eigen::Matrix3d& cov = s.spheres[0].centre_covariance_mm2;
+  EXPECT_LT((cov - cov.transpose()).norm(), 1e-15);
+  EXPECT_GT(cov.llt().matrixL().toDenseMatrix().diagonal().minCoeff(), 0);
+}
+
+}  // namespace
+}  // namespace ramtk::vision

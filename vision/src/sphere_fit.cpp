@@ -1,0 +1,294 @@
+// FindSpheres: RANSAC candidate -> robust geometric fit -> inlier classification -> weighted
+// least squares on the inliers -> covariance; repeated on the remaining points for several spheres.
+
+#include "ramtk/vision/sphere_fit.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/log.h"
+#include "sphere_fit_internal.h"
+
+namespace ramtk::vision {
+namespace {
+
+using sphere_internal::Candidate;
+using sphere_internal::GeometricFit;
+
+void Require(bool ok, const char* field, const std::string& message) {
+  if (!ok) throw InputError({"", 0, field}, message);
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+std::string Format(const char* fmt, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), fmt, a);
+  return buf;
+}
+
+std::string FormatVec(const Eigen::Vector3d& v, const char* fmt) {
+  return "(" + Format(fmt, v.x()) + ", " + Format(fmt, v.y()) + ", " + Format(fmt, v.z()) + ")";
+}
+
+// The sigma of a point's distance to the sphere surface (along the normal at the point).
+struct NormalSigma {
+  const std::vector<Eigen::Vector3d>& points;
+  const std::vector<double>& sigma;  // as given (or 1 when unweighted)
+  const SphereFitOptions& options;
+  bool along_sight;
+
+  void Evaluate(const std::vector<int>& indices, const Eigen::Vector3d& centre, std::vector<double>* out) const {
+    for (int i : indices) {
+      if (!along_sight) {
+        (*out)[i] = sigma[i];
+        continue;
+      }
+      const Eigen::Vector3d sight = (points[i] - options.viewpoint_mm).normalized();
+      const Eigen::Vector3d normal = (points[i] - centre).normalized();
+      const double c = sight.dot(normal);
+      const double ratio = options.perpendicular_sigma_ratio;
+      (*out)[i] = sigma[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1.0 - c * c));
+    }
+  }
+};
+
+// Robust (MAD) scale of the normalised residuals of `indices`.
+double RobustScale(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma_n,
+                   const std::vector<int>& indices, const Eigen::Vector3d& centre, double radius) {
+  std::vector<double> z;
+  z.reserve(indices.size());
+  for (int i : indices) z.push_back(std::abs((points[i] - centre).norm() - radius) / sigma_n[i]);
+  return 1.4826 * Median(std::move(z));
+}
+
+}  // namespace
+
+void SphereFitOptions::Validate() const {
+  Require(std::isfinite(radius_mm) && radius_mm >= 0, "radius_mm", "must be >= 0 (0 = unknown)");
+  Require(!fix_radius || radius_mm > 0, "fix_radius", "needs radius_mm > 0");
+  Require(std::isfinite(radius_tolerance_mm) && radius_tolerance_mm > 0, "radius_tolerance_mm", "must be > 0");
+  Require(std::isfinite(min_radius_mm) && min_radius_mm > 0, "min_radius_mm", "must be > 0");
+  Require(std::isfinite(max_radius_mm) && max_radius_mm > min_radius_mm, "max_radius_mm", "must be > min_radius_mm");
+  Require(std::isfinite(inlier_threshold_mm) && inlier_threshold_mm >= 0, "inlier_threshold_mm",
+          "must be >= 0 (0 = automatic)");
+  Require(max_spheres >= 1, "max_spheres", "must be >= 1");
+  Require(min_points >= 5, "min_points", "must be >= 5 (a sphere has 4 parameters)");
+  Require(std::isfinite(robust_loss_scale) && robust_loss_scale > 0, "robust_loss_scale", "must be > 0");
+  Require(std::isfinite(outlier_threshold) && outlier_threshold >= 1, "outlier_threshold", "must be >= 1");
+  Require(max_iterations >= 1, "max_iterations", "must be >= 1");
+  Require(min_iterations >= 0 && min_iterations <= max_iterations, "min_iterations", "must be in [0, max_iterations]");
+  Require(confidence > 0 && confidence < 1, "confidence", "must be in (0, 1)");
+  Require(max_scoring_points >= 100, "max_scoring_points", "must be >= 100");
+  Require(viewpoint_mm.allFinite(), "viewpoint_mm", "must be finite");
+  Require(std::isfinite(perpendicular_sigma_ratio) && perpendicular_sigma_ratio > 0 && perpendicular_sigma_ratio <= 1,
+          "perpendicular_sigma_ratio", "must be in (0, 1]");
+  Require(max_solver_iterations >= 1, "max_solver_iterations", "must be >= 1");
+}
+
+Eigen::Vector3d SphereResult::CentreSigma() const { return centre_covariance_mm2.diagonal().cwiseMax(0).cwiseSqrt(); }
+
+SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, const std::vector<float>& sigma_mm,
+                             const SphereFitOptions& options) {
+  options.Validate();
+  const bool weighted = !sigma_mm.empty();
+  if (weighted && sigma_mm.size() != points_mm.size())
+    throw InputError({"", 0, "sigma_mm"}, "has " + std::to_string(sigma_mm.size()) + " values for " +
+                                              std::to_string(points_mm.size()) + " points");
+  SphereFitSummary summary;
+  summary.input_points = static_cast<int>(points_mm.size());
+  const int n = static_cast<int>(points_mm.size());
+  std::vector<Eigen::Vector3d> points(points_mm.size());
+  std::vector<double> sigma(points_mm.size(), 1.0);
+  std::vector<int> active;
+  active.reserve(points_mm.size());
+  for (int i = 0; i < n; ++i) {
+    points[i] = points_mm[i].cast<double>();
+    if (!points[i].allFinite()) continue;
+    if (weighted) {
+      if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0))
+        throw InputError({"", 0, "sigma_mm[" + std::to_string(i) + "]"},
+                         "must be finite and > 0, got " + std::to_string(sigma_mm[i]));
+      sigma[i] = sigma_mm[i];
+    }
+    active.push_back(i);
+  }
+
+  double radius_lo = options.min_radius_mm, radius_hi = options.max_radius_mm;
+  if (options.radius_mm > 0) {
+    radius_lo = std::max(0.1 * options.radius_mm, options.radius_mm - options.radius_tolerance_mm);
+    radius_hi = options.radius_mm + options.radius_tolerance_mm;
+  }
+  double band = options.inlier_threshold_mm;
+  if (band <= 0) {
+    std::vector<double> s;
+    for (int i : active) s.push_back(sigma[i]);
+    band = weighted ? 5.0 * Median(std::move(s)) : 0.1;
+    band = std::max(band, 1e-3);
+  }
+  summary.inlier_threshold_mm = band;
+  // Floor of the robust scale: residuals of 1 nm are as good as exact (noise-free data).
+  double sigma_median = 1.0;
+  if (weighted) {
+    std::vector<double> s;
+    for (int i : active) s.push_back(sigma[i]);
+    sigma_median = std::max(Median(std::move(s)), 1e-12);
+  }
+  const double min_scale = 1e-6 / sigma_median;
+  const NormalSigma normal_sigma{points, sigma, options,
+                                 weighted && options.noise_model == PointNoiseModel::kAlongLineOfSight};
+  std::vector<double> sigma_n(points.size(), 1.0);
+  std::mt19937_64 rng(options.seed);
+  const int num_params = options.fix_radius ? 3 : 4;
+
+  while (static_cast<int>(summary.spheres.size()) < options.max_spheres) {
+    const Candidate candidate =
+        sphere_internal::FindCandidate(points, active, band, radius_lo, radius_hi, options, rng);
+    if (!candidate.found) {
+      summary.no_sphere_reason = candidate.reason;
+      break;
+    }
+    if (candidate.inliers < options.min_points) {
+      summary.no_sphere_reason = "best candidate (radius " + Format("%.3f", candidate.radius) + " mm) has " +
+                                 std::to_string(candidate.inliers) + " points within " + Format("%.4f", band) +
+                                 " mm, fewer than min_points " + std::to_string(options.min_points);
+      break;
+    }
+    // Points near the candidate: the RANSAC band and a wider shell the robust fit sorts out.
+    std::vector<int> in_band, near;
+    for (int i : active) {
+      const double r = std::abs((points[i] - candidate.centre).norm() - candidate.radius);
+      if (r <= 5 * band) near.push_back(i);
+      if (r <= band) in_band.push_back(i);
+    }
+    double radius0 = options.fix_radius ? options.radius_mm : candidate.radius;
+    normal_sigma.Evaluate(near, candidate.centre, &sigma_n);
+    double scale = std::max(RobustScale(points, sigma_n, in_band, candidate.centre, candidate.radius), min_scale);
+    const bool robust = options.loss != SphereLoss::kNone;
+    const GeometricFit rough = sphere_internal::FitGeometric(
+        points, sigma_n, robust ? near : in_band, candidate.centre, radius0, options.fix_radius, options.loss,
+        options.robust_loss_scale * scale, options.max_solver_iterations);
+    // Classify with the robust scale at the robust solution.
+    normal_sigma.Evaluate(near, rough.centre, &sigma_n);
+    scale = std::max(RobustScale(points, sigma_n, near, rough.centre, rough.radius), min_scale);
+    std::vector<int> inliers;
+    for (int i : near)
+      if (std::abs((points[i] - rough.centre).norm() - rough.radius) / sigma_n[i] <= options.outlier_threshold * scale)
+        inliers.push_back(i);
+    if (static_cast<int>(inliers.size()) < options.min_points) {
+      summary.no_sphere_reason = "the robust fit keeps " + std::to_string(inliers.size()) +
+                                 " points, fewer than min_points " + std::to_string(options.min_points);
+      break;
+    }
+    // Final: weighted least squares on the inliers.
+    const GeometricFit fit =
+        sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius, options.fix_radius,
+                                      SphereLoss::kNone, 1.0, options.max_solver_iterations);
+    if (!fit.converged) {
+      RAMTK_LOG(kWarning) << "sphere fit: Ceres did not report convergence";
+    }
+
+    SphereResult result;
+    result.centre_mm = fit.centre;
+    result.radius_mm = fit.radius;
+    result.num_points = static_cast<int>(inliers.size());
+    result.num_outliers = static_cast<int>(near.size() - inliers.size());
+    result.robust_scale = scale;
+    result.ransac_iterations = candidate.iterations;
+    result.solver_iterations = fit.iterations;
+    result.initial_cost = fit.initial_cost;
+    result.final_cost = fit.final_cost;
+    // Normal matrix J^T W J at the solution; residual derivative wrt (c, R) is -(u, 1) / sigma.
+    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+    double chi2 = 0, sum_r2 = 0, worst = 0;
+    for (int i : inliers) {
+      const Eigen::Vector3d d = points[i] - fit.centre;
+      const double dist = d.norm();
+      const double r = dist - fit.radius;
+      const Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
+      normal.selfadjointView<Eigen::Lower>().rankUpdate(g);
+      chi2 += (r / sigma_n[i]) * (r / sigma_n[i]);
+      sum_r2 += r * r;
+      worst = std::max(worst, std::abs(r));
+    }
+    normal = normal.selfadjointView<Eigen::Lower>();
+    result.rms_mm = std::sqrt(sum_r2 / static_cast<double>(inliers.size()));
+    result.worst_mm = worst;
+    result.variance_factor = chi2 / static_cast<double>(inliers.size() - num_params);
+    const double factor = (options.scale_covariance || !weighted) ? result.variance_factor : 1.0;
+    if (options.fix_radius) {
+      result.centre_covariance_mm2 = normal.topLeftCorner<3, 3>().inverse() * factor;
+    } else {
+      const Eigen::Matrix4d cov = normal.inverse() * factor;
+      result.centre_covariance_mm2 = cov.topLeftCorner<3, 3>();
+      result.radius_sigma_mm = std::sqrt(std::max(0.0, cov(3, 3)));
+    }
+    result.inlier_indices = inliers;
+    // Remove this sphere's inliers and look for the next.
+    std::vector<char> used(points.size(), 0);
+    for (int i : inliers) used[i] = 1;
+    active.erase(std::remove_if(active.begin(), active.end(), [&](int i) { return used[i] != 0; }), active.end());
+    summary.spheres.push_back(std::move(result));
+    if (options.progress &&
+        !options.progress({"sphere fit", summary.spheres.size(), static_cast<size_t>(options.max_spheres)})) {
+      summary.termination = "cancelled";
+      break;
+    }
+  }
+  summary.unassigned_points = static_cast<int>(active.size());
+  if (summary.termination != "cancelled") {
+    if (summary.spheres.empty())
+      summary.termination = "no sphere found";
+    else if (static_cast<int>(summary.spheres.size()) < options.max_spheres)
+      summary.termination = "partial";
+  }
+  return summary;
+}
+
+std::string SphereFitSummary::BriefReport() const {
+  std::string out;
+  if (spheres.empty()) {
+    out = "no sphere found (" + std::to_string(input_points) + " points): " + no_sphere_reason;
+    return out;
+  }
+  out = std::to_string(spheres.size()) + (spheres.size() == 1 ? " sphere" : " spheres");
+  for (size_t k = 0; k < spheres.size(); ++k) {
+    const SphereResult& s = spheres[k];
+    out += (k == 0 ? ": " : "; ") + std::string("centre ") + FormatVec(s.centre_mm, "%.4f") + " mm ± " +
+           FormatVec(s.CentreSigma() * 1000.0, "%.2f") + " um, radius " + Format("%.4f", s.radius_mm) + " mm";
+    if (s.radius_sigma_mm > 0) out += " ± " + Format("%.2f", s.radius_sigma_mm * 1000.0) + " um";
+    out += ", rms " + Format("%.2f", s.rms_mm * 1000.0) + " um, " + std::to_string(s.num_points) + " points, " +
+           std::to_string(s.num_outliers) + " outliers";
+  }
+  if (spheres.size() >= 2) {
+    const CentreDistance d = ComputeCentreDistance(spheres[0], spheres[1]);
+    out += "; centre distance " + Format("%.4f", d.distance_mm) + " ± " + Format("%.2f", d.sigma_mm * 1000.0) + " um";
+  }
+  if (!no_sphere_reason.empty() && termination != "ok") out += " (" + termination + ": " + no_sphere_reason + ")";
+  return out;
+}
+
+CentreDistance ComputeCentreDistance(const SphereResult& a, const SphereResult& b) {
+  const Eigen::Vector3d d = a.centre_mm - b.centre_mm;
+  CentreDistance out;
+  out.distance_mm = d.norm();
+  if (out.distance_mm > 0) {
+    const Eigen::Vector3d u = d / out.distance_mm;
+    out.sigma_mm = std::sqrt(std::max(0.0, u.dot((a.centre_covariance_mm2 + b.centre_covariance_mm2) * u)));
+  } else {
+    // Zero distance: the first-order sigma is undefined; report the larger centre sigma.
+    out.sigma_mm = std::sqrt(std::max((a.centre_covariance_mm2 + b.centre_covariance_mm2).diagonal().maxCoeff(), 0.0));
+  }
+  return out;
+}
+
+}  // namespace ramtk::vision

@@ -1,0 +1,64 @@
+#pragma once
+// Internals of FindSpheres shared by sphere_fit*.cpp (not installed).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "ramtk/vision/sphere_fit.h"
+
+namespace ramtk::vision::sphere_internal {
+
+// Points hashed into cubic cells of edge `cell_mm`; the 27-cell neighbourhood of a cell holds
+// every point within cell_mm of any point of that cell.
+class PointGrid {
+ public:
+  PointGrid(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double cell_mm);
+  // Indices (into the point array) in the 27 cells around the cell of `x`. Cached per cell.
+  const std::vector<int>& Neighbourhood(const Eigen::Vector3d& x);
+
+ private:
+  int64_t Key(const Eigen::Vector3d& x) const;
+  static int64_t Pack(int64_t i, int64_t j, int64_t k);
+  double cell_;
+  Eigen::Vector3d origin_;
+  std::unordered_map<int64_t, std::vector<int>> cells_;
+  std::unordered_map<int64_t, std::vector<int>> cache_;
+};
+
+struct Candidate {
+  bool found = false;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0;
+  int inliers = 0;            // points of the neighbourhood within the band
+  int iterations = 0;         // samples drawn
+  int radius_ok_samples = 0;  // samples whose sphere passed the radius gate
+  std::string reason;         // why none was found
+};
+
+// RANSAC over the `active` points: 4-point samples from a neighbourhood, radius gate, LO step.
+Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double band_mm,
+                        double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng);
+
+// Least-squares algebraic (Kasa) sphere through the indexed points; false if degenerate.
+bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
+                  double* radius);
+
+struct GeometricFit {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0;
+  int iterations = 0;
+  double initial_cost = 0, final_cost = 0;
+  bool converged = false;
+};
+
+// Ceres fit of sum rho((|p_i - c| - R) / sigma_i) over `indices`; loss scale in units of the
+// normalised residual (ignored for SphereLoss::kNone). sigma indexed like points.
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                          const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
+                          bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations);
+
+}  // namespace ramtk::vision::sphere_internal

@@ -1,0 +1,185 @@
+// Sphere candidates by RANSAC: closed-form spheres through 4 points drawn from one spatial
+// neighbourhood (so a small ball in a large cloud is still sampled often), a radius gate from
+// the prior, scoring on a strided subset of the neighbourhood, and a local optimisation (LO)
+// of every new best candidate by iterated algebraic fits on its inliers.
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sphere_fit_internal.h"
+
+namespace ramtk::vision {
+
+bool SphereThroughFourPoints(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                             const Eigen::Vector3d& d, Eigen::Vector3d* centre, double* radius) {
+  // With q_k = p_k - a the centre offset x satisfies 2 q_k . x = |q_k|^2 (k = 1..3).
+  Eigen::Matrix3d m;
+  m.row(0) = 2 * (b - a);
+  m.row(1) = 2 * (c - a);
+  m.row(2) = 2 * (d - a);
+  const Eigen::Vector3d rhs((b - a).squaredNorm(), (c - a).squaredNorm(), (d - a).squaredNorm());
+  // Coplanar points: det ~ 0 relative to the scale of the rows.
+  const double scale = m.row(0).norm() * m.row(1).norm() * m.row(2).norm();
+  const double det = m.determinant();
+  if (!(scale > 0) || std::abs(det) < 1e-9 * scale) return false;
+  const Eigen::Vector3d x = m.partialPivLu().solve(rhs);
+  if (!x.allFinite()) return false;
+  *centre = a + x;
+  *radius = x.norm();
+  return true;
+}
+
+namespace sphere_internal {
+
+int64_t PointGrid::Pack(int64_t i, int64_t j, int64_t k) {
+  // 21 bits per axis, offset to be non-negative; cells beyond +-1e6 wrap (harmless: a hash).
+  constexpr int64_t kOff = 1 << 20, kMask = (1 << 21) - 1;
+  return (((i + kOff) & kMask) << 42) | (((j + kOff) & kMask) << 21) | ((k + kOff) & kMask);
+}
+
+int64_t PointGrid::Key(const Eigen::Vector3d& x) const {
+  const Eigen::Vector3d g = (x - origin_) / cell_;
+  return Pack(static_cast<int64_t>(std::floor(g.x())), static_cast<int64_t>(std::floor(g.y())),
+              static_cast<int64_t>(std::floor(g.z())));
+}
+
+PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double cell_mm)
+    : cell_(cell_mm), origin_(active.empty() ? Eigen::Vector3d::Zero() : points[active.front()]) {
+  for (int i : active) cells_[Key(points[i])].push_back(i);
+}
+
+const std::vector<int>& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
+  const Eigen::Vector3d g = (x - origin_) / cell_;
+  const int64_t ci = static_cast<int64_t>(std::floor(g.x())), cj = static_cast<int64_t>(std::floor(g.y())),
+                ck = static_cast<int64_t>(std::floor(g.z()));
+  const int64_t key = Pack(ci, cj, ck);
+  auto cached = cache_.find(key);
+  if (cached != cache_.end()) return cached->second;
+  std::vector<int>& out = cache_[key];
+  for (int64_t di = -1; di <= 1; ++di)
+    for (int64_t dj = -1; dj <= 1; ++dj)
+      for (int64_t dk = -1; dk <= 1; ++dk) {
+        auto it = cells_.find(Pack(ci + di, cj + dj, ck + dk));
+        if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+      }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
+                  double* radius) {
+  if (indices.size() < 4) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i : indices) mean += points[i];
+  mean /= static_cast<double>(indices.size());
+  // |q|^2 = 2 q.x + d with q = p - mean, x the centre offset and d = R^2 - |x|^2.
+  Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d atb = Eigen::Vector4d::Zero();
+  for (int i : indices) {
+    const Eigen::Vector3d q = points[i] - mean;
+    const Eigen::Vector4d row(2 * q.x(), 2 * q.y(), 2 * q.z(), 1.0);
+    ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    atb += row * q.squaredNorm();
+  }
+  ata = ata.selfadjointView<Eigen::Lower>();
+  Eigen::LDLT<Eigen::Matrix4d> ldlt(ata);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-14)) return false;
+  const Eigen::Vector4d sol = ldlt.solve(atb);
+  const double r2 = sol(3) + sol.head<3>().squaredNorm();
+  if (!sol.allFinite() || !(r2 > 0)) return false;
+  *centre = mean + sol.head<3>();
+  *radius = std::sqrt(r2);
+  return true;
+}
+
+namespace {
+
+// Points of `pool` within `band` of the sphere surface.
+void CollectInliers(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& pool,
+                    const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
+  out->clear();
+  for (int i : pool)
+    if (std::abs((points[i] - centre).norm() - radius) <= band) out->push_back(i);
+}
+
+}  // namespace
+
+Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double band_mm,
+                        double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng) {
+  Candidate best;
+  if (active.size() < 4) {
+    best.reason = "only " + std::to_string(active.size()) + " points left";
+    return best;
+  }
+  // A sphere point's sphere lies within 2 R of it; cells of edge R_hi keep most of it in the
+  // 27-cell neighbourhood and, around a centre, all of it.
+  PointGrid grid(points, active, radius_hi);
+  const double min_separation = 0.25 * radius_lo;  // well-spread samples give usable spheres
+  const double min_sep2 = min_separation * min_separation;
+  std::uniform_int_distribution<size_t> pick_active(0, active.size() - 1);
+  std::vector<int> inliers, trial;
+  double needed = options.max_iterations;
+  int it = 0;
+  for (; it < options.max_iterations && (it < options.min_iterations || it < needed); ++it) {
+    const int i0 = active[pick_active(rng)];
+    const std::vector<int>& nb = grid.Neighbourhood(points[i0]);
+    if (nb.size() < 4) continue;
+    std::uniform_int_distribution<size_t> pick_nb(0, nb.size() - 1);
+    Eigen::Vector3d s[4] = {points[i0], {}, {}, {}};
+    bool spread = true;
+    for (int k = 1; k < 4 && spread; ++k) {
+      s[k] = points[nb[pick_nb(rng)]];
+      for (int j = 0; j < k; ++j) spread = spread && (s[k] - s[j]).squaredNorm() >= min_sep2;
+    }
+    if (!spread) continue;
+    Eigen::Vector3d centre;
+    double radius = 0;
+    if (!SphereThroughFourPoints(s[0], s[1], s[2], s[3], &centre, &radius)) continue;
+    if (radius < radius_lo || radius > radius_hi) continue;
+    ++best.radius_ok_samples;
+    // Score on a strided subset of the points around the candidate centre.
+    const std::vector<int>& around = grid.Neighbourhood(centre);
+    const size_t stride = std::max<size_t>(1, around.size() / static_cast<size_t>(options.max_scoring_points));
+    int count = 0;
+    for (size_t k = rng() % stride; k < around.size(); k += stride)
+      if (std::abs((points[around[k]] - centre).norm() - radius) <= band_mm) ++count;
+    const double estimate = static_cast<double>(count) * static_cast<double>(stride);
+    if (estimate <= best.inliers) continue;
+    // Local optimisation: algebraic refits on the full inlier set while it grows.
+    CollectInliers(points, around, centre, radius, band_mm, &inliers);
+    for (int lo = 0; lo < 5; ++lo) {
+      Eigen::Vector3d c2;
+      double r2 = 0;
+      if (!FitAlgebraic(points, inliers, &c2, &r2) || r2 < radius_lo || r2 > radius_hi) break;
+      CollectInliers(points, grid.Neighbourhood(c2), c2, r2, band_mm, &trial);
+      if (trial.size() <= inliers.size()) break;
+      centre = c2;
+      radius = r2;
+      inliers.swap(trial);
+    }
+    if (static_cast<int>(inliers.size()) <= best.inliers) continue;
+    best.found = true;
+    best.centre = centre;
+    best.radius = radius;
+    best.inliers = static_cast<int>(inliers.size());
+    // Samples needed: P(first point on the sphere) x P(the other three on it | its neighbourhood).
+    const double share_all = static_cast<double>(best.inliers) / static_cast<double>(active.size());
+    const double share_nb =
+        static_cast<double>(best.inliers) / static_cast<double>(std::max<size_t>(1, grid.Neighbourhood(centre).size()));
+    const double w = std::clamp(share_all * std::pow(std::min(1.0, share_nb), 3), 1e-12, 1.0 - 1e-12);
+    needed = std::log(1.0 - options.confidence) / std::log1p(-w);
+  }
+  best.iterations = it;
+  if (!best.found) {
+    best.reason = best.radius_ok_samples == 0
+                      ? "no candidate sphere with radius in [" + std::to_string(radius_lo) + ", " +
+                            std::to_string(radius_hi) + "] mm among " + std::to_string(it) + " samples"
+                      : "no candidate sphere";
+  }
+  return best;
+}
+
+}  // namespace sphere_internal
+}  // namespace ramtk::vision
