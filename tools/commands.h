@@ -21,5 +21,6 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code);  // calib sensor-robo
 void RegisterPatternsCommand(CLI::App& app, int* exit_code);
 void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
+void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch LIST
 
 }  // namespace ramtk::tools

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterPatternsCommand(app, &exit_code);
   ramtk::tools::RegisterDecodeCommand(app, &exit_code);
   ramtk::tools::RegisterSimulateFringeCommand(app, &exit_code);
+  ramtk::tools::RegisterScanCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,4 +3,6 @@
 set(RAMTK_VISION_SCAN_SOURCES
   src/point_cloud_ply.cpp
   src/stereo_match.cpp
-  src/triangulate.cpp)
+  src/triangulate.cpp
+  src/scan.cpp
+  src/scan_batch.cpp)

@@ -310,9 +310,9 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
             // Several crossings (another surface lit by the same projector column on the same
             // epipolar curve): try first the one whose modulation agrees best with the source's.
             const double b_src = std::max(1e-6, static_cast<double>(p.src_modulation.at<float>(y, x)));
-            std::stable_sort(roots.begin(), roots.end(), [&](const Matcher::Root& r1, const Matcher::Root& r2) {
-              return std::abs(std::log(std::max(1e-6, r1.at.modulation) / b_src)) <
-                     std::abs(std::log(std::max(1e-6, r2.at.modulation) / b_src));
+            std::stable_sort(roots.begin(), roots.end(), [&](const Matcher::Root& ra, const Matcher::Root& rb) {
+              return std::abs(std::log(std::max(1e-6, ra.at.modulation) / b_src)) <
+                     std::abs(std::log(std::max(1e-6, rb.at.modulation) / b_src));
             });
             for (const auto& r : roots) {
               if (m.Accept(r, b_src, x, y)) {
