@@ -29,6 +29,8 @@ struct Pass {
   cv::Mat src_modulation, dst_modulation;
   // Bounding box of the destination image in ideal normalised coordinates (plus a margin).
   double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0;
+  // Per destination row: the smallest and largest valid coordinate (a crossing needs c_src in between).
+  std::vector<float> row_min, row_max;
   double period = 1;
   double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
   double max_sigma = 0;       // projector px
@@ -199,6 +201,21 @@ struct Matcher {
   // Every crossing over the whole inverse-depth range, in order of w.
   void FullSearch(std::vector<Root>* roots) const {
     roots->clear();
+    if (!(w_lo < w_hi)) return;
+    // Quick rejection: c_src outside every coordinate on the rows the curve crosses.
+    Vec2 pa, pb;
+    if (Pixel(w_lo, &pa) && Pixel(w_hi, &pb)) {
+      const int rows = static_cast<int>(p.row_min.size());
+      const double mid_w = 0.5 * (w_lo + w_hi);
+      Vec2 pm;
+      double y0 = std::min(pa.y(), pb.y()), y1 = std::max(pa.y(), pb.y());
+      if (Pixel(mid_w, &pm)) y0 = std::min(y0, pm.y()), y1 = std::max(y1, pm.y());
+      const int r0 = std::max(0, static_cast<int>(std::floor(y0)) - 2);
+      const int r1 = std::min(rows - 1, static_cast<int>(std::ceil(y1)) + 2);
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int r = r0; r <= r1; ++r) lo = std::min(lo, p.row_min[r]), hi = std::max(hi, p.row_max[r]);
+      if (!(c_src >= lo && c_src <= hi)) return;
+    }
     double w = w_lo;
     Sample prev;
     double w_prev = w;
@@ -375,7 +392,7 @@ void StereoMatchOptions::Validate() const {
   if (!(max_cell_span_periods > 0 && max_cell_span_periods <= 1))
     throw InputError({"", 0, "max_cell_span_periods"}, "must be in (0, 1]");
   if (!(max_modulation_ratio > 1)) throw InputError({"", 0, "max_modulation_ratio"}, "must be > 1");
-  if (!(search_step_px > 0 && search_step_px <= 1)) throw InputError({"", 0, "search_step_px"}, "must be in (0, 1]");
+  if (!(search_step_px > 0 && search_step_px <= 4)) throw InputError({"", 0, "search_step_px"}, "must be in (0, 4]");
 }
 
 std::string StereoMatchSummary::BriefReport() const {
@@ -409,6 +426,13 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.src_mask = s.mask;
     p.dst_coord = d.coordinate;
     p.dst_sigma = d.sigma_coordinate;
+    p.row_min.assign(static_cast<std::size_t>(d.coordinate.rows), std::numeric_limits<float>::infinity());
+    p.row_max.assign(static_cast<std::size_t>(d.coordinate.rows), -std::numeric_limits<float>::infinity());
+    for (int y = 0; y < d.coordinate.rows; ++y)
+      for (int x = 0; x < d.coordinate.cols; ++x) {
+        const float c = d.coordinate.at<float>(y, x);
+        if (std::isfinite(c)) p.row_min[y] = std::min(p.row_min[y], c), p.row_max[y] = std::max(p.row_max[y], c);
+      }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;
     // Ideal bounding box of the destination image from its border pixels, 2 px margin.

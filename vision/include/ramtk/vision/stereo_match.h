@@ -40,8 +40,9 @@ struct StereoMatchOptions {
   // modulation differs from the left pixel's by more than this factor (either way) is another
   // surface lit by the same projector column, or a pixel straddling an edge.
   double max_modulation_ratio = 1.5;
-  // Sampling step along the epipolar curve in the full search, right-camera pixels.
-  double search_step_px = 0.8;
+  // Sampling step along the epipolar curve in the full search, right-camera pixels (a
+  // crossing is bracketed between samples and refined on the bilinear surface).
+  double search_step_px = 2.0;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
