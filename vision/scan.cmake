@@ -5,4 +5,5 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_match.cpp
   src/triangulate.cpp
   src/scan.cpp
-  src/scan_batch.cpp)
+  src/scan_batch.cpp
+  src/cloud_noise.cpp)

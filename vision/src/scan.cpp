@@ -46,6 +46,8 @@ void ScanOptions::Validate() const {
   match.Validate();
   triangulation.Validate();
   if (fit_spheres) sphere.Validate();
+  if (!(max_sphere_variance_factor >= 1))
+    throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
 }
 
 std::string ScanSummary::BriefReport() const {
@@ -55,7 +57,7 @@ std::string ScanSummary::BriefReport() const {
   s << "scan " << termination << ": " << triangulation.points << " points";
   if (termination == "cancelled") return s.str();
   if (spheres.spheres.empty()) {
-    s << "; no sphere found" << (spheres.no_sphere_reason.empty() ? "" : ": " + spheres.no_sphere_reason);
+    if (!spheres.no_sphere_reason.empty()) s << "; " << spheres.no_sphere_reason;
     return s.str();
   }
   for (std::size_t i = 0; i < spheres.spheres.size(); ++i) {
@@ -111,6 +113,34 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
                                      ", a sphere needs at least " + std::to_string(so.min_points);
     } else {
       sum.spheres = FindSpheres(result.cloud.points_in_left, result.cloud.sigma_mm, so);
+    }
+    // Gates: a "sphere" that does not fit its points at their noise level, or whose radius is
+    // off the prior, is not reported as a centre.
+    std::vector<SphereResult> kept;
+    std::string why;
+    for (const SphereResult& r : sum.spheres.spheres) {
+      std::ostringstream reason;
+      reason.precision(4);
+      if (r.variance_factor > options.max_sphere_variance_factor) {
+        reason << "rejected a sphere candidate (radius " << r.radius_mm << " mm): surface RMS " << r.rms_mm * 1000
+               << " um is " << std::sqrt(r.variance_factor) << "x the points' predicted noise (variance factor "
+               << r.variance_factor << " > " << options.max_sphere_variance_factor << ")";
+      } else if (so.radius_mm > 0 && !so.fix_radius && std::abs(r.radius_mm - so.radius_mm) > so.radius_tolerance_mm) {
+        reason << "rejected a sphere candidate: radius " << r.radius_mm << " mm is off the prior " << so.radius_mm
+               << " +- " << so.radius_tolerance_mm << " mm";
+      } else {
+        kept.push_back(r);
+        continue;
+      }
+      why = reason.str();
+      RAMTK_LOG(kInfo) << why;
+    }
+    if (kept.size() != sum.spheres.spheres.size()) {
+      sum.spheres.spheres = kept;
+      if (kept.empty()) {
+        sum.spheres.termination = "no sphere found";
+        sum.spheres.no_sphere_reason = why;
+      }
     }
     sum.fit_s = Seconds(t0);
     if (sum.spheres.spheres.empty()) sum.termination = "no sphere found";

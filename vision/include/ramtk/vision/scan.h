@@ -35,6 +35,11 @@ struct ScanOptions {
   // Sphere search and fit. ScanOptions() sets the 38.1 mm ball's radius prior (19.05 mm) and the
   // noise model of triangulated points (sigma along the left camera's line of sight).
   SphereFitOptions sphere;
+  // Sanity gates on each fitted sphere (a failing one is dropped and the reason reported, never
+  // returned as a centre): its chi^2 / (n - p) against the points' own sigma must not exceed
+  // this (16: the surface RMS is at most 4x the predicted noise), and with a radius prior its
+  // radius must lie within sphere.radius_tolerance_mm of it.
+  double max_sphere_variance_factor = 16.0;
   // Called after each stage ("decode left", "decode right", "match", "triangulate", "fit");
   // returning false cancels (termination "cancelled", nothing else is computed).
   ProgressCallback progress;
