@@ -13,18 +13,18 @@ namespace ramtk::tools {
 namespace {
 
 struct ScanCommandOptions {
-  std::string set;                   // fringe set manifest
-  std::string batch;                 // list of manifests
-  std::string calib;                 // stereo calibration (overrides the manifest's)
-  std::string out = "scan_out";      // output folder
-  std::string truth;                 // simulator truth.json for the error report
-  double radius = 19.05;             // sphere radius prior, mm
-  bool fix_radius = false;           // fit the centre only
-  int spheres = 1;                   // spheres to look for
+  std::string set;                            // fringe set manifest
+  std::string batch;                          // list of manifests
+  std::string calib;                          // stereo calibration (overrides the manifest's)
+  std::string out = "scan_out";               // output folder
+  std::string truth;                          // simulator truth.json for the error report
+  double radius = 19.05;                      // sphere radius prior, mm
+  bool fix_radius = false;                    // fit the centre only
+  int spheres = 1;                            // spheres to look for
   double min_depth = 100, max_depth = 10000;  // epipolar search range, mm
-  int jobs = 2;                      // sets in parallel (--batch)
-  bool force = false;                // replace existing outputs
-  bool quiet = false;                // no progress bar
+  int jobs = 2;                               // sets in parallel (--batch)
+  bool force = false;                         // replace existing outputs
+  bool quiet = false;                         // no progress bar
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -53,10 +53,11 @@ int RunScan(const ScanCommandOptions& opt) {
   if (!opt.batch.empty()) {
     const std::vector<std::string> sets = ReadScanBatchList(opt.batch);
     ProgressCallback progress;
-    if (!opt.quiet) progress = [](const Progress& p) {
-      ProgressBar(p.done, p.total);
-      return true;
-    };
+    if (!opt.quiet)
+      progress = [](const Progress& p) {
+        ProgressBar(p.done, p.total);
+        return true;
+      };
     const std::vector<ScanBatchRow> rows = RunScanBatch(sets, options, opt.out, opt.jobs, opt.force, progress);
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(opt.out + "/results.csv", csv);
@@ -82,10 +83,11 @@ int RunScan(const ScanCommandOptions& opt) {
       const SphereResult& r = result.summary.spheres.spheres[i];
       const Sphere& t = truth[static_cast<std::size_t>(match[i])];
       const Vec3 e = r.centre_mm - t.centre_in_left;
-      std::printf("error vs truth (%s): centre (%+.4f, %+.4f, %+.4f) mm, |e| %.1f um (predicted sigma %.1f um); "
-                  "radius %+.1f um\n",
-                  t.name.c_str(), e.x(), e.y(), e.z(), 1000 * e.norm(), 1000 * r.CentreSigma().norm(),
-                  1000 * (r.radius_mm - t.radius));
+      std::printf(
+          "error vs truth (%s): centre (%+.4f, %+.4f, %+.4f) mm, |e| %.1f um (predicted sigma %.1f um); "
+          "radius %+.1f um\n",
+          t.name.c_str(), e.x(), e.y(), e.z(), 1000 * e.norm(), 1000 * r.CentreSigma().norm(),
+          1000 * (r.radius_mm - t.radius));
     }
   }
   std::cout << "wrote " << opt.out << " (cloud.ply, spheres.json, depth.png, summary.json)\n";

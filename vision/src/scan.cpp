@@ -1,14 +1,14 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
-
-#include <unistd.h>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -46,8 +46,7 @@ void ScanOptions::Validate() const {
   match.Validate();
   triangulation.Validate();
   if (fit_spheres) sphere.Validate();
-  if (!(max_sphere_variance_factor >= 1))
-    throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
+  if (!(max_sphere_variance_factor >= 1)) throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
 }
 
 std::string ScanSummary::BriefReport() const {
@@ -64,9 +63,9 @@ std::string ScanSummary::BriefReport() const {
     const SphereResult& r = spheres.spheres[i];
     const Eigen::Vector3d sig = r.CentreSigma();
     s << "; ball_in_left_camera" << (spheres.spheres.size() > 1 ? "[" + std::to_string(i) + "]" : "") << " ("
-      << r.centre_mm.x() << ", " << r.centre_mm.y() << ", " << r.centre_mm.z() << ") mm +- (" << sig.x() * 1000
-      << ", " << sig.y() * 1000 << ", " << sig.z() * 1000 << ") um, radius " << r.radius_mm << " mm, rms "
-      << r.rms_mm * 1000 << " um, " << r.num_points << " pts";
+      << r.centre_mm.x() << ", " << r.centre_mm.y() << ", " << r.centre_mm.z() << ") mm +- (" << sig.x() * 1000 << ", "
+      << sig.y() * 1000 << ", " << sig.z() * 1000 << ") um, radius " << r.radius_mm << " mm, rms " << r.rms_mm * 1000
+      << " um, " << r.num_points << " pts";
   }
   return s.str();
 }
@@ -173,8 +172,8 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     if (im.cols != k.width || im.rows != k.height)
       throw InputError({calib_path, 0, "image_size"},
                        "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
-                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " +
-                           first + " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
+                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " + first +
+                           " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
   }
   auto t0 = std::chrono::steady_clock::now();
   DecodeOptions dopt = options.decode;
@@ -225,12 +224,9 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["termination"] = s.termination;
   j["image_size"] = {s.width, s.height};
   j["decode"] = {{"left", s.left.BriefReport()}, {"right", s.right.BriefReport()}};
-  j["match"] = {{"left_valid", s.match.left_valid},
-                {"matched", s.match.matched},
-                {"rejected_noisy", s.match.rejected_noisy},
-                {"rejected_no_match", s.match.rejected_no_match},
-                {"rejected_left_right", s.match.rejected_lr},
-                {"median_sigma_px", s.match.median_sigma_px}};
+  j["match"] = {{"left_valid", s.match.left_valid},           {"matched", s.match.matched},
+                {"rejected_noisy", s.match.rejected_noisy},   {"rejected_no_match", s.match.rejected_no_match},
+                {"rejected_left_right", s.match.rejected_lr}, {"median_sigma_px", s.match.median_sigma_px}};
   j["points"] = s.triangulation.points;
   j["median_point_sigma_mm"] = s.triangulation.median_sigma_mm;
   j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};

@@ -9,10 +9,10 @@
 namespace ramtk::vision {
 
 struct LocalFitNoise {
-  long patches = 0;               // complete patches fitted
-  double median_rms_mm = 0;       // median over patches of the fit's z residual RMS (dof-corrected)
-  double median_predicted_mm = 0; // median over patches of the RMS predicted z sigma (sigma along the ray * |ray.z|)
-  double ratio = 0;               // median over patches of observed / predicted
+  long patches = 0;                // complete patches fitted
+  double median_rms_mm = 0;        // median over patches of the fit's z residual RMS (dof-corrected)
+  double median_predicted_mm = 0;  // median over patches of the RMS predicted z sigma (sigma along the ray * |ray.z|)
+  double ratio = 0;                // median over patches of observed / predicted
 };
 
 // Tiles the left image with non-overlapping window x window patches; every patch whose pixels all

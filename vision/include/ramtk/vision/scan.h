@@ -27,9 +27,9 @@ struct ScanOptions {
   // Camera names in the manifest: the left one is the reference frame.
   std::string left_camera = "left";
   std::string right_camera = "right";
-  DecodeOptions decode;               // phase decoding of each camera (its progress is ignored)
-  StereoMatchOptions match;           // epipolar matching (its progress is ignored)
-  TriangulationOptions triangulation; // ray-gap gate
+  DecodeOptions decode;                // phase decoding of each camera (its progress is ignored)
+  StereoMatchOptions match;            // epipolar matching (its progress is ignored)
+  TriangulationOptions triangulation;  // ray-gap gate
   // Fit spheres to the cloud (false: cloud only).
   bool fit_spheres = true;
   // Sphere search and fit. ScanOptions() sets the 38.1 mm ball's radius prior (19.05 mm) and the

@@ -11,14 +11,14 @@
 namespace ramtk::vision {
 
 struct ScanBatchRow {
-  std::string set;             // manifest path as listed
-  std::string out_dir;         // where its outputs were written ("" if none)
-  std::string status;          // "ok", "no sphere found", or "error"
-  std::string message;         // the error or the no-sphere reason
-  long points = 0;             // cloud size
-  bool has_sphere = false;     // the first (strongest) sphere below is valid
-  SphereResult sphere;         // first sphere
-  double seconds = 0;          // wall time of this set
+  std::string set;          // manifest path as listed
+  std::string out_dir;      // where its outputs were written ("" if none)
+  std::string status;       // "ok", "no sphere found", or "error"
+  std::string message;      // the error or the no-sphere reason
+  long points = 0;          // cloud size
+  bool has_sphere = false;  // the first (strongest) sphere below is valid
+  SphereResult sphere;      // first sphere
+  double seconds = 0;       // wall time of this set
 };
 
 // Reads a batch list: one manifest path per line, relative paths against the list's folder;
