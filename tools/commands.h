@@ -29,5 +29,6 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code);
 void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
 void RegisterDiagnoseCommand(CLI::App& app, int* exit_code);  // diagnose DATA
+void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch LIST
 
 }  // namespace ramtk::tools

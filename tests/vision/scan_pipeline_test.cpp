@@ -1,0 +1,119 @@
+// The scan pipeline against the simulator's truth (small preset), a scene without the ball, bad
+// calibrations, and the real SLMaster capture (skipped when ../shared is absent).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "ramtk/core/error.h"
+#include "ramtk/vision/cloud_noise.h"
+#include "ramtk/vision/scan.h"
+#include "scan_sim.h"
+
+namespace ramtk::vision {
+namespace {
+
+using testing::SimulateAndDecode;
+
+TEST(ScanPipeline, BallCentreAndRadiusAgainstTheSimulatorTruth) {
+  FringeSimulationConfig c = MakeFringePreset("small");
+  c.seed = 3;
+  const auto s = SimulateAndDecode(c);
+  const ScanResult r = ScanDecoded(WrittenCalibration(c), s.left, s.right, s.period, ScanOptions{});
+  ASSERT_EQ(r.summary.termination, "ok") << r.summary.BriefReport();
+  ASSERT_EQ(r.summary.spheres.spheres.size(), 1u);
+  const SphereResult& ball = r.summary.spheres.spheres[0];
+  const Vec3 err = ball.centre_mm - c.scene.spheres[0].centre_in_left;
+  const double radius_err = ball.radius_mm - c.scene.spheres[0].radius;
+  RecordProperty("report", r.summary.BriefReport());
+  RecordProperty("centre_error_um", std::to_string(1000 * err.norm()));
+  RecordProperty("radius_error_um", std::to_string(1000 * radius_err));
+  std::cout << r.summary.BriefReport() << "\ncentre error " << 1000 * err.transpose() << " um, radius error "
+            << 1000 * radius_err << " um\n";
+  // Issue 4's targets are 5 um (thesis geometry, bench/vision_scan_accuracy); the noise part here
+  // is < 1 um (predicted sigma), the rest is the finite-pixel bias of the limb documented in
+  // docs/scan.md (about -4 um along z). Fail well before a gross error (a period, a pixel ~150 um).
+  EXPECT_LT(err.norm(), 0.010);
+  EXPECT_LT(std::abs(radius_err), 0.010);
+  EXPECT_GT(ball.num_points, 30000);
+  EXPECT_NEAR(ball.variance_factor, 1.0, 0.5);  // the points' sigma explains their scatter
+}
+
+TEST(ScanPipeline, NoBallGivesNoSphereFoundNotACentre) {
+  FringeSimulationConfig c = MakeFringePreset("small");
+  c.scene.spheres.clear();  // the backdrop alone
+  c.supersampling = 1;
+  const auto s = SimulateAndDecode(c);
+  const ScanResult r = ScanDecoded(WrittenCalibration(c), s.left, s.right, s.period, ScanOptions{});
+  EXPECT_EQ(r.summary.termination, "no sphere found");
+  EXPECT_TRUE(r.summary.spheres.spheres.empty());
+  EXPECT_FALSE(r.summary.spheres.no_sphere_reason.empty());
+  EXPECT_GT(r.cloud.size(), 50000u);  // the plane itself is reconstructed
+}
+
+TEST(ScanPipeline, CalibrationOfAnotherImageSizeIsRejectedNamingTheField) {
+  FringeSimulationConfig c = MakeFringePreset("small");
+  c.supersampling = 1;
+  const auto s = SimulateAndDecode(c);
+  StereoCalibration wrong = WrittenCalibration(c);
+  wrong.right.width = 1280;
+  try {
+    ScanDecoded(wrong, s.left, s.right, s.period, ScanOptions{}, "calib.yml");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "calib.yml");
+    EXPECT_EQ(e.where().field, "image_size");
+    EXPECT_NE(std::string(e.what()).find("right calibration is 1280x512 but the right images are 640x512"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// The real capture: the bust reconstructs densely, and the local surface-fit noise agrees with
+// the noise the decoder's sigma predicts.
+TEST(ScanPipeline, SlmasterBinocularReconstructs) {
+  const std::string shared = RAMTK_SHARED_DIR;
+  if (!std::filesystem::exists(shared + "/data/slmaster-binocular/L/0.bmp"))
+    GTEST_SKIP() << "shared/data/slmaster-binocular not present";
+  // Copy the manifest with its paths pointed at RAMTK_SHARED_DIR.
+  FringeManifest m = ReadFringeManifest(std::string(RAMTK_DATASETS_DIR) + "/vision/slmaster_binocular.json");
+  const std::string rel = "../../../shared";
+  for (auto& [name, files] : m.cameras)
+    for (std::string& f : files)
+      if (f.rfind(rel, 0) == 0) f = shared + f.substr(rel.size());
+  m.calibration = shared + "/data/slmaster-binocular/caliInfo.yml";
+  m.path = "";
+  const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/slmaster_scan";
+  std::filesystem::create_directories(dir);
+  WriteFringeManifest(dir + "/manifest.json", m);
+  ScanOptions o;
+  o.fit_spheres = false;  // no ball in this capture (a bust)
+  o.match.min_depth_mm = 300;
+  o.match.max_depth_mm = 1500;
+  const ScanResult r = ScanFringeSet(dir + "/manifest.json", o);
+  const LocalFitNoise noise = MeasureLocalFitNoise(r.cloud, cv::Size(r.summary.width, r.summary.height), 7);
+  std::cout << r.summary.match.BriefReport() << "\n"
+            << r.summary.triangulation.BriefReport() << "\nlocal fit: " << noise.patches << " patches, median RMS "
+            << noise.median_rms_mm * 1000 << " um, predicted " << noise.median_predicted_mm * 1000 << " um, ratio "
+            << noise.ratio << "\n";
+  RecordProperty("points", std::to_string(r.cloud.size()));
+  RecordProperty("local_fit_rms_um", std::to_string(noise.median_rms_mm * 1000));
+  RecordProperty("local_fit_predicted_um", std::to_string(noise.median_predicted_mm * 1000));
+  // The decoder finds ~410k valid left pixels (31 %); most of them must match.
+  EXPECT_GT(r.summary.match.matched, 0.8 * r.summary.match.left_valid);
+  // The bust stands 510..680 mm in front of the cameras (SLMaster's working distance).
+  EXPECT_GT(r.summary.triangulation.depth_min_mm, 450);
+  EXPECT_LT(r.summary.triangulation.depth_max_mm, 750);
+  // Noise: the observed local-fit scatter is bounded by the decoder's sigma. sigma_I there is the
+  // sinusoid-fit residual, which includes harmonic content (docs/vision.md), and the camera's
+  // blur correlates neighbouring pixels' noise (a 7x7 quadratic absorbs part of it), so the
+  // prediction is an upper bound: measured ratio 0.13 (docs/scan.md). The observed must not
+  // exceed 1.5x the prediction; below 1/20 of it the sigma would be meaningless.
+  EXPECT_GT(noise.patches, 2000);
+  EXPECT_LT(noise.ratio, 1.5);
+  EXPECT_GT(noise.ratio, 0.05);
+}
+
+}  // namespace
+}  // namespace ramtk::vision

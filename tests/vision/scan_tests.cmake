@@ -1,0 +1,45 @@
+# Stereo scan: PLY I/O (against PCL), matching and triangulation against the simulator's truth,
+# the scan pipeline (ball centre vs truth, no-sphere, bad calibration, the real SLMaster set) and
+# `ramtk scan` on the command line.
+find_package(PCL 1.13 REQUIRED COMPONENTS common io)
+ramtk_add_gtest(vision_scan_tests
+  scan_match_test.cpp
+  scan_ply_test.cpp
+  scan_pipeline_test.cpp)
+target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
+target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
+target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
+
+# `ramtk scan` as a user runs it: the bundled default set with its truth, and bad input that
+# must fail naming the file and field with nothing written.
+set(SCAN_CLI ${CMAKE_CURRENT_BINARY_DIR}/scan_cli)
+file(MAKE_DIRECTORY ${SCAN_CLI})
+set(SCAN_DEFAULT ${PROJECT_SOURCE_DIR}/datasets/scan_default)
+ramtk_cli_test(scan_default 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/default --force
+  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
+# A calibration for 1280x1024 images beside the 640x512 set.
+file(READ ${SCAN_DEFAULT}/calibration.yml SCAN_CALIB)
+string(REPLACE "image_size: [ 640, 512 ]" "image_size: [ 1280, 1024 ]" SCAN_CALIB_BIG "${SCAN_CALIB}")
+file(WRITE ${SCAN_CLI}/wrong_size.yml "${SCAN_CALIB_BIG}")
+ramtk_cli_test(scan_calibration_size_mismatch 1
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --calib ${SCAN_CLI}/wrong_size.yml --out ${SCAN_CLI}/not_written
+  STDERR "wrong_size.yml: field 'image_size': the calibration's left camera is 1280x1024 but .*00.png is 640x512"
+  NO_PATH ${SCAN_CLI}/not_written)
+# R with its first element changed by 0.01: not a rotation.
+string(REPLACE "data: [ 9.6152394764082316e-01, 0., 2.7472" "data: [ 9.7152394764082316e-01, 0., 2.7472"
+       SCAN_CALIB_BADR "${SCAN_CALIB}")
+file(WRITE ${SCAN_CLI}/bad_rotation.yml "${SCAN_CALIB_BADR}")
+ramtk_cli_test(scan_calibration_not_a_rotation 1
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --calib ${SCAN_CLI}/bad_rotation.yml --out ${SCAN_CLI}/not_written2
+  STDERR "bad_rotation.yml: field 'R'.*not a rotation"
+  NO_PATH ${SCAN_CLI}/not_written2)
+ramtk_cli_test(scan_missing_set 1
+  ARGS scan ${SCAN_CLI}/nothing_here/manifest.json --out ${SCAN_CLI}/not_written3
+  STDERR "nothing_here/manifest.json"
+  NO_PATH ${SCAN_CLI}/not_written3)
+# Batch: the default set twice and a missing one: two rows ok, one error row, exit 1.
+file(WRITE ${SCAN_CLI}/batch.txt "# sets\n${SCAN_DEFAULT}/manifest.json\n${SCAN_DEFAULT}/manifest.json\nmissing/manifest.json\n")
+ramtk_cli_test(scan_batch 1
+  ARGS scan --batch ${SCAN_CLI}/batch.txt --out ${SCAN_CLI}/batch --force -q
+  STDOUT "set,status,points,x_mm.*scan_default/manifest.json,ok,[0-9]+,0\\.00.*missing/manifest.json,error.*scanned 3 sets: 2 ok, 0 without a sphere, 1 with errors")

@@ -1,0 +1,119 @@
+// ramtk scan: fringe set + stereo calibration -> point cloud (PLY), sphere JSON, depth preview.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/vision/scan.h"
+#include "ramtk/vision/scan_batch.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct ScanCommandOptions {
+  std::string set;                            // fringe set manifest
+  std::string batch;                          // list of manifests
+  std::string calib;                          // stereo calibration (overrides the manifest's)
+  std::string out = "scan_out";               // output folder
+  std::string truth;                          // simulator truth.json for the error report
+  double radius = 19.05;                      // sphere radius prior, mm
+  bool fix_radius = false;                    // fit the centre only
+  int spheres = 1;                            // spheres to look for
+  double min_depth = 100, max_depth = 10000;  // epipolar search range, mm
+  int jobs = 2;                               // sets in parallel (--batch)
+  bool force = false;                         // replace existing outputs
+  bool quiet = false;                         // no progress bar
+};
+
+void ProgressBar(std::size_t done, std::size_t total) {
+  const int width = 30;
+  const int filled = total ? static_cast<int>(width * done / total) : 0;
+  std::fprintf(stderr, "\r[%s%s] %zu/%zu sets", std::string(filled, '#').c_str(),
+               std::string(width - filled, '.').c_str(), done, total);
+  if (done == total) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+}
+
+int RunScan(const ScanCommandOptions& opt) {
+  using namespace vision;
+  if (opt.set.empty() == opt.batch.empty())
+    throw InputError({"", 0, "SET/--batch"}, "give either one fringe set or --batch LIST");
+  if (!(opt.radius >= 0)) throw InputError({"", 0, "--radius"}, "must be >= 0 mm (0 = unknown)");
+  ScanOptions options;
+  options.calibration_path = opt.calib;
+  options.sphere.radius_mm = opt.radius;
+  options.sphere.fix_radius = opt.fix_radius;
+  options.sphere.max_spheres = opt.spheres;
+  options.match.min_depth_mm = opt.min_depth;
+  options.match.max_depth_mm = opt.max_depth;
+  options.Validate();
+
+  if (!opt.batch.empty()) {
+    const std::vector<std::string> sets = ReadScanBatchList(opt.batch);
+    ProgressCallback progress;
+    if (!opt.quiet)
+      progress = [](const Progress& p) {
+        ProgressBar(p.done, p.total);
+        return true;
+      };
+    const std::vector<ScanBatchRow> rows = RunScanBatch(sets, options, opt.out, opt.jobs, opt.force, progress);
+    const std::string csv = ScanBatchCsv(rows);
+    WriteFileAtomically(opt.out + "/results.csv", csv);
+    std::cout << csv;
+    int bad = 0, none = 0;
+    for (const ScanBatchRow& r : rows) {
+      if (r.status == "error") ++bad;
+      if (r.status == "no sphere found") ++none;
+    }
+    std::cout << "scanned " << rows.size() << " sets: " << rows.size() - bad - none << " ok, " << none
+              << " without a sphere, " << bad << " with errors; wrote " << opt.out << "/results.csv\n";
+    return bad ? kExitBadInput : none ? kExitNoSolution : kExitOk;
+  }
+
+  const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
+  const ScanResult result = ScanFringeSet(opt.set, options);
+  WriteScanOutputs(opt.out, result, opt.force);
+  std::cout << result.summary.BriefReport() << "\n";
+  if (!truth.empty()) {
+    const std::vector<int> match = MatchTruthSpheres(result.summary.spheres, truth);
+    for (std::size_t i = 0; i < match.size(); ++i) {
+      if (match[i] < 0) continue;
+      const SphereResult& r = result.summary.spheres.spheres[i];
+      const Sphere& t = truth[static_cast<std::size_t>(match[i])];
+      const Vec3 e = r.centre_mm - t.centre_in_left;
+      std::printf(
+          "error vs truth (%s): centre (%+.4f, %+.4f, %+.4f) mm, |e| %.1f um (predicted sigma %.1f um); "
+          "radius %+.1f um\n",
+          t.name.c_str(), e.x(), e.y(), e.z(), 1000 * e.norm(), 1000 * r.CentreSigma().norm(),
+          1000 * (r.radius_mm - t.radius));
+    }
+  }
+  std::cout << "wrote " << opt.out << " (cloud.ply, spheres.json, depth.png, summary.json)\n";
+  return result.summary.spheres.spheres.empty() ? kExitNoSolution : kExitOk;
+}
+
+}  // namespace
+
+void RegisterScanCommand(CLI::App& app, int* exit_code) {
+  auto opt = std::make_shared<ScanCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "scan", "Stereo fringe set -> point cloud (PLY) and sphere centres (JSON) in the left-camera frame");
+  sub->add_option("set", opt->set, "Fringe image set manifest (JSON)");
+  sub->add_option("--batch", opt->batch, "File listing one manifest per line; scanned in parallel, one CSV row each");
+  sub->add_option("--calib", opt->calib, "Stereo calibration (default: the manifest's)");
+  sub->add_option("--out", opt->out, "Output folder (batch: one sub-folder per set)")->capture_default_str();
+  sub->add_option("--radius", opt->radius, "Sphere radius prior, mm (0 = unknown)")->capture_default_str();
+  sub->add_flag("--fix-radius", opt->fix_radius, "Hold the radius at --radius; fit the centre only");
+  sub->add_option("--spheres", opt->spheres, "Spheres to look for (2 for a ball bar)")->capture_default_str();
+  sub->add_option("--min-depth", opt->min_depth, "Nearest depth searched, mm")->capture_default_str();
+  sub->add_option("--max-depth", opt->max_depth, "Farthest depth searched, mm")->capture_default_str();
+  sub->add_option("--truth", opt->truth, "Simulator truth.json: print the centre and radius errors");
+  sub->add_option("--jobs", opt->jobs, "Sets scanned at once with --batch")->capture_default_str();
+  sub->add_flag("--force", opt->force, "Replace existing outputs");
+  sub->add_flag("-q,--quiet", opt->quiet, "No progress bar");
+  sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
+}
+
+}  // namespace ramtk::tools

@@ -1,0 +1,101 @@
+#pragma once
+// The scan pipeline (`ramtk scan`): a stereo fringe image set and its calibration -> decoded
+// projector coordinates of both cameras -> stereo matches -> a point cloud in the left-camera
+// frame with per-point sigma -> the sphere(s) in it (ball centres, ball_in_left_camera).
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/progress.h"
+#include "ramtk/vision/decode.h"
+#include "ramtk/vision/point_cloud.h"
+#include "ramtk/vision/scene.h"
+#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/stereo_calibration.h"
+#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/triangulate.h"
+
+namespace ramtk::vision {
+
+// Frame name written into the sphere JSON: every 3-D result is in the left camera's frame.
+inline constexpr const char* kScanFrame = "left_camera";
+
+struct ScanOptions {
+  // Stereo calibration file; "" = the manifest's "calibration" entry.
+  std::string calibration_path;
+  // Camera names in the manifest: the left one is the reference frame.
+  std::string left_camera = "left";
+  std::string right_camera = "right";
+  DecodeOptions decode;                // phase decoding of each camera (its progress is ignored)
+  StereoMatchOptions match;            // epipolar matching (its progress is ignored)
+  TriangulationOptions triangulation;  // ray-gap gate
+  // Fit spheres to the cloud (false: cloud only).
+  bool fit_spheres = true;
+  // Sphere search and fit. ScanOptions() sets the 38.1 mm ball's radius prior (19.05 mm) and the
+  // noise model of triangulated points (sigma along the left camera's line of sight).
+  SphereFitOptions sphere;
+  // Sanity gates on each fitted sphere (a failing one is dropped and the reason reported, never
+  // returned as a centre): its chi^2 / (n - p) against the points' own sigma must not exceed
+  // this (16: the surface RMS is at most 4x the predicted noise), and with a radius prior its
+  // radius must lie within sphere.radius_tolerance_mm of it.
+  double max_sphere_variance_factor = 16.0;
+  // Called after each stage ("decode left", "decode right", "match", "triangulate", "fit");
+  // returning false cancels (termination "cancelled", nothing else is computed).
+  ProgressCallback progress;
+
+  ScanOptions();
+  // Throws InputError naming the field if a value is out of range.
+  void Validate() const;
+};
+
+struct ScanSummary {
+  std::string termination = "ok";  // "ok", "no sphere found" or "cancelled"
+  std::string set;                 // manifest path ("" for in-memory sets)
+  std::string calibration;         // calibration path used
+  int width = 0, height = 0;       // left image size
+  DecodeSummary left, right;
+  StereoMatchSummary match;
+  TriangulationSummary triangulation;
+  SphereFitSummary spheres;
+  // Wall time of each stage, seconds.
+  double decode_s = 0, match_s = 0, triangulate_s = 0, fit_s = 0;
+  // One line: points, sphere centre(s) with sigma, radius, RMS (or "no sphere found: why").
+  std::string BriefReport() const;
+};
+
+struct ScanResult {
+  PointCloud cloud;  // left-camera frame, mm, with sigma and quality
+  cv::Mat depth;     // CV_32F z (mm) per left pixel, NaN where no point
+  ScanSummary summary;
+};
+
+// Runs the pipeline on a fringe image set. InputError naming the file and field for a bad
+// manifest, a missing calibration, a calibration whose image size differs from the images, a
+// non-rotation R (from ReadStereoCalibration), or bad options.
+ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options);
+
+// The stages after decoding, on cameras already decoded (tests, benchmarks). `period` is the
+// finest fringe period in projector px.
+ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
+                       double period, const ScanOptions& options, const std::string& calibration_path = "");
+
+// Depth preview: z over the cloud's range as a turbo colour ramp (near = red), no point = black.
+cv::Mat DepthPreview(const cv::Mat& depth);
+
+// JSON text of a scan summary (stage figures, sphere results, timings).
+std::string ScanSummaryToJson(const ScanSummary& summary);
+
+// Writes cloud.ply, spheres.json, depth.png and summary.json into `out_dir`: all into a
+// temporary sibling folder first, then renamed into place, so a failure leaves nothing. An
+// existing non-empty `out_dir` is an InputError unless `overwrite`.
+void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false);
+
+// The true spheres of a simulated set (`truth/truth.json` of `ramtk simulate fringe`: name,
+// centre_in_left_mm, radius_mm). InputError naming the file and field otherwise.
+std::vector<Sphere> ReadTruthSpheres(const std::string& truth_json_path);
+
+// Each fitted sphere's nearest true sphere: index into `truth` (-1 if none) per fitted sphere.
+std::vector<int> MatchTruthSpheres(const SphereFitSummary& fitted, const std::vector<Sphere>& truth);
+
+}  // namespace ramtk::vision

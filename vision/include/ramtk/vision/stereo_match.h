@@ -1,0 +1,77 @@
+#pragma once
+// Stereo matching of equal absolute projector coordinate between two decoded cameras.
+//
+// For every valid left pixel the match is searched on the right camera's own (unrectified,
+// distorted) coordinate map along the epipolar curve of the left pixel's ray: the curve is
+// parametrised by the inverse depth w = 1/z of the point on the left ray, each sample is a
+// bilinear read of the right coordinate map inside one pixel cell whose four corners are valid
+// and lie within one period (no unwrap jump, no occlusion edge), and the crossing
+// c_right(w) = c_left is refined by regula falsi on that bilinear surface. Nothing is rectified
+// or resampled into another grid, so the phase is never interpolated across a jump.
+//
+// Rejections: invalid or noisy left pixels, no crossing in the depth range, a modulation that
+// differs between the cameras (another surface lit by the same projector column on the same
+// epipolar curve, or a pixel straddling an edge), and left-right inconsistency (the right pixel's own match back into
+// the left image must land on the left pixel) — which removes occlusions, where the left ray's surface is hidden from
+// the right camera.
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "ramtk/core/progress.h"
+#include "ramtk/vision/decode.h"
+#include "ramtk/vision/stereo_calibration.h"
+
+namespace ramtk::vision {
+
+struct StereoMatchOptions {
+  // Depth range searched along each epipolar curve, mm (z in the left-camera frame).
+  double min_depth_mm = 100.0;
+  double max_depth_mm = 10000.0;
+  // Left-right consistency: the right match's own match back into the left image must lie
+  // within this distance of the left pixel, pixels. <= 0 disables the check.
+  double lr_tolerance_px = 0.5;
+  // Pixels whose coordinate sigma exceeds this fraction of a fringe period are not matched.
+  double max_sigma_periods = 0.02;
+  // An interpolation cell whose four coordinates span more than this fraction of a period
+  // holds a jump (occlusion edge or unwrap error) and is not interpolated.
+  double max_cell_span_periods = 0.5;
+  // A matte surface point has the same fringe modulation B in both cameras: a candidate whose
+  // modulation differs from the left pixel's by more than this factor (either way) is another
+  // surface lit by the same projector column, or a pixel straddling an edge.
+  double max_modulation_ratio = 1.5;
+  // Sampling step along the epipolar curve in the full search, right-camera pixels (a
+  // crossing is bracketed between samples and refined on the bilinear surface).
+  double search_step_px = 2.0;
+  // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
+  ProgressCallback progress;
+  // Throws InputError naming the field if a value is out of range.
+  void Validate() const;
+};
+
+struct StereoMatchSummary {
+  std::string termination = "ok";  // "ok" or "cancelled"
+  long left_valid = 0;             // left pixels with a decoded coordinate
+  long matched = 0;                // left pixels with an accepted match
+  long rejected_noisy = 0;         // left sigma above max_sigma_periods
+  long rejected_no_match = 0;      // no crossing within the depth range
+  long rejected_lr = 0;            // a crossing was found but failed the modulation or left-right check
+  long full_searches = 0;          // pixels searched over the whole depth range (no warm start)
+  double median_sigma_px = 0;      // median match sigma along the epipolar curve, right px
+  std::string BriefReport() const;
+};
+
+// Per left pixel: the matched right-camera position and the match's standard deviation.
+struct StereoMatch {
+  cv::Mat right_u, right_v;      // CV_32F right pixel (distorted image coordinates), NaN unmatched
+  cv::Mat sigma_px;              // CV_32F sigma of the match along the epipolar curve, right px
+  cv::Mat tangent_u, tangent_v;  // CV_32F unit direction of the epipolar curve at the match (right px)
+  StereoMatchSummary summary;
+};
+
+// Matches the decoded left camera into the decoded right camera. InputError (file = the
+// calibration's path if given) if an image size differs from the calibration's.
+StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
+                        double period, const StereoMatchOptions& options, const std::string& calibration_path = "");
+
+}  // namespace ramtk::vision

@@ -1,0 +1,9 @@
+# Sources of the stereo scan half of ramtk::vision (point cloud PLY, stereo matching,
+# triangulation, the scan pipeline). Included from vision/CMakeLists.txt.
+set(RAMTK_VISION_SCAN_SOURCES
+  src/point_cloud_ply.cpp
+  src/stereo_match.cpp
+  src/triangulate.cpp
+  src/scan.cpp
+  src/scan_batch.cpp
+  src/cloud_noise.cpp)

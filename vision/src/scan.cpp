@@ -1,0 +1,311 @@
+// The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
+#include "ramtk/vision/scan.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/log.h"
+#include "ramtk/vision/image_io.h"
+#include "ramtk/vision/manifest.h"
+
+namespace ramtk::vision {
+namespace fs = std::filesystem;
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+bool Report(const ScanOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
+  return !o.progress || o.progress({stage, done, total});
+}
+
+}  // namespace
+
+ScanOptions::ScanOptions() {
+  sphere.radius_mm = 19.05;  // the 38.1 mm precision ball
+  // A triangulated point moves only along its left-camera ray (the left pixel is fixed; the
+  // phase noise moves the match along the epipolar curve).
+  sphere.noise_model = PointNoiseModel::kAlongLineOfSight;
+  sphere.viewpoint_mm = Eigen::Vector3d::Zero();
+  sphere.perpendicular_sigma_ratio = 0.02;
+}
+
+void ScanOptions::Validate() const {
+  if (left_camera.empty() || right_camera.empty() || left_camera == right_camera)
+    throw InputError({"", 0, "left_camera/right_camera"}, "need two different camera names");
+  decode.Validate();
+  match.Validate();
+  triangulation.Validate();
+  if (fit_spheres) sphere.Validate();
+  if (!(max_sphere_variance_factor >= 1)) throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
+}
+
+std::string ScanSummary::BriefReport() const {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(4);
+  s << "scan " << termination << ": " << triangulation.points << " points";
+  if (termination == "cancelled") return s.str();
+  if (spheres.spheres.empty()) {
+    if (!spheres.no_sphere_reason.empty()) s << "; " << spheres.no_sphere_reason;
+    return s.str();
+  }
+  for (std::size_t i = 0; i < spheres.spheres.size(); ++i) {
+    const SphereResult& r = spheres.spheres[i];
+    const Eigen::Vector3d sig = r.CentreSigma();
+    s << "; ball_in_left_camera" << (spheres.spheres.size() > 1 ? "[" + std::to_string(i) + "]" : "") << " ("
+      << r.centre_mm.x() << ", " << r.centre_mm.y() << ", " << r.centre_mm.z() << ") mm +- (" << sig.x() * 1000 << ", "
+      << sig.y() * 1000 << ", " << sig.z() * 1000 << ") um, radius " << r.radius_mm << " mm, rms " << r.rms_mm * 1000
+      << " um, " << r.num_points << " pts";
+  }
+  return s.str();
+}
+
+ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
+                       double period, const ScanOptions& options, const std::string& calibration_path) {
+  options.Validate();
+  ScanResult result;
+  ScanSummary& sum = result.summary;
+  sum.calibration = calibration_path;
+  sum.left = left.summary;
+  sum.right = right.summary;
+  sum.width = left.coordinate.cols;
+  sum.height = left.coordinate.rows;
+
+  auto t0 = std::chrono::steady_clock::now();
+  StereoMatchOptions mo = options.match;
+  mo.progress = {};
+  const StereoMatch match = MatchStereo(calibration, left, right, period, mo, calibration_path);
+  sum.match = match.summary;
+  sum.match_s = Seconds(t0);
+  if (!Report(options, "match", 3, 5)) {
+    sum.termination = "cancelled";
+    return result;
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  TriangulationOptions to = options.triangulation;
+  result.cloud = TriangulateMatches(calibration, left, match, to, &sum.triangulation, &result.depth);
+  sum.triangulate_s = Seconds(t0);
+  if (!Report(options, "triangulate", 4, 5)) {
+    sum.termination = "cancelled";
+    return result;
+  }
+
+  if (options.fit_spheres) {
+    t0 = std::chrono::steady_clock::now();
+    SphereFitOptions so = options.sphere;
+    so.progress = {};
+    if (result.cloud.size() < static_cast<std::size_t>(so.min_points)) {
+      sum.spheres.termination = "no sphere found";
+      sum.spheres.input_points = static_cast<int>(result.cloud.size());
+      sum.spheres.no_sphere_reason = "too few points: the cloud has " + std::to_string(result.cloud.size()) +
+                                     ", a sphere needs at least " + std::to_string(so.min_points);
+    } else {
+      sum.spheres = FindSpheres(result.cloud.points_in_left, result.cloud.sigma_mm, so);
+    }
+    // Gates: a "sphere" that does not fit its points at their noise level, or whose radius is
+    // off the prior, is not reported as a centre.
+    std::vector<SphereResult> kept;
+    std::string why;
+    for (const SphereResult& r : sum.spheres.spheres) {
+      std::ostringstream reason;
+      reason.precision(4);
+      if (r.variance_factor > options.max_sphere_variance_factor) {
+        reason << "rejected a sphere candidate (radius " << r.radius_mm << " mm): surface RMS " << r.rms_mm * 1000
+               << " um is " << std::sqrt(r.variance_factor) << "x the points' predicted noise (variance factor "
+               << r.variance_factor << " > " << options.max_sphere_variance_factor << ")";
+      } else if (so.radius_mm > 0 && !so.fix_radius && std::abs(r.radius_mm - so.radius_mm) > so.radius_tolerance_mm) {
+        reason << "rejected a sphere candidate: radius " << r.radius_mm << " mm is off the prior " << so.radius_mm
+               << " +- " << so.radius_tolerance_mm << " mm";
+      } else {
+        kept.push_back(r);
+        continue;
+      }
+      why = reason.str();
+      RAMTK_LOG(kInfo) << why;
+    }
+    if (kept.size() != sum.spheres.spheres.size()) {
+      sum.spheres.spheres = kept;
+      if (kept.empty()) {
+        sum.spheres.termination = "no sphere found";
+        sum.spheres.no_sphere_reason = why;
+      }
+    }
+    sum.fit_s = Seconds(t0);
+    if (sum.spheres.spheres.empty()) sum.termination = "no sphere found";
+    Report(options, "fit", 5, 5);
+  }
+  RAMTK_LOG(kDebug) << sum.match.BriefReport();
+  RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
+  return result;
+}
+
+ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
+  options.Validate();
+  const FringeManifest m = ReadFringeManifest(manifest_path);
+  for (const std::string& cam : {options.left_camera, options.right_camera})
+    if (!m.cameras.count(cam))
+      throw InputError({manifest_path, 0, "cameras." + cam}, "the set has no camera '" + cam + "'");
+  std::string calib_path = options.calibration_path;
+  if (calib_path.empty()) {
+    if (m.calibration.empty())
+      throw InputError({manifest_path, 0, "calibration"}, "the set names no calibration file; pass one (--calib)");
+    calib_path = m.Resolve(m.calibration);
+  }
+  const StereoCalibration calibration = ReadStereoCalibration(calib_path);
+  // Image size against the calibration before the (long) decode: one image per camera.
+  for (const std::string& cam : {options.left_camera, options.right_camera}) {
+    const std::string first = m.Resolve(m.cameras.at(cam).front());
+    int bits = 0;
+    const cv::Mat im = LoadImageDn(first, &bits);
+    const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
+    if (im.cols != k.width || im.rows != k.height)
+      throw InputError({calib_path, 0, "image_size"},
+                       "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
+                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " + first +
+                           " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  DecodeOptions dopt = options.decode;
+  dopt.progress = {};
+  const DecodedCamera left = DecodeCamera(m, options.left_camera, dopt);
+  if (!Report(options, "decode " + options.left_camera, 1, 5)) {
+    ScanResult r;
+    r.summary.termination = "cancelled";
+    return r;
+  }
+  const DecodedCamera right = DecodeCamera(m, options.right_camera, dopt);
+  const double decode_s = Seconds(t0);
+  if (!Report(options, "decode " + options.right_camera, 2, 5)) {
+    ScanResult r;
+    r.summary.termination = "cancelled";
+    return r;
+  }
+  ScanResult result = ScanDecoded(calibration, left, right, left.summary.period_px, options, calib_path);
+  result.summary.set = manifest_path;
+  result.summary.decode_s = decode_s;
+  return result;
+}
+
+cv::Mat DepthPreview(const cv::Mat& depth) {
+  cv::Mat valid = depth == depth;  // false for NaN
+  double lo = 0, hi = 1;
+  cv::minMaxLoc(depth, &lo, &hi, nullptr, nullptr, valid);
+  if (!(hi > lo)) hi = lo + 1;
+  cv::Mat clean = depth.clone();
+  clean.setTo(hi, ~valid);
+  cv::Mat grey;
+  // Near = 255 (red end of turbo), far = 0 (blue).
+  clean.convertTo(grey, CV_8U, -255.0 / (hi - lo), 255.0 * hi / (hi - lo));
+  cv::Mat colour;
+  cv::applyColorMap(grey, colour, cv::COLORMAP_TURBO);
+  colour.setTo(cv::Scalar::all(0), ~valid);
+  return colour;
+}
+
+std::string ScanSummaryToJson(const ScanSummary& s) {
+  using nlohmann::json;
+  json j;
+  j["format"] = "ramtk-scan-summary";
+  j["version"] = 1;
+  j["set"] = s.set;
+  j["calibration"] = s.calibration;
+  j["frame"] = kScanFrame;
+  j["termination"] = s.termination;
+  j["image_size"] = {s.width, s.height};
+  j["decode"] = {{"left", s.left.BriefReport()}, {"right", s.right.BriefReport()}};
+  j["match"] = {{"left_valid", s.match.left_valid},           {"matched", s.match.matched},
+                {"rejected_noisy", s.match.rejected_noisy},   {"rejected_no_match", s.match.rejected_no_match},
+                {"rejected_left_right", s.match.rejected_lr}, {"median_sigma_px", s.match.median_sigma_px}};
+  j["points"] = s.triangulation.points;
+  j["median_point_sigma_mm"] = s.triangulation.median_sigma_mm;
+  j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};
+  j["spheres"] = json::parse(SphereFitToJson(s.spheres, kScanFrame, -1));
+  j["seconds"] = {{"decode", s.decode_s}, {"match", s.match_s}, {"triangulate", s.triangulate_s}, {"fit", s.fit_s}};
+  j["report"] = s.BriefReport();
+  return j.dump(2) + "\n";
+}
+
+void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite) {
+  if (out_dir.empty()) throw InputError({"", 0, "--out"}, "output folder is empty");
+  std::error_code ec;
+  fs::path target = fs::path(out_dir).lexically_normal();
+  if (target.filename().empty()) target = target.parent_path();
+  if (fs::exists(target, ec) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)) && !overwrite)
+    throw InputError({out_dir, 0, "--out"}, "output exists and is not an empty folder (pass --force to replace it)");
+  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec)) throw InputError({out_dir, 0, "--out"}, "parent folder does not exist");
+  const fs::path tmp = fs::path(target.string() + ".partial-" + std::to_string(::getpid()));
+  fs::remove_all(tmp, ec);
+  if (!fs::create_directories(tmp, ec)) throw InputError({tmp.string(), 0, "--out"}, "cannot create folder");
+  try {
+    std::ostringstream comment;
+    comment << "frame " << kScanFrame << "; set " << result.summary.set;
+    WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str());
+    WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
+    if (!result.depth.empty()) WriteImage((tmp / "depth.png").string(), DepthPreview(result.depth));
+    WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+  if (fs::exists(target, ec)) fs::remove_all(target, ec);
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove_all(tmp, ec);
+    throw InputError({out_dir, 0, "--out"}, "cannot move the outputs into place");
+  }
+}
+
+std::vector<Sphere> ReadTruthSpheres(const std::string& path) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ReadTextFile(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.contains("spheres") || !j["spheres"].is_array())
+    throw InputError({path, 0, "spheres"}, "missing (expected the truth.json of ramtk simulate fringe)");
+  std::vector<Sphere> out;
+  for (std::size_t i = 0; i < j["spheres"].size(); ++i) {
+    const auto& e = j["spheres"][i];
+    const std::string field = "spheres[" + std::to_string(i) + "]";
+    try {
+      Sphere s;
+      s.name = e.value("name", "sphere" + std::to_string(i));
+      const auto& c = e.at("centre_in_left_mm");
+      s.centre_in_left = Vec3(c.at(0).get<double>(), c.at(1).get<double>(), c.at(2).get<double>());
+      s.radius = e.at("radius_mm").get<double>();
+      out.push_back(s);
+    } catch (const nlohmann::json::exception& ex) {
+      throw InputError({path, 0, field}, std::string("expected centre_in_left_mm [x,y,z] and radius_mm: ") + ex.what());
+    }
+  }
+  return out;
+}
+
+std::vector<int> MatchTruthSpheres(const SphereFitSummary& fitted, const std::vector<Sphere>& truth) {
+  std::vector<int> idx;
+  for (const SphereResult& r : fitted.spheres) {
+    int best = -1;
+    double best_d = 1e300;
+    for (std::size_t k = 0; k < truth.size(); ++k) {
+      const double d = (truth[k].centre_in_left - r.centre_mm).norm();
+      if (d < best_d) best_d = d, best = static_cast<int>(k);
+    }
+    idx.push_back(best);
+  }
+  return idx;
+}
+
+}  // namespace ramtk::vision

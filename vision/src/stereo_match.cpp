@@ -1,0 +1,519 @@
+// Stereo matching of equal absolute projector coordinate along epipolar curves (stereo_match.h).
+#include "ramtk/vision/stereo_match.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::vision {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+// One direction of matching: every valid pixel of camera `src` is searched for in camera `dst`.
+struct Pass {
+  const CameraIntrinsics* src = nullptr;
+  const CameraIntrinsics* dst = nullptr;
+  Mat3 R;  // dst_from_src rotation
+  Vec3 T;  // dst_from_src translation, mm
+  cv::Mat src_coord, src_sigma, src_mask;
+  cv::Mat dst_coord, dst_sigma;
+  cv::Mat src_modulation, dst_modulation;
+  // Bounding box of the destination image in ideal normalised coordinates (plus a margin).
+  double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0;
+  // Per destination row: the smallest and largest valid coordinate (a crossing needs c_src in between).
+  std::vector<float> row_min, row_max;
+  double period = 1;
+  double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
+  double max_sigma = 0;       // projector px
+  double max_span = 0;        // projector px
+  double step_px = 0.8;
+  // Optional validator: for each dst pixel, its match back in src (the other pass's output).
+  cv::Mat back_u, back_v;
+  double lr_tolerance = 0;
+  double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
+  bool full_search_only_without_warm_start = true;
+};
+
+// A sample of the destination coordinate map on the epipolar curve.
+struct Sample {
+  bool ok = false;
+  double f = 0;           // c_dst - c_src, projector px
+  double var = 0;         // variance of the interpolated c_dst, projector px^2
+  double modulation = 0;  // interpolated destination modulation B, DN
+  Vec2 pix = Vec2::Zero();
+};
+
+struct Matcher {
+  const Pass& p;
+  Vec3 a = Vec3::Zero();  // R * ideal ray of the source pixel (z = 1 in the source frame)
+  double c_src = 0;
+  double w_lo = 0, w_hi = 0;  // this pixel's search range: the pass's, clipped to the image
+
+  // Narrows [lo, hi] to where g(w) = (ac + tc w) / (az + tz w) lies in [b0, b1]; g is monotonic
+  // (a Moebius function) while az + tz w > 0.
+  static void Clip(double ac, double tc, double az, double tz, double b0, double b1, double* lo, double* hi) {
+    if (*lo > *hi) return;
+    auto g = [&](double w) { return (ac + tc * w) / (az + tz * w); };
+    const double glo = g(*lo), ghi = g(*hi);
+    auto solve = [&](double b) { return (b * az - ac) / (tc - b * tz); };
+    if (ghi >= glo) {
+      if (glo < b0) *lo = std::max(*lo, solve(b0));
+      if (ghi > b1) *hi = std::min(*hi, solve(b1));
+    } else {
+      if (glo > b1) *lo = std::max(*lo, solve(b1));
+      if (ghi < b0) *hi = std::min(*hi, solve(b0));
+    }
+  }
+  // The inverse-depth range whose points project inside the destination image.
+  void SetRange() {
+    w_lo = p.w_lo;
+    w_hi = p.w_hi;
+    // In front of the destination camera: az + tz w > 1e-9.
+    if (p.T.z() < 0) w_hi = std::min(w_hi, (a.z() - 1e-9) / -p.T.z());
+    if (p.T.z() > 0) w_lo = std::max(w_lo, (1e-9 - a.z()) / p.T.z());
+    if (!(a.z() + p.T.z() * w_lo > 0) || !(a.z() + p.T.z() * w_hi > 0)) {
+      w_hi = w_lo - 1;
+      return;
+    }
+    Clip(a.x(), p.T.x(), a.z(), p.T.z(), p.box_x0, p.box_x1, &w_lo, &w_hi);
+    Clip(a.y(), p.T.y(), a.z(), p.T.z(), p.box_y0, p.box_y1, &w_lo, &w_hi);
+  }
+
+  // Destination pixel of the point at inverse depth w on the source ray; false behind the camera.
+  bool Pixel(double w, Vec2* pix) const {
+    const Vec3 q = a + p.T * w;
+    if (q.z() <= 1e-12) return false;
+    const Vec2 d = DistortNormalized(p.dst->distortion, Vec2(q.x() / q.z(), q.y() / q.z()));
+    *pix = Vec2(p.dst->fx * d.x() + p.dst->cx, p.dst->fy * d.y() + p.dst->cy);
+    return true;
+  }
+  // Speed of the (undistorted) destination image point per unit w, pixels.
+  double Speed(double w) const {
+    const Vec3 q = a + p.T * w;
+    const double iz = 1.0 / q.z();
+    const double dx = (p.T.x() * q.z() - q.x() * p.T.z()) * iz * iz;
+    const double dy = (p.T.y() * q.z() - q.y() * p.T.z()) * iz * iz;
+    return std::hypot(p.dst->fx * dx, p.dst->fy * dy);
+  }
+  Sample Eval(double w) const {
+    Sample s;
+    if (!Pixel(w, &s.pix)) return s;
+    const double u = s.pix.x(), v = s.pix.y();
+    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
+    const float* r0 = p.dst_coord.ptr<float>(v0);
+    const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
+    const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
+    if (!(std::isfinite(c00) && std::isfinite(c10) && std::isfinite(c01) && std::isfinite(c11))) return s;
+    const double lo = std::min({c00, c10, c01, c11}), hi = std::max({c00, c10, c01, c11});
+    if (hi - lo > p.max_span) return s;
+    const double fu = u - u0, fv = v - v0;
+    const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
+    s.f = w00 * c00 + w10 * c10 + w01 * c01 + w11 * c11 - c_src;
+    const float* s0 = p.dst_sigma.ptr<float>(v0);
+    const float* s1 = p.dst_sigma.ptr<float>(v0 + 1);
+    const double q00 = s0[u0], q10 = s0[u0 + 1], q01 = s1[u0], q11 = s1[u0 + 1];
+    s.var = w00 * w00 * q00 * q00 + w10 * w10 * q10 * q10 + w01 * w01 * q01 * q01 + w11 * w11 * q11 * q11;
+    if (!std::isfinite(s.var)) s.var = 0;
+    const float* b0 = p.dst_modulation.ptr<float>(v0);
+    const float* b1 = p.dst_modulation.ptr<float>(v0 + 1);
+    s.modulation = w00 * b0[u0] + w10 * b0[u0 + 1] + w01 * b1[u0] + w11 * b1[u0 + 1];
+    s.ok = true;
+    return s;
+  }
+
+  struct Root {
+    double w = 0, slope = 0;
+    Sample at;
+  };
+  // Regula falsi (Illinois) on the bilinear surface between two samples of opposite sign.
+  bool Refine(double wa, Sample sa, double wb, Sample sb, Root* root) const {
+    if (std::abs(sb.f - sa.f) > p.max_span) return false;
+    const double slope = (sb.f - sa.f) / (wb - wa);
+    double fa = sa.f, fb = sb.f;
+    int side = 0;
+    Sample s = std::abs(fa) < std::abs(fb) ? sa : sb;
+    double w = std::abs(fa) < std::abs(fb) ? wa : wb;
+    for (int it = 0; it < 40 && fa != 0 && fb != 0; ++it) {
+      w = (wa * fb - wb * fa) / (fb - fa);
+      s = Eval(w);
+      if (!s.ok) return false;
+      if (std::abs(s.f) < 1e-9 * p.period || std::abs(wb - wa) * Speed(w) < 1e-6) break;
+      if (s.f * fb > 0) {
+        wb = w;
+        fb = s.f;
+        if (side == -1) fa *= 0.5;
+        side = -1;
+      } else {
+        wa = w;
+        fa = s.f;
+        if (side == +1) fb *= 0.5;
+        side = +1;
+      }
+    }
+    root->w = w;
+    root->slope = slope;
+    root->at = s;
+    return true;
+  }
+
+  // Newton jump from a neighbour's inverse depth, then a short walk to bracket the crossing.
+  bool LocalSearch(double w0, Root* root) const {
+    const double h = p.step_px / std::max(1e-12, Speed(w0));
+    Sample s0 = Eval(w0);
+    if (!s0.ok) return false;
+    Sample s1 = Eval(w0 + h);
+    double hh = h;
+    if (!s1.ok) {
+      hh = -h;
+      s1 = Eval(w0 - h);
+      if (!s1.ok) return false;
+    }
+    const double g = (s1.f - s0.f) / hh;
+    if (g == 0 || !std::isfinite(g)) return false;
+    double w = w0 - s0.f / g;
+    if (std::abs(w - w0) > 16 * h || w < w_lo || w > w_hi) return false;
+    Sample sw = Eval(w);
+    if (!sw.ok) return false;
+    if (sw.f == 0) return Refine(w, sw, w, sw, root);
+    const double dir = (sw.f * g > 0) ? -1.0 : 1.0;
+    const double step = 0.5 * h * dir;
+    for (int k = 0; k < 6; ++k) {
+      const double wn = w + step;
+      const Sample sn = Eval(wn);
+      if (!sn.ok) return false;
+      if ((sn.f > 0) != (sw.f > 0) || sn.f == 0) return Refine(w, sw, wn, sn, root);
+      w = wn;
+      sw = sn;
+    }
+    return false;
+  }
+
+  // Every crossing over the whole inverse-depth range, in order of w.
+  void FullSearch(std::vector<Root>* roots) const {
+    roots->clear();
+    if (!(w_lo < w_hi)) return;
+    // Quick rejection: c_src outside every coordinate on the rows the curve crosses.
+    Vec2 pa, pb;
+    if (Pixel(w_lo, &pa) && Pixel(w_hi, &pb)) {
+      const int rows = static_cast<int>(p.row_min.size());
+      const double mid_w = 0.5 * (w_lo + w_hi);
+      Vec2 pm;
+      double y0 = std::min(pa.y(), pb.y()), y1 = std::max(pa.y(), pb.y());
+      if (Pixel(mid_w, &pm)) y0 = std::min(y0, pm.y()), y1 = std::max(y1, pm.y());
+      const int r0 = std::max(0, static_cast<int>(std::floor(y0)) - 2);
+      const int r1 = std::min(rows - 1, static_cast<int>(std::ceil(y1)) + 2);
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int r = r0; r <= r1; ++r) lo = std::min(lo, p.row_min[r]), hi = std::max(hi, p.row_max[r]);
+      if (!(c_src >= lo && c_src <= hi)) return;
+    }
+    double w = w_lo;
+    Sample prev;
+    double w_prev = w;
+    while (w <= w_hi) {
+      const double speed = Speed(w);
+      if (!(speed > 1e-9)) break;
+      const Sample s = Eval(w);
+      if (s.ok && prev.ok && ((s.f > 0) != (prev.f > 0) || s.f == 0)) {
+        Root r;
+        if (Refine(w_prev, prev, w, s, &r)) roots->push_back(r);
+      }
+      prev = s;
+      w_prev = w;
+      w += p.step_px / speed;
+    }
+  }
+
+  // Same surface point: the modulations agree (a matte surface sends the same radiance to both
+  // cameras), and the destination position's own match back in the source image lands on the
+  // source pixel (left-right consistency).
+  bool Accept(const Root& r, double b_src, double su, double sv) const {
+    if (std::abs(std::log(std::max(1e-6, r.at.modulation) / std::max(1e-6, b_src))) > p.max_log_modulation_ratio)
+      return false;
+    return Consistent(r.at.pix, su, sv);
+  }
+  bool Consistent(const Vec2& dst_pix, double su, double sv) const {
+    if (p.back_u.empty() || p.lr_tolerance <= 0) return true;
+    const double u = dst_pix.x(), v = dst_pix.y();
+    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.back_u.cols || v0 + 1 >= p.back_u.rows) return false;
+    double bu[4], bv[4];
+    bool all = true;
+    for (int k = 0; k < 4; ++k) {
+      bu[k] = p.back_u.at<float>(v0 + k / 2, u0 + k % 2);
+      bv[k] = p.back_v.at<float>(v0 + k / 2, u0 + k % 2);
+      all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
+    }
+    const double fu = u - u0, fv = v - v0;
+    if (all) {
+      const double wts[4] = {(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
+      double mu = 0, mv = 0, spread = 0;
+      for (int k = 0; k < 4; ++k) {
+        mu += wts[k] * bu[k];
+        mv += wts[k] * bv[k];
+        spread = std::max(spread, std::hypot(bu[k] - bu[0], bv[k] - bv[0]));
+      }
+      if (spread < 4.0) return std::hypot(mu - su, mv - sv) <= p.lr_tolerance;
+    }
+    const int k = (fu < 0.5 ? 0 : 1) + (fv < 0.5 ? 0 : 2);
+    if (!std::isfinite(bu[k])) return false;
+    return std::hypot(bu[k] - su, bv[k] - sv) <= p.lr_tolerance + 1.0;
+  }
+};
+
+struct PassResult {
+  cv::Mat u, v, sigma, tu, tv;
+  std::atomic<long> noisy{0}, no_match{0}, lr{0}, full{0}, matched{0}, valid{0};
+};
+
+// Runs one pass over `rows`; returns false if cancelled.
+bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, const std::string& stage) {
+  const int W = p.src_coord.cols, H = p.src_coord.rows;
+  out->u = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  out->v = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  out->sigma = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  out->tu = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  out->tv = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  const int chunk = 64;
+  for (int r0 = 0; r0 < H; r0 += chunk) {
+    const int r1 = std::min(H, r0 + chunk);
+    tbb::parallel_for(tbb::blocked_range<int>(r0, r1), [&](const tbb::blocked_range<int>& range) {
+      std::vector<Matcher::Root> roots;
+      for (int y = range.begin(); y < range.end(); ++y) {
+        Matcher m{p};
+        double w_prev = std::numeric_limits<double>::quiet_NaN();
+        Vec2 ideal_prev(kNaN, kNaN);
+        long noisy = 0, no_match = 0, lr = 0, full = 0, matched = 0, valid = 0;
+        const float* crow = p.src_coord.ptr<float>(y);
+        const float* srow = p.src_sigma.ptr<float>(y);
+        const uchar* mrow = p.src_mask.ptr<uchar>(y);
+        for (int x = 0; x < W; ++x) {
+          if (!mrow[x] || !std::isfinite(crow[x])) {
+            w_prev = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
+          ++valid;
+          if (!(srow[x] <= p.max_sigma)) {
+            ++noisy;
+            w_prev = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
+          const Vec2 distorted((x - p.src->cx) / p.src->fx, (y - p.src->cy) / p.src->fy);
+          const Vec2 ideal = std::isfinite(ideal_prev.x())
+                                 ? UndistortNormalized(p.src->distortion, distorted, ideal_prev)
+                                 : UndistortNormalized(p.src->distortion, distorted);
+          ideal_prev = ideal;
+          m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
+          m.c_src = crow[x];
+          m.SetRange();
+          Matcher::Root root;
+          bool found = false, any = false;
+          if (std::isfinite(w_prev) && m.LocalSearch(w_prev, &root)) {
+            any = true;
+            found = m.Accept(root, p.src_modulation.at<float>(y, x), x, y);
+          } else {
+            ++full;
+            m.FullSearch(&roots);
+            any = !roots.empty();
+            // Several crossings (another surface lit by the same projector column on the same
+            // epipolar curve): try first the one whose modulation agrees best with the source's.
+            const double b_src = std::max(1e-6, static_cast<double>(p.src_modulation.at<float>(y, x)));
+            std::stable_sort(roots.begin(), roots.end(), [&](const Matcher::Root& ra, const Matcher::Root& rb) {
+              return std::abs(std::log(std::max(1e-6, ra.at.modulation) / b_src)) <
+                     std::abs(std::log(std::max(1e-6, rb.at.modulation) / b_src));
+            });
+            for (const auto& r : roots) {
+              if (m.Accept(r, b_src, x, y)) {
+                root = r;
+                found = true;
+                break;
+              }
+            }
+          }
+          if (!found) {
+            (any ? lr : no_match) += 1;
+            w_prev = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
+          ++matched;
+          w_prev = root.w;
+          // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
+          const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
+          const double h = 1e-3 / std::max(1e-12, m.Speed(root.w));
+          Vec2 pa, pb;
+          m.Pixel(root.w - h, &pa);
+          m.Pixel(root.w + h, &pb);
+          const Vec2 d = (pb - pa) / (2 * h);
+          const double speed = d.norm();
+          out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
+          out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
+          out->sigma.at<float>(y, x) = static_cast<float>(speed * sigma_w);
+          out->tu.at<float>(y, x) = static_cast<float>(d.x() / speed);
+          out->tv.at<float>(y, x) = static_cast<float>(d.y() / speed);
+        }
+        out->noisy += noisy;
+        out->no_match += no_match;
+        out->lr += lr;
+        out->full += full;
+        out->matched += matched;
+        out->valid += valid;
+      }
+    });
+    if (options.progress && !options.progress({stage, static_cast<std::size_t>(r1), static_cast<std::size_t>(H)}))
+      return false;
+  }
+  return true;
+}
+
+void CheckSize(const CameraIntrinsics& cam, const DecodedCamera& d, const std::string& name, const std::string& path) {
+  if (d.coordinate.cols != cam.width || d.coordinate.rows != cam.height)
+    throw InputError({path, 0, "image_size"}, "the " + name + " calibration is " + std::to_string(cam.width) + "x" +
+                                                  std::to_string(cam.height) + " but the " + name + " images are " +
+                                                  std::to_string(d.coordinate.cols) + "x" +
+                                                  std::to_string(d.coordinate.rows));
+}
+
+}  // namespace
+
+void StereoMatchOptions::Validate() const {
+  if (!(min_depth_mm > 0)) throw InputError({"", 0, "min_depth_mm"}, "must be > 0");
+  if (!(max_depth_mm > min_depth_mm)) throw InputError({"", 0, "max_depth_mm"}, "must be > min_depth_mm");
+  if (!std::isfinite(lr_tolerance_px)) throw InputError({"", 0, "lr_tolerance_px"}, "must be finite");
+  if (!(max_sigma_periods > 0)) throw InputError({"", 0, "max_sigma_periods"}, "must be > 0");
+  if (!(max_cell_span_periods > 0 && max_cell_span_periods <= 1))
+    throw InputError({"", 0, "max_cell_span_periods"}, "must be in (0, 1]");
+  if (!(max_modulation_ratio > 1)) throw InputError({"", 0, "max_modulation_ratio"}, "must be > 1");
+  if (!(search_step_px > 0 && search_step_px <= 4)) throw InputError({"", 0, "search_step_px"}, "must be in (0, 4]");
+}
+
+std::string StereoMatchSummary::BriefReport() const {
+  std::ostringstream s;
+  s.precision(3);
+  s << "match " << termination << ": " << matched << " of " << left_valid << " left px matched ("
+    << (left_valid ? 100.0 * matched / left_valid : 0.0) << "%; rejected " << rejected_noisy << " noisy, "
+    << rejected_no_match << " no match, " << rejected_lr << " left-right), median sigma " << median_sigma_px << " px";
+  return s.str();
+}
+
+StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
+                        double period, const StereoMatchOptions& options, const std::string& calibration_path) {
+  options.Validate();
+  CheckSize(calibration.left, left, "left", calibration_path);
+  CheckSize(calibration.right, right, "right", calibration_path);
+  if (!(period > 0)) throw InputError({"", 0, "period"}, "the fringe period must be > 0");
+  const Mat3 R = calibration.right_from_left.linear();
+  const Vec3 T = calibration.right_from_left.translation();
+
+  auto make_pass = [&](bool left_to_right) {
+    Pass p;
+    const DecodedCamera& s = left_to_right ? left : right;
+    const DecodedCamera& d = left_to_right ? right : left;
+    p.src = left_to_right ? &calibration.left : &calibration.right;
+    p.dst = left_to_right ? &calibration.right : &calibration.left;
+    p.R = left_to_right ? R : Mat3(R.transpose());
+    p.T = left_to_right ? T : Vec3(-R.transpose() * T);
+    p.src_coord = s.coordinate;
+    p.src_sigma = s.sigma_coordinate;
+    p.src_mask = s.mask;
+    p.dst_coord = d.coordinate;
+    p.dst_sigma = d.sigma_coordinate;
+    p.row_min.assign(static_cast<std::size_t>(d.coordinate.rows), std::numeric_limits<float>::infinity());
+    p.row_max.assign(static_cast<std::size_t>(d.coordinate.rows), -std::numeric_limits<float>::infinity());
+    for (int y = 0; y < d.coordinate.rows; ++y)
+      for (int x = 0; x < d.coordinate.cols; ++x) {
+        const float c = d.coordinate.at<float>(y, x);
+        if (std::isfinite(c)) p.row_min[y] = std::min(p.row_min[y], c), p.row_max[y] = std::max(p.row_max[y], c);
+      }
+    p.src_modulation = s.modulation;
+    p.dst_modulation = d.modulation;
+    // Ideal bounding box of the destination image from its border pixels, 2 px margin.
+    const CameraIntrinsics& dc = *p.dst;
+    p.box_x0 = p.box_y0 = 1e300;
+    p.box_x1 = p.box_y1 = -1e300;
+    auto add = [&](double u, double v) {
+      const Vec2 q = UndistortNormalized(dc.distortion, Vec2((u - dc.cx) / dc.fx, (v - dc.cy) / dc.fy));
+      p.box_x0 = std::min(p.box_x0, q.x());
+      p.box_x1 = std::max(p.box_x1, q.x());
+      p.box_y0 = std::min(p.box_y0, q.y());
+      p.box_y1 = std::max(p.box_y1, q.y());
+    };
+    for (int i = 0; i <= 64; ++i) {
+      const double fu = (dc.width - 1.0) * i / 64, fv = (dc.height - 1.0) * i / 64;
+      add(fu, 0);
+      add(fu, dc.height - 1.0);
+      add(0, fv);
+      add(dc.width - 1.0, fv);
+    }
+    p.box_x0 -= 2 / dc.fx;
+    p.box_x1 += 2 / dc.fx;
+    p.box_y0 -= 2 / dc.fy;
+    p.box_y1 += 2 / dc.fy;
+    p.period = period;
+    p.max_sigma = options.max_sigma_periods * period;
+    p.max_span = options.max_cell_span_periods * period;
+    p.step_px = options.search_step_px;
+    p.max_log_modulation_ratio = std::log(options.max_modulation_ratio);
+    // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
+    // depth range is taken in its own frame, a close approximation for a rig whose cameras
+    // face the same way.
+    p.w_lo = 1.0 / options.max_depth_mm;
+    p.w_hi = 1.0 / options.min_depth_mm;
+    return p;
+  };
+
+  StereoMatch result;
+  StereoMatchSummary& sum = result.summary;
+  PassResult back;
+  const bool lr = options.lr_tolerance_px > 0;
+  if (lr) {
+    Pass rl = make_pass(false);
+    rl.lr_tolerance = 0;
+    if (!RunPass(rl, &back, options, "match right->left")) {
+      sum.termination = "cancelled";
+      return result;
+    }
+  }
+  Pass lrp = make_pass(true);
+  if (lr) {
+    lrp.back_u = back.u;
+    lrp.back_v = back.v;
+    lrp.lr_tolerance = options.lr_tolerance_px;
+  }
+  PassResult fwd;
+  if (!RunPass(lrp, &fwd, options, "match left->right")) {
+    sum.termination = "cancelled";
+    return result;
+  }
+  result.right_u = fwd.u;
+  result.right_v = fwd.v;
+  result.sigma_px = fwd.sigma;
+  result.tangent_u = fwd.tu;
+  result.tangent_v = fwd.tv;
+  sum.left_valid = fwd.valid;
+  sum.matched = fwd.matched;
+  sum.rejected_noisy = fwd.noisy;
+  sum.rejected_no_match = fwd.no_match;
+  sum.rejected_lr = fwd.lr;
+  sum.full_searches = fwd.full;
+  std::vector<float> sig;
+  sig.reserve(static_cast<std::size_t>(sum.matched));
+  for (int y = 0; y < fwd.sigma.rows; ++y)
+    for (int x = 0; x < fwd.sigma.cols; ++x)
+      if (std::isfinite(fwd.sigma.at<float>(y, x))) sig.push_back(fwd.sigma.at<float>(y, x));
+  if (!sig.empty()) {
+    std::nth_element(sig.begin(), sig.begin() + sig.size() / 2, sig.end());
+    sum.median_sigma_px = sig[sig.size() / 2];
+  }
+  return result;
+}
+
+}  // namespace ramtk::vision

@@ -1,0 +1,111 @@
+// Midpoint triangulation and the per-point sigma (triangulate.h).
+#include "ramtk/vision/triangulate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "ramtk/core/error.h"
+
+namespace ramtk::vision {
+
+Vec3 TriangulateMidpoint(const StereoCalibration& calibration, const Vec2& left_pixel, const Vec2& right_pixel,
+                         double* gap_mm) {
+  // Left ray: origin 0, direction dl. Right ray in the left frame: origin c = -R^T T, direction R^T dr.
+  const Mat3 R = calibration.right_from_left.linear();
+  const Vec3 T = calibration.right_from_left.translation();
+  const Vec3 dl = PixelRay(calibration.left, left_pixel);
+  const Vec3 dr = R.transpose() * PixelRay(calibration.right, right_pixel);
+  const Vec3 c = -R.transpose() * T;
+  // Minimise |t dl - (c + s dr)|^2.
+  const double a = dl.dot(dl), b = dl.dot(dr), e = dr.dot(dr);
+  const double d1 = dl.dot(c), d2 = dr.dot(c);
+  const double den = a * e - b * b;
+  if (!(std::abs(den) > 1e-15)) {
+    if (gap_mm) *gap_mm = std::numeric_limits<double>::quiet_NaN();
+    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  const double t = (e * d1 - b * d2) / den;
+  const double s = (b * d1 - a * d2) / den;
+  const Vec3 pl = t * dl, pr = c + s * dr;
+  if (gap_mm) *gap_mm = (pl - pr).norm();
+  return 0.5 * (pl + pr);
+}
+
+void TriangulationOptions::Validate() const {
+  if (!(max_ray_gap_mm > 0)) throw InputError({"", 0, "max_ray_gap_mm"}, "must be > 0");
+}
+
+std::string TriangulationSummary::BriefReport() const {
+  std::ostringstream s;
+  s.precision(4);
+  s << "triangulate: " << points << " points (" << rejected_gap << " dropped for ray gap), z " << depth_min_mm << ".."
+    << depth_max_mm << " mm, median sigma " << median_sigma_mm * 1000 << " um";
+  return s.str();
+}
+
+PointCloud TriangulateMatches(const StereoCalibration& calibration, const DecodedCamera& left, const StereoMatch& match,
+                              const TriangulationOptions& options, TriangulationSummary* summary, cv::Mat* depth) {
+  options.Validate();
+  const int W = match.right_u.cols, H = match.right_u.rows;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cv::Mat z(H, W, CV_32F, cv::Scalar(nan));
+  cv::Mat px(H, W, CV_32F, cv::Scalar(nan)), py = px.clone(), pz = px.clone(), ps = px.clone();
+  const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
+  cv::Mat gap_rejected(H, 1, CV_32S, cv::Scalar(0));
+  cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      for (int x = 0; x < W; ++x) {
+        const float u = match.right_u.at<float>(y, x), v = match.right_v.at<float>(y, x);
+        if (!std::isfinite(u)) continue;
+        double gap = 0;
+        const Vec2 lp(x, y), rp(u, v);
+        const Vec3 X = TriangulateMidpoint(calibration, lp, rp, &gap);
+        if (!(gap <= options.max_ray_gap_mm) || !X.allFinite()) {
+          ++gap_rejected.at<int>(y);
+          continue;
+        }
+        // Triangulation Jacobian along the epipolar tangent (central difference, 1e-3 px).
+        const Vec2 t(match.tangent_u.at<float>(y, x), match.tangent_v.at<float>(y, x));
+        const double h = 1e-3;
+        const Vec3 Xa = TriangulateMidpoint(calibration, lp, rp - h * t);
+        const Vec3 Xb = TriangulateMidpoint(calibration, lp, rp + h * t);
+        const double dXds = ((Xb - Xa) / (2 * h)).norm();
+        px.at<float>(y, x) = static_cast<float>(X.x());
+        py.at<float>(y, x) = static_cast<float>(X.y());
+        pz.at<float>(y, x) = static_cast<float>(X.z());
+        ps.at<float>(y, x) = static_cast<float>(dXds * match.sigma_px.at<float>(y, x));
+        z.at<float>(y, x) = static_cast<float>(X.z());
+      }
+    }
+  });
+  PointCloud cloud;
+  TriangulationSummary sum;
+  sum.depth_min_mm = std::numeric_limits<double>::infinity();
+  sum.depth_max_mm = -sum.depth_min_mm;
+  for (int y = 0; y < H; ++y) {
+    sum.rejected_gap += gap_rejected.at<int>(y);
+    for (int x = 0; x < W; ++x) {
+      if (!std::isfinite(pz.at<float>(y, x))) continue;
+      cloud.points_in_left.emplace_back(px.at<float>(y, x), py.at<float>(y, x), pz.at<float>(y, x));
+      cloud.sigma_mm.push_back(ps.at<float>(y, x));
+      cloud.quality.push_back(static_cast<float>(left.modulation.at<float>(y, x) / sigma_i));
+      if (options.keep_pixels) cloud.left_pixels.emplace_back(static_cast<float>(x), static_cast<float>(y));
+      sum.depth_min_mm = std::min<double>(sum.depth_min_mm, pz.at<float>(y, x));
+      sum.depth_max_mm = std::max<double>(sum.depth_max_mm, pz.at<float>(y, x));
+    }
+  }
+  sum.points = static_cast<long>(cloud.size());
+  if (cloud.size() == 0) sum.depth_min_mm = sum.depth_max_mm = 0;
+  std::vector<float> s = cloud.sigma_mm;
+  if (!s.empty()) {
+    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+    sum.median_sigma_mm = s[s.size() / 2];
+  }
+  if (summary) *summary = sum;
+  if (depth) *depth = z;
+  return cloud;
+}
+
+}  // namespace ramtk::vision
