@@ -191,10 +191,10 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
     elapsed[i] = u.event.time_s - u.start;
     if (u.circle) direction.push_back(u.direction), circle_resid.push_back(scaled[i]);
   }
-  std::vector<TestResult> tests = {VarianceTest(scaled, {sigma}), TrendTest(scaled, {sigma}, state, 1, "trend(state)"),
-                                   TrendTest(scaled, {sigma}, beam, 1, "trend(beam)"),
-                                   TrendTest(scaled, {sigma}, elapsed, 1, "trend(time in segment)")};
-  if (!circle_resid.empty()) tests.push_back(TrendTest(circle_resid, {sigma}, direction, 1, "trend(direction cw/ccw)"));
+  std::vector<TestResult> tests = {VarianceTest(scaled, {sigma}), TrendTest(scaled, {sigma}, state, 1, "state"),
+                                   TrendTest(scaled, {sigma}, beam, 1, "beam"),
+                                   TrendTest(scaled, {sigma}, elapsed, 1, "time in segment")};
+  if (!circle_resid.empty()) tests.push_back(TrendTest(circle_resid, {sigma}, direction, 1, "direction cw/ccw"));
   std::vector<double> p;
   for (const TestResult& t : tests) p.push_back(t.p_value);
   const std::vector<double> holm = HolmCorrection(p);

@@ -138,7 +138,7 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
   const TestResult variance = VarianceTest(scaled, {sigma});
   std::vector<double> beam_var;
   for (const Observation& o : obs) beam_var.push_back(o.x_beam ? 1.0 : -1.0);
-  const TestResult by_beam = TrendTest(scaled, {sigma}, beam_var, 1, "trend(beam)");
+  const TestResult by_beam = TrendTest(scaled, {sigma}, beam_var, 1, "beam");
   const std::vector<double> holm = HolmCorrection({variance.p_value, by_beam.p_value});
   d.structure_p_value = std::min(holm[0], holm[1]);
   d.structure_found = d.structure_p_value < options.alpha;
@@ -183,9 +183,16 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
         final_params = o.full.params;
         CandidateFit combined = o.fit;
         combined.effect = specs[chosen].effect + "+" + o.fit.effect;
-        combined.num_parameters = static_cast<int>(o.full.params.size() - kNumParams) + 0;
         combined.num_parameters = static_cast<int>(specs[chosen].params.size() + 1);
+        combined.score = combined.heldout_count * std::log(std::max(1e-300, combined.heldout_rms * combined.heldout_rms)) +
+                         2.0 * combined.num_parameters;
+        combined.weight = 0.0;  // a second stage, outside the first-stage evidence weights
         d.candidates.push_back(combined);
+        std::ostringstream est;
+        est.precision(4);
+        est << std::fixed << "estimates: ";
+        for (const auto& [k, v] : d.parameters) est << k << " = " << v << " ± " << d.sigmas.at(k) << "  ";
+        d.findings.push_back(est.str());
       }
     }
   }
