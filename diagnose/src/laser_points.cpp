@@ -212,7 +212,7 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
     }
     PlotOptions po;
     po.title = "Calibration points: leave-one-out residual (A1..A4, B1..B4, C1..C4, D1..D4)";
-    po.x_label = "observation (1-4 A, 5-8 B on the x beam; 9-12 C, 13-16 D on the y beam)";
+    po.x_label = "observation: A1-A4, B1-B4 (x beam), C1-C4, D1-D4 (y beam)";
     po.y_label = "residual (mm)";
     po.band = sigma;
     WritePlot({before, after}, po, options.output_folder + "/residual_by_point.png");

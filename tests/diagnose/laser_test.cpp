@@ -52,6 +52,21 @@ TEST(HiddenLaserGenerator, DrawsEveryObservableEffectAndCleanLogs) {
   EXPECT_GE(count[kNoEffect], 2);
 }
 
+// Unobservable by design: a 0.3° plane tilt moves the crossings by µm; a turn of the symmetric tool
+// about its own axis changes nothing. Both logs must read as clean.
+TEST(UnobservableLaserEffects, AreDiagnosedAsNone) {
+  for (const std::string effect : {"sensor_plane_tilt", "tool_axis_rotation"}) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      tcf::TcfSimulationOptions o;
+      o.seed = seed;
+      o.effects.Enable(effect);
+      const tcf::TcfSimulation sim = tcf::SimulateTcf(o);
+      const Diagnosis d = DiagnoseLaserLog(sim.events, sim.motion, sim.calibrated_sensor, Options(effect));
+      EXPECT_EQ(d.cause, kNoEffect) << effect << " seed " << seed;
+    }
+  }
+}
+
 TEST(SensorPoints, SimulatedBetaAndOffsetAreNamedAndMeasured) {
   tcf::TcfTruth truth;
   truth.base_from_lasersensor = tcf::TcfSimulationOptions::DefaultBaseFromLaserSensor();
