@@ -19,9 +19,12 @@ int main(int argc, char** argv) {
   bool list = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--draws" && i + 1 < argc) draws = std::atoi(argv[++i]);
-    else if (a == "--first-seed" && i + 1 < argc) first = std::strtoull(argv[++i], nullptr, 10);
-    else if (a == "--list") list = true;
+    if (a == "--draws" && i + 1 < argc)
+      draws = std::atoi(argv[++i]);
+    else if (a == "--first-seed" && i + 1 < argc)
+      first = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--list")
+      list = true;
     else {
       std::fprintf(stderr, "usage: diagnose_laser_sweep [--draws N] [--first-seed S] [--list]\n");
       return 2;

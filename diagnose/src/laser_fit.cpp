@@ -85,8 +85,7 @@ CandidateOutcome EvaluateCandidate(const ResidualModel& model, const std::vector
   out.full = Fit(model, free, std::vector<bool>(n, true), model.initial);
   const bool leave_one_out = num_folds >= model.num_groups;
   const int folds = leave_one_out ? model.num_groups : num_folds;
-  const std::vector<int> fold_of_group =
-      leave_one_out ? std::vector<int>() : FoldOfGroup(model.num_groups, folds);
+  const std::vector<int> fold_of_group = leave_one_out ? std::vector<int>() : FoldOfGroup(model.num_groups, folds);
   auto fold_of = [&](int row) { return leave_one_out ? model.group[row] : fold_of_group[model.group[row]]; };
   out.heldout_resid = Eigen::VectorXd::Zero(n);
   for (int f = 0; f < folds; ++f) {

@@ -42,8 +42,8 @@ struct CandidateSpec {
 
 struct CandidateOutcome {
   CandidateFit fit;
-  FitResult full;                  // fitted on all data
-  Eigen::VectorXd heldout_resid;   // each residual predicted with its group held out
+  FitResult full;                 // fitted on all data
+  Eigen::VectorXd heldout_resid;  // each residual predicted with its group held out
 };
 
 // Fits the candidate on all data and cross-validates it over `num_folds` folds of groups

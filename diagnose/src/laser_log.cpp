@@ -22,8 +22,18 @@ using laser_detail::ResidualModel;
 
 // Tool (tip in the flange, axis tilt) then the effects' parameters.
 enum Param {
-  kTx, kTy, kTz, kAx, kAy,  // nuisance: the tool
-  kBeta, kOffset, kWidth, kLatency, kSpeed, kTiltX, kTiltY,
+  kTx,
+  kTy,
+  kTz,
+  kAx,
+  kAy,  // nuisance: the tool
+  kBeta,
+  kOffset,
+  kWidth,
+  kLatency,
+  kSpeed,
+  kTiltX,
+  kTiltY,
   kNumParams
 };
 
@@ -148,8 +158,9 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
     q0(kAy) = a.y();
   } catch (const std::exception&) {
   }
-  model.names = {"tcp_x_mm", "tcp_y_mm", "tcp_z_mm", "axis_x", "axis_y", "beta_deg", "offset_mm",
-                 "width_mm", "latency_ms", "speed_error_percent", "tilt_x_deg", "tilt_y_deg"};
+  model.names = {"tcp_x_mm",   "tcp_y_mm",  "tcp_z_mm", "axis_x",     "axis_y",
+                 "beta_deg",   "offset_mm", "width_mm", "latency_ms", "speed_error_percent",
+                 "tilt_x_deg", "tilt_y_deg"};
   model.initial = q0;
   model.step = Eigen::VectorXd::Constant(kNumParams, 1e-4);
   model.step(kAx) = model.step(kAy) = 1e-6;
@@ -235,9 +246,10 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
         fixed.y.push_back(after(i));
       }
       PlotSeries& by_beam = u.event.beam == tcf::Beam::kX ? xs : ys;
-      by_beam.x.push_back(u.segment + 1 + 0.6 * (u.event.time_s - u.start) /
-                                              (u.circle ? motion.circles[u.segment].duration_s
-                                                        : motion.lines[u.segment - motion.circles.size()].duration_s));
+      by_beam.x.push_back(u.segment + 1 +
+                          0.6 * (u.event.time_s - u.start) /
+                              (u.circle ? motion.circles[u.segment].duration_s
+                                        : motion.lines[u.segment - motion.circles.size()].duration_s));
       by_beam.y.push_back(y);
       // Height of the fitted tip above the beam plane at the event.
       const Isometry3 f = ProgrammedPose(motion, u, u.event.time_s);

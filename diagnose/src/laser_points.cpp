@@ -102,8 +102,8 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
   }
 
   ResidualModel model;
-  model.names = {"origin_x_mm", "origin_y_mm", "origin_z_mm", "rot_x_deg",  "rot_y_deg",
-                 "rot_z_deg",   "half_h_mm",   "half_v_mm",   "beta_deg", "offset_mm"};
+  model.names = {"origin_x_mm", "origin_y_mm", "origin_z_mm", "rot_x_deg", "rot_y_deg",
+                 "rot_z_deg",   "half_h_mm",   "half_v_mm",   "beta_deg",  "offset_mm"};
   model.initial = Eigen::VectorXd::Zero(kNumParams);
   model.initial.head<3>() = frame0.translation();
   model.initial(kHalfH) = half_h / 2.0;
@@ -184,8 +184,9 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
         CandidateFit combined = o.fit;
         combined.effect = specs[chosen].effect + "+" + o.fit.effect;
         combined.num_parameters = static_cast<int>(specs[chosen].params.size() + 1);
-        combined.score = combined.heldout_count * std::log(std::max(1e-300, combined.heldout_rms * combined.heldout_rms)) +
-                         2.0 * combined.num_parameters;
+        combined.score =
+            combined.heldout_count * std::log(std::max(1e-300, combined.heldout_rms * combined.heldout_rms)) +
+            2.0 * combined.num_parameters;
         combined.weight = 0.0;  // a second stage, outside the first-stage evidence weights
         d.candidates.push_back(combined);
         std::ostringstream est;
@@ -216,8 +217,8 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
     po.y_label = "residual (mm)";
     po.band = sigma;
     WritePlot({before, after}, po, options.output_folder + "/residual_by_point.png");
-    d.pictures.push_back({"residual_by_point.png",
-                          "Leave-one-out residual of each flange coordinate, ideal device and extended model"});
+    d.pictures.push_back(
+        {"residual_by_point.png", "Leave-one-out residual of each flange coordinate, ideal device and extended model"});
   }
   (void)final_params;
   return d;

@@ -19,7 +19,7 @@
 namespace ramtk::diagnose {
 
 struct HiddenLaserEffect {
-  std::string effect;  // catalogue name or "none"
+  std::string effect;     // catalogue name or "none"
   std::string parameter;  // what `magnitude` is, with its unit ("beta_deg", "latency_ms"...)
   double magnitude = 0.0;
   tcf::TcfSimulationOptions options;  // what was simulated (seed, tool, effects)
