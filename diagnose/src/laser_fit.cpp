@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "ramtk/diagnose/model_selection.h"
 
@@ -137,6 +138,78 @@ int Conclude(const std::vector<CandidateOutcome>& outcomes, double min_improveme
   d->cause = c.effect;
   if (d->structure_found && chosen == none) d->cause = kUnexplained;
   return chosen;
+}
+
+CandidateOutcome AddFurtherEffects(const ResidualModel& model, const std::vector<int>& base,
+                                   const std::vector<CandidateSpec>& specs,
+                                   const std::vector<CandidateOutcome>& outcomes, int chosen, int num_folds,
+                                   double min_improvement, const std::string& label, Diagnosis* d) {
+  CandidateOutcome current = outcomes[chosen];
+  std::ostringstream line;
+  line << label << ": ";
+  for (const CandidateOutcome& o : outcomes)
+    if (o.fit.effect == kNoEffect) line << "current model " << o.fit.heldout_rms << " " << d->unit;
+  if (outcomes[chosen].fit.effect == kNoEffect || d->cause == kUnexplained) {
+    d->findings.push_back(line.str());
+    return current;
+  }
+  line << ", " << d->cause << " " << current.fit.heldout_rms << " " << d->unit;
+  CandidateSpec acc = specs[chosen];
+  std::vector<bool> used(specs.size(), false);
+  used[chosen] = true;
+  for (size_t i = 0; i < specs.size(); ++i) used[i] = used[i] || specs[i].effect == kNoEffect;
+  while (true) {
+    std::vector<CandidateOutcome> stage = {current};
+    stage.front().fit.effect = kNoEffect;
+    stage.front().fit.num_parameters = 0;
+    std::vector<int> index = {-1};
+    for (size_t i = 0; i < specs.size(); ++i) {
+      if (used[i]) continue;
+      CandidateSpec more{specs[i].effect, acc.params};
+      more.params.insert(more.params.end(), specs[i].params.begin(), specs[i].params.end());
+      CandidateOutcome o = EvaluateCandidate(model, base, more, num_folds);
+      o.fit.num_parameters = static_cast<int>(specs[i].params.size());
+      stage.push_back(o);
+      index.push_back(static_cast<int>(i));
+    }
+    if (stage.size() == 1) break;
+    std::vector<CandidateFit> fits;
+    for (const CandidateOutcome& o : stage) fits.push_back(o.fit);
+    SelectionOptions selection;
+    selection.min_improvement = min_improvement;
+    SelectCandidate(&fits, selection);
+    if (fits.front().effect == kNoEffect) break;
+    int k = 1;
+    while (stage[k].fit.effect != fits.front().effect) ++k;
+    const int spec = index[k];
+    used[spec] = true;
+    acc.effect += "+" + specs[spec].effect;
+    acc.params.insert(acc.params.end(), specs[spec].params.begin(), specs[spec].params.end());
+    current = stage[k];
+    d->findings.push_back("further effect on top of " + d->cause + ": " + specs[spec].effect);
+    d->parameters = current.fit.parameters;
+    d->sigmas = current.fit.sigmas;
+    d->rms_after = current.fit.heldout_rms;
+    d->excess_removed = ExcessRemoved(d->rms_before, d->rms_after, d->noise_floor_rms);
+    line << ", + " << specs[spec].effect << " " << d->rms_after << " " << d->unit;
+    CandidateFit combined = current.fit;
+    combined.effect = acc.effect;
+    combined.num_parameters = static_cast<int>(acc.params.size());
+    combined.score = combined.heldout_count * std::log(std::max(1e-300, combined.heldout_rms * combined.heldout_rms)) +
+                     2.0 * combined.num_parameters;
+    combined.weight = 0.0;  // a later stage, outside the first stage's evidence weights
+    d->candidates.push_back(combined);
+  }
+  if (acc.effect != specs[chosen].effect) {
+    std::ostringstream est;
+    est.precision(4);
+    est << "estimates (" << acc.effect << "):";
+    for (const auto& [k, v] : d->parameters)
+      est << " " << k << " = " << std::fixed << v << " ± " << d->sigmas.at(k) << ";";
+    d->findings.push_back(est.str());
+  }
+  d->findings.push_back(line.str());
+  return current;
 }
 
 }  // namespace ramtk::diagnose::laser_detail

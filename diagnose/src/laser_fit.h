@@ -59,4 +59,14 @@ double Rms(const Eigen::VectorXd& v);
 // parameters. Returns the index of the chosen outcome in `outcomes`.
 int Conclude(const std::vector<CandidateOutcome>& outcomes, double min_improvement, Diagnosis* diagnosis);
 
+// Further effects on top of the named one (outcomes[chosen] of specs[chosen]): adds the remaining
+// specs one at a time, each stage choosing by the same rule as the first (the previous stage plays
+// kNoEffect), until none earns its parameters. Updates the diagnosis' parameters, sigmas,
+// rms_after, excess_removed, findings and candidates (rows "a+b"); returns the final outcome.
+// `label` names the held-out RMS in the findings ("leave-one-out RMS", "held-out RMS").
+CandidateOutcome AddFurtherEffects(const ResidualModel& model, const std::vector<int>& base,
+                                   const std::vector<CandidateSpec>& specs,
+                                   const std::vector<CandidateOutcome>& outcomes, int chosen, int num_folds,
+                                   double min_improvement, const std::string& label, Diagnosis* diagnosis);
+
 }  // namespace ramtk::diagnose::laser_detail

@@ -217,10 +217,12 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
       "tool_axis_rotation not fitted: turning a rotationally symmetric tool about its own axis changes no event");
 
   const int chosen = laser_detail::Conclude(outcomes, 10.0, &d);
+  const CandidateOutcome final_outcome =
+      laser_detail::AddFurtherEffects(model, base, specs, outcomes, chosen, options.folds, 10.0, "held-out RMS", &d);
 
   if (!options.output_folder.empty()) {
     std::filesystem::create_directories(options.output_folder);
-    const Eigen::VectorXd before = outcomes[0].heldout_resid, after = outcomes[chosen].heldout_resid;
+    const Eigen::VectorXd before = outcomes[0].heldout_resid, after = final_outcome.heldout_resid;
     const Eigen::VectorXd fitted_tool = outcomes[0].full.params;
     auto series = [](const char* label, unsigned char r, unsigned char g, unsigned char b) {
       PlotSeries s;

@@ -148,56 +148,9 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
 
   const double min_improvement = 10.0;
   const int chosen = laser_detail::Conclude(outcomes, min_improvement, &d);
-  std::ostringstream line;
-  line << "leave-one-out RMS: ideal " << outcomes[0].fit.heldout_rms << " mm";
-
-  // A second effect on top of the named one, by the same rule.
-  Eigen::VectorXd final_resid = outcomes[chosen].heldout_resid;
-  Eigen::VectorXd final_params = outcomes[chosen].full.params;
-  if (chosen != 0 && d.cause != kUnexplained) {
-    line << ", " << d.cause << " " << d.rms_after << " mm";
-    std::vector<CandidateOutcome> second = {outcomes[chosen]};
-    second.front().fit.effect = kNoEffect;
-    for (size_t i = 1; i < specs.size(); ++i) {
-      if (static_cast<int>(i) == chosen) continue;
-      CandidateSpec both{specs[i].effect, specs[chosen].params};
-      both.params.insert(both.params.end(), specs[i].params.begin(), specs[i].params.end());
-      CandidateOutcome o = laser_detail::EvaluateCandidate(model, base, both, model.num_groups);
-      o.fit.num_parameters = static_cast<int>(specs[i].params.size());
-      second.push_back(o);
-    }
-    std::vector<CandidateFit> fits;
-    for (const CandidateOutcome& o : second) fits.push_back(o.fit);
-    SelectionOptions selection;
-    selection.min_improvement = min_improvement;
-    SelectCandidate(&fits, selection);
-    if (fits.front().effect != kNoEffect) {
-      for (const CandidateOutcome& o : second) {
-        if (o.fit.effect != fits.front().effect) continue;
-        d.findings.push_back("second effect on top of " + d.cause + ": " + o.fit.effect);
-        for (const auto& [k, v] : o.fit.parameters) d.parameters[k] = v, d.sigmas[k] = o.fit.sigmas.at(k);
-        d.rms_after = o.fit.heldout_rms;
-        d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, d.noise_floor_rms);
-        line << ", + " << o.fit.effect << " " << d.rms_after << " mm";
-        final_resid = o.heldout_resid;
-        final_params = o.full.params;
-        CandidateFit combined = o.fit;
-        combined.effect = specs[chosen].effect + "+" + o.fit.effect;
-        combined.num_parameters = static_cast<int>(specs[chosen].params.size() + 1);
-        combined.score =
-            combined.heldout_count * std::log(std::max(1e-300, combined.heldout_rms * combined.heldout_rms)) +
-            2.0 * combined.num_parameters;
-        combined.weight = 0.0;  // a second stage, outside the first-stage evidence weights
-        d.candidates.push_back(combined);
-        std::ostringstream est;
-        est.precision(4);
-        est << std::fixed << "estimates: ";
-        for (const auto& [k, v] : d.parameters) est << k << " = " << v << " ± " << d.sigmas.at(k) << "  ";
-        d.findings.push_back(est.str());
-      }
-    }
-  }
-  d.findings.push_back(line.str());
+  const CandidateOutcome final_outcome = laser_detail::AddFurtherEffects(
+      model, base, specs, outcomes, chosen, model.num_groups, min_improvement, "leave-one-out RMS", &d);
+  const Eigen::VectorXd& final_resid = final_outcome.heldout_resid;
 
   if (!options.output_folder.empty()) {
     std::filesystem::create_directories(options.output_folder);
@@ -220,7 +173,6 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
     d.pictures.push_back(
         {"residual_by_point.png", "Leave-one-out residual of each flange coordinate, ideal device and extended model"});
   }
-  (void)final_params;
   return d;
 }
 

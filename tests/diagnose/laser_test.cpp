@@ -53,6 +53,25 @@ TEST(HiddenLaserGenerator, DrawsEveryObservableEffectAndCleanLogs) {
   EXPECT_GE(count[kNoEffect], 2);
 }
 
+// Every observable effect at once (the simulator's defaults, speed ripple included): the stages name
+// all five and measure each against the simulator's truth. Tolerances: the unmodelled 1 % speed
+// ripple leaves ~0.05 mm of residual, a few sigma of each estimate.
+TEST(LaserLog, AllEffectsAtOnceAreNamedInStages) {
+  tcf::TcfSimulationOptions o;
+  o.seed = 2;
+  for (const std::string& e : tcf::DeviceEffects::Names()) o.effects.Enable(e);
+  const tcf::TcfSimulation sim = tcf::SimulateTcf(o);
+  const Diagnosis d = DiagnoseLaserLog(sim.events, sim.motion, sim.calibrated_sensor, Options("all"));
+  const tcf::DeviceEffects& fx = o.effects;
+  ASSERT_EQ(d.parameters.size(), 5u);
+  EXPECT_NEAR(d.parameters.at("beta_deg"), fx.beta_deg, 0.15);
+  EXPECT_NEAR(d.parameters.at("offset_mm"), fx.beam_offset_mm, 0.05);
+  EXPECT_NEAR(d.parameters.at("width_mm"), fx.beam_width_mm, 0.05);
+  EXPECT_NEAR(d.parameters.at("latency_ms"), fx.latency_s * 1e3, 1.5);
+  EXPECT_NEAR(d.parameters.at("speed_error_percent"), fx.speed_scale_error * 100.0, 0.2);
+  EXPECT_GE(d.excess_removed, 0.95);
+}
+
 // Unobservable by design: a 0.3° plane tilt moves the crossings by µm; a turn of the symmetric tool
 // about its own axis changes nothing. Both logs must read as clean.
 TEST(UnobservableLaserEffects, AreDiagnosedAsNone) {
