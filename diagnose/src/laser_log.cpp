@@ -217,6 +217,20 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
       "tool_axis_rotation not fitted: turning a rotationally symmetric tool about its own axis changes no event");
 
   const int chosen = laser_detail::Conclude(outcomes, 10.0, &d);
+  if (d.cause == kUnexplained) {
+    // The measured variable whose trend test is most significant (the variance test names none).
+    size_t best = 0;
+    for (size_t i = 1; i < tests.size(); ++i)
+      if (best == 0 || tests[i].p_value < tests[best].p_value) best = i;
+    d.explaining_variable = "none of the tested variables";
+    if (best > 0 && holm[best] < options.alpha) {
+      std::string name = tests[best].name;  // "trend(variable)"
+      const size_t open_paren = name.find('(');
+      if (open_paren != std::string::npos && name.back() == ')')
+        name = name.substr(open_paren + 1, name.size() - open_paren - 2);
+      d.explaining_variable = name;
+    }
+  }
   const CandidateOutcome final_outcome =
       laser_detail::AddFurtherEffects(model, base, specs, outcomes, chosen, options.folds, 10.0, "held-out RMS", &d);
 

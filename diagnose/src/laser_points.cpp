@@ -148,6 +148,8 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
 
   const double min_improvement = 10.0;
   const int chosen = laser_detail::Conclude(outcomes, min_improvement, &d);
+  if (d.cause == kUnexplained)
+    d.explaining_variable = holm[1] < options.alpha ? "beam" : "none of the tested variables";
   const CandidateOutcome final_outcome = laser_detail::AddFurtherEffects(
       model, base, specs, outcomes, chosen, model.num_groups, min_improvement, "leave-one-out RMS", &d);
   const Eigen::VectorXd& final_resid = final_outcome.heldout_resid;

@@ -72,6 +72,22 @@ TEST(LaserLog, AllEffectsAtOnceAreNamedInStages) {
   EXPECT_GE(d.excess_removed, 0.95);
 }
 
+// Outside the candidates: a speed ripple without scale error (the speed_variation candidate fits
+// the scale only). No wrong name: 'unexplained', with the variable that carries the structure.
+TEST(LaserLog, SpeedRippleIsUnexplainedWithItsVariable) {
+  for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+    tcf::TcfSimulationOptions o;
+    o.seed = seed;
+    o.effects.speed_variation = true;
+    o.effects.speed_scale_error = 0.0;
+    o.effects.speed_ripple = 0.05;
+    const tcf::TcfSimulation sim = tcf::SimulateTcf(o);
+    const Diagnosis d = DiagnoseLaserLog(sim.events, sim.motion, sim.calibrated_sensor, Options("ripple"));
+    EXPECT_EQ(d.cause, kUnexplained) << "seed " << seed;
+    EXPECT_EQ(d.explaining_variable, "time in segment") << "seed " << seed;
+  }
+}
+
 // Unobservable by design: a 0.3° plane tilt moves the crossings by µm; a turn of the symmetric tool
 // about its own axis changes nothing. Both logs must read as clean.
 TEST(UnobservableLaserEffects, AreDiagnosedAsNone) {
