@@ -51,6 +51,44 @@ std::vector<int> IdentifiablePerCycle(const std::vector<Row>& rows, const Design
   return out;
 }
 
+
+// Drift terms of the thermal candidates: per-cycle parameters (power −1) or static columns of a
+// parameter times τ^power, in design order.
+struct ThermalTerms {
+  std::vector<std::pair<int, int>> cycle;   // (param, -1), per-cycle columns after the base's
+  std::vector<std::pair<int, int>> smooth;  // (param, power), static columns after the base's
+};
+
+// Adds drift columns of `params`; returns the number of parameters added (0: all aliased).
+int AddDrift(const Context& ctx, const std::vector<int>& params, bool per_cycle, Design* d, ThermalTerms* terms) {
+  const std::vector<Row>& rows = ctx.rows->rows;
+  if (per_cycle) {
+    const std::vector<int> keep = IdentifiablePerCycle(rows, *d, params);
+    AddParamColumns(rows, keep, true, d);
+    for (int p : keep) terms->cycle.emplace_back(p, -1);
+    return static_cast<int>(keep.size()) * ctx.rows->num_cycles;
+  }
+  double span = 0;
+  for (const Row& r : rows) span = std::max(span, r.time_h);
+  if (!(span > 0)) return 0;
+  std::vector<Mat3X> cols;
+  for (const Row& r : rows) {
+    const double tau = r.time_h / span;
+    Mat3X m(3, 3 * params.size());
+    for (size_t k = 0; k < params.size(); ++k)
+      for (int pw = 0; pw < 3; ++pw) m.col(3 * k + pw) = r.j_param.col(params[k]) * std::pow(tau, pw);
+    cols.push_back(m);
+  }
+  const std::vector<int> keep = IndependentColumns(PooledBlocks(*d), cols);
+  std::vector<std::string> names;
+  for (int c : keep) {
+    terms->smooth.emplace_back(params[c / 3], c % 3);
+    names.push_back(kinematics::ParamName(params[c / 3]) + "*t^" + std::to_string(c % 3));
+  }
+  AddStaticColumns(SelectColumns(cols, keep), names, d);
+  return static_cast<int>(keep.size());
+}
+
 double Score(double ss, int n, int k) { return n * std::log(std::max(ss / std::max(n, 1), 1e-300)) + 2.0 * k; }
 
 CandidateFit MakeFit(const std::string& effect, int k, const CvResult& cv) {
@@ -79,15 +117,32 @@ std::pair<std::string, double> ParamKey(int p, const std::string& suffix = "") {
   return {kinematics::ParamName(p) + suffix + (angle ? "_deg" : "_mm"), angle ? kDegPerRad : 1.0};
 }
 
-// Per-cycle parameters from row `first` of p: their range over the cycles, in file units.
-void ReportCycleRanges(const Design& d, const CvResult& cv, const std::vector<int>& params, int first,
-                       CandidateFit* f) {
+// The drift of each added parameter per cycle (file units: mm, µrad) and its range over the cycles.
+void ReportDrift(const Context& ctx, const CvResult& cv, const ThermalTerms& terms, const std::vector<int>& params,
+                 Evaluated* e) {
+  const int num_cycles = ctx.rows->num_cycles;
+  std::vector<double> tau(num_cycles, 0.0);
+  std::vector<int> count(num_cycles, 0);
+  double span = 0;
+  for (const Row& r : ctx.rows->rows) span = std::max(span, r.time_h);
+  for (const Row& r : ctx.rows->rows) tau[r.cycle_pos] += span > 0 ? r.time_h / span : 0.0, ++count[r.cycle_pos];
+  for (int c = 0; c < num_cycles; ++c) tau[c] /= std::max(1, count[c]);
+  e->added_series = Eigen::MatrixXd::Zero(params.size(), num_cycles);
+  const int first_cycle = static_cast<int>(cv.full.p.rows()) - static_cast<int>(terms.cycle.size());
+  const int first_static = static_cast<int>(cv.full.s.size()) - static_cast<int>(terms.smooth.size());
   for (size_t k = 0; k < params.size(); ++k) {
-    const Eigen::VectorXd series = cv.full.p.row(first + static_cast<int>(k)).transpose();
-    const auto [key, factor] = ParamKey(params[k], "_drift_range");
-    f->parameters[key] = factor * (series.maxCoeff() - series.minCoeff());
+    const double unit = kinematics::IsAngleParam(params[k]) ? 1e6 : 1.0;
+    for (size_t j = 0; j < terms.cycle.size(); ++j)
+      if (terms.cycle[j].first == params[k]) e->added_series.row(k) = unit * cv.full.p.row(first_cycle + j);
+    for (size_t j = 0; j < terms.smooth.size(); ++j)
+      if (terms.smooth[j].first == params[k])
+        for (int c = 0; c < num_cycles; ++c)
+          e->added_series(k, c) += unit * cv.full.s[first_static + j] * std::pow(tau[c], terms.smooth[j].second);
+    const Eigen::VectorXd series = e->added_series.row(k).transpose();
+    const bool angle = kinematics::IsAngleParam(params[k]);
+    e->fit.parameters[kinematics::ParamName(params[k]) + "_drift_range" + (angle ? "_deg" : "_mm")] =
+        (series.maxCoeff() - series.minCoeff()) / unit * (angle ? kDegPerRad : 1.0);
   }
-  (void)d;
 }
 
 Design WithParams(const Context& ctx, const Design& start, const std::vector<int>& params, bool per_cycle) {
@@ -148,72 +203,106 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   static_params("link_length_error", lengths, "_error");
   tick("link_length_error");
 
-  // Thermal drift: per-cycle lengths, then angles added greedily by held-out score.
+  // Thermal drift: lengths, then angles added greedily by held-out score; each in two forms, free
+  // per cycle (thesis eq. 3-8) and smooth in time (a + b·τ + c·τ², τ = time / span), the better
+  // score kept.
   if (multi_cycle) {
     std::vector<int> new_lengths;
     for (int p : lengths)
       if (std::find(ctx.input->thermal_params.begin(), ctx.input->thermal_params.end(), p) ==
           ctx.input->thermal_params.end())
         new_lengths.push_back(p);
-    new_lengths = IdentifiablePerCycle(rows, ctx.base, new_lengths);
-    Design start = ctx.base;
-    CvResult start_cv = ctx.base_cv;
-    if (!new_lengths.empty()) {
-      Evaluated e;
-      e.design = WithParams(ctx, ctx.base, new_lengths, true);
-      e.cv = Cv(ctx, e.design);
-      e.fit = MakeFit("thermal_length_drift", static_cast<int>(new_lengths.size()) * num_cycles, e.cv);
-      e.added_cycle_params = new_lengths;
-      ReportCycleRanges(e.design, e.cv, new_lengths, ctx.base.np, &e.fit);
-      e.note = "thermal_length_drift: per cycle " + thermal::ParamListToString(new_lengths);
-      start = e.design;
-      start_cv = e.cv;
-      out.push_back(std::move(e));
-    } else {
+    if (new_lengths.empty())
       notes->push_back("thermal_length_drift: already in the current model (" + ctx.input->thermal_label + ")");
-    }
-    tick("thermal_length_drift");
-    std::vector<int> pool = Identifiable(rows, start, angles);
-    std::vector<int> chosen;
-    Design current = start;
-    CvResult current_cv = start_cv;
-    const int n = start_cv.heldout_n;
-    double current_score = Score(current_cv.heldout_ss, n, 0);
-    int added = 0;
-    while (!pool.empty() && added < 6) {
-      double best = INFINITY;
-      int best_k = -1;
-      CvResult best_cv;
-      for (size_t k = 0; k < pool.size(); ++k) {
-        const Design d = WithParams(ctx, current, {pool[k]}, true);
-        CvResult cv = Cv(ctx, d);
-        const double s = Score(cv.heldout_ss, n, (added + 1) * num_cycles);
-        if (s < best) best = s, best_k = static_cast<int>(k), best_cv = std::move(cv);
+    std::vector<Evaluated> forms[2];  // [length, angle] per form
+    for (int form = 0; form < 2; ++form) {
+      const bool per_cycle = form == 0;
+      ThermalTerms terms;
+      Design start = ctx.base;
+      CvResult start_cv = ctx.base_cv;
+      int start_k = 0;
+      std::vector<int> lengths_used;
+      if (!new_lengths.empty()) {
+        lengths_used = new_lengths;
+        Evaluated e;
+        e.design = ctx.base;
+        const int k = AddDrift(ctx, new_lengths, per_cycle, &e.design, &terms);
+        if (k > 0) {
+          e.cv = Cv(ctx, e.design);
+          e.fit = MakeFit("thermal_length_drift", k, e.cv);
+          e.added_cycle_params = new_lengths;
+          ReportDrift(ctx, e.cv, terms, new_lengths, &e);
+          e.note = std::string("thermal_length_drift (") + (per_cycle ? "per cycle" : "smooth in time") +
+                   "): " + thermal::ParamListToString(new_lengths);
+          start = e.design, start_cv = e.cv, start_k = k;
+          forms[form].push_back(std::move(e));
+        } else {
+          lengths_used.clear();
+        }
       }
-      if (best_k < 0 || !(best < current_score - ctx.min_improvement)) break;
-      chosen.push_back(pool[best_k]);
-      current = WithParams(ctx, current, {pool[best_k]}, true);
-      current_cv = std::move(best_cv);
-      current_score = best;
-      pool.erase(pool.begin() + best_k);
-      ++added;
+      std::vector<int> pool = Identifiable(rows, start, angles);
+      std::vector<int> chosen;
+      Design current = start;
+      CvResult current_cv = start_cv;
+      ThermalTerms current_terms = terms;
+      const int n = start_cv.heldout_n;
+      int current_k = start_k;
+      double current_score = Score(current_cv.heldout_ss, n, 0);
+      while (!pool.empty() && chosen.size() < 6) {
+        double best = INFINITY;
+        int best_k = -1, best_count = 0;
+        CvResult best_cv;
+        Design best_design;
+        ThermalTerms best_terms;
+        for (size_t k = 0; k < pool.size(); ++k) {
+          Design d = current;
+          ThermalTerms t = current_terms;
+          const int added = AddDrift(ctx, {pool[k]}, per_cycle, &d, &t);
+          if (added == 0) continue;
+          CvResult cv = Cv(ctx, d);
+          const double sc = Score(cv.heldout_ss, n, added + current_k - start_k);
+          if (sc < best)
+            best = sc, best_k = static_cast<int>(k), best_cv = std::move(cv), best_design = std::move(d),
+            best_terms = std::move(t), best_count = added;
+        }
+        if (best_k < 0 || !(best < current_score - ctx.min_improvement)) break;
+        chosen.push_back(pool[best_k]);
+        current = std::move(best_design);
+        current_cv = std::move(best_cv);
+        current_terms = std::move(best_terms);
+        current_k += best_count;
+        current_score = best;
+        pool.erase(pool.begin() + best_k);
+      }
+      if (!chosen.empty()) {
+        Evaluated e;
+        e.design = current;
+        e.cv = current_cv;
+        std::vector<int> all_added = lengths_used;
+        all_added.insert(all_added.end(), chosen.begin(), chosen.end());
+        e.added_cycle_params = all_added;
+        e.fit = MakeFit("thermal_angle_drift", current_k, e.cv);
+        ReportDrift(ctx, e.cv, current_terms, all_added, &e);
+        e.note = std::string("thermal_angle_drift (") + (per_cycle ? "per cycle" : "smooth in time") + "): add " +
+                 thermal::ParamListToString(chosen) +
+                 (lengths_used.empty() ? "" : " to the drifting lengths " + thermal::ParamListToString(lengths_used));
+        forms[form].push_back(std::move(e));
+      }
     }
-    if (!chosen.empty()) {
-      Evaluated e;
-      e.design = current;
-      e.cv = current_cv;
-      std::vector<int> all_added = new_lengths;
-      all_added.insert(all_added.end(), chosen.begin(), chosen.end());
-      e.added_cycle_params = all_added;
-      e.fit = MakeFit("thermal_angle_drift", static_cast<int>(all_added.size()) * num_cycles, e.cv);
-      ReportCycleRanges(e.design, e.cv, all_added, ctx.base.np, &e.fit);
-      e.note = "thermal_angle_drift: add " + thermal::ParamListToString(chosen) +
-               (new_lengths.empty() ? "" : " to the per-cycle lengths " + thermal::ParamListToString(new_lengths));
-      out.push_back(std::move(e));
-    } else {
-      notes->push_back("thermal_angle_drift: no angle parameter improves the held-out score");
+    tick("thermal drift");
+    for (const char* effect : {"thermal_length_drift", "thermal_angle_drift"}) {
+      Evaluated* best = nullptr;
+      for (auto& list : forms)
+        for (Evaluated& e : list)
+          if (e.fit.effect == effect &&
+              (best == nullptr || Score(e.cv.heldout_ss, e.cv.heldout_n, e.fit.num_parameters) <
+                                      Score(best->cv.heldout_ss, best->cv.heldout_n, best->fit.num_parameters)))
+            best = &e;
+      if (best != nullptr) out.push_back(std::move(*best));
+      else if (std::string(effect) == "thermal_angle_drift")
+        notes->push_back("thermal_angle_drift: no angle parameter improves the held-out score");
     }
-    tick("thermal_angle_drift");
+    tick("thermal drift");
   } else {
     notes->push_back("thermal candidates need at least 3 cycles");
   }
@@ -255,18 +344,25 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   }
 
   if (multi_cycle) {
-    // Sensor frame drift: rotation and translation linear in time (sensor frame).
+    // Sensor frame drift: rotation and translation, quadratic in time (sensor frame).
     std::vector<Mat3X> cols;
-    for (const Row& r : rows) cols.push_back(r.time_h * r.j_setup.leftCols(6));
+    for (const Row& r : rows) {
+      Mat3X m(3, 12);
+      m.leftCols(6) = r.time_h * r.j_setup.leftCols(6);
+      m.rightCols(6) = r.time_h * r.time_h * r.j_setup.leftCols(6);
+      cols.push_back(m);
+    }
     const std::vector<int> keep = IndependentColumns(PooledBlocks(ctx.base), cols);
     if (!keep.empty()) {
-      static const char* names[6] = {"rx_urad_per_h", "ry_urad_per_h", "rz_urad_per_h",
-                                     "tx_mm_per_h",   "ty_mm_per_h",   "tz_mm_per_h"};
+      static const char* names[6] = {"rx_urad", "ry_urad", "rz_urad", "tx_mm", "ty_mm", "tz_mm"};
       Evaluated e;
       e.design = ctx.base;
       std::vector<std::string> col_names;
       std::vector<std::pair<std::string, double>> keys;
-      for (int k : keep) col_names.push_back(names[k]), keys.emplace_back(names[k], k < 3 ? 1e6 : 1.0);
+      for (int k : keep) {
+        const std::string name = std::string(names[k % 6]) + (k < 6 ? "_per_h" : "_per_h2");
+        col_names.push_back(name), keys.emplace_back(name, k % 6 < 3 ? 1e6 : 1.0);
+      }
       AddStaticColumns(SelectColumns(cols, keep), col_names, &e.design);
       e.cv = Cv(ctx, e.design);
       e.fit = MakeFit("sensor_frame_drift", static_cast<int>(keep.size()), e.cv);

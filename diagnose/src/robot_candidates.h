@@ -27,7 +27,8 @@ struct Evaluated {
   CandidateFit fit;
   Design design;
   CvResult cv;
-  std::vector<int> added_cycle_params;  // ParamVector indices fitted per cycle beyond the current model
+  std::vector<int> added_cycle_params;  // ParamVector indices whose drift is fitted beyond the current model
+  Eigen::MatrixXd added_series;         // their drift per cycle (rows; µrad for angles, mm for lengths)
   std::string note;                     // e.g. why skipped, which parameters were added
 };
 

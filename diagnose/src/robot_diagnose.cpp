@@ -108,7 +108,9 @@ Diagnosis DiagnoseRobot(const DiagnoseOptions& options) {
 }
 
 Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions& options) {
-  options.Validate();
+  DiagnoseOptions checked = options;  // in-memory data needs no file name
+  if (checked.data.empty()) checked.data = in.ball_path.empty() ? "(in memory)" : in.ball_path;
+  checked.Validate();
   const robot_detail::RowSet rs = robot_detail::BuildRows(in);
   Diagnosis d;
   d.kind = DataKind::kRobot;
@@ -257,12 +259,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     if (chosen_eval != nullptr && d.cause == chosen.effect) {
       for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
       heldout_after = chosen_eval->cv.heldout_residual;
-      const int first = ctx.base.np;
-      for (size_t k = 0; k < chosen_eval->added_cycle_params.size(); ++k)
-        added.push_back(kinematics::ParamName(chosen_eval->added_cycle_params[k]));
-      if (!added.empty()) added_series = chosen_eval->cv.full.p.middleRows(first, added.size());
-      for (size_t k = 0; k < chosen_eval->added_cycle_params.size(); ++k)
-        if (kinematics::IsAngleParam(chosen_eval->added_cycle_params[k])) added_series.row(k) *= 1e6;  // µrad
+      for (int p : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(p));
+      added_series = chosen_eval->added_series;
     }
     robot_detail::WriteRobotPictures(rs, before, after, ctx.base_cv.heldout_residual, heldout_after, sigma, added,
                                      added_series, d.cause, options.output_folder, &d.pictures);
