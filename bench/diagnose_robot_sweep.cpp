@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   ramtk::diagnose::HiddenRobotOptions ho;
   ho.cycles = cycles, ho.poses = poses;
   ramtk::diagnose::DiagnoseOptions opt;
+  if (const char* f = std::getenv("SWEEP_FOLDS")) opt.folds = std::atoi(f);
   std::map<std::string, std::map<std::string, int>> confusion;
   std::set<std::string> named_set;
   int correct = 0, clean = 0, false_alarms = 0, present = 0, gain_ok = 0;

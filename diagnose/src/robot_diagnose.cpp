@@ -144,7 +144,9 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   d.findings.push_back(std::to_string(n) + " ball measurements, " + std::to_string(rs.num_cycles) + " cycles, " +
                        std::to_string(rs.pose_ids.size()) + " poses");
 
-  // Folds over the poses: every cycle keeps training rows so per-cycle drift can be fitted.
+  // Folds over poses and cycles (a Latin square): cycle c holds out the poses of fold (k − c) mod K,
+  // so every cycle keeps most of its poses (per-cycle drift stays fittable) and every pose stays in
+  // the training set through the other cycles (no pose is predicted from a geometry that lacks it).
   robot_detail::Context ctx;
   ctx.input = &in;
   ctx.rows = &rs;
@@ -155,7 +157,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   const std::vector<int> fold_of_pose = FoldOfGroup(static_cast<int>(rs.pose_ids.size()), ctx.folds);
   for (const Row& r : rs.rows) {
     const int g = static_cast<int>(std::lower_bound(rs.pose_ids.begin(), rs.pose_ids.end(), r.pose) - rs.pose_ids.begin());
-    ctx.fold_of_row.push_back(fold_of_pose[g]);
+    ctx.fold_of_row.push_back((fold_of_pose[g] + r.cycle_pos) % ctx.folds);
   }
   ctx.base = robot_detail::CurrentModelDesign(in, rs);
   ctx.base_cv = robot_detail::CrossValidate(rs.rows, ctx.base, ctx.fold_of_row, ctx.folds, rs.num_cycles);
