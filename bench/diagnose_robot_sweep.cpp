@@ -22,14 +22,21 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() { return i + 1 < argc ? std::atoll(argv[++i]) : 0LL; };
-    if (a == "--draws") draws = static_cast<int>(next());
-    else if (a == "--first-seed") first = static_cast<std::uint64_t>(next());
-    else if (a == "--cycles") cycles = static_cast<int>(next());
-    else if (a == "--poses") poses = static_cast<int>(next());
-    else if (a == "--verbose") verbose = true;
-    else if (a == "--report" && i + 1 < argc) report = argv[++i];
+    if (a == "--draws")
+      draws = static_cast<int>(next());
+    else if (a == "--first-seed")
+      first = static_cast<std::uint64_t>(next());
+    else if (a == "--cycles")
+      cycles = static_cast<int>(next());
+    else if (a == "--poses")
+      poses = static_cast<int>(next());
+    else if (a == "--verbose")
+      verbose = true;
+    else if (a == "--report" && i + 1 < argc)
+      report = argv[++i];
     else {
-      std::cerr << "usage: diagnose_robot_sweep [--draws N] [--first-seed S] [--cycles C] [--poses P] [--verbose] [--report DIR]\n";
+      std::cerr << "usage: diagnose_robot_sweep [--draws N] [--first-seed S] [--cycles C] [--poses P] [--verbose] "
+                   "[--report DIR]\n";
       return 2;
     }
   }
@@ -74,7 +81,8 @@ int main(int argc, char** argv) {
   }
   std::cout << std::fixed << std::setprecision(1) << "\ncorrect names: " << correct << "/" << draws << " ("
             << 100.0 * correct / draws << "%)\nfalse alarms on clean draws: " << false_alarms << "/" << clean << " ("
-            << (clean ? 100.0 * false_alarms / clean : 0.0) << "%)\npresent effects named with >= 50% of the excess removed: "
-            << gain_ok << "/" << present << " (" << (present ? 100.0 * gain_ok / present : 0.0) << "%)\n";
+            << (clean ? 100.0 * false_alarms / clean : 0.0)
+            << "%)\npresent effects named with >= 50% of the excess removed: " << gain_ok << "/" << present << " ("
+            << (present ? 100.0 * gain_ok / present : 0.0) << "%)\n";
   return 0;
 }

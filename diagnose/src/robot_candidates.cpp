@@ -51,7 +51,6 @@ std::vector<int> IdentifiablePerCycle(const std::vector<Row>& rows, const Design
   return out;
 }
 
-
 // Drift terms of the thermal candidates: per-cycle parameters (power −1) or static columns of a
 // parameter times τ^power, in design order.
 struct ThermalTerms {
@@ -170,7 +169,7 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   const bool multi_cycle = num_cycles >= 3;
   std::vector<Evaluated> out;
   int step = 0;
-  const int steps = 7;
+  const int steps = multi_cycle ? 7 : 3;
   auto tick = [&](const std::string& what) {
     if (ctx.progress) ctx.progress({"diagnose robot: " + what, static_cast<size_t>(++step), steps});
   };
@@ -298,7 +297,8 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
               (best == nullptr || Score(e.cv.heldout_ss, e.cv.heldout_n, e.fit.num_parameters) <
                                       Score(best->cv.heldout_ss, best->cv.heldout_n, best->fit.num_parameters)))
             best = &e;
-      if (best != nullptr) out.push_back(std::move(*best));
+      if (best != nullptr)
+        out.push_back(std::move(*best));
       else if (std::string(effect) == "thermal_angle_drift")
         notes->push_back("thermal_angle_drift: no angle parameter improves the held-out score");
     }

@@ -15,9 +15,9 @@ struct Context {
   const RowSet* rows = nullptr;
   std::vector<int> fold_of_row;
   int folds = 5;
-  double sigma = 0.025;          // noise per coordinate, mm
-  double min_improvement = 10;   // score margin for adding a drift parameter (greedy selection)
-  Design base;                   // the current model
+  double sigma = 0.025;         // noise per coordinate, mm
+  double min_improvement = 10;  // score margin for adding a drift parameter (greedy selection)
+  Design base;                  // the current model
   CvResult base_cv;
   ProgressCallback progress;
 };

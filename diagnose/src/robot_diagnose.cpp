@@ -117,10 +117,10 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   d.data = in.ball_path;
   d.unit = "mm";
   d.model = (in.model_label.empty() ? in.model.name : in.model_label) +
-            (in.thermal_params.empty() ? std::string(", static")
-                                       : ", per-cycle drift of " + (in.thermal_label.empty() ? std::string("")
-                                                                                             : in.thermal_label + " = ") +
-                                             thermal::ParamListToString(in.thermal_params)) +
+            (in.thermal_params.empty()
+                 ? std::string(", static")
+                 : ", per-cycle drift of " + (in.thermal_label.empty() ? std::string("") : in.thermal_label + " = ") +
+                       thermal::ParamListToString(in.thermal_params)) +
             "; " + rs.setup_note;
   const int n = static_cast<int>(rs.rows.size());
   d.num_residuals = 3 * n;
@@ -136,8 +136,9 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
                  " successive-cycle pairs of the same pose";
   } else {
     sigma = 0.025;
-    noise_note = "noise σ = 0.025 mm per coordinate (default: sensor 0.02 mm and repeatability 0.015 mm; one "
-                 "cycle only, nothing to estimate it from)";
+    noise_note =
+        "noise σ = 0.025 mm per coordinate (default: sensor 0.02 mm and repeatability 0.015 mm; one "
+        "cycle only, nothing to estimate it from)";
   }
   d.noise_floor_rms = sigma;
   d.findings.push_back(noise_note);
@@ -156,7 +157,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   if (ctx.folds < 2) throw InputError({in.ball_path, 0, "pose"}, "cross-validation over poses needs at least 2 poses");
   const std::vector<int> fold_of_pose = FoldOfGroup(static_cast<int>(rs.pose_ids.size()), ctx.folds);
   for (const Row& r : rs.rows) {
-    const int g = static_cast<int>(std::lower_bound(rs.pose_ids.begin(), rs.pose_ids.end(), r.pose) - rs.pose_ids.begin());
+    const int g =
+        static_cast<int>(std::lower_bound(rs.pose_ids.begin(), rs.pose_ids.end(), r.pose) - rs.pose_ids.begin());
     ctx.fold_of_row.push_back((fold_of_pose[g] + r.cycle_pos) % ctx.folds);
   }
   ctx.base = robot_detail::CurrentModelDesign(in, rs);
@@ -220,11 +222,11 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     if (d.structure_found) {
       d.explaining_variable = tests[best_test].variable;
       if (chosen.effect != kNoEffect) d.cause = kUnexplained;
-      d.findings.push_back("structure best explained by " + d.explaining_variable + " (" +
-                           tests[best_test].test.name + "); " +
-                           (chosen.effect == kNoEffect ? "no catalogued extension pays on held-out data"
-                                                       : "'" + chosen.effect + "' removes only " +
-                                                             Num(100 * d.excess_removed, 3) + "% of the excess"));
+      d.findings.push_back(
+          "structure best explained by " + d.explaining_variable + " (" + tests[best_test].test.name + "); " +
+          (chosen.effect == kNoEffect
+               ? "no catalogued extension pays on held-out data"
+               : "'" + chosen.effect + "' removes only " + Num(100 * d.excess_removed, 3) + "% of the excess"));
     }
     if (d.cause == kNoEffect) {
       d.rms_after = d.rms_before;
@@ -243,10 +245,10 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       std::vector<int> extended = in.thermal_params;
       extended.insert(extended.end(), chosen_eval->added_cycle_params.begin(), chosen_eval->added_cycle_params.end());
       const double l0 = LambdaWith(in, exp, in.thermal_params), l1 = LambdaWith(in, exp, extended);
-      d.findings.push_back("λ (thesis §3.2, share of monitored directions within 0.1 mm): " + Num(l0) + "% with " +
-                           (in.thermal_params.empty() ? std::string("no compensation")
-                                                      : thermal::ParamListToString(in.thermal_params)) +
-                           " -> " + Num(l1) + "% with " + thermal::ParamListToString(extended));
+      d.findings.push_back(
+          "λ (thesis §3.2, share of monitored directions within 0.1 mm): " + Num(l0) + "% with " +
+          (in.thermal_params.empty() ? std::string("no compensation") : thermal::ParamListToString(in.thermal_params)) +
+          " -> " + Num(l1) + "% with " + thermal::ParamListToString(extended));
     } catch (const InputError& e) {
       d.findings.push_back(std::string("λ not computed: ") + e.what());
     }
@@ -259,7 +261,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     std::vector<std::string> added;
     Eigen::MatrixXd added_series;
     if (chosen_eval != nullptr && d.cause == chosen.effect) {
-      for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
+      for (int i = 0; i < n; ++i)
+        after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
       heldout_after = chosen_eval->cv.heldout_residual;
       for (int p : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(p));
       added_series = chosen_eval->added_series;

@@ -45,8 +45,8 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
     Eigen::Vector3d v(n01(rng), n01(rng), n01(rng));
     return Eigen::Vector3d(v.normalized());
   };
-  static const char* effects[7] = {"joint_offset",     "link_length_error",  "thermal_length_drift",
-                                   "thermal_angle_drift", "joint_compliance", "sensor_frame_drift",
+  static const char* effects[7] = {"joint_offset",        "link_length_error", "thermal_length_drift",
+                                   "thermal_angle_drift", "joint_compliance",  "sensor_frame_drift",
                                    "tool_offset_change"};
   HiddenRobotDraw draw;
   draw.seed = seed;

@@ -48,7 +48,8 @@ Fit SolveDesign(const std::vector<Row>& rows, const Design& d, const std::vector
   const int ns = d.ns, np = d.np;
   const Eigen::VectorXd ks = ColumnScales(d.stat, train, ns);
   const Eigen::VectorXd kp = np > 0 ? ColumnScales(d.cycle, train, np) : Eigen::VectorXd();
-  std::vector<Eigen::MatrixXd> a(num_cycles, Eigen::MatrixXd::Zero(np, np)), b(num_cycles, Eigen::MatrixXd::Zero(np, ns));
+  std::vector<Eigen::MatrixXd> a(num_cycles, Eigen::MatrixXd::Zero(np, np)),
+      b(num_cycles, Eigen::MatrixXd::Zero(np, ns));
   std::vector<Eigen::VectorXd> g(num_cycles, Eigen::VectorXd::Zero(np));
   Eigen::MatrixXd s = Eigen::MatrixXd::Zero(ns, ns);
   Eigen::VectorXd h = Eigen::VectorXd::Zero(ns);

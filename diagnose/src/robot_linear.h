@@ -21,10 +21,10 @@ using Mat3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
 // One measured ball centre, linearised.
 struct Row {
-  int cycle = 0;      // cycle number of the file
-  int cycle_pos = 0;  // 0-based position among the cycles present
-  int pose = 0;       // pose column
-  double time_h = 0;  // hours since the first row
+  int cycle = 0;                                                // cycle number of the file
+  int cycle_pos = 0;                                            // 0-based position among the cycles present
+  int pose = 0;                                                 // pose column
+  double time_h = 0;                                            // hours since the first row
   kinematics::JointVector q = kinematics::JointVector::Zero();  // controller, rad
   Eigen::Vector3d measured = Eigen::Vector3d::Zero();           // mm, sensor frame
   Eigen::Vector3d predicted = Eigen::Vector3d::Zero();          // current model without drift
@@ -44,8 +44,8 @@ struct Design {
 };
 
 struct Fit {
-  Eigen::VectorXd s;         // static parameters (design units)
-  Eigen::MatrixXd p;         // np × cycles
+  Eigen::VectorXd s;           // static parameters (design units)
+  Eigen::MatrixXd p;           // np × cycles
   Eigen::MatrixXd s_cov_unit;  // ns × ns covariance for unit noise
   bool ok = false;
 };
@@ -65,8 +65,8 @@ struct CvResult {
   double HeldoutRms() const { return heldout_n ? std::sqrt(heldout_ss / heldout_n) : 0.0; }
   double TrainRms() const { return train_n ? std::sqrt(train_ss / train_n) : 0.0; }
 };
-CvResult CrossValidate(const std::vector<Row>& rows, const Design& d, const std::vector<int>& fold_of_row,
-                       int folds, int num_cycles);
+CvResult CrossValidate(const std::vector<Row>& rows, const Design& d, const std::vector<int>& fold_of_row, int folds,
+                       int num_cycles);
 
 // Columns of `candidate` (pooled over all rows) that are not (nearly) in the span of `base` and
 // of the candidate columns kept before them. Returns kept column indices of `candidate`.

@@ -88,7 +88,7 @@ void WriteRobotPictures(const RowSet& rs, const std::vector<Eigen::Vector3d>& be
     std::vector<int> count(t.size(), 0);
     for (const Row& r : rs.rows) t[r.cycle_pos] += r.time_h, ++count[r.cycle_pos];
     for (size_t c = 0; c < t.size(); ++c) t[c] /= std::max(1, count[c]);
-    static const unsigned char palette[8][3] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44}, {214, 39, 40},
+    static const unsigned char palette[8][3] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},   {214, 39, 40},
                                                 {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127}};
     std::vector<PlotSeries> s;
     for (size_t k = 0; k < added.size(); ++k) {
@@ -98,8 +98,8 @@ void WriteRobotPictures(const RowSet& rs, const std::vector<Eigen::Vector3d>& be
       for (int c = 0; c < added_series.cols(); ++c) p.y.push_back(added_series(k, c));
       s.push_back(p);
     }
-    write(s, "drift_parameters.png", "per-cycle drift of the added parameters", "time (h)", "µrad (angles) / mm (lengths)",
-          0.0, "Per-cycle estimates of the parameters the extension adds (angles in µrad, lengths in mm).");
+    write(s, "drift_parameters.png", "per-cycle drift of the added parameters", "time (h)", "urad / mm", 0.0,
+          "Per-cycle estimates of the parameters the extension adds (angles in µrad, lengths in mm).");
   }
 }
 

@@ -52,7 +52,8 @@ RobotDiagnoseInput ReadRobotDiagnoseInput(const DiagnoseOptions& options) {
   in.ball_path = options.data;
   in.ball = kinematics::ReadRobotMeasurements(options.data);
   if (in.ball.kind != kinematics::MeasurementKind::kBall)
-    throw InputError({options.data, 1, "pose"}, "diagnose needs ball measurements (a `pose` column), not monitoring points");
+    throw InputError({options.data, 1, "pose"},
+                     "diagnose needs ball measurements (a `pose` column), not monitoring points");
   for (const std::string& w : options.with) {
     const std::string ext = std::filesystem::path(w).extension().string();
     if (w.rfind("thermal=", 0) == 0) {
@@ -70,8 +71,8 @@ RobotDiagnoseInput ReadRobotDiagnoseInput(const DiagnoseOptions& options) {
       in.monitoring_path = w;
       in.has_monitoring = true;
     } else {
-      throw InputError({"", 0, "--with"}, "'" + w +
-                                              "' is none of: set-up JSON, monitoring CSV, thermal=traditional|<params>|none");
+      throw InputError({"", 0, "--with"},
+                       "'" + w + "' is none of: set-up JSON, monitoring CSV, thermal=traditional|<params>|none");
     }
   }
   return in;
@@ -83,7 +84,8 @@ RowSet BuildRows(const RobotDiagnoseInput& in) {
   RowSet out;
   const auto& src = in.ball.rows;
   if (src.size() < 6)
-    throw InputError({in.ball_path, 0, "rows"}, "needs at least 6 ball measurements, got " + std::to_string(src.size()));
+    throw InputError({in.ball_path, 0, "rows"},
+                     "needs at least 6 ball measurements, got " + std::to_string(src.size()));
   std::set<int> cycles, poses;
   for (const auto& m : src) cycles.insert(m.cycle), poses.insert(m.index);
   out.cycle_numbers.assign(cycles.begin(), cycles.end());

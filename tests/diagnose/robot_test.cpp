@@ -1,13 +1,14 @@
 // Robot/ball diagnosis: hidden-effect draws (the named cause must be the hidden one, and a present
 // effect must lose at least half of its held-out excess), the thesis's thermal case, and the
 // building blocks against independent truth (finite differences, geometry, the simulator's noise).
+#include "ramtk/diagnose/robot.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <filesystem>
 
 #include "ramtk/core/units.h"
-#include "ramtk/diagnose/robot.h"
 #include "ramtk/diagnose/robot_hidden.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/robot_io.h"
@@ -160,8 +161,8 @@ TEST(RobotDiagnosis, WritesTheResidualPictures) {
   o.output_folder = std::string(RAMTK_TEST_OUTPUT_DIR) + "/robot_pictures";
   std::filesystem::remove_all(o.output_folder);
   const Diagnosis d = DiagnoseRobotData(draw.input, o);
-  for (const char* f : {"residual_vs_time.png", "residual_vs_pose.png", "residual_vs_q2.png",
-                        "residual_vs_temp_j2.png", "heldout_before_after.png", "drift_parameters.png"})
+  for (const char* f : {"residual_vs_time.png", "residual_vs_pose.png", "residual_vs_q2.png", "residual_vs_temp_j2.png",
+                        "heldout_before_after.png", "drift_parameters.png"})
     EXPECT_TRUE(std::filesystem::exists(o.output_folder + "/" + f)) << f;
   EXPECT_GE(d.pictures.size(), 6u);
 }

@@ -32,8 +32,8 @@ struct RobotDiagnoseInput {
   std::string model_label;       // for the report
   thermal::ThermalSetup setup;   // used when has_setup; otherwise calibrated from the first cycle
   bool has_setup = false;
-  kinematics::RobotMeasurementSet ball;  // kind kBall
-  std::string ball_path;                 // for messages and the report
+  kinematics::RobotMeasurementSet ball;        // kind kBall
+  std::string ball_path;                       // for messages and the report
   kinematics::RobotMeasurementSet monitoring;  // kind kMonitoring; used when has_monitoring
   bool has_monitoring = false;
   std::string monitoring_path;

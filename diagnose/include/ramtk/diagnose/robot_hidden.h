@@ -14,11 +14,11 @@
 namespace ramtk::diagnose {
 
 struct HiddenRobotOptions {
-  int cycles = 16;                 // measurement cycles
-  int poses = 15;                  // ball poses per cycle
-  double cycle_period_s = 300.0;   // 16 × 5 min: the first 80 min of the thesis's warm-up
+  int cycles = 16;                // measurement cycles
+  int poses = 15;                 // ball poses per cycle
+  double cycle_period_s = 300.0;  // 16 × 5 min: the first 80 min of the thesis's warm-up
   double none_probability = 1.0 / 3.0;
-  std::string Validate() const;    // empty if valid
+  std::string Validate() const;  // empty if valid
 };
 
 struct HiddenRobotDraw {
