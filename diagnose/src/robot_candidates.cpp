@@ -169,7 +169,7 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   const bool multi_cycle = num_cycles >= 3;
   std::vector<Evaluated> out;
   int step = 0;
-  const int steps = multi_cycle ? 7 : 3;
+  const size_t steps = multi_cycle ? 7 : 3;
   auto tick = [&](const std::string& what) {
     if (ctx.progress) ctx.progress({"diagnose robot: " + what, static_cast<size_t>(++step), steps});
   };

@@ -264,7 +264,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       for (int i = 0; i < n; ++i)
         after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
       heldout_after = chosen_eval->cv.heldout_residual;
-      for (int p : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(p));
+      for (int param : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(param));
       added_series = chosen_eval->added_series;
     }
     robot_detail::WriteRobotPictures(rs, before, after, ctx.base_cv.heldout_residual, heldout_after, sigma, added,

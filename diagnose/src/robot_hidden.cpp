@@ -124,7 +124,7 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
     draw.truth["joint3_compliance_urad_per_kNm"] = c3;
     what = "gravity compliance of joints 2, 3: " + Fmt(c2) + ", " + Fmt(c3) + " µrad/(kN·m)";
     for (auto& m : sim.ball.rows) {
-      const auto tau = robot_detail::GravityTorques(model, m.q_controller, ball) / 1000.0;
+      const Eigen::Matrix<double, 6, 1> tau = robot_detail::GravityTorques(model, m.q_controller, ball) / 1000.0;
       kinematics::RobotModel bent = model;
       bent.links[1].theta0 += c2 * 1e-6 * tau[1];
       bent.links[2].theta0 += c3 * 1e-6 * tau[2];

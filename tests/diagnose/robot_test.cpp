@@ -122,7 +122,7 @@ TEST(RobotDiagnosis, GravityTorqueIsMinusTheGradientOfThePotentialEnergy) {
     }
     return (v + 20.0 * 9.81 * (f.base_from_link[6] * ball).z()) / 1000.0;  // N·m
   };
-  const auto tau = robot_detail::GravityTorques(model, q, ball);
+  const Eigen::Matrix<double, 6, 1> tau = robot_detail::GravityTorques(model, q, ball);
   for (int j = 0; j < 6; ++j) {
     const double h = 1e-6;
     kinematics::RobotModel plus = model, minus = model;
