@@ -7,6 +7,8 @@
 
 #include <Eigen/Dense>
 #include <filesystem>
+#include <random>
+#include <set>
 
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/robot_hidden.h"
@@ -165,6 +167,33 @@ TEST(RobotDiagnosis, WritesTheResidualPictures) {
                         "heldout_before_after.png", "drift_parameters.png"})
     EXPECT_TRUE(std::filesystem::exists(o.output_folder + "/" + f)) << f;
   EXPECT_GE(d.pictures.size(), 6u);
+}
+
+}  // namespace
+}  // namespace ramtk::diagnose
+
+namespace ramtk::diagnose {
+namespace {
+
+// An effect outside the catalogue: the sensor shifts along its X with a variable logged in an
+// extra column (humidity, random from cycle to cycle). No candidate follows it; the report must
+// not name a catalogue cause but point at the column.
+TEST(RobotDiagnosis, PointsAtTheExtraColumnWhenNoCatalogueEffectExplainsIt) {
+  HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), 2);  // clean
+  ASSERT_EQ(draw.effect, kNoEffect);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> n01;
+  std::map<int, double> humidity;
+  for (auto& m : draw.input.ball.rows) {
+    if (!humidity.count(m.cycle)) humidity[m.cycle] = 50.0 + 10.0 * n01(rng);
+    m.extra["humidity"] = humidity[m.cycle];
+    m.position_mm.x() += 0.01 * (humidity[m.cycle] - 50.0);  // 0.1 mm per 10 % RH
+  }
+  draw.input.ball.extra_columns.push_back("humidity");
+  const Diagnosis d = DiagnoseRobotData(draw.input, DiagnoseOptions{});
+  EXPECT_TRUE(d.structure_found);
+  EXPECT_EQ(d.cause, kUnexplained);
+  EXPECT_EQ(d.explaining_variable, "humidity");
 }
 
 }  // namespace
