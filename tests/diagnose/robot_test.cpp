@@ -198,3 +198,30 @@ TEST(RobotDiagnosis, PointsAtTheExtraColumnWhenNoCatalogueEffectExplainsIt) {
 
 }  // namespace
 }  // namespace ramtk::diagnose
+
+namespace ramtk::diagnose {
+namespace {
+
+// The thesis experiment with length drift only: the traditional model is then right, and the
+// diagnosis must say so (no false alarm on 5400 residuals).
+TEST(RobotDiagnosis, ThesisCaseWithLengthDriftOnlyIsWhite) {
+  thermal::ThermalSimOptions o = thermal::ThesisPreset(6);  // seeds 4–15 all pass; 6 once tripped Ljung–Box
+  std::vector<thermal::ParamDrift> lengths;
+  for (const auto& d : o.drifts)
+    if (!kinematics::IsAngleParam(d.param)) lengths.push_back(d);
+  o.drifts = lengths;
+  const thermal::ThermalSimResult sim = thermal::SimulateThermal(Kr150(), o);
+  RobotDiagnoseInput in;
+  in.model = Kr150();
+  in.setup = sim.setup, in.has_setup = true;
+  in.ball = sim.ball, in.ball_path = "thesis seed 6, lengths only";
+  in.thermal_params = thermal::TraditionalParams(in.model), in.thermal_label = "traditional";
+  const Diagnosis d = DiagnoseRobotData(in, DiagnoseOptions{});
+  EXPECT_EQ(d.cause, kNoEffect);
+  std::string findings;
+  for (const auto& f : d.findings) findings += f + "\n";
+  EXPECT_FALSE(d.structure_found) << findings;
+}
+
+}  // namespace
+}  // namespace ramtk::diagnose
