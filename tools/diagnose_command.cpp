@@ -8,18 +8,14 @@
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/diagnose.h"
 #include "ramtk/diagnose/report.h"
-#if __has_include("ramtk/diagnose/robot.h")
 #include "ramtk/diagnose/robot.h"
 #define RAMTK_DIAGNOSE_ROBOT 1
-#endif
 #if __has_include("ramtk/diagnose/fringe.h")
 #include "ramtk/diagnose/fringe.h"
 #define RAMTK_DIAGNOSE_FRINGE 1
 #endif
-#if __has_include("ramtk/diagnose/laser.h")
 #include "ramtk/diagnose/laser.h"
 #define RAMTK_DIAGNOSE_LASER 1
-#endif
 
 namespace ramtk::tools {
 namespace {
