@@ -1,6 +1,7 @@
 // Monte-Carlo check of the standard deviations a stereo calibration reports.
 //
 //   calib_sigma_sweep [--seeds N] [--first-seed F] [--views V] [--noise GREY] [--supersample S] [--jitter 0|1]
+//                     [--window FRACTION]
 //
 // N rendered stereo sessions of the truth rig (tests/calib/camera_test_util.h: 640×480 cameras,
 // 120 mm baseline, chessboard 9×6×20 mm, V pairs each; seed F + i draws the board poses and the
@@ -102,6 +103,7 @@ int main(int argc, char** argv) {
     for (int k = 0; k < 2; ++k) {
       BoardDetectOptions o;
       o.refinement = kinds[k];
+      o.subpix_window_fraction = Arg(argc, argv, "--window", o.subpix_window_fraction);
       const StereoCalibrationResult st =
           CalibrateStereo(t::DetectViews(img.left, board, o, "left"), t::DetectViews(img.right, board, o, "right"),
                           cv::Size(640, 480), {});
@@ -116,7 +118,11 @@ int main(int argc, char** argv) {
     }
   }
   Print("kSectorBased (findChessboardCornersSB, CALIB_CB_ACCURACY)", tally[0]);
-  Print("kSubPix (SB + cornerSubPix, half-window 0.35 x neighbour distance)", tally[1]);
+  const std::string label =
+      "kSubPix (SB + cornerSubPix, half-window " +
+      cv::format("%.2f", Arg(argc, argv, "--window", BoardDetectOptions().subpix_window_fraction)) +
+      " x neighbour distance)";
+  Print(label.c_str(), tally[1]);
   std::printf("\n%.1f s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }
