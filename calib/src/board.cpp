@@ -209,6 +209,8 @@ BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, const Bo
         const bool sb = cv::findChessboardCornersSB(gray, pattern, accurate, cv::CALIB_CB_ACCURACY);
         if (sb) pts = accurate;
         if (options.refinement == CornerRefinement::kSubPix) {
+          // The sector-based positions carry a geometry-fixed, board-wide correlated error that
+          // biases calibrations beyond their reported σ; see CornerRefinement.
           RefineCornersAdaptive(gray, board.cols, board.rows, options, &pts);
         } else if (!sb) {
           cv::cornerSubPix(gray, pts, cv::Size(5, 5), cv::Size(-1, -1),

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <string>
 
 #include "camera_test_util.h"
 
@@ -41,6 +42,20 @@ void CheckSessions(double noise, std::initializer_list<unsigned> seeds) {
     }
     std::printf("\n");
   }
+}
+
+TEST(BoardDetectOptions, InvalidOptionsAreRefusedWithTheField) {
+  const cv::Mat img(480, 640, CV_8U, cv::Scalar(128));
+  const BoardSpec board = ParseBoardSpec("chessboard:9x6:20", {});
+  BoardDetectOptions o;
+  o.subpix_window_fraction = 0.6;  // the window would reach the neighbouring corner
+  try {
+    DetectBoard(img, board, o);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("subpix_window_fraction"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(DetectBoard(img, board, BoardDetectOptions()).found);
 }
 
 TEST(StereoSigma, WithinThreeReportedSigmaAtOneGreyLevel) { CheckSessions(1.0, {11, 12, 13}); }
