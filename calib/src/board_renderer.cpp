@@ -1,6 +1,7 @@
 #include "ramtk/calib/board_renderer.h"
 
 #include <cmath>
+#include <cstdint>
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -34,6 +35,19 @@ cv::Vec2d UndistortNormalized(double xd, double yd, const cv::Vec<double, 5>& c)
   return cv::Vec2d(x, y);
 }
 
+// Sub-pixel sample offset in [0, 1) along one axis of cell (x, y): the cell centre, or with
+// jitter a fixed hash of the cell (the same in every render and in the self-check).
+double SampleOffset(int x, int y, int axis, bool jitter) {
+  if (!jitter) return 0.5;
+  std::uint64_t h = (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ (axis ? 0x5bd1e995ULL : 0);
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return static_cast<double>(h >> 11) * 0x1.0p-53;
+}
+
 }  // namespace
 
 std::string BoardRenderOptions::Validate() const {
@@ -61,7 +75,8 @@ BoardRenderer::BoardRenderer(const BoardSpec& board, const PinholeCamera& camera
     for (int y = range.start; y < range.end; ++y) {
       cv::Vec2d* row = rays_.ptr<cv::Vec2d>(y);
       for (int x = 0; x < w; ++x) {
-        const double u = (x + 0.5) / s - 0.5, v = (y + 0.5) / s - 0.5;
+        const double u = (x + SampleOffset(x, y, 0, options.jitter)) / s - 0.5;
+        const double v = (y + SampleOffset(x, y, 1, options.jitter)) / s - 0.5;
         const double yd = (v - k(1, 2)) / k(1, 1);
         const double xd = (u - k(0, 2) - k(0, 1) * yd) / k(0, 0);
         row[x] = UndistortNormalized(xd, yd, dist);
@@ -75,7 +90,8 @@ BoardRenderer::BoardRenderer(const BoardSpec& board, const PinholeCamera& camera
     for (int x = 0; x < w; x += 41) {
       const cv::Vec2d& r = rays_.at<cv::Vec2d>(y, x);
       check.emplace_back(r[0], r[1], 1.0);
-      expected.emplace_back((x + 0.5) / s - 0.5, (y + 0.5) / s - 0.5);
+      expected.emplace_back((x + SampleOffset(x, y, 0, options.jitter)) / s - 0.5,
+                            (y + SampleOffset(x, y, 1, options.jitter)) / s - 0.5);
     }
   }
   std::vector<cv::Point2d> back;

@@ -132,30 +132,6 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   EXPECT_GT(cv::norm(pic, cv::NORM_L1), 0.0);
 }
 
-// T along the optical axis is where the first-order σ is too optimistic: over seeds 11–14 the
-// T_z errors were 1.2, 5.6, 0.3 and 2.2 σ (R, T_x, T_y stayed within 2.3σ). Likely cause: the
-// detector's own error (≈0.04 px, see BoardRenderer test) is correlated between neighbouring
-// corners and between the two cameras, which the independent-noise model behind every OpenCV σ
-// ignores. This test pins that finding: T_z within 6σ, everything else within 3.5σ.
-TEST(StereoCalibration, ReportedRigStdOverSeeds) {
-  const BoardSpec board = ParseBoardSpec("chessboard:9x6:20", {});
-  cv::Matx33d r_true;
-  cv::Vec3d t_true;
-  TruthStereo(&r_true, &t_true);
-  for (unsigned seed : {12u, 13u}) {
-    const StereoSession s = RenderStereo(board, 12, seed, 2.0);
-    const StereoCalibrationResult st = CalibrateStereo(s.left, s.right, cv::Size(640, 480), {});
-    cv::Vec3d dr;
-    cv::Rodrigues(st.rotation * r_true.t(), dr);
-    for (int k = 0; k < 3; ++k) {
-      std::printf("seed %u: R[%d] error %.2f sigma, T[%d] error %.2f sigma\n", seed, k, dr[k] / st.std_rt[k], k,
-                  (st.translation[k] - t_true[k]) / st.std_rt[3 + k]);
-      EXPECT_LT(std::abs(dr[k]), 3.5 * st.std_rt[k]) << seed << " " << k;
-      EXPECT_LT(std::abs(st.translation[k] - t_true[k]), (k == 2 ? 6.0 : 3.5) * st.std_rt[3 + k]) << seed << " " << k;
-    }
-  }
-}
-
 // Circle grids and ChArUco: the intrinsics within the reported σ (looser for circles: the
 // centroid of a projected circle is not the projected centre, a known bias of circle grids).
 void CheckBoard(const std::string& spec, double z_limit) {

@@ -1,8 +1,10 @@
 #pragma once
 // Rendered calibration sessions with known truth for the camera calibration tests.
 #include <cmath>
+#include <cstdint>
 #include <opencv2/calib3d.hpp>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "ramtk/calib/board_renderer.h"
@@ -75,6 +77,88 @@ inline void RandomBoardPoses(const BoardSpec& board, const PinholeCamera& cam, i
     }
     rvecs->push_back(rv);
     tvecs->push_back(t);
+  }
+}
+
+// One rendered stereo session: `count` board poses visible in both cameras of the truth rig,
+// rendered by `left` / `right` (cameras TruthCamera(false/true)), image noise seeded from
+// noise_base (left 2v, right 2v + 1 added).
+struct StereoImages {
+  std::vector<cv::Mat> left, right;
+};
+
+inline StereoImages RenderStereoImages(const BoardSpec& board, const BoardRenderer& left, const BoardRenderer& right,
+                                       int count, unsigned pose_seed, std::uint64_t noise_base) {
+  const PinholeCamera cl = TruthCamera(false), cr = TruthCamera(true);
+  cv::Matx33d r_rl;
+  cv::Vec3d t_rl;
+  TruthStereo(&r_rl, &t_rl);
+  std::vector<cv::Vec3d> rvecs, tvecs;
+  RandomBoardPoses(board, cl, count, pose_seed, &rvecs, &tvecs, &cr, &r_rl, &t_rl);
+  StereoImages s;
+  for (int v = 0; v < count; ++v) {
+    cv::Matx33d r;
+    cv::Rodrigues(rvecs[v], r);
+    cv::Vec3d rv_right;
+    cv::Rodrigues(r_rl * r, rv_right);
+    s.left.push_back(left.Render(rvecs[v], tvecs[v], noise_base + 2 * v));
+    s.right.push_back(right.Render(rv_right, r_rl * tvecs[v] + t_rl, noise_base + 2 * v + 1));
+  }
+  return s;
+}
+
+// Board detections of rendered images as calibration views named prefix + index (empty points
+// where the board was not found).
+inline std::vector<ViewPoints> DetectViews(const std::vector<cv::Mat>& images, const BoardSpec& board,
+                                           const BoardDetectOptions& options, const std::string& prefix) {
+  std::vector<ViewPoints> views;
+  for (std::size_t v = 0; v < images.size(); ++v) {
+    const BoardDetection d = DetectBoard(images[v], board, options);
+    ViewPoints p;
+    p.name = prefix + std::to_string(v);
+    if (d.found) p.image_points = d.image_points, p.object_points = d.object_points, p.ids = d.ids;
+    views.push_back(p);
+  }
+  return views;
+}
+
+// Errors of a stereo calibration against the truth rig, in the order of StereoParameterName:
+// per camera (left, then right) fx fy cx cy k1 k2 p1 p2, then R (rotation vector of
+// R_est·R_trueᵀ, rad) and T (mm); with the σ the calibration reported for each.
+constexpr int kStereoParameters = 22;
+inline const char* StereoParameterName(int i) {
+  static const char* names[kStereoParameters] = {"L.fx", "L.fy", "L.cx", "L.cy", "L.k1", "L.k2", "L.p1", "L.p2",
+                                                 "R.fx", "R.fy", "R.cx", "R.cy", "R.k1", "R.k2", "R.p1", "R.p2",
+                                                 "rx",   "ry",   "rz",   "Tx",   "Ty",   "Tz"};
+  return names[i];
+}
+
+inline void StereoErrors(const StereoCalibrationResult& st, std::vector<double>* error, std::vector<double>* sigma) {
+  error->assign(kStereoParameters, 0.0);
+  sigma->assign(kStereoParameters, 0.0);
+  for (int c = 0; c < 2; ++c) {
+    const PinholeCamera truth = TruthCamera(c == 1);
+    const CameraCalibrationResult& r = c == 0 ? st.left : st.right;
+    const double est[8] = {r.camera_matrix(0, 0), r.camera_matrix(1, 1), r.camera_matrix(0, 2), r.camera_matrix(1, 2),
+                           r.distortion[0],       r.distortion[1],       r.distortion[2],       r.distortion[3]};
+    const double tru[8] = {truth.camera_matrix(0, 0), truth.camera_matrix(1, 1), truth.camera_matrix(0, 2),
+                           truth.camera_matrix(1, 2), truth.distortion[0],       truth.distortion[1],
+                           truth.distortion[2],       truth.distortion[3]};
+    for (int i = 0; i < 8; ++i) {
+      (*error)[8 * c + i] = est[i] - tru[i];
+      (*sigma)[8 * c + i] = r.std_intrinsics[i];
+    }
+  }
+  cv::Matx33d r_true;
+  cv::Vec3d t_true;
+  TruthStereo(&r_true, &t_true);
+  cv::Vec3d dr;
+  cv::Rodrigues(st.rotation * r_true.t(), dr);
+  for (int k = 0; k < 3; ++k) {
+    (*error)[16 + k] = dr[k];
+    (*error)[19 + k] = st.translation[k] - t_true[k];
+    (*sigma)[16 + k] = st.std_rt[k];
+    (*sigma)[19 + k] = st.std_rt[3 + k];
   }
 }
 

@@ -47,8 +47,32 @@ struct BoardDetection {
   std::string reason;                      // why not found
 };
 
-// Detects the board in an 8-bit grey image (sub-pixel refined for chessboards). A ChArUco
-// detection needs at least `min_charuco_corners` corners.
+// How chessboard corners are refined after detection.
+enum class CornerRefinement {
+  // findChessboardCornersSB's own (CALIB_CB_ACCURACY) positions. Their error is small (≈0.03 px)
+  // but fixed by the geometry and correlated across the board: on rendered stereo sessions it
+  // biased fx by +1.1–1.5 px (7–10 reported σ) and T_z by +0.2 mm (docs/calib.md).
+  kSectorBased,
+  // The detected corners refined by cv::cornerSubPix, each with its own half-window
+  // (subpix_window_fraction × the distance to its nearest grid neighbour, px), so the window
+  // follows the imaged square size and never reaches the next corner. Errors then behave like
+  // independent noise and the reported σ hold (docs/calib.md).
+  kSubPix,
+};
+
+struct BoardDetectOptions {
+  CornerRefinement refinement = CornerRefinement::kSubPix;  // chessboards only
+  double subpix_window_fraction = 0.35;                     // kSubPix half-window / nearest-neighbour corner distance
+  int subpix_min_half_window = 2;                           // px; lower bound of that half-window
+  int min_charuco_corners = 6;                              // a ChArUco detection needs at least this many corners
+
+  std::string Validate() const;  // empty if valid
+};
+
+// Detects the board in an 8-bit grey image (sub-pixel refined for chessboards, see
+// CornerRefinement). InputError if the options are invalid.
+BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, const BoardDetectOptions& options);
+// The default options with another ChArUco minimum.
 BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, int min_charuco_corners = 6);
 
 }  // namespace ramtk::calib

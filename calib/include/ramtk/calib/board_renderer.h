@@ -1,7 +1,8 @@
 #pragma once
 // Renders calibration boards seen by a pinhole camera with lens distortion, for tests with known
-// truth. Each output pixel is the mean of supersample² sub-pixel rays; a ray is the exact
-// undistorted direction of its sub-pixel position (OpenCV's model, k1 k2 p1 p2 k3), intersected
+// truth. Each output pixel is the mean of supersample² sub-pixel rays (one per cell of an s×s
+// grid, jittered within its cell by default); a ray is the exact undistorted direction of its
+// sub-pixel position (OpenCV's model, k1 k2 p1 p2 k3), intersected
 // with the board plane. Chessboards and circle grids are evaluated analytically; ChArUco boards
 // are sampled bilinearly from OpenCV's board drawing. Gaussian noise is added with a fixed seed.
 
@@ -20,7 +21,12 @@ struct PinholeCamera {
 };
 
 struct BoardRenderOptions {
-  int supersample = 3;             // sub-pixel rays per axis
+  int supersample = 3;  // sub-pixel rays per axis
+  // Each sub-pixel ray at a fixed pseudo-random place in its cell (stratified jitter) instead of
+  // the cell centre. A regular s×s grid quantises where an edge crosses a pixel, which leaves a
+  // corner error fixed by the geometry; jitter turns it into an error that varies from pixel to
+  // pixel and averages out over a corner's window.
+  bool jitter = true;
   double black = 40.0;             // grey level of dark board areas
   double white = 215.0;            // grey level of bright board areas
   double background = 100.0;       // grey level off the board
