@@ -251,8 +251,8 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
     out.push_back(c);
   }
 
-  // defocus: Gray-code edges blurred by a Gaussian of σ camera px (the phase frames only lose
-  // modulation, which B absorbs). σ on a grid, chosen per fold on the training tiles.
+  // defocus: a Gaussian blur of σ camera px. The phase frames only lose modulation, which B
+  // absorbs; the Gray-code frames keep their full contrast (more than B) and their edges spread. σ on a grid, chosen per fold on the training tiles.
   {
     const std::vector<double> grid = {0, 0.25, 0.5, 0.75, 1, 1.25, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8};
     const int ng = static_cast<int>(grid.size());
@@ -263,16 +263,13 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
           const PixelFit& p = fit.pixels[i];
           double phase_ssr = 0;
           for (int k = 0; k < n; ++k) phase_ssr += std::pow(fit.residual[static_cast<size_t>(i) * nf + fit.phase_frame[k]], 2);
-          double w, sp;
-          Footprint(p, &w, &sp);
           const double g = std::hypot(p.grad_x, p.grad_y);
           for (int s = 0; s < ng; ++s) {
-            const double su = std::sqrt(sp * sp + std::pow(grid[s] * g, 2));
             double sum = phase_ssr;
             for (int j = 0; j < fit.gray_bits; ++j) {
               const int f = fit.gray_frame[j];
               if (!std::isfinite(fit.residual[static_cast<size_t>(i) * nf + f])) continue;
-              const double pred = p.a + p.b * (2.0 * GrayPattern(fit, j, p.u, w, su) - 1.0);
+              const double pred = GrayIntensity(fit, p, j, grid[s] * g);
               sum += std::pow(fit.images[f].at<float>(p.y, p.x) - pred, 2);
             }
             ssr[s][t] += sum;

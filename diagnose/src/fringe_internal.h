@@ -31,6 +31,7 @@ struct FringeFit {
   std::vector<int> gray_frame;    // frame index of Gray image j
   int gray_bits = 0;
   int extent = 0;
+  double period_u = 1;            // fringe period, projector px
   double full_scale = 255;
   bool vertical = true;
   int tiles_x = 8, tiles_y = 8;
@@ -59,6 +60,10 @@ void Footprint(const PixelFit& p, double* width_u, double* spread_u);
 
 // Distance (projector px) from u to the nearest edge of Gray image j.
 double EdgeDistance(const FringeFit& fit, int j, double u);
+
+// Ideal intensity of Gray image j at pixel p with an extra Gaussian blur of `blur_u` projector px
+// (0: the ideal model; the pixel footprint is always included).
+double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur_u);
 
 // Ideal intensity of pixel p in frame f (what the residual is measured against).
 double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f);

@@ -74,12 +74,21 @@ double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f) {
   for (int k = 0; k < fit.steps; ++k)
     if (fit.phase_frame[k] == f) return p.a + p.b * std::cos(p.phi + StepShift(k, fit.steps));
   for (int j = 0; j < fit.gray_bits; ++j)
-    if (fit.gray_frame[j] == f) {
-      double w, s;
-      Footprint(p, &w, &s);
-      return p.a + p.b * (2.0 * GrayPattern(fit, j, p.u, w, s) - 1.0);
-    }
+    if (fit.gray_frame[j] == f) return GrayIntensity(fit, p, j, 0.0);
   return 0.0;
+}
+
+double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur_u) {
+  double w, spread;
+  Footprint(p, &w, &spread);
+  const double su = std::sqrt(spread * spread + blur_u * blur_u);
+  // B is the modulation of the fringe period; the pixel footprint and the blur attenuate it, not
+  // the wide code stripes: their contrast is B divided by that attenuation.
+  const double x = kPi * w / fit.period_u;
+  const double box = x > 1e-9 ? std::sin(x) / x : 1.0;
+  const double gauss = std::exp(-2.0 * kPi * kPi * su * su / (fit.period_u * fit.period_u));
+  const double contrast = p.b / std::max(box * gauss, 0.05);
+  return p.a + contrast * (2.0 * GrayPattern(fit, j, p.u, w, su) - 1.0);
 }
 
 FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images,
@@ -111,6 +120,7 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
   fit.frames = frame;
   fit.gray_bits = gc->bits;
   fit.extent = manifest.Extent();
+  fit.period_u = fit.extent / ps->cycles[0];
   fit.full_scale = full_scale;
   fit.vertical = manifest.direction == vision::FringeDirection::kVertical;
   for (const cv::Mat& m : images) {
