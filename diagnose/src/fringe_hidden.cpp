@@ -75,6 +75,9 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   gc.bits = config.sequence[1].bits;
   gc.complementary = config.sequence[1].complementary;
   m.sequence = {ps, gc};
+  const vision::EffectRealisation truth = vision::RealiseEffects(config, vision::ExpandSequence(config.sequence));
+  for (double e : truth.shift_errors_rad) out.shift_errors_deg.push_back(e * 180.0 / 3.14159265358979323846);
+  out.gains = truth.gains;
   for (size_t i = 0; i < sim.images.size(); ++i) {
     m.cameras["left"].push_back(std::to_string(i) + ".png");
     cv::Mat f;

@@ -159,6 +159,8 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
       const double uu = u.at<float>(y - 1, x), ud = u.at<float>(y + 1, x);
       // Depth steps, shadows and misread code orders break the local smoothness of u.
       if (std::abs(ul + ur - 2 * uc) > 0.5 || std::abs(uu + ud - 2 * uc) > 0.5) continue;
+      // Fringes under-sampled by the pixel (grazing surfaces): more than a quarter period per pixel.
+      if (std::abs(ur - ul) + std::abs(ud - uu) > 0.5 * fit.period_u) continue;
       PixelFit p;
       p.x = x;
       p.y = y;

@@ -29,6 +29,8 @@ struct HiddenFringeSet {
   vision::FringeManifest manifest;  // in memory (path "")
   std::vector<cv::Mat> frames;      // CV_32FC1, DN
   double full_scale = 255.0;
+  std::vector<double> shift_errors_deg;  // truth: phase-step error of each frame (0 for Gray code)
+  std::vector<double> gains;             // truth: camera gain of each frame (intensity drift)
 };
 
 // Renders the draw: the simulator's "small" rig at half resolution (320×256), 8-bit, SLMaster
