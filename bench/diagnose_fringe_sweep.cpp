@@ -21,11 +21,16 @@ int main(int argc, char** argv) {
   double magnitude = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
-    else if (a == "--first" && i + 1 < argc) first = std::atoi(argv[++i]);
-    else if (a == "--effect" && i + 1 < argc) effect = argv[++i];
-    else if (a == "--magnitude" && i + 1 < argc) magnitude = std::atof(argv[++i]);
-    else if (a == "--verbose") verbose = true;
+    if (a == "--seeds" && i + 1 < argc)
+      seeds = std::atoi(argv[++i]);
+    else if (a == "--first" && i + 1 < argc)
+      first = std::atoi(argv[++i]);
+    else if (a == "--effect" && i + 1 < argc)
+      effect = argv[++i];
+    else if (a == "--magnitude" && i + 1 < argc)
+      magnitude = std::atof(argv[++i]);
+    else if (a == "--verbose")
+      verbose = true;
     else {
       std::cerr << "usage: diagnose_fringe_sweep [--seeds N] [--first S] [--verbose] [--effect NAME --magnitude M]\n";
       return 2;
@@ -40,7 +45,8 @@ int main(int argc, char** argv) {
     const HiddenFringeSet set = SimulateHiddenFringe(draw);
     DiagnoseOptions options;
     options.seed = static_cast<std::uint64_t>(s);
-    if (std::getenv("SWEEP_OUT")) options.output_folder = std::string(std::getenv("SWEEP_OUT")) + "/" + std::to_string(s);
+    if (std::getenv("SWEEP_OUT"))
+      options.output_folder = std::string(std::getenv("SWEEP_OUT")) + "/" + std::to_string(s);
     const Diagnosis d = DiagnoseFringeFrames(set.manifest, set.frames, set.full_scale, options, "draw");
     const bool ok = d.cause == draw.expected;
     correct += ok;

@@ -39,8 +39,10 @@ void CrossValidate(const std::vector<int>& fold_of_tile, int folds, const std::v
     for (size_t t = 0; t < count.size(); ++t) {
       if (count[t] == 0) continue;
       const double s = ssr_for(k, static_cast<int>(t));
-      if (fold_of_tile[t] == k) held += s, nheld += count[t];
-      else train += s, ntrain += count[t];
+      if (fold_of_tile[t] == k)
+        held += s, nheld += count[t];
+      else
+        train += s, ntrain += count[t];
     }
   c->heldout_rms = nheld > 0 ? std::sqrt(std::max(held, 0.0) / nheld) : 0.0;
   c->train_rms = ntrain > 0 ? std::sqrt(std::max(train, 0.0) / ntrain) : 0.0;
@@ -84,8 +86,10 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
         long used = 0;
         for (int f = 0; f < nf; ++f) {
           r(f) = fit.residual[static_cast<size_t>(i) * nf + f];
-          if (std::isfinite(r(f))) ++used;
-          else r(f) = 0, mat.row(f).setZero();
+          if (std::isfinite(r(f)))
+            ++used;
+          else
+            r(f) = 0, mat.row(f).setZero();
         }
         g[t].noalias() += mat.transpose() * mat;
         h[t].noalias() += mat.transpose() * r;
@@ -112,8 +116,9 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
   }
   CandidateFit c;
   c.effect = name;
-  CrossValidate(fold_of_tile, folds, count,
-                [&](int k, int t) { return s[t] - 2.0 * coef[k].dot(h[t]) + coef[k].dot(g[t] * coef[k]); }, &c);
+  CrossValidate(
+      fold_of_tile, folds, count,
+      [&](int k, int t) { return s[t] - 2.0 * coef[k].dot(h[t]) + coef[k].dot(g[t] * coef[k]); }, &c);
   // Effective number of parameters: the rank of the (scaled) normal matrix.
   Eigen::VectorXd d = gall.diagonal().cwiseMax(1e-30).cwiseSqrt().cwiseInverse();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(d.asDiagonal() * gall * d.asDiagonal());
@@ -161,7 +166,8 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
     }
   CandidateFit none;
   none.effect = kNoEffect;
-  CrossValidate(fold_of_tile, folds, count, [&](int, int t) { return base_ssr[t]; }, &none);
+  CrossValidate(
+      fold_of_tile, folds, count, [&](int, int t) { return base_ssr[t]; }, &none);
   out.push_back(none);
 
   // projector_nonlinearity: harmonics h = 2..H of a memoryless response, B_h/B_1 = r_h. Phase frames
@@ -245,14 +251,16 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
     CandidateFit c;
     c.effect = "saturation";
     c.num_parameters = 1;
-    CrossValidate(fold_of_tile, folds, count, [&](int, int t) { return ssr[t]; }, &c);
+    CrossValidate(
+        fold_of_tile, folds, count, [&](int, int t) { return ssr[t]; }, &c);
     c.parameters["clip_level_DN"] = clip;
     c.parameters["clipped_pixels"] = static_cast<double>(refit);
     out.push_back(c);
   }
 
   // defocus: a Gaussian blur of σ camera px. The phase frames only lose modulation, which B
-  // absorbs; the Gray-code frames keep their full contrast (more than B) and their edges spread. σ on a grid, chosen per fold on the training tiles.
+  // absorbs; the Gray-code frames keep their full contrast (more than B) and their edges spread. σ on a grid, chosen
+  // per fold on the training tiles.
   {
     const std::vector<double> grid = {0, 0.25, 0.5, 0.75, 1, 1.25, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8};
     const int ng = static_cast<int>(grid.size());
@@ -262,7 +270,8 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
         for (int i : by_tile[t]) {
           const PixelFit& p = fit.pixels[i];
           double phase_ssr = 0;
-          for (int k = 0; k < n; ++k) phase_ssr += std::pow(fit.residual[static_cast<size_t>(i) * nf + fit.phase_frame[k]], 2);
+          for (int k = 0; k < n; ++k)
+            phase_ssr += std::pow(fit.residual[static_cast<size_t>(i) * nf + fit.phase_frame[k]], 2);
           const double g = std::hypot(p.grad_x, p.grad_y);
           for (int s = 0; s < ng; ++s) {
             double sum = phase_ssr;
@@ -292,7 +301,8 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
     CandidateFit c;
     c.effect = "defocus";
     c.num_parameters = 1;
-    CrossValidate(fold_of_tile, folds, count, [&](int k, int t) { return ssr[chosen[k]][t]; }, &c);
+    CrossValidate(
+        fold_of_tile, folds, count, [&](int k, int t) { return ssr[chosen[k]][t]; }, &c);
     const int b = best_without(-1);
     double sigma_px = grid[b];
     if (b > 0 && b + 1 < ng) {  // parabola through the three grid points around the minimum

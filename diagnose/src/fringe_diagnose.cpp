@@ -158,7 +158,8 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
   for (const CandidateFit& c : d.candidates)
     d.findings.push_back("candidate " + c.effect + ": held-out RMS " + Fixed(c.heldout_rms, 3) + " DN (" +
                          std::to_string(c.num_parameters) + " parameters), " +
-                         Fixed(100.0 * ExcessRemoved(d.rms_before, c.heldout_rms, floor), 1) + "% of the excess removed");
+                         Fixed(100.0 * ExcessRemoved(d.rms_before, c.heldout_rms, floor), 1) +
+                         "% of the excess removed");
   if (best.effect != kNoEffect && gain >= kMaterialGain * floor * floor && share >= kMinShare) {
     d.cause = best.effect;
     d.parameters = best.parameters;

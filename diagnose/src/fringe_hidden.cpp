@@ -1,7 +1,8 @@
 // Hidden-effect draws for the fringe diagnosis, rendered with the vision simulator.
+#include "ramtk/diagnose/fringe_hidden.h"
+
 #include <random>
 
-#include "ramtk/diagnose/fringe_hidden.h"
 #include "ramtk/vision/fringe_simulator.h"
 
 namespace ramtk::diagnose {
@@ -9,9 +10,9 @@ namespace {
 
 struct EffectRange {
   const char* name;
-  double lo, hi;       // magnitude range (simulator units)
-  bool either_sign;    // draw ± magnitude
-  bool visible;        // the ideal intensity model can see it
+  double lo, hi;     // magnitude range (simulator units)
+  bool either_sign;  // draw ± magnitude
+  bool visible;      // the ideal intensity model can see it
 };
 
 // Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,

@@ -14,33 +14,33 @@ namespace ramtk::diagnose::fringe {
 // One analysed pixel: the ideal model's per-pixel parameters.
 struct PixelFit {
   int x = 0, y = 0;
-  int tile = 0;                // image region (cross-validation group)
-  double a = 0, b = 0;         // background A and modulation B (DN)
-  double phi = 0;              // wrapped phase of the phase-shift block (rad)
-  double u = 0;                // unwrapped projector coordinate (projector px)
+  int tile = 0;                   // image region (cross-validation group)
+  double a = 0, b = 0;            // background A and modulation B (DN)
+  double phi = 0;                 // wrapped phase of the phase-shift block (rad)
+  double u = 0;                   // unwrapped projector coordinate (projector px)
   double grad_x = 0, grad_y = 0;  // du/dx, du/dy (projector px per camera px)
-  bool clipped = false;        // a phase-shift sample at the clip level
+  bool clipped = false;           // a phase-shift sample at the clip level
 };
 
 // The measured set and the ideal model fitted to it.
 struct FringeFit {
   int width = 0, height = 0;
-  int steps = 0;                  // N
-  int frames = 0;                 // N + Gray-code images
-  std::vector<int> phase_frame;   // frame index of phase step k
-  std::vector<int> gray_frame;    // frame index of Gray image j
+  int steps = 0;                 // N
+  int frames = 0;                // N + Gray-code images
+  std::vector<int> phase_frame;  // frame index of phase step k
+  std::vector<int> gray_frame;   // frame index of Gray image j
   int gray_bits = 0;
   int extent = 0;
-  double period_u = 1;            // fringe period, projector px
+  double period_u = 1;  // fringe period, projector px
   double full_scale = 255;
   bool vertical = true;
   int tiles_x = 8, tiles_y = 8;
-  std::vector<cv::Mat> images;    // CV_32F, DN, in frame order
-  std::vector<PixelFit> pixels;   // analysed pixels
-  std::vector<float> residual;    // pixels.size() × frames: measured − ideal model; NaN = not
-                                  // used (Gray samples within one camera pixel of a code edge)
-  cv::Mat index;                  // CV_32S, pixel → index into `pixels`, −1 if not analysed
-  long masked_saturated = 0;      // informational counts
+  std::vector<cv::Mat> images;   // CV_32F, DN, in frame order
+  std::vector<PixelFit> pixels;  // analysed pixels
+  std::vector<float> residual;   // pixels.size() × frames: measured − ideal model; NaN = not
+                                 // used (Gray samples within one camera pixel of a code edge)
+  cv::Mat index;                 // CV_32S, pixel → index into `pixels`, −1 if not analysed
+  long masked_saturated = 0;     // informational counts
 };
 
 // Shift of phase step k (nominal, rad).
@@ -48,8 +48,7 @@ double StepShift(int k, int steps);
 
 // Fits the ideal model. Throws InputError when the sequence is not one phase-shift block plus one
 // Gray-code block, or when no pixel can be analysed.
-FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images,
-                        double full_scale);
+FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale);
 
 // Value of Gray image j at coordinate u for a pixel whose box footprint spans `width_u` projector
 // px along u, blurred by a Gaussian of std dev `sigma_u` (projector px); in [0, 1].

@@ -91,8 +91,7 @@ double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur
   return p.a + contrast * (2.0 * GrayPattern(fit, j, p.u, w, su) - 1.0);
 }
 
-FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images,
-                        double full_scale) {
+FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale) {
   const std::string file = manifest.path;
   const vision::SequenceBlock* ps = nullptr;
   const vision::SequenceBlock* gc = nullptr;
@@ -114,8 +113,8 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
   if (!ps || !gc)
     throw InputError({file, 0, "sequence"}, "the fringe diagnosis needs a phase_shift block and a gray_code block");
   if (static_cast<int>(images.size()) != frame)
-    throw InputError({file, 0, "cameras"}, "expected " + std::to_string(frame) + " images, got " +
-                                               std::to_string(images.size()));
+    throw InputError({file, 0, "cameras"},
+                     "expected " + std::to_string(frame) + " images, got " + std::to_string(images.size()));
   fit.steps = ps->steps;
   fit.frames = frame;
   fit.gray_bits = gc->bits;
@@ -136,8 +135,8 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
   for (int f : fit.gray_frame) gray_images.push_back(fit.images[f]);
   const vision::PhaseShiftResult phase = vision::ComputePhaseShift(phase_images);
   const cv::Mat cells = vision::DecodeGrayCode(gray_images, phase.background);
-  const vision::UnwrapResult unwrapped = vision::UnwrapGrayCode(
-      phase.wrapped, ps->phase_at_origin_rad, ps->cycles[0], fit.extent, cells, gc->bits, gc->complementary);
+  const vision::UnwrapResult unwrapped = vision::UnwrapGrayCode(phase.wrapped, ps->phase_at_origin_rad, ps->cycles[0],
+                                                                fit.extent, cells, gc->bits, gc->complementary);
   const cv::Mat& u = unwrapped.coordinate;
 
   const double min_b = 0.06 * full_scale;
@@ -164,7 +163,8 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
       PixelFit p;
       p.x = x;
       p.y = y;
-      p.tile = std::min(fit.tiles_x - 1, x * fit.tiles_x / w) + fit.tiles_x * std::min(fit.tiles_y - 1, y * fit.tiles_y / h);
+      p.tile =
+          std::min(fit.tiles_x - 1, x * fit.tiles_x / w) + fit.tiles_x * std::min(fit.tiles_y - 1, y * fit.tiles_y / h);
       p.a = phase.background.at<float>(y, x);
       p.b = phase.modulation.at<float>(y, x);
       p.phi = phase.wrapped.at<float>(y, x);

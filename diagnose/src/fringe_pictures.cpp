@@ -65,7 +65,8 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
     o.x_label = "fringe phase theta = phi + delta_k (deg)";
     o.y_label = "measured - model (DN)";
     o.band = floor;
-    WritePlot({dots, Binned(th, r, -180, 180, 72, "mean per 5 deg", 214, 39, 40)}, o, folder + "/residual_vs_phase.png");
+    WritePlot({dots, Binned(th, r, -180, 180, 72, "mean per 5 deg", 214, 39, 40)}, o,
+              folder + "/residual_vs_phase.png");
     out.push_back({"residual_vs_phase.png",
                    "Residual of the phase-shift frames against the fringe phase; a periodic mean is projector "
                    "response (harmonics) or phase-step error; the band is +- the noise floor."});
@@ -144,10 +145,10 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
     colour.setTo(cv::Scalar(0, 0, 0), fit.index < 0);
     const double scale = fit.width > 1000 ? 0.5 : 1.0;
     if (scale != 1.0) cv::resize(colour, colour, cv::Size(), scale, scale, cv::INTER_AREA);
-    const std::string text = "residual RMS per pixel, 0 (blue) .. " + std::to_string(static_cast<int>(std::round(top))) +
-                             " DN (red); black = not analysed";
-    cv::putText(colour, text, {8, colour.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.4 * colour.cols / 320.0 > 0.8 ? 0.8 : 0.4,
-                cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    const std::string text = "residual RMS per pixel, 0 (blue) .. " +
+                             std::to_string(static_cast<int>(std::round(top))) + " DN (red); black = not analysed";
+    cv::putText(colour, text, {8, colour.rows - 10}, cv::FONT_HERSHEY_SIMPLEX,
+                0.4 * colour.cols / 320.0 > 0.8 ? 0.8 : 0.4, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
     vision::WriteImage(folder + "/residual_map.png", colour);
     out.push_back({"residual_map.png",
                    "Per-pixel RMS residual over all frames (black: not analysed); regions, code edges and bright "

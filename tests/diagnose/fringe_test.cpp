@@ -2,6 +2,8 @@
 // be the hidden one ("none" for clean sets and for effects the ideal intensity model cannot see),
 // and an extension must remove at least half of the excess on held-out tiles. Parameter estimates
 // are checked against the simulator's truth and closed forms.
+#include "ramtk/diagnose/fringe.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +13,6 @@
 #include <set>
 
 #include "ramtk/core/error.h"
-#include "ramtk/diagnose/fringe.h"
 #include "ramtk/diagnose/fringe_hidden.h"
 #include "ramtk/vision/nonlinearity.h"
 
@@ -83,7 +84,8 @@ TEST(FringeDiagnosis, PhaseStepErrorsMatchTheRenderedOnes) {
   const int n = 12;
   const double mean_truth = std::accumulate(set.shift_errors_deg.begin(), set.shift_errors_deg.begin() + n, 0.0) / n;
   double mean_est = 0;
-  for (int k = 0; k < n; ++k) mean_est += d.parameters.at("step_" + std::string(k < 10 ? "0" : "") + std::to_string(k) + "_error_deg") / n;
+  for (int k = 0; k < n; ++k)
+    mean_est += d.parameters.at("step_" + std::string(k < 10 ? "0" : "") + std::to_string(k) + "_error_deg") / n;
   for (int k = 0; k < n; ++k) {
     const std::string key = "step_" + std::string(k < 10 ? "0" : "") + std::to_string(k) + "_error_deg";
     EXPECT_NEAR(d.parameters.at(key) - mean_est, set.shift_errors_deg[k] - mean_truth, 0.25) << key;
