@@ -135,8 +135,8 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
   const std::vector<double> holm = HolmCorrection(pv);
   int worst = 0;
   for (size_t i = 0; i < tests.size(); ++i) {
-    const size_t used = tests[i].name == "phase" ? pr.size() : r.size();
-    d.findings.push_back(tests[i].Describe() + " (Holm " + Fixed(holm[i], 6) + ", " + std::to_string(used) +
+    const size_t sampled = tests[i].name == "phase" ? pr.size() : r.size();
+    d.findings.push_back(tests[i].Describe() + " (Holm " + Fixed(holm[i], 6) + ", " + std::to_string(sampled) +
                          " sampled residuals)");
     if (holm[i] < holm[worst]) worst = static_cast<int>(i);
   }
