@@ -62,9 +62,13 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
   std::vector<Eigen::VectorXd> h(nt, Eigen::VectorXd::Zero(m));
   std::vector<double> s(nt, 0.0);
   std::vector<long> count(nt, 0);
+  std::vector<double> cos_d(n), sin_d(n);
+  for (int k = 0; k < n; ++k) cos_d[k] = std::cos(StepShift(k, n)), sin_d[k] = std::sin(StepShift(k, n));
   cv::parallel_for_(cv::Range(0, nt), [&](const cv::Range& range) {
     Eigen::MatrixXd mat(nf, m);
     Eigen::VectorXd r(nf);
+    std::vector<int> nz;
+    nz.reserve(m);
     for (int t = range.start; t < range.end; ++t)
       for (int i : by_tile[t]) {
         const PixelFit& p = fit.pixels[i];
@@ -73,15 +77,15 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
         // Project the phase rows off span{1, cos δ_k, sin δ_k}.
         for (int col = 0; col < m; ++col) {
           double mean = 0, cs = 0, sn = 0;
+          bool any = false;
           for (int k = 0; k < n; ++k) {
-            const double v = mat(fit.phase_frame[k], col), d = StepShift(k, n);
-            mean += v, cs += v * std::cos(d), sn += v * std::sin(d);
+            const double v = mat(fit.phase_frame[k], col);
+            any = any || v != 0.0;
+            mean += v, cs += v * cos_d[k], sn += v * sin_d[k];
           }
+          if (!any) continue;
           mean /= n, cs *= 2.0 / n, sn *= 2.0 / n;
-          for (int k = 0; k < n; ++k) {
-            const double d = StepShift(k, n);
-            mat(fit.phase_frame[k], col) -= mean + cs * std::cos(d) + sn * std::sin(d);
-          }
+          for (int k = 0; k < n; ++k) mat(fit.phase_frame[k], col) -= mean + cs * cos_d[k] + sn * sin_d[k];
         }
         long used = 0;
         for (int f = 0; f < nf; ++f) {
@@ -91,8 +95,17 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
           else
             r(f) = 0, mat.row(f).setZero();
         }
-        g[t].noalias() += mat.transpose() * mat;
-        h[t].noalias() += mat.transpose() * r;
+        // Rows are sparse (a Gray frame touches one or two columns): accumulate over non-zeros.
+        for (int f = 0; f < nf; ++f) {
+          nz.clear();
+          for (int col = 0; col < m; ++col)
+            if (mat(f, col) != 0.0) nz.push_back(col);
+          for (int a : nz) {
+            const double va = mat(f, a);
+            h[t](a) += va * r(f);
+            for (int b : nz) g[t](a, b) += va * mat(f, b);
+          }
+        }
         s[t] += r.squaredNorm();
         count[t] += used;
       }
@@ -262,7 +275,7 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
   // absorbs; the Gray-code frames keep their full contrast (more than B) and their edges spread. σ on a grid, chosen
   // per fold on the training tiles.
   {
-    const std::vector<double> grid = {0, 0.25, 0.5, 0.75, 1, 1.25, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8};
+    const std::vector<double> grid = {0, 0.4, 0.8, 1.2, 1.6, 2, 2.5, 3, 4, 6};
     const int ng = static_cast<int>(grid.size());
     std::vector<std::vector<double>> ssr(ng, std::vector<double>(nt, 0.0));
     cv::parallel_for_(cv::Range(0, nt), [&](const cv::Range& range) {
