@@ -1,0 +1,430 @@
+#include "robot_candidates.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ramtk/core/units.h"
+#include "ramtk/thermal/identify.h"
+
+namespace ramtk::diagnose::robot_detail {
+namespace {
+
+using kinematics::kNumParams;
+using kinematics::ParamKind;
+
+// Pooled blocks of a design for the independence check: static and per-cycle columns side by side.
+std::vector<Mat3X> PooledBlocks(const Design& d) {
+  std::vector<Mat3X> out(d.stat.size());
+  for (size_t i = 0; i < d.stat.size(); ++i) {
+    out[i].resize(3, d.ns + d.np);
+    out[i].leftCols(d.ns) = d.stat[i];
+    out[i].rightCols(d.np) = d.cycle[i];
+  }
+  return out;
+}
+
+std::vector<Mat3X> ParamBlocks(const std::vector<Row>& rows, const std::vector<int>& params) {
+  std::vector<Mat3X> out;
+  for (const Row& r : rows) {
+    Mat3X m(3, params.size());
+    for (size_t j = 0; j < params.size(); ++j) m.col(j) = r.j_param.col(params[j]);
+    out.push_back(m);
+  }
+  return out;
+}
+
+// Parameters among `params` not aliased with the design's columns (nor with earlier ones).
+std::vector<int> Identifiable(const std::vector<Row>& rows, const Design& d, const std::vector<int>& params) {
+  const std::vector<int> keep = IndependentColumns(PooledBlocks(d), ParamBlocks(rows, params));
+  std::vector<int> out;
+  for (int k : keep) out.push_back(params[k]);
+  return out;
+}
+
+// Per-cycle parameters among `params` not aliased with the design's per-cycle columns. Static
+// columns are left out of this check: a per-cycle copy of a static direction (d6 against the ball
+// offset) still varies from cycle to cycle, which the shared static parameter cannot follow.
+std::vector<int> IdentifiablePerCycle(const std::vector<Row>& rows, const Design& d, const std::vector<int>& params) {
+  const std::vector<int> keep = IndependentColumns(d.cycle, ParamBlocks(rows, params));
+  std::vector<int> out;
+  for (int k : keep) out.push_back(params[k]);
+  return out;
+}
+
+// Drift terms of the thermal candidates: per-cycle parameters (power −1) or static columns of a
+// parameter times τ^power, in design order.
+struct ThermalTerms {
+  std::vector<std::pair<int, int>> cycle;   // (param, -1), per-cycle columns after the base's
+  std::vector<std::pair<int, int>> smooth;  // (param, power), static columns after the base's
+};
+
+// Adds drift columns of `params`; returns the number of parameters added (0: all aliased).
+int AddDrift(const Context& ctx, const std::vector<int>& params, bool per_cycle, Design* d, ThermalTerms* terms) {
+  const std::vector<Row>& rows = ctx.rows->rows;
+  if (per_cycle) {
+    const std::vector<int> keep = IdentifiablePerCycle(rows, *d, params);
+    AddParamColumns(rows, keep, true, d);
+    for (int p : keep) terms->cycle.emplace_back(p, -1);
+    return static_cast<int>(keep.size()) * ctx.rows->num_cycles;
+  }
+  double span = 0;
+  for (const Row& r : rows) span = std::max(span, r.time_h);
+  if (!(span > 0)) return 0;
+  std::vector<Mat3X> cols;
+  for (const Row& r : rows) {
+    const double tau = r.time_h / span;
+    Mat3X m(3, 3 * params.size());
+    for (size_t k = 0; k < params.size(); ++k)
+      for (int pw = 0; pw < 3; ++pw) m.col(3 * k + pw) = r.j_param.col(params[k]) * std::pow(tau, pw);
+    cols.push_back(m);
+  }
+  const std::vector<int> keep = IndependentColumns(PooledBlocks(*d), cols);
+  std::vector<std::string> names;
+  for (int c : keep) {
+    terms->smooth.emplace_back(params[c / 3], c % 3);
+    names.push_back(kinematics::ParamName(params[c / 3]) + "*t^" + std::to_string(c % 3));
+  }
+  AddStaticColumns(SelectColumns(cols, keep), names, d);
+  return static_cast<int>(keep.size());
+}
+
+double Score(double ss, int n, int k) { return n * std::log(std::max(ss / std::max(n, 1), 1e-300)) + 2.0 * k; }
+
+CandidateFit MakeFit(const std::string& effect, int k, const CvResult& cv) {
+  CandidateFit f;
+  f.effect = effect;
+  f.num_parameters = k;
+  f.train_rms = cv.TrainRms();
+  f.heldout_rms = cv.HeldoutRms();
+  f.heldout_count = cv.heldout_n;
+  return f;
+}
+
+// Static parameters of the design from column `first` on, with units, into the fit.
+void ReportStatic(const Design& d, const CvResult& cv, int first, double sigma,
+                  const std::vector<std::pair<std::string, double>>& key_and_factor, CandidateFit* f) {
+  for (int j = first; j < d.ns; ++j) {
+    const auto& [key, factor] = key_and_factor[j - first];
+    f->parameters[key] = factor * cv.full.s[j];
+    const double var = cv.full.s_cov_unit(j, j);
+    if (var > 0) f->sigmas[key] = std::abs(factor) * sigma * std::sqrt(var);
+  }
+}
+
+std::pair<std::string, double> ParamKey(int p, const std::string& suffix = "") {
+  const bool angle = kinematics::IsAngleParam(p);
+  return {kinematics::ParamName(p) + suffix + (angle ? "_deg" : "_mm"), angle ? kDegPerRad : 1.0};
+}
+
+// The drift of each added parameter per cycle (file units: mm, µrad) and its range over the cycles.
+void ReportDrift(const Context& ctx, const CvResult& cv, const ThermalTerms& terms, const std::vector<int>& params,
+                 Evaluated* e) {
+  const int num_cycles = ctx.rows->num_cycles;
+  std::vector<double> tau(num_cycles, 0.0);
+  std::vector<int> count(num_cycles, 0);
+  double span = 0;
+  for (const Row& r : ctx.rows->rows) span = std::max(span, r.time_h);
+  for (const Row& r : ctx.rows->rows) tau[r.cycle_pos] += span > 0 ? r.time_h / span : 0.0, ++count[r.cycle_pos];
+  for (int c = 0; c < num_cycles; ++c) tau[c] /= std::max(1, count[c]);
+  e->added_series = Eigen::MatrixXd::Zero(params.size(), num_cycles);
+  const int first_cycle = static_cast<int>(cv.full.p.rows()) - static_cast<int>(terms.cycle.size());
+  const int first_static = static_cast<int>(cv.full.s.size()) - static_cast<int>(terms.smooth.size());
+  for (size_t k = 0; k < params.size(); ++k) {
+    const double unit = kinematics::IsAngleParam(params[k]) ? 1e6 : 1.0;
+    for (size_t j = 0; j < terms.cycle.size(); ++j)
+      if (terms.cycle[j].first == params[k]) e->added_series.row(k) = unit * cv.full.p.row(first_cycle + j);
+    for (size_t j = 0; j < terms.smooth.size(); ++j)
+      if (terms.smooth[j].first == params[k])
+        for (int c = 0; c < num_cycles; ++c)
+          e->added_series(k, c) += unit * cv.full.s[first_static + j] * std::pow(tau[c], terms.smooth[j].second);
+    const Eigen::VectorXd series = e->added_series.row(k).transpose();
+    const bool angle = kinematics::IsAngleParam(params[k]);
+    e->fit.parameters[kinematics::ParamName(params[k]) + "_drift_range" + (angle ? "_deg" : "_mm")] =
+        (series.maxCoeff() - series.minCoeff()) / unit * (angle ? kDegPerRad : 1.0);
+  }
+}
+
+Design WithParams(const Context& ctx, const Design& start, const std::vector<int>& params, bool per_cycle) {
+  Design d = start;
+  AddParamColumns(ctx.rows->rows, params, per_cycle, &d);
+  return d;
+}
+
+CvResult Cv(const Context& ctx, const Design& d) {
+  return CrossValidate(ctx.rows->rows, d, ctx.fold_of_row, ctx.folds, ctx.rows->num_cycles);
+}
+
+}  // namespace
+
+Design CurrentModelDesign(const RobotDiagnoseInput& in, const RowSet& rs) {
+  Design d = NuisanceDesign(rs.rows);
+  if (!in.thermal_params.empty()) AddParamColumns(rs.rows, in.thermal_params, /*per_cycle=*/true, &d);
+  return d;
+}
+
+std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::string>* notes) {
+  const std::vector<Row>& rows = ctx.rows->rows;
+  const kinematics::RobotModel& model = ctx.input->model;
+  const int num_cycles = ctx.rows->num_cycles;
+  const bool multi_cycle = num_cycles >= 3;
+  std::vector<Evaluated> out;
+  int step = 0;
+  const size_t steps = multi_cycle ? 7 : 3;
+  auto tick = [&](const std::string& what) {
+    if (ctx.progress) ctx.progress({"diagnose robot: " + what, static_cast<size_t>(++step), steps});
+  };
+
+  // Static parameter errors (joint zeros, link lengths), against the set-up nuisance.
+  auto static_params = [&](const std::string& effect, const std::vector<int>& pool, const std::string& suffix) {
+    const std::vector<int> params = Identifiable(rows, ctx.base, pool);
+    if (params.empty()) {
+      notes->push_back(effect + ": not testable (every parameter aliased with the current model)");
+      return;
+    }
+    Evaluated e;
+    e.design = WithParams(ctx, ctx.base, params, false);
+    e.cv = Cv(ctx, e.design);
+    e.fit = MakeFit(effect, static_cast<int>(params.size()), e.cv);
+    std::vector<std::pair<std::string, double>> keys;
+    for (int p : params) keys.push_back(ParamKey(p, suffix));
+    ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+    e.note = effect + ": " + thermal::ParamListToString(params);
+    out.push_back(std::move(e));
+  };
+  std::vector<int> thetas, lengths = thermal::TraditionalParams(model), angles;
+  for (int p = 0; p < kNumParams; ++p) {
+    if (model.structural_zero[p]) continue;
+    if (kinematics::ParamKindOf(p) == ParamKind::kTheta) thetas.push_back(p);
+    if (kinematics::IsAngleParam(p)) angles.push_back(p);
+  }
+  static_params("joint_offset", thetas, "_offset");
+  tick("joint_offset");
+  static_params("link_length_error", lengths, "_error");
+  tick("link_length_error");
+
+  // Thermal drift: lengths, then angles added greedily by held-out score; each in two forms, free
+  // per cycle (thesis eq. 3-8) and smooth in time (a + b·τ + c·τ², τ = time / span), the better
+  // score kept.
+  if (multi_cycle) {
+    std::vector<int> new_lengths;
+    for (int p : lengths)
+      if (std::find(ctx.input->thermal_params.begin(), ctx.input->thermal_params.end(), p) ==
+          ctx.input->thermal_params.end())
+        new_lengths.push_back(p);
+    if (new_lengths.empty())
+      notes->push_back("thermal_length_drift: already in the current model (" + ctx.input->thermal_label + ")");
+    std::vector<Evaluated> forms[2];  // [length, angle] per form
+    for (int form = 0; form < 2; ++form) {
+      const bool per_cycle = form == 0;
+      ThermalTerms terms;
+      Design start = ctx.base;
+      CvResult start_cv = ctx.base_cv;
+      int start_k = 0;
+      std::vector<int> lengths_used;
+      if (!new_lengths.empty()) {
+        lengths_used = new_lengths;
+        Evaluated e;
+        e.design = ctx.base;
+        const int k = AddDrift(ctx, new_lengths, per_cycle, &e.design, &terms);
+        if (k > 0) {
+          e.cv = Cv(ctx, e.design);
+          e.fit = MakeFit("thermal_length_drift", k, e.cv);
+          e.added_cycle_params = new_lengths;
+          ReportDrift(ctx, e.cv, terms, new_lengths, &e);
+          e.note = std::string("thermal_length_drift (") + (per_cycle ? "per cycle" : "smooth in time") +
+                   "): " + thermal::ParamListToString(new_lengths);
+          start = e.design, start_cv = e.cv, start_k = k;
+          forms[form].push_back(std::move(e));
+        } else {
+          lengths_used.clear();
+        }
+      }
+      std::vector<int> pool = Identifiable(rows, start, angles);
+      std::vector<int> chosen;
+      Design current = start;
+      CvResult current_cv = start_cv;
+      ThermalTerms current_terms = terms;
+      const int n = start_cv.heldout_n;
+      int current_k = start_k;
+      double current_score = Score(current_cv.heldout_ss, n, 0);
+      while (!pool.empty() && chosen.size() < 6) {
+        double best = INFINITY;
+        int best_k = -1, best_count = 0;
+        CvResult best_cv;
+        Design best_design;
+        ThermalTerms best_terms;
+        for (size_t k = 0; k < pool.size(); ++k) {
+          Design d = current;
+          ThermalTerms t = current_terms;
+          const int added = AddDrift(ctx, {pool[k]}, per_cycle, &d, &t);
+          if (added == 0) continue;
+          CvResult cv = Cv(ctx, d);
+          const double sc = Score(cv.heldout_ss, n, added + current_k - start_k);
+          if (sc < best)
+            best = sc, best_k = static_cast<int>(k), best_cv = std::move(cv), best_design = std::move(d),
+            best_terms = std::move(t), best_count = added;
+        }
+        if (best_k < 0 || !(best < current_score - ctx.min_improvement)) break;
+        chosen.push_back(pool[best_k]);
+        current = std::move(best_design);
+        current_cv = std::move(best_cv);
+        current_terms = std::move(best_terms);
+        current_k += best_count;
+        current_score = best;
+        pool.erase(pool.begin() + best_k);
+      }
+      if (!chosen.empty()) {
+        Evaluated e;
+        e.design = current;
+        e.cv = current_cv;
+        std::vector<int> all_added = lengths_used;
+        all_added.insert(all_added.end(), chosen.begin(), chosen.end());
+        e.added_cycle_params = all_added;
+        e.fit = MakeFit("thermal_angle_drift", current_k, e.cv);
+        ReportDrift(ctx, e.cv, current_terms, all_added, &e);
+        e.note = std::string("thermal_angle_drift (") + (per_cycle ? "per cycle" : "smooth in time") + "): add " +
+                 thermal::ParamListToString(chosen) +
+                 (lengths_used.empty() ? "" : " to the drifting lengths " + thermal::ParamListToString(lengths_used));
+        forms[form].push_back(std::move(e));
+      }
+    }
+    tick("thermal drift");
+    for (const char* effect : {"thermal_length_drift", "thermal_angle_drift"}) {
+      Evaluated* best = nullptr;
+      for (auto& list : forms)
+        for (Evaluated& e : list)
+          if (e.fit.effect == effect &&
+              (best == nullptr || Score(e.cv.heldout_ss, e.cv.heldout_n, e.fit.num_parameters) <
+                                      Score(best->cv.heldout_ss, best->cv.heldout_n, best->fit.num_parameters)))
+            best = &e;
+      if (best != nullptr)
+        out.push_back(std::move(*best));
+      else if (std::string(effect) == "thermal_angle_drift")
+        notes->push_back("thermal_angle_drift: no angle parameter improves the held-out score");
+    }
+    tick("thermal drift");
+  } else {
+    notes->push_back("thermal candidates need at least 3 cycles");
+  }
+
+  // Joint compliance: Δθ_j = c_j·τ_j(q), τ from a generic gravity load (robot_linear.h).
+  {
+    std::vector<Mat3X> cols;
+    for (const Row& r : rows) {
+      const Eigen::Matrix<double, 6, 1> tau =
+          GravityTorques(model, r.q, ctx.rows->setup.ball_in_flange) / 1000.0;  // kN·m
+      Mat3X m(3, 5);
+      for (int j = 1; j < 6; ++j) m.col(j - 1) = r.j_param.col(kinematics::ParamIndex(ParamKind::kTheta, j)) * tau[j];
+      cols.push_back(m);
+    }
+    // Joints whose load hardly varies (joint 6 about the flange axis) would only add noise.
+    Eigen::VectorXd size = Eigen::VectorXd::Zero(5);
+    for (const Mat3X& m : cols) size += m.colwise().squaredNorm().transpose();
+    std::vector<int> loaded;
+    for (int j = 0; j < 5; ++j)
+      if (size[j] > 0.01 * size.maxCoeff()) loaded.push_back(j);
+    std::vector<int> keep;
+    for (int k : IndependentColumns(PooledBlocks(ctx.base), SelectColumns(cols, loaded))) keep.push_back(loaded[k]);
+    if (!keep.empty()) {
+      Evaluated e;
+      e.design = ctx.base;
+      std::vector<std::string> names;
+      std::vector<std::pair<std::string, double>> keys;
+      for (int k : keep) {
+        names.push_back("c" + std::to_string(k + 2));
+        keys.emplace_back("joint" + std::to_string(k + 2) + "_compliance_urad_per_kNm", 1e6);
+      }
+      AddStaticColumns(SelectColumns(cols, keep), names, &e.design);
+      e.cv = Cv(ctx, e.design);
+      e.fit = MakeFit("joint_compliance", static_cast<int>(keep.size()), e.cv);
+      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+      out.push_back(std::move(e));
+    }
+    tick("joint_compliance");
+  }
+
+  if (multi_cycle) {
+    // Sensor frame drift: rotation and translation, quadratic in time (sensor frame).
+    std::vector<Mat3X> cols;
+    for (const Row& r : rows) {
+      Mat3X m(3, 12);
+      m.leftCols(6) = r.time_h * r.j_setup.leftCols(6);
+      m.rightCols(6) = r.time_h * r.time_h * r.j_setup.leftCols(6);
+      cols.push_back(m);
+    }
+    const std::vector<int> keep = IndependentColumns(PooledBlocks(ctx.base), cols);
+    if (!keep.empty()) {
+      static const char* names[6] = {"rx_urad", "ry_urad", "rz_urad", "tx_mm", "ty_mm", "tz_mm"};
+      Evaluated e;
+      e.design = ctx.base;
+      std::vector<std::string> col_names;
+      std::vector<std::pair<std::string, double>> keys;
+      for (int k : keep) {
+        const std::string name = std::string(names[k % 6]) + (k < 6 ? "_per_h" : "_per_h2");
+        col_names.push_back(name), keys.emplace_back(name, k % 6 < 3 ? 1e6 : 1.0);
+      }
+      AddStaticColumns(SelectColumns(cols, keep), col_names, &e.design);
+      e.cv = Cv(ctx, e.design);
+      e.fit = MakeFit("sensor_frame_drift", static_cast<int>(keep.size()), e.cv);
+      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+      out.push_back(std::move(e));
+    }
+    tick("sensor_frame_drift");
+
+    // Tool offset change: the ball moves on the flange from some cycle on (step; cycle searched
+    // on the training rows of every fold).
+    const int n = static_cast<int>(rows.size());
+    auto design_for = [&](int from) {
+      std::vector<Mat3X> c;
+      for (const Row& r : rows) c.push_back(r.cycle_pos >= from ? Mat3X(r.ball_dir) : Mat3X(Mat3X::Zero(3, 3)));
+      Design d = ctx.base;
+      AddStaticColumns(c, {"dx_mm", "dy_mm", "dz_mm"}, &d);
+      return d;
+    };
+    std::vector<int> grid;
+    const int stride = std::max(1, (num_cycles - 1) / 30);
+    for (int c = 1; c < num_cycles; c += stride) grid.push_back(c);
+    auto best_step = [&](const std::vector<char>& train, Fit* fit) {
+      double best = INFINITY;
+      int best_c = grid[0];
+      for (int c : grid) {
+        const Design d = design_for(c);
+        const Fit f = SolveDesign(rows, d, train, num_cycles);
+        double ss = 0;
+        for (int i = 0; i < n; ++i)
+          if (train[i]) ss += FitResidual(rows, d, f, i).squaredNorm();
+        if (ss < best) best = ss, best_c = c, *fit = f;
+      }
+      return best_c;
+    };
+    Evaluated e;
+    e.cv.heldout_residual.assign(n, Eigen::Vector3d::Zero());
+    for (int k = 0; k < ctx.folds; ++k) {
+      std::vector<char> train(n);
+      for (int i = 0; i < n; ++i) train[i] = ctx.fold_of_row[i] != k;
+      Fit f;
+      const int c = best_step(train, &f);
+      const Design d = design_for(c);
+      for (int i = 0; i < n; ++i) {
+        if (train[i]) continue;
+        const Eigen::Vector3d r = FitResidual(rows, d, f, i);
+        e.cv.heldout_residual[i] = r;
+        e.cv.heldout_ss += r.squaredNorm();
+        e.cv.heldout_n += 3;
+      }
+    }
+    Fit full;
+    const int from = best_step(std::vector<char>(n, 1), &full);
+    e.design = design_for(from);
+    e.cv.full = full;
+    for (int i = 0; i < n; ++i) e.cv.train_ss += FitResidual(rows, e.design, full, i).squaredNorm(), e.cv.train_n += 3;
+    e.fit = MakeFit("tool_offset_change", 4, e.cv);
+    ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, {{"dx_mm", 1.0}, {"dy_mm", 1.0}, {"dz_mm", 1.0}}, &e.fit);
+    e.fit.parameters["from_cycle"] = ctx.rows->cycle_numbers[from];
+    out.push_back(std::move(e));
+    tick("tool_offset_change");
+  }
+  return out;
+}
+
+}  // namespace ramtk::diagnose::robot_detail
