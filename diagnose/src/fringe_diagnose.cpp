@@ -1,0 +1,203 @@
+// `ramtk diagnose` for fringe sets: residual of the ideal model against the noise floor, structure
+// tests, candidate extensions cross-validated over image tiles, the named cause and its gain.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "fringe_internal.h"
+#include "ramtk/core/error.h"
+#include "ramtk/diagnose/fringe.h"
+#include "ramtk/diagnose/model_selection.h"
+#include "ramtk/diagnose/statistics.h"
+#include "ramtk/vision/image_io.h"
+
+namespace ramtk::diagnose {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// A cause is named only when its held-out gain is at least this share of the noise variance and
+// removes at least kMinShare of the excess: below that the data hold no effect worth a model.
+constexpr double kMaterialGain = 0.03;
+constexpr double kMinShare = 0.2;
+// Residuals drawn for the structure tests (the full set would make any trace of structure
+// "significant"; a fixed-size sample keeps the p-values about effects of practical size).
+constexpr int kTestSample = 20000;
+
+std::string Fixed(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+void Report(const DiagnoseOptions& o, const std::string& stage, int done, int total) {
+  if (o.progress) o.progress(Progress{stage, static_cast<size_t>(done), static_cast<size_t>(total)});
+}
+
+}  // namespace
+
+Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& frames,
+                               double full_scale, const DiagnoseOptions& options, const std::string& label) {
+  using namespace fringe;
+  Report(options, "fit ideal model", 0, 4);
+  const FringeFit fit = FitIdealModel(manifest, frames, full_scale);
+  Diagnosis d;
+  d.kind = DataKind::kFringe;
+  d.data = label;
+  d.unit = "DN";
+  d.model = "ideal fringe model I = A + B cos(phi + delta_k) per pixel";
+  const int nf = fit.frames;
+  double ss = 0;
+  long used = 0;
+  for (float r : fit.residual)
+    if (std::isfinite(r)) ss += static_cast<double>(r) * r, ++used;
+  d.num_residuals = static_cast<int>(used);
+  d.residual_rms = std::sqrt(ss / used);
+  long pairs = 0;
+  const double estimated = NoiseFloor(fit, &pairs);
+  d.noise_floor_rms = options.noise > 0 ? options.noise : estimated;
+  const double floor = d.noise_floor_rms;
+  d.findings.push_back(std::to_string(fit.pixels.size()) + " pixels x " + std::to_string(nf) + " frames analysed (" +
+                       std::to_string(fit.steps) + "-step phase shift + " + std::to_string(fit.gray_bits) +
+                       " Gray-code images), " + std::to_string(fit.width) + "x" + std::to_string(fit.height) +
+                       " camera, full scale " + Fixed(full_scale, 0) + " DN");
+  d.findings.push_back("noise floor " + Fixed(estimated, 3) +
+                       " DN: RMS of residual differences between neighbouring pixels along the fringes / sqrt(2) (" +
+                       std::to_string(pairs) + " pairs)" +
+                       (options.noise > 0 ? "; replaced by --noise " + Fixed(options.noise, 3) + " DN" : ""));
+  // Residual by frame class and Gray-code levels in units of B.
+  double ps_ss = 0, gc_ss = 0, white = 0, black = 0;
+  long ps_n = 0, gc_n = 0, nw = 0, nb = 0;
+  std::vector<double> black_level;
+  for (size_t i = 0; i < fit.pixels.size(); ++i) {
+    const PixelFit& p = fit.pixels[i];
+    black_level.push_back((p.a - p.b) / p.b);
+    for (int f : fit.phase_frame) ps_ss += std::pow(fit.residual[i * nf + f], 2), ++ps_n;
+    double w, sp;
+    Footprint(p, &w, &sp);
+    for (int j = 0; j < fit.gray_bits; ++j) {
+      const double r = fit.residual[i * nf + fit.gray_frame[j]];
+      if (!std::isfinite(r)) continue;
+      gc_ss += r * r, ++gc_n;
+      const double q = GrayPattern(fit, j, p.u, w, sp);
+      if (q > 0.999) white += r / p.b, ++nw;
+      if (q < 0.001) black += r / p.b, ++nb;
+    }
+  }
+  d.findings.push_back(std::to_string(fit.residual.size() - used) +
+                       " Gray-code samples within one camera pixel of a code edge left out (pixel-response dependent)");
+  d.findings.push_back("residual RMS " + Fixed(std::sqrt(ps_ss / ps_n), 2) + " DN on phase-shift frames, " +
+                       Fixed(std::sqrt(gc_ss / gc_n), 2) + " DN on Gray-code frames");
+  if (nw > 0 && nb > 0)
+    d.findings.push_back("Gray-code levels against A +- B: white " + Fixed(white / nw, 3) + " B, black " +
+                         Fixed(black / nb, 3) + " B (mean residual over B away from code edges)");
+  std::nth_element(black_level.begin(), black_level.begin() + black_level.size() / 2, black_level.end());
+  d.findings.push_back("median black level (A - B)/B = " + Fixed(black_level[black_level.size() / 2], 3) +
+                       " (ambient light or projector black; the per-pixel A absorbs it, so it leaves no residual)");
+
+  // Structure tests on a fixed-size random sample of residuals.
+  Report(options, "structure tests", 1, 4);
+  std::mt19937_64 rng(options.seed);
+  std::uniform_int_distribution<size_t> pick(0, fit.residual.size() - 1);
+  std::vector<double> r, fidx, level, xs, ys, pr, ph;
+  for (int s = 0; s < kTestSample; ++s) {
+    const size_t k = pick(rng);
+    if (!std::isfinite(fit.residual[k])) {
+      --s;
+      continue;
+    }
+    const size_t i = k / nf;
+    const int f = static_cast<int>(k % nf);
+    const PixelFit& p = fit.pixels[i];
+    r.push_back(fit.residual[k]);
+    fidx.push_back(f);
+    level.push_back(IdealIntensity(fit, p, f) / full_scale);
+    xs.push_back(static_cast<double>(p.x) / fit.width);
+    ys.push_back(static_cast<double>(p.y) / fit.height);
+    for (int kk = 0; kk < fit.steps; ++kk)
+      if (fit.phase_frame[kk] == f) {
+        pr.push_back(fit.residual[k]);
+        ph.push_back(std::remainder(p.phi + StepShift(kk, fit.steps), 2 * kPi));
+      }
+  }
+  const std::vector<double> sig{floor};
+  std::vector<TestResult> tests;
+  tests.push_back(VarianceTest(r, sig));
+  tests.push_back(TrendTest(r, sig, fidx, 2, "frame index"));
+  tests.push_back(TrendTest(r, sig, level, 3, "intensity level"));
+  tests.push_back(TrendTest(r, sig, xs, 2, "image x"));
+  tests.push_back(TrendTest(r, sig, ys, 2, "image y"));
+  if (pr.size() > 20) tests.push_back(TrendTest(pr, sig, ph, 4, "phase"));
+  std::vector<double> pv;
+  for (const TestResult& t : tests) pv.push_back(t.p_value);
+  const std::vector<double> holm = HolmCorrection(pv);
+  int worst = 0;
+  for (size_t i = 0; i < tests.size(); ++i) {
+    const size_t sampled = tests[i].name == "phase" ? pr.size() : r.size();
+    d.findings.push_back(tests[i].Describe() + " (Holm " + Fixed(holm[i], 6) + ", " + std::to_string(sampled) +
+                         " sampled residuals)");
+    if (holm[i] < holm[worst]) worst = static_cast<int>(i);
+  }
+  d.structure_p_value = holm[worst];
+  d.structure_found = d.structure_p_value < options.alpha;
+
+  // Candidates, cross-validated over image tiles.
+  Report(options, "candidates", 2, 4);
+  d.candidates = FitCandidates(fit, options.folds, floor);
+  SelectCandidate(&d.candidates);
+  const CandidateFit* base = nullptr;
+  for (const CandidateFit& c : d.candidates)
+    if (c.effect == kNoEffect) base = &c;
+  const CandidateFit& best = d.candidates.front();
+  d.rms_before = base->heldout_rms;
+  const double gain = d.rms_before * d.rms_before - best.heldout_rms * best.heldout_rms;
+  const double share = ExcessRemoved(d.rms_before, best.heldout_rms, floor);
+  const double excess = d.rms_before * d.rms_before - floor * floor;
+  for (const CandidateFit& c : d.candidates)
+    d.findings.push_back("candidate " + c.effect + ": held-out RMS " + Fixed(c.heldout_rms, 3) + " DN (" +
+                         std::to_string(c.num_parameters) + " parameters), " +
+                         Fixed(100.0 * ExcessRemoved(d.rms_before, c.heldout_rms, floor), 1) +
+                         "% of the excess removed");
+  if (best.effect != kNoEffect && gain >= kMaterialGain * floor * floor && share >= kMinShare) {
+    d.cause = best.effect;
+    d.parameters = best.parameters;
+    d.sigmas = best.sigmas;
+    d.confidence = best.weight;
+    d.rms_after = best.heldout_rms;
+  } else {
+    d.rms_after = d.rms_before;
+    if (d.structure_found && excess >= 10 * kMaterialGain * floor * floor) {
+      d.cause = kUnexplained;
+      d.explaining_variable = tests[worst].name;
+    } else {
+      d.cause = kNoEffect;
+    }
+    d.confidence = base->weight;
+  }
+  d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, floor);
+  if (!options.output_folder.empty()) {
+    Report(options, "pictures", 3, 4);
+    d.pictures = WriteFringePictures(fit, floor, options.output_folder, options.seed);
+  }
+  Report(options, "done", 4, 4);
+  return d;
+}
+
+Diagnosis DiagnoseFringe(const DiagnoseOptions& options) {
+  options.Validate();
+  const vision::FringeManifest manifest = vision::ReadFringeManifest(options.data);
+  std::string camera = manifest.cameras.count("left") ? "left" : manifest.cameras.begin()->first;
+  for (const std::string& w : options.with)
+    if (w.rfind("camera=", 0) == 0) camera = w.substr(7);
+  if (!manifest.cameras.count(camera)) throw InputError({options.data, 0, "cameras"}, "no camera '" + camera + "'");
+  std::vector<std::string> paths;
+  for (const std::string& f : manifest.cameras.at(camera)) paths.push_back(manifest.Resolve(f));
+  const vision::ImageStack stack = vision::LoadImageStack(paths);
+  Diagnosis d = DiagnoseFringeFrames(manifest, stack.frames, stack.full_scale, options, options.data);
+  d.findings.insert(d.findings.begin(), "camera '" + camera + "'");
+  return d;
+}
+
+}  // namespace ramtk::diagnose

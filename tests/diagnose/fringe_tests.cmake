@@ -1,0 +1,16 @@
+# Fringe diagnosis: hidden-effect draws rendered by the vision simulator (named cause and held-out
+# gain against the hidden truth), parameter estimates against the simulator's truth and closed
+# forms, bad input; CLI runs on a simulated set.
+ramtk_add_gtest(diagnose_fringe_tests fringe_test.cpp)
+target_link_libraries(diagnose_fringe_tests PRIVATE ramtk::diagnose ${OpenCV_LIBS})
+target_compile_definitions(diagnose_fringe_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
+
+set(_fringe_set ${CMAKE_CURRENT_BINARY_DIR}/cli_fringe_gamma)
+ramtk_cli_test(diagnose_fringe_simulate 0 FIXTURE_SETUP diagnose_fringe_set
+  ARGS simulate fringe --preset small --supersampling 2 --effect projector_nonlinearity=1.8 --seed 3 --force -q
+       --out ${_fringe_set})
+ramtk_cli_test(diagnose_fringe_names_gamma 0 FIXTURE_REQUIRED diagnose_fringe_set
+  STDOUT "cause 'projector_nonlinearity'.*% of the excess"
+  ARGS diagnose ${_fringe_set}/manifest.json --out ${CMAKE_CURRENT_BINARY_DIR}/cli_fringe_report)
+ramtk_cli_test(diagnose_fringe_missing_manifest 1 STDERR "does not exist"
+  ARGS diagnose ${CMAKE_CURRENT_BINARY_DIR}/output/no_such_set/manifest.json)
