@@ -7,15 +7,10 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/diagnose.h"
+#include "ramtk/diagnose/fringe.h"
+#include "ramtk/diagnose/laser.h"
 #include "ramtk/diagnose/report.h"
 #include "ramtk/diagnose/robot.h"
-#define RAMTK_DIAGNOSE_ROBOT 1
-#if __has_include("ramtk/diagnose/fringe.h")
-#include "ramtk/diagnose/fringe.h"
-#define RAMTK_DIAGNOSE_FRINGE 1
-#endif
-#include "ramtk/diagnose/laser.h"
-#define RAMTK_DIAGNOSE_LASER 1
 
 namespace ramtk::tools {
 namespace {
@@ -27,27 +22,16 @@ int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kin
   if (kind_override == "robot") kind = diagnose::DataKind::kRobot;
   if (kind_override == "laser") kind = diagnose::DataKind::kLaser;
   diagnose::Diagnosis result;
-  bool available = false;
   switch (kind) {
     case diagnose::DataKind::kRobot:
-#ifdef RAMTK_DIAGNOSE_ROBOT
-      result = diagnose::DiagnoseRobot(options), available = true;
-#endif
+      result = diagnose::DiagnoseRobot(options);
       break;
     case diagnose::DataKind::kFringe:
-#ifdef RAMTK_DIAGNOSE_FRINGE
-      result = diagnose::DiagnoseFringe(options), available = true;
-#endif
+      result = diagnose::DiagnoseFringe(options);
       break;
     case diagnose::DataKind::kLaser:
-#ifdef RAMTK_DIAGNOSE_LASER
-      result = diagnose::DiagnoseLaser(options), available = true;
-#endif
+      result = diagnose::DiagnoseLaser(options);
       break;
-  }
-  if (!available) {
-    std::cerr << "ramtk: error: diagnosing " << diagnose::DataKindName(kind) << " data is not built in\n";
-    return kExitUsage;
   }
   if (!options.output_folder.empty()) diagnose::WriteDiagnosis(result, options.output_folder);
   std::cout << diagnose::OneLine(result) << '\n';
