@@ -31,12 +31,16 @@ TEST(ScanPipeline, BallCentreAndRadiusAgainstTheSimulatorTruth) {
   RecordProperty("radius_error_um", std::to_string(1000 * radius_err));
   std::cout << r.summary.BriefReport() << "\ncentre error " << 1000 * err.transpose() << " um, radius error "
             << 1000 * radius_err << " um\n";
-  // Issue 4's targets are 5 um (thesis geometry, bench/vision_scan_accuracy); the noise part here
-  // is < 1 um (predicted sigma), the rest is the finite-pixel bias of the limb documented in
-  // docs/scan.md (about -4 um along z). Fail well before a gross error (a period, a pixel ~150 um).
-  EXPECT_LT(err.norm(), 0.010);
-  EXPECT_LT(std::abs(radius_err), 0.010);
-  EXPECT_GT(ball.num_points, 30000);
+  // Issue 4's targets: 5 um. The fit leaves out the points seen beyond 60 deg (their depth is
+  // biased by the noise, docs/scan.md); what remains is a ~1.5 um bias along z (the sweep, 8
+  // poses x 50 seeds) and the noise, predicted sigma ~(0.5, 0.5, 1.5) um with the neighbour
+  // correlation included: 5 um is the bias plus 2.3 sigma along z. Without the viewing-angle cut
+  // this pose's error is 3-4.5 um along z for every seed tried.
+  EXPECT_LT(err.norm(), 0.005);
+  EXPECT_LT(std::abs(radius_err), 0.005);
+  EXPECT_GT(ball.num_grazing, 3000);
+  EXPECT_GT(ball.correlation_factor, 1.0);  // neighbouring pixels' noise is positively correlated
+  EXPECT_GT(ball.num_points, 25000);
   EXPECT_NEAR(ball.variance_factor, 1.0, 0.5);  // the points' sigma explains their scatter
 }
 
