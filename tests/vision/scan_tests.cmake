@@ -3,6 +3,8 @@
 # `ramtk scan` on the command line.
 find_package(PCL 1.13 REQUIRED COMPONENTS common io)
 ramtk_add_gtest(vision_scan_tests
+  scan_ballbar_test.cpp
+  scan_correlation_test.cpp
   scan_match_test.cpp
   scan_ply_test.cpp
   scan_pipeline_test.cpp)
