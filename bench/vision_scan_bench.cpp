@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/fringe_simulator.h"
 #include "ramtk/vision/scan.h"
@@ -305,6 +306,25 @@ int Limb(const Vec3& ball, int seed, bool noise) {
                 e.y(), e.z(), 1000 * (b.radius_mm - truth.radius), b.num_points, b.variance_factor);
   };
   const ScanOptions def;
+  {
+    // The neighbour correlation of the scan's fit residuals (what the scan inflates sigma by).
+    ScanOptions o2;
+    const ScanResult fitted = ScanDecoded(WrittenCalibration(c), dl, dr, dl.summary.period_px, o2);
+    if (!fitted.summary.spheres.spheres.empty()) {
+      const SphereResult& b = fitted.summary.spheres.spheres[0];
+      std::vector<Eigen::Vector2f> px;
+      std::vector<double> z;
+      for (int i : b.inlier_indices) {
+        const Vec3 p = fitted.cloud.points_in_left[i].cast<double>();
+        px.push_back(fitted.cloud.left_pixels[i]);
+        z.push_back(((p - b.centre_mm).norm() - b.radius_mm) / fitted.cloud.sigma_mm[i]);
+      }
+      const NeighbourCorrelation nc =
+          EstimateNeighbourCorrelation(px, z, cv::Size(fitted.summary.width, fitted.summary.height));
+      std::printf("  residual correlation: rho(1,0) %.3f, rho(0,1) %.3f, factor %.3f (scan: %.3f)\n", nc.rho_right,
+                  nc.rho_down, nc.factor, b.correlation_factor);
+    }
+  }
   fit("scan defaults (fitted normal <= 60 deg)", def.sphere, res.cloud.points_in_left, res.cloud.sigma_mm);
   SphereFitOptions all = def.sphere;
   all.max_view_angle_deg = 0;
