@@ -32,10 +32,9 @@ TEST(ScanPipeline, BallCentreAndRadiusAgainstTheSimulatorTruth) {
   std::cout << r.summary.BriefReport() << "\ncentre error " << 1000 * err.transpose() << " um, radius error "
             << 1000 * radius_err << " um\n";
   // Issue 4's targets: 5 um. The fit leaves out the points seen beyond 60 deg (their depth is
-  // biased by the noise, docs/scan.md); what remains is a ~1.5 um bias along z (the sweep, 8
-  // poses x 50 seeds) and the noise, predicted sigma ~(0.5, 0.5, 1.5) um with the neighbour
-  // correlation included: 5 um is the bias plus 2.3 sigma along z. Without the viewing-angle cut
-  // this pose's error is 3-4.5 um along z for every seed tried.
+  // biased by the noise, docs/scan.md); at this pose what remains is a -1.1 um bias along z and
+  // a 1.4 um scatter (the sweep, 50 seeds; predicted 1.45 um): 5 um is the bias plus 2.8 sigma.
+  // Without the viewing-angle cut this pose's bias is -3.0 um along z.
   EXPECT_LT(err.norm(), 0.005);
   EXPECT_LT(std::abs(radius_err), 0.005);
   EXPECT_GT(ball.num_grazing, 3000);
