@@ -3,12 +3,17 @@
 //   vision_scan_bench speed [--preset small|thesis] [--repeat N]
 //       decode + match + triangulate + fit of one simulated stereo set, each stage's share, and
 //       OpenCV's cv::triangulatePoints on the same matches as a peer (ratio).
-//   vision_scan_bench accuracy [--poses P] [--seeds S]
+//   vision_scan_bench accuracy [--first-pose K] [--poses P] [--seeds S]
 //       thesis geometry (the small preset = 640x512 windows of the 3312x2488 cameras cropped
-//       around the ball, ~700 mm), the ball at P poses over the field, S noise seeds each: the
-//       noise-free radiance is rendered once per pose and only the sensor noise is redrawn per
-//       seed. Prints centre / radius errors against the truth and the predicted centre sigma
-//       against the observed scatter.
+//       around the ball, ~700 mm), the ball at P poses over the field (pose 0 = the bundled
+//       default pose), S noise seeds each: the noise-free radiance is rendered once per pose and
+//       only the sensor noise is redrawn per seed. Per scanned cloud: the scan's sphere, the same
+//       cloud fitted with every inlier (no viewing-angle cut), and PCL's RANSAC sphere
+//       (SACSegmentation, SACMODEL_SPHERE); centre / radius errors against the truth, predicted
+//       centre sigma against the observed scatter, fit time ratio against PCL.
+//   vision_scan_bench limb [--seed N] [--noise 0|1]
+//       the default pose: per-point error against the true sphere binned by viewing angle, and
+//       the fitted centre with and without the grazing points.
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -20,10 +25,12 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/fringe_simulator.h"
 #include "ramtk/vision/scan.h"
 #include "scan_sim.h"
+#include "sphere_pcl_peer.h"
 
 using namespace ramtk;
 using namespace ramtk::vision;
@@ -74,19 +81,15 @@ int Speed(const std::string& preset, int repeat) {
         s.width, s.height, s.triangulation.points, total, decode_s, 100 * decode_s / total, s.match_s,
         100 * s.match_s / total, s.triangulate_s, 100 * s.triangulate_s / total, s.fit_s, 100 * s.fit_s / total,
         s.BriefReport().c_str());
-    // Peer: cv::triangulatePoints (DLT on undistorted points) on the same matches.
-    std::vector<cv::Point2d> pl, pr;
+    // Peer: cv::undistortPoints + cv::triangulatePoints (DLT on undistorted points) on the same
+    // matches: the left pixels, and the right positions they matched (our points re-projected
+    // into the right camera: they lie on the matched positions to ~1e-9 px).
+    std::vector<cv::Point2d> pl, pr, ul, ur;
     for (std::size_t i = 0; i < res.cloud.size(); ++i) {
-      const int x = static_cast<int>(res.cloud.left_pixels[i].x()), y = static_cast<int>(res.cloud.left_pixels[i].y());
-      pl.emplace_back(x, y);
-      (void)y;
+      pl.emplace_back(res.cloud.left_pixels[i].x(), res.cloud.left_pixels[i].y());
+      const Vec2 q = ProjectPoint(calib.right, calib.right_from_left * res.cloud.points_in_left[i].cast<double>());
+      pr.emplace_back(q.x(), q.y());
     }
-    // Right positions: re-project our points (they lie on the matched right positions to ~1e-9 px).
-    for (std::size_t i = 0; i < res.cloud.size(); ++i) pr.emplace_back(0, 0);
-    t = Clock::now();
-    TriangulationSummary ts;
-    (void)ts;
-    std::vector<cv::Point2d> ul, ur;
     cv::Mat K1, K2, D1, D2;
     cv::eigen2cv(Eigen::Matrix3d(calib.left.K()), K1);
     cv::eigen2cv(Eigen::Matrix3d(calib.right.K()), K2);
@@ -94,11 +97,6 @@ int Speed(const std::string& preset, int repeat) {
           calib.left.distortion.p2, calib.left.distortion.k3);
     D2 = (cv::Mat_<double>(1, 5) << calib.right.distortion.k1, calib.right.distortion.k2, calib.right.distortion.p1,
           calib.right.distortion.p2, calib.right.distortion.k3);
-    for (std::size_t i = 0; i < res.cloud.size(); ++i) {
-      const Vec3 X = res.cloud.points_in_left[i].cast<double>();
-      const Vec2 q = ProjectPoint(calib.right, calib.right_from_left * X);
-      pr[i] = cv::Point2d(q.x(), q.y());
-    }
     t = Clock::now();
     cv::undistortPoints(pl, ul, K1, D1);
     cv::undistortPoints(pr, ur, K2, D2);
@@ -125,65 +123,231 @@ int Speed(const std::string& preset, int repeat) {
   return 0;
 }
 
-int Accuracy(int poses, int seeds) {
-  std::vector<double> e2, rad, ratio;
+// Running statistics of one method over the seeds of one pose and over the whole sweep.
+struct MethodStats {
+  std::vector<Vec3> centres;
+  std::vector<double> e2_all, radius_all;  // over all poses
+  Vec3 sigma_pred = Vec3::Zero(), sigma_pred_raw = Vec3::Zero();
+  double radius_sum = 0, seconds = 0;
+  int misses = 0;
+  std::vector<double> ratio, ratio_raw;  // predicted / observed sigma per axis and pose
   double max_bias = 0;
-  for (int p = 0; p < poses; ++p) {
-    // Poses over the field: a 5 x 4 grid in x, y (+-40, +-30 mm) with z alternating 680 / 720 mm.
-    const int ix = p % 5, iy = (p / 5) % 4;
-    const Vec3 ball(poses == 1 ? 0 : -40 + 20 * ix, poses == 1 ? 0 : -30 + 20 * iy, p % 2 ? 720 : 680);
+
+  void Add(const Vec3& centre, double radius, const Vec3& sigma, double correlation_factor, const Vec3& ball) {
+    centres.push_back(centre);
+    e2_all.push_back((centre - ball).squaredNorm());
+    radius_all.push_back(radius - 19.05);
+    radius_sum += radius - 19.05;
+    sigma_pred += sigma;
+    sigma_pred_raw += sigma / std::sqrt(correlation_factor);
+  }
+  // Prints the pose line and resets the per-pose part.
+  void EndPose(const char* name, const Vec3& ball) {
+    const double n = static_cast<double>(centres.size());
+    if (n < 2) {
+      std::printf("  %-22s %zu scans\n", name, centres.size());
+      centres.clear();
+      return;
+    }
+    Vec3 mean = Vec3::Zero(), sd = Vec3::Zero();
+    for (const Vec3& x : centres) mean += x / n;
+    for (const Vec3& x : centres) sd += (x - mean).cwiseAbs2() / (n - 1);
+    sd = sd.cwiseSqrt();
+    const Vec3 bias = mean - ball, pred = sigma_pred / n, raw = sigma_pred_raw / n;
+    max_bias = std::max(max_bias, bias.norm());
+    std::printf("  %-22s bias (%+.2f, %+.2f, %+.2f) um, scatter (%.2f, %.2f, %.2f) um, radius %+.2f um", name,
+                1000 * bias.x(), 1000 * bias.y(), 1000 * bias.z(), 1000 * sd.x(), 1000 * sd.y(), 1000 * sd.z(),
+                1000 * radius_sum / n);
+    if (pred.norm() > 0) {
+      std::printf(", predicted sigma (%.2f, %.2f, %.2f) um [independent points (%.2f, %.2f, %.2f)]", 1000 * pred.x(),
+                  1000 * pred.y(), 1000 * pred.z(), 1000 * raw.x(), 1000 * raw.y(), 1000 * raw.z());
+      for (int k = 0; k < 3; ++k) ratio.push_back(pred[k] / sd[k]), ratio_raw.push_back(raw[k] / sd[k]);
+    }
+    std::printf("\n");
+    centres.clear();
+    sigma_pred = sigma_pred_raw = Vec3::Zero();
+    radius_sum = 0;
+  }
+  void Summary(const char* name) {
+    double se = 0, sr = 0;
+    for (double x : e2_all) se += x;
+    for (double x : radius_all) sr += x;
+    const double n = std::max<double>(1, e2_all.size());
+    std::printf(
+        "%-22s %zu scans (%d without a sphere): centre error RMS %.2f um (largest pose bias %.2f um), mean "
+        "radius error %+.2f um, %.3f s per fit",
+        name, e2_all.size(), misses, 1000 * std::sqrt(se / n), 1000 * max_bias, 1000 * sr / n, seconds / n);
+    auto range = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      std::printf(" median %.2f, range %.2f..%.2f", v[v.size() / 2], v.front(), v.back());
+    };
+    if (!ratio.empty()) {
+      std::printf("\n  predicted/observed centre sigma per axis:");
+      range(ratio);
+      std::printf("; without the correlation factor:");
+      range(ratio_raw);
+    }
+    std::printf("\n");
+  }
+};
+
+// Pose p of the sweep: p = 0 the bundled default pose (0, 0, 700); then a 5 x 4 grid over the
+// field (x -40..40, y -30..30 mm) with z alternating 680 / 720 mm.
+Vec3 SweepPose(int p) {
+  if (p == 0) return Vec3(0, 0, 700);
+  const int q = p - 1, ix = q % 5, iy = (q / 5) % 4;
+  return Vec3(-40 + 20 * ix, -30 + 20 * iy, q % 2 ? 720 : 680);
+}
+
+int Accuracy(int first_pose, int poses, int seeds) {
+  MethodStats ours, all_points, pcl;
+  for (int p = first_pose; p < first_pose + poses; ++p) {
+    const Vec3 ball = SweepPose(p);
     FringeSimulationConfig c = MakeFringePreset("small", ball);
     c.sensor.noise = false;
     const SimulatedCamera l0 = SimulateCamera(c, 0), r0 = SimulateCamera(c, 1);
     c.sensor.noise = true;
     const StereoCalibration calib = WrittenCalibration(c);
-    std::vector<Vec3> centres;
-    Vec3 sigma_pred = Vec3::Zero();
-    double rad_mean = 0;
     for (int s = 0; s < seeds; ++s) {
       c.seed = 1000 + s;
       const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
       const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
-      const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, ScanOptions{});
+      const ScanOptions options;
+      const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
       if (res.summary.spheres.spheres.empty()) {
         std::printf("pose %d seed %d: %s\n", p, s, res.summary.BriefReport().c_str());
-        continue;
+        ++ours.misses;
+      } else {
+        const SphereResult& b = res.summary.spheres.spheres[0];
+        ours.Add(b.centre_mm, b.radius_mm, b.CentreSigma(), b.correlation_factor, ball);
+        ours.seconds += res.summary.fit_s;
       }
-      const SphereResult& b = res.summary.spheres.spheres[0];
-      const Vec3 e = b.centre_mm - ball;
-      centres.push_back(b.centre_mm);
-      e2.push_back(e.squaredNorm());
-      rad.push_back(b.radius_mm - 19.05);
-      rad_mean += rad.back() / seeds;
-      sigma_pred += b.CentreSigma() / seeds;
+      // The same cloud fitted with every inlier (no viewing-angle cut, independent-point sigma).
+      SphereFitOptions so = options.sphere;
+      so.max_view_angle_deg = 0;
+      auto t = Clock::now();
+      const SphereFitSummary fa = FindSpheres(res.cloud.points_in_left, res.cloud.sigma_mm, so);
+      all_points.seconds += Since(t);
+      if (fa.spheres.empty())
+        ++all_points.misses;
+      else
+        all_points.Add(fa.spheres[0].centre_mm, fa.spheres[0].radius_mm, fa.spheres[0].CentreSigma(), 1.0, ball);
+      // Peer: PCL's RANSAC sphere (SACSegmentation, SACMODEL_SPHERE, optimised coefficients) on
+      // the same scanned cloud, band 0.1 mm (3x the points' noise along the normal), radius prior +-2 mm.
+      t = Clock::now();
+      const test::PclSphere ps = test::PclFitSphere(test::ToPcl(res.cloud.points_in_left), 0.1, 17.05, 21.05);
+      pcl.seconds += Since(t);
+      if (!ps.found)
+        ++pcl.misses;
+      else
+        pcl.Add(ps.centre, ps.radius, Vec3::Zero(), 1.0, ball);
     }
-    Vec3 mean = Vec3::Zero();
-    for (const Vec3& x : centres) mean += x / centres.size();
-    Vec3 sd = Vec3::Zero();
-    for (const Vec3& x : centres) sd += (x - mean).cwiseAbs2() / std::max<std::size_t>(1, centres.size() - 1);
-    sd = sd.cwiseSqrt();
-    const Vec3 bias = mean - ball;
-    max_bias = std::max(max_bias, bias.norm());
-    for (int k = 0; k < 3; ++k) ratio.push_back(sigma_pred[k] / sd[k]);
-    std::printf(
-        "pose %2d ball (%.0f, %.0f, %.0f): bias (%+.2f, %+.2f, %+.2f) um, scatter (%.2f, %.2f, %.2f) um, "
-        "predicted sigma (%.2f, %.2f, %.2f) um, radius error %+.2f um\n",
-        p, ball.x(), ball.y(), ball.z(), 1000 * bias.x(), 1000 * bias.y(), 1000 * bias.z(), 1000 * sd.x(),
-        1000 * sd.y(), 1000 * sd.z(), 1000 * sigma_pred.x(), 1000 * sigma_pred.y(), 1000 * sigma_pred.z(),
-        1000 * rad_mean);
+    std::printf("pose %2d ball (%.0f, %.0f, %.0f), %d seeds:\n", p, ball.x(), ball.y(), ball.z(), seeds);
+    ours.EndPose("ramtk (scan defaults)", ball);
+    all_points.EndPose("ramtk, all inliers", ball);
+    pcl.EndPose("PCL RANSAC sphere", ball);
     std::fflush(stdout);
   }
-  double se = 0, sr = 0;
-  for (double x : e2) se += x;
-  for (double x : rad) sr += x;
-  std::sort(ratio.begin(), ratio.end());
-  std::printf(
-      "summary: %zu scans; centre error RMS %.2f um (largest pose bias %.2f um); mean radius error %+.2f um; "
-      "predicted/observed centre sigma per axis: median %.2f, range %.2f..%.2f\n",
-      e2.size(), 1000 * std::sqrt(se / std::max<std::size_t>(1, e2.size())), 1000 * max_bias,
-      1000 * sr / std::max<std::size_t>(1, rad.size()), ratio.empty() ? 0 : ratio[ratio.size() / 2],
-      ratio.empty() ? 0 : ratio.front(), ratio.empty() ? 0 : ratio.back());
-  return e2.empty() ? 1 : 0;
+  std::printf("summary over %d poses x %d seeds:\n", poses, seeds);
+  ours.Summary("ramtk (scan defaults)");
+  all_points.Summary("ramtk, all inliers");
+  pcl.Summary("PCL RANSAC sphere");
+  std::printf("fit time ratio ramtk / PCL: %.2f\n", ours.seconds / std::max(1e-9, pcl.seconds));
+  return ours.e2_all.empty() ? 1 : 0;
+}
+
+// Per-point error against the true sphere binned by the viewing angle (between the left
+// camera's line of sight and the true surface normal): where the fitted centre's bias comes from.
+int Limb(const Vec3& ball, int seed, bool noise) {
+  FringeSimulationConfig c = MakeFringePreset("small", ball);
+  c.seed = seed;
+  c.sensor.noise = noise;
+  const SimulatedCamera l = SimulateCamera(c, 0), r = SimulateCamera(c, 1);
+  const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
+  ScanOptions o;
+  o.fit_spheres = false;
+  const ScanResult res = ScanDecoded(WrittenCalibration(c), dl, dr, dl.summary.period_px, o);
+  const Sphere& truth = c.scene.spheres[0];
+  constexpr int kBins = 9;  // 10 degree bins
+  double n[kBins] = {}, sum[kBins] = {}, sum2[kBins] = {}, sum_sigma[kBins] = {}, sw[kBins] = {}, swe[kBins] = {},
+         sr[kBins] = {};
+  for (std::size_t i = 0; i < res.cloud.size(); ++i) {
+    const Vec3 p = res.cloud.points_in_left[i].cast<double>();
+    const Vec3 normal = (p - truth.centre_in_left).normalized();
+    const double e = (p - truth.centre_in_left).norm() - truth.radius;
+    if (std::abs(e) > 0.5) continue;  // backdrop
+    const double cos_view = std::clamp(-normal.dot(p.normalized()), -1.0, 1.0);
+    const int b = std::min(kBins - 1, static_cast<int>(std::acos(cos_view) * 180 / M_PI / 10));
+    n[b] += 1;
+    sum[b] += e;
+    sum2[b] += e * e;
+    sum_sigma[b] += res.cloud.sigma_mm[i] * std::abs(cos_view);  // sigma along the normal (approx.)
+    const double sn = res.cloud.sigma_mm[i] * std::sqrt(cos_view * cos_view + 4e-4 * (1 - cos_view * cos_view));
+    sw[b] += 1 / (sn * sn);
+    swe[b] += e / (sn * sn);
+    sr[b] += e / std::max(0.01, cos_view);
+  }
+  std::printf("ball (%.0f, %.0f, %.0f), seed %d: error along the true normal by viewing angle\n", ball.x(), ball.y(),
+              ball.z(), seed);
+  for (int b = 0; b < kBins; ++b)
+    if (n[b] > 0)
+      std::printf(
+          "  %2d-%2d deg: %6.0f points, mean %+7.2f um (fit-weighted %+7.2f, along the ray %+7.2f), rms %6.2f um, "
+          "mean sigma_n %6.2f um\n",
+          10 * b, 10 * b + 10, n[b], 1000 * sum[b] / n[b], 1000 * swe[b] / sw[b], 1000 * sr[b] / n[b],
+          1000 * std::sqrt(sum2[b] / n[b]), 1000 * sum_sigma[b] / n[b]);
+  auto fit = [&](const char* what, const SphereFitOptions& so, const std::vector<Eigen::Vector3f>& pts,
+                 const std::vector<float>& sig) {
+    const SphereFitSummary f = FindSpheres(pts, sig, so);
+    if (f.spheres.empty()) return;
+    const SphereResult& b = f.spheres[0];
+    const Vec3 e = 1000 * (b.centre_mm - truth.centre_in_left);
+    std::printf("  %-40s centre error (%+.2f, %+.2f, %+.2f) um, radius %+.2f um, %d points, vf %.2f\n", what, e.x(),
+                e.y(), e.z(), 1000 * (b.radius_mm - truth.radius), b.num_points, b.variance_factor);
+  };
+  const ScanOptions def;
+  {
+    // The neighbour correlation of the scan's fit residuals (what the scan inflates sigma by).
+    ScanOptions o2;
+    const ScanResult fitted = ScanDecoded(WrittenCalibration(c), dl, dr, dl.summary.period_px, o2);
+    if (!fitted.summary.spheres.spheres.empty()) {
+      const SphereResult& b = fitted.summary.spheres.spheres[0];
+      std::vector<Eigen::Vector2f> px;
+      std::vector<double> z;
+      for (int i : b.inlier_indices) {
+        const Vec3 p = fitted.cloud.points_in_left[i].cast<double>();
+        px.push_back(fitted.cloud.left_pixels[i]);
+        z.push_back(((p - b.centre_mm).norm() - b.radius_mm) / fitted.cloud.sigma_mm[i]);
+      }
+      const NeighbourCorrelation nc =
+          EstimateNeighbourCorrelation(px, z, cv::Size(fitted.summary.width, fitted.summary.height));
+      std::printf("  residual correlation: rho(1,0) %.3f, rho(0,1) %.3f, factor %.3f (scan: %.3f)\n", nc.rho_right,
+                  nc.rho_down, nc.factor, b.correlation_factor);
+    }
+  }
+  fit("scan defaults (fitted normal <= 60 deg)", def.sphere, res.cloud.points_in_left, res.cloud.sigma_mm);
+  SphereFitOptions all = def.sphere;
+  all.max_view_angle_deg = 0;
+  fit("all inliers", all, res.cloud.points_in_left, res.cloud.sigma_mm);
+  SphereFitOptions iso = all;
+  iso.noise_model = PointNoiseModel::kIsotropic;
+  fit("all inliers, unweighted", iso, res.cloud.points_in_left, {});
+  // Cuts by the true viewing angle.
+  for (double max_deg : {80.0, 70.0, 50.0}) {
+    std::vector<Eigen::Vector3f> pts;
+    std::vector<float> sig;
+    for (std::size_t i = 0; i < res.cloud.size(); ++i) {
+      const Vec3 p = res.cloud.points_in_left[i].cast<double>();
+      const Vec3 normal = (p - truth.centre_in_left).normalized();
+      if ((p - truth.centre_in_left).norm() - truth.radius < 0.5 &&
+          std::acos(std::clamp(-normal.dot(p.normalized()), -1.0, 1.0)) * 180 / M_PI > max_deg)
+        continue;
+      pts.push_back(res.cloud.points_in_left[i]);
+      sig.push_back(res.cloud.sigma_mm[i]);
+    }
+    fit(("true viewing angle <= " + std::to_string(static_cast<int>(max_deg)) + " deg").c_str(), all, pts, sig);
+  }
+  return 0;
 }
 
 }  // namespace
@@ -191,7 +355,12 @@ int Accuracy(int poses, int seeds) {
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
   if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
-  if (mode == "accuracy") return Accuracy(Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
-  std::fprintf(stderr, "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--poses P] [--seeds S]\n");
+  if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
+  if (mode == "accuracy")
+    return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
+  std::fprintf(
+      stderr,
+      "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] | "
+      "limb [--seed N] [--noise 0|1]\n");
   return 2;
 }

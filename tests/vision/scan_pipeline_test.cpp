@@ -31,12 +31,15 @@ TEST(ScanPipeline, BallCentreAndRadiusAgainstTheSimulatorTruth) {
   RecordProperty("radius_error_um", std::to_string(1000 * radius_err));
   std::cout << r.summary.BriefReport() << "\ncentre error " << 1000 * err.transpose() << " um, radius error "
             << 1000 * radius_err << " um\n";
-  // Issue 4's targets are 5 um (thesis geometry, bench/vision_scan_accuracy); the noise part here
-  // is < 1 um (predicted sigma), the rest is the finite-pixel bias of the limb documented in
-  // docs/scan.md (about -4 um along z). Fail well before a gross error (a period, a pixel ~150 um).
-  EXPECT_LT(err.norm(), 0.010);
-  EXPECT_LT(std::abs(radius_err), 0.010);
-  EXPECT_GT(ball.num_points, 30000);
+  // Issue 4's targets: 5 um. The fit leaves out the points seen beyond 60 deg (their depth is
+  // biased by the noise, docs/scan.md); at this pose what remains is a -1.1 um bias along z and
+  // a 1.4 um scatter (the sweep, 50 seeds; predicted 1.45 um): 5 um is the bias plus 2.8 sigma.
+  // Without the viewing-angle cut this pose's bias is -3.0 um along z.
+  EXPECT_LT(err.norm(), 0.005);
+  EXPECT_LT(std::abs(radius_err), 0.005);
+  EXPECT_GT(ball.num_grazing, 3000);
+  EXPECT_GT(ball.correlation_factor, 1.0);  // neighbouring pixels' noise is positively correlated
+  EXPECT_GT(ball.num_points, 25000);
   EXPECT_NEAR(ball.variance_factor, 1.0, 0.5);  // the points' sigma explains their scatter
 }
 

@@ -3,6 +3,8 @@
 # `ramtk scan` on the command line.
 find_package(PCL 1.13 REQUIRED COMPONENTS common io)
 ramtk_add_gtest(vision_scan_tests
+  scan_ballbar_test.cpp
+  scan_correlation_test.cpp
   scan_match_test.cpp
   scan_ply_test.cpp
   scan_pipeline_test.cpp)
@@ -17,7 +19,7 @@ file(MAKE_DIRECTORY ${SCAN_CLI})
 set(SCAN_DEFAULT ${PROJECT_SOURCE_DIR}/datasets/scan_default)
 ramtk_cli_test(scan_default 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/default --force
-  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
+  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
 # A calibration for 1280x1024 images beside the 640x512 set.
 file(READ ${SCAN_DEFAULT}/calibration.yml SCAN_CALIB)
 string(REPLACE "image_size: [ 640, 512 ]" "image_size: [ 1280, 1024 ]" SCAN_CALIB_BIG "${SCAN_CALIB}")
@@ -42,4 +44,4 @@ ramtk_cli_test(scan_missing_set 1
 file(WRITE ${SCAN_CLI}/batch.txt "# sets\n${SCAN_DEFAULT}/manifest.json\n${SCAN_DEFAULT}/manifest.json\nmissing/manifest.json\n")
 ramtk_cli_test(scan_batch 1
   ARGS scan --batch ${SCAN_CLI}/batch.txt --out ${SCAN_CLI}/batch --force -q
-  STDOUT "set,status,points,x_mm.*scan_default/manifest.json,ok,[0-9]+,0\\.00.*missing/manifest.json,error.*scanned 3 sets: 2 ok, 0 without a sphere, 1 with errors")
+  STDOUT "set,status,points,x_mm.*scan_default/manifest.json,ok,[0-9]+,-?0\\.00.*missing/manifest.json,error.*scanned 3 sets: 2 ok, 0 without a sphere, 1 with errors")

@@ -152,6 +152,45 @@ TEST(FindSpheres, BallBarCentreDistance) {
     for (int i : r.inlier_indices) EXPECT_EQ(seen[i]++, 0);
 }
 
+// Points of a sphere seen from the origin on a grid of viewing angles; those beyond 60 deg are
+// pushed 50 um inward (a grazing-angle depth bias). With max_view_angle_deg = 60 they leave the
+// final fit, which is then exact; without it the centre moves along the line of sight.
+TEST(FindSpheres, ViewAngleCutDropsGrazingPoints) {
+  const Eigen::Vector3d centre(3, -2, 700);
+  const double radius = 19.05;
+  std::vector<Eigen::Vector3f> points;
+  int beyond = 0;
+  const Eigen::Vector3d to_camera = -centre.normalized();
+  const Eigen::Vector3d e1 = to_camera.cross(Eigen::Vector3d::UnitX()).normalized(), e2 = to_camera.cross(e1);
+  for (int i = 0; i < 40; ++i)      // polar angle from the direction to the camera, 1..79 deg
+    for (int k = 0; k < 72; ++k) {  // azimuth
+      const double polar = (1 + 2 * i) * M_PI / 180, azimuth = k * 5 * M_PI / 180;
+      const Eigen::Vector3d n =
+          std::cos(polar) * to_camera + std::sin(polar) * (std::cos(azimuth) * e1 + std::sin(azimuth) * e2);
+      Eigen::Vector3d p = centre + radius * n;
+      const double view = std::acos(-n.dot(p.normalized())) * 180 / M_PI;
+      // Stay clear of the threshold, where float rounding decides.
+      if (std::abs(view - 60) < 0.5) continue;
+      if (view > 60) p -= 0.05 * n, ++beyond;
+      points.push_back(p.cast<float>());
+    }
+  SphereFitOptions o;
+  o.radius_mm = radius;
+  o.inlier_threshold_mm = 0.2;
+  o.loss = SphereLoss::kNone;
+  o.max_view_angle_deg = 60;
+  const SphereFitSummary cut = FindSpheres(points, {}, o);
+  ASSERT_EQ(cut.spheres.size(), 1u);
+  EXPECT_EQ(cut.spheres[0].num_grazing, beyond);
+  EXPECT_LT((cut.spheres[0].centre_mm - centre).norm(), 1e-5);  // float storage of the points
+  EXPECT_NEAR(cut.spheres[0].radius_mm, radius, 1e-5);
+  o.max_view_angle_deg = 0;
+  const SphereFitSummary all = FindSpheres(points, {}, o);
+  ASSERT_EQ(all.spheres.size(), 1u);
+  EXPECT_EQ(all.spheres[0].num_grazing, 0);
+  EXPECT_GT((all.spheres[0].centre_mm - centre).norm(), 0.005);
+}
+
 TEST(FindSpheres, PlaneAndClutterAloneIsNoSphere) {
   CapScene scene;
   SynthCloud cloud;

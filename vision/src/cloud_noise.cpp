@@ -4,6 +4,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "ramtk/core/error.h"
@@ -65,6 +67,60 @@ LocalFitNoise MeasureLocalFitNoise(const PointCloud& cloud, cv::Size size, int w
   out.median_rms_mm = Median(observed);
   out.median_predicted_mm = Median(predicted);
   out.ratio = Median(ratio);
+  return out;
+}
+
+}  // namespace ramtk::vision
+
+namespace ramtk::vision {
+
+NeighbourCorrelation EstimateNeighbourCorrelation(const std::vector<Eigen::Vector2f>& pixels,
+                                                  const std::vector<double>& normalised_residuals, cv::Size image_size,
+                                                  int max_lag) {
+  if (pixels.size() != normalised_residuals.size())
+    throw InputError({"", 0, "normalised_residuals"}, "has " + std::to_string(normalised_residuals.size()) +
+                                                          " values for " + std::to_string(pixels.size()) + " pixels");
+  if (max_lag < 1) throw InputError({"", 0, "max_lag"}, "must be >= 1");
+  NeighbourCorrelation out;
+  if (pixels.empty()) return out;
+  // Residuals on the pixel grid (NaN = no point), centred on their mean.
+  double mean = 0;
+  for (double z : normalised_residuals) mean += z / static_cast<double>(normalised_residuals.size());
+  cv::Mat grid(image_size, CV_64F, cv::Scalar(std::numeric_limits<double>::quiet_NaN()));
+  for (std::size_t i = 0; i < pixels.size(); ++i) {
+    const int x = static_cast<int>(std::lround(pixels[i].x())), y = static_cast<int>(std::lround(pixels[i].y()));
+    if (x < 0 || y < 0 || x >= image_size.width || y >= image_size.height) continue;
+    grid.at<double>(y, x) = normalised_residuals[i] - mean;
+  }
+  double variance = 0;
+  long count = 0;
+  for (int y = 0; y < grid.rows; ++y)
+    for (int x = 0; x < grid.cols; ++x) {
+      const double z = grid.at<double>(y, x);
+      if (std::isfinite(z)) variance += z * z, ++count;
+    }
+  if (count < 2 || !(variance > 0)) return out;
+  variance /= static_cast<double>(count);
+  // Half of the lag window (dv > 0, or dv == 0 and du > 0); rho(-lag) = rho(lag).
+  double sum_rho = 0;
+  for (int dv = 0; dv <= max_lag; ++dv)
+    for (int du = -max_lag; du <= max_lag; ++du) {
+      if (dv == 0 && du <= 0) continue;
+      double cross = 0;
+      long n = 0;
+      for (int y = 0; y + dv < grid.rows; ++y)
+        for (int x = std::max(0, -du); x < grid.cols && x + du < grid.cols; ++x) {
+          const double a = grid.at<double>(y, x), b = grid.at<double>(y + dv, x + du);
+          if (std::isfinite(a) && std::isfinite(b)) cross += a * b, ++n;
+        }
+      if (n == 0) continue;
+      const double rho = cross / static_cast<double>(n) / variance;
+      sum_rho += 2 * rho;
+      out.pairs += n;
+      if (dv == 0 && du == 1) out.rho_right = rho;
+      if (dv == 1 && du == 0) out.rho_down = rho;
+    }
+  out.factor = std::max(0.25, 1 + sum_rho);
   return out;
 }
 

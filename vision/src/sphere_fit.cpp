@@ -92,6 +92,8 @@ void SphereFitOptions::Validate() const {
   Require(viewpoint_mm.allFinite(), "viewpoint_mm", "must be finite");
   Require(std::isfinite(perpendicular_sigma_ratio) && perpendicular_sigma_ratio > 0 && perpendicular_sigma_ratio <= 1,
           "perpendicular_sigma_ratio", "must be in (0, 1]");
+  Require(std::isfinite(max_view_angle_deg) && max_view_angle_deg >= 0 && max_view_angle_deg <= 90,
+          "max_view_angle_deg", "must be in [0, 90] (0 = off)");
   Require(max_robust_points >= 100, "max_robust_points", "must be >= 100");
   Require(max_solver_iterations >= 1, "max_solver_iterations", "must be >= 1");
 }
@@ -198,6 +200,27 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
                                  " points, fewer than min_points " + std::to_string(options.min_points);
       break;
     }
+    // Grazing points (seen nearly edge-on from the viewpoint) stay out of the final fit; they
+    // still belong to this sphere (removed from the search for the next one).
+    const std::vector<int> classified = inliers;
+    int grazing = 0;
+    if (options.max_view_angle_deg > 0) {
+      const double min_cos = std::cos(options.max_view_angle_deg * M_PI / 180.0);
+      std::vector<int> kept;
+      for (int i : inliers) {
+        const Eigen::Vector3d sight = (points[i] - options.viewpoint_mm).normalized();
+        const Eigen::Vector3d normal = (points[i] - rough.centre).normalized();
+        if (-sight.dot(normal) >= min_cos) kept.push_back(i);
+      }
+      grazing = static_cast<int>(inliers.size() - kept.size());
+      if (static_cast<int>(kept.size()) < options.min_points) {
+        summary.no_sphere_reason = "only " + std::to_string(kept.size()) + " of the sphere's points are seen within " +
+                                   Format("%.0f", options.max_view_angle_deg) +
+                                   " deg of the normal, fewer than min_points " + std::to_string(options.min_points);
+        break;
+      }
+      inliers.swap(kept);
+    }
     // Final: weighted least squares on the inliers.
     const GeometricFit fit =
         sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius, options.fix_radius,
@@ -210,7 +233,8 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     result.centre_mm = fit.centre;
     result.radius_mm = fit.radius;
     result.num_points = static_cast<int>(inliers.size());
-    result.num_outliers = static_cast<int>(near.size() - inliers.size());
+    result.num_outliers = static_cast<int>(near.size() - classified.size());
+    result.num_grazing = grazing;
     result.robust_scale = scale;
     result.ransac_iterations = candidate.iterations;
     result.solver_iterations = fit.iterations;
@@ -243,7 +267,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     result.inlier_indices = inliers;
     // Remove this sphere's inliers and look for the next.
     std::vector<char> used(points.size(), 0);
-    for (int i : inliers) used[i] = 1;
+    for (int i : classified) used[i] = 1;
     active.erase(std::remove_if(active.begin(), active.end(), [&](int i) { return used[i] != 0; }), active.end());
     summary.spheres.push_back(std::move(result));
     if (options.progress &&

@@ -37,6 +37,8 @@ std::string SphereFitToJson(const SphereFitSummary& summary, const std::string& 
     o["worst_mm"] = s.worst_mm;
     o["num_points"] = s.num_points;
     o["num_outliers"] = s.num_outliers;
+    o["num_grazing"] = s.num_grazing;
+    o["correlation_factor"] = s.correlation_factor;
     o["variance_factor"] = s.variance_factor;
     o["solver_iterations"] = s.solver_iterations;
     o["ransac_iterations"] = s.ransac_iterations;

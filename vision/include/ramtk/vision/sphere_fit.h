@@ -72,6 +72,14 @@ struct SphereFitOptions {
   // midpoint of the stereo baseline, and the across-sight/along-sight sigma ratio.
   Eigen::Vector3d viewpoint_mm = Eigen::Vector3d::Zero();
   double perpendicular_sigma_ratio = 0.25;
+  // Drop points seen at a grazing angle from the final fit: the angle between the line of sight
+  // from viewpoint_mm and the fitted surface normal (evaluated at the robust solution) must not
+  // exceed this (degrees); 0 = keep every inlier. For triangulated points: near the limb the
+  // depth along the ray comes from inverting a strongly curved phase map, and the noise biases it
+  // to second order (points land ~4 um too deep at 70-90 deg on the simulated ball, 0 without
+  // noise); their weight in a free-radius fit pulls the centre along the line of sight
+  // (docs/scan.md). The dropped points are counted in SphereResult::num_grazing.
+  double max_view_angle_deg = 0;
   // Scale the centre covariance by the a-posteriori variance factor (chi^2 / (n - p)). Keep it on:
   // the per-point sigmas from phase noise leave out other errors (calibration, surface finish),
   // and with thousands of points the factor is known to a few percent. Without sigmas the
@@ -96,12 +104,17 @@ struct SphereResult {
   // Centre covariance (mm^2) from the weighted Jacobian at the solution, (J^T W J)^-1, scaled by
   // variance_factor when SphereFitOptions::scale_covariance (see there).
   Eigen::Matrix3d centre_covariance_mm2 = Eigen::Matrix3d::Zero();
-  double rms_mm = 0;                        // RMS of the inliers' distances to the fitted surface
-  double worst_mm = 0;                      // largest |distance| among the inliers
-  int num_points = 0;                       // inliers used in the final fit
-  int num_outliers = 0;                     // candidate points near the sphere rejected by the robust fit
-  double variance_factor = 1;               // chi^2 / (n - p) of the final fit (1 = sigmas honest)
-  double robust_scale = 1;                  // MAD scale of the normalised residuals before the final fit
+  double rms_mm = 0;           // RMS of the inliers' distances to the fitted surface
+  double worst_mm = 0;         // largest |distance| among the inliers
+  int num_points = 0;          // inliers used in the final fit
+  int num_outliers = 0;        // candidate points near the sphere rejected by the robust fit
+  int num_grazing = 0;         // inliers left out of the final fit by max_view_angle_deg
+  double variance_factor = 1;  // chi^2 / (n - p) of the final fit (1 = sigmas honest)
+  double robust_scale = 1;     // MAD scale of the normalised residuals before the final fit
+  // Variance inflation for noise correlated between neighbouring points, already applied to
+  // centre_covariance_mm2 and radius_sigma_mm. FindSpheres treats points as independent (1); a
+  // caller that knows the points' pixel grid sets it (the scan: NeighbourCorrelationFactor).
+  double correlation_factor = 1;
   int ransac_iterations = 0;                // samples drawn to find this sphere
   int solver_iterations = 0;                // Ceres iterations of the final fit
   double initial_cost = 0, final_cost = 0;  // Ceres costs (0.5 sum z^2) of the final fit
