@@ -21,32 +21,11 @@ struct StereoSession {
 };
 
 StereoSession RenderStereo(const BoardSpec& board, int count, unsigned seed, double noise) {
-  const PinholeCamera cl = TruthCamera(false), cr = TruthCamera(true);
-  cv::Matx33d r_rl;
-  cv::Vec3d t_rl;
-  TruthStereo(&r_rl, &t_rl);
   BoardRenderOptions ro;
   ro.noise_sigma = noise;
-  const BoardRenderer rl(board, cl, ro), rr(board, cr, ro);
-  std::vector<cv::Vec3d> rvecs, tvecs;
-  RandomBoardPoses(board, cl, count, seed, &rvecs, &tvecs, &cr, &r_rl, &t_rl);
-  StereoSession s;
-  for (int v = 0; v < count; ++v) {
-    cv::Matx33d r;
-    cv::Rodrigues(rvecs[v], r);
-    cv::Vec3d rv_right;
-    cv::Rodrigues(r_rl * r, rv_right);
-    const BoardDetection dl = DetectBoard(rl.Render(rvecs[v], tvecs[v], 2 * v), board);
-    const BoardDetection dr = DetectBoard(rr.Render(rv_right, r_rl * tvecs[v] + t_rl, 2 * v + 1), board);
-    ViewPoints a, b;
-    a.name = "left" + std::to_string(v);
-    b.name = "right" + std::to_string(v);
-    if (dl.found) a.image_points = dl.image_points, a.object_points = dl.object_points, a.ids = dl.ids;
-    if (dr.found) b.image_points = dr.image_points, b.object_points = dr.object_points, b.ids = dr.ids;
-    s.left.push_back(a);
-    s.right.push_back(b);
-  }
-  return s;
+  const BoardRenderer rl(board, TruthCamera(false), ro), rr(board, TruthCamera(true), ro);
+  const testing::StereoImages images = testing::RenderStereoImages(board, rl, rr, count, seed, 0);
+  return {testing::DetectViews(images.left, board, {}, "left"), testing::DetectViews(images.right, board, {}, "right")};
 }
 
 TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
