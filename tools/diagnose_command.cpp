@@ -49,10 +49,13 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_option("data", options->data,
                   "Fringe manifest (.json), robot measurements CSV, laser log or sensor-frame points CSV")
       ->required();
-  sub->add_option("--model", options->model,
-                  "Current model: robot YAML, stereo calibration, sensor frame JSON (kind's default if empty)");
+  sub->add_option(
+      "--model", options->model,
+      "Current model. robot: robot YAML or kr150|bx200l|ur10 (default kr150); laser log: sensor frame JSON; "
+      "fringe: unused (the ideal fringe model)");
   sub->add_option("--with", options->with,
-                  "Further input the kind needs (motion JSON, thermal set-up JSON...); repeatable");
+                  "Further input, repeatable. robot: set-up JSON, monitoring CSV, thermal=traditional|none|<params>; "
+                  "laser log: motion JSON; fringe: camera=NAME (default left)");
   sub->add_option("--out", options->output_folder, "Folder for report.md, diagnosis.json and pictures");
   sub->add_option("--folds", options->folds, "Cross-validation folds")->capture_default_str();
   sub->add_option("--noise", options->noise,
