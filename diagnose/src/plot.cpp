@@ -20,6 +20,14 @@ std::string Tick(double v) {
   return out.str();
 }
 
+constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
+
+// Width in pixels of a one-line text at the given font scale.
+int TextWidth(const std::string& text, double scale) {
+  int baseline = 0;
+  return cv::getTextSize(text, kFont, scale, 1, &baseline).width;
+}
+
 cv::Scalar Bgr(const unsigned char rgb[3]) { return cv::Scalar(rgb[2], rgb[1], rgb[0]); }
 
 }  // namespace
@@ -42,11 +50,11 @@ void WritePlot(const std::vector<PlotSeries>& series, const PlotOptions& o, cons
   y0 -= pad_y, y1 += pad_y;
 
   cv::Mat img(o.height, o.width, CV_8UC3, cv::Scalar(255, 255, 255));
-  const int left = 90, right = 20, top = 40, bottom = 60;
+  const int left = 90, right = 20, top = 58, bottom = 60;
   const int w = o.width - left - right, h = o.height - top - bottom;
   auto px = [&](double x) { return left + static_cast<int>(std::lround((x - x0) / (x1 - x0) * w)); };
   auto py = [&](double y) { return top + h - static_cast<int>(std::lround((y - y0) / (y1 - y0) * h)); };
-  const auto font = cv::FONT_HERSHEY_SIMPLEX;
+  const auto font = kFont;
   const cv::Scalar grey(200, 200, 200), black(0, 0, 0);
 
   if (o.band > 0) {
@@ -63,6 +71,11 @@ void WritePlot(const std::vector<PlotSeries>& series, const PlotOptions& o, cons
   if (y0 < 0 && y1 > 0) cv::line(img, cv::Point(left, py(0)), cv::Point(left + w, py(0)), cv::Scalar(120, 120, 120), 1);
   cv::rectangle(img, cv::Point(left, top), cv::Point(left + w, top + h), black, 1);
 
+  // Legend box width from the widest label so it stays inside the frame.
+  int legend_width = 0;
+  for (const PlotSeries& s : series)
+    if (!s.label.empty()) legend_width = std::max(legend_width, TextWidth(s.label, 0.45));
+  const int legend_x = left + w - legend_width - 35;
   int legend_y = top + 18;
   for (const PlotSeries& s : series) {
     const cv::Scalar c = Bgr(s.rgb);
@@ -79,14 +92,18 @@ void WritePlot(const std::vector<PlotSeries>& series, const PlotOptions& o, cons
           cv::circle(img, cv::Point(px(s.x[i]), py(s.y[i])), 2, c, cv::FILLED, cv::LINE_AA);
     }
     if (!s.label.empty()) {
-      cv::line(img, cv::Point(left + w - 200, legend_y - 4), cv::Point(left + w - 180, legend_y - 4), c, 3);
-      cv::putText(img, s.label, cv::Point(left + w - 175, legend_y), font, 0.45, black, 1, cv::LINE_AA);
+      cv::line(img, cv::Point(legend_x, legend_y - 4), cv::Point(legend_x + 20, legend_y - 4), c, 3);
+      cv::putText(img, s.label, cv::Point(legend_x + 25, legend_y), font, 0.45, black, 1, cv::LINE_AA);
       legend_y += 18;
     }
   }
-  cv::putText(img, o.title, cv::Point(left, 25), font, 0.6, black, 1, cv::LINE_AA);
-  cv::putText(img, o.x_label, cv::Point(left + w / 2 - 60, o.height - 15), font, 0.5, black, 1, cv::LINE_AA);
+  // Title on the first line, the y-axis label on the second (never over each other); the x-axis
+  // label centred under the frame and kept inside the image.
+  cv::putText(img, o.title, cv::Point(left, 22), font, 0.6, black, 1, cv::LINE_AA);
   cv::putText(img, o.y_label, cv::Point(5, top - 10), font, 0.45, black, 1, cv::LINE_AA);
+  const int x_label_width = TextWidth(o.x_label, 0.5);
+  const int x_label_x = std::clamp(left + (w - x_label_width) / 2, 5, std::max(5, o.width - x_label_width - 5));
+  cv::putText(img, o.x_label, cv::Point(x_label_x, o.height - 15), font, 0.5, black, 1, cv::LINE_AA);
 
   std::vector<unsigned char> png;
   if (!cv::imencode(".png", img, png)) throw std::runtime_error("could not encode " + png_path);
