@@ -188,6 +188,7 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
 Diagnosis DiagnoseFringe(const DiagnoseOptions& options) {
   options.Validate();
   const vision::FringeManifest manifest = vision::ReadFringeManifest(options.data);
+  if (manifest.cameras.empty()) throw InputError({options.data, 0, "cameras"}, "the manifest lists no camera");
   std::string camera = manifest.cameras.count("left") ? "left" : manifest.cameras.begin()->first;
   for (const std::string& w : options.with)
     if (w.rfind("camera=", 0) == 0) camera = w.substr(7);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <string>
 
 #include "laser_fit.h"
 #include "ramtk/core/error.h"
@@ -144,6 +145,7 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   }
 
   // Starting tool: the TCF solver's (ideal settings); the programme's nominal tool if it fails.
+  std::string start_note;
   Eigen::VectorXd q0 = Eigen::VectorXd::Zero(kNumParams);
   q0(kBeta) = 90.0;
   q0(kTz) = 150.0;
@@ -153,10 +155,16 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
     so.timing_sigma_s = so.repeatability_sigma_mm = 0.0;
     const tcf::TcfSummary s = tcf::SolveTcf(events, motion, sensor, so, options.data);
     q0.head<3>() = s.solution.tcp_in_flange;
-    const Vec3 a = s.solution.axis_in_flange / s.solution.axis_in_flange.z();
-    q0(kAx) = a.x();
-    q0(kAy) = a.y();
-  } catch (const std::exception&) {
+    if (std::abs(s.solution.axis_in_flange.z()) > 0.1) {
+      const Vec3 a = s.solution.axis_in_flange / s.solution.axis_in_flange.z();
+      q0(kAx) = a.x();
+      q0(kAy) = a.y();
+    }
+  } catch (const InputError&) {
+    throw;  // bad files are the user's to fix, not a reason to guess a tool
+  } catch (const std::exception& e) {
+    start_note = std::string("the TCF solver did not give a starting tool (") + e.what() +
+                 "); the fit starts from the programme's nominal tool";
   }
   model.names = {"tcp_x_mm",   "tcp_y_mm",  "tcp_z_mm", "axis_x",     "axis_y",
                  "beta_deg",   "offset_mm", "width_mm", "latency_ms", "speed_error_percent",
@@ -212,6 +220,7 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   d.structure_p_value = *std::min_element(holm.begin(), holm.end());
   d.structure_found = d.structure_p_value < options.alpha;
   d.residual_rms = laser_detail::Rms(r0);
+  if (!start_note.empty()) d.findings.push_back(start_note);
   for (const TestResult& t : tests) d.findings.push_back(t.Describe());
   d.findings.push_back(
       "tool_axis_rotation not fitted: turning a rotationally symmetric tool about its own axis changes no event");

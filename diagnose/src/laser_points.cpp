@@ -34,13 +34,13 @@ struct Observation {
   double across = 0.0;    // the flange's base coordinate across the scan (fixes the beam point)
 };
 
-std::vector<Observation> Observations(const std::map<std::string, Vec3>& p) {
+std::vector<Observation> Observations(const std::map<std::string, Vec3>& p, const std::string& file) {
   std::vector<Observation> obs;
   for (const char point : std::string("ABCD")) {
     const std::string l(1, point);
     auto at = [&](int k) -> const Vec3& {
       auto it = p.find(l + std::to_string(k));
-      if (it == p.end()) throw InputError({"", 0, l + std::to_string(k)}, "calibration point missing");
+      if (it == p.end()) throw InputError({file, 0, l + std::to_string(k)}, "calibration point missing");
       return it->second;
     };
     const Vec3 scan = at(2) - at(1);
@@ -91,7 +91,7 @@ Eigen::VectorXd Predict(const std::vector<Observation>& obs, const Isometry3& fr
 }  // namespace
 
 Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base, const DiagnoseOptions& options) {
-  const std::vector<Observation> obs = Observations(flange_in_base);
+  const std::vector<Observation> obs = Observations(flange_in_base, options.data);
   const tcf::SensorFrame frame = tcf::CalibrateSensorFrame(tcf::BeamPointsFromFlangePositions(flange_in_base));
   Isometry3 frame0 = frame.base_from_lasersensor;
   Eigen::VectorXd values(obs.size());

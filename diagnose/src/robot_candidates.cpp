@@ -387,6 +387,7 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
     auto best_step = [&](const std::vector<char>& train, Fit* fit) {
       double best = INFINITY;
       int best_c = grid[0];
+      *fit = SolveDesign(rows, design_for(grid[0]), train, num_cycles);  // defined even if no step is finite
       for (int c : grid) {
         const Design d = design_for(c);
         const Fit f = SolveDesign(rows, d, train, num_cycles);

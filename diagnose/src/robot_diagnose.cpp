@@ -239,14 +239,15 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   } else {
     d.cause = kNoEffect;
     if (d.structure_found) {
+      // Structure that no catalogued extension explains: say so, with the variable that carries it.
       d.explaining_variable = ExplainingVariable(tests);
-      if (chosen.effect != kNoEffect) d.cause = kUnexplained;
+      d.cause = kUnexplained;
       d.findings.push_back("structure best explained by " + d.explaining_variable + " (largest χ² above its dof); " +
                            (chosen.effect == kNoEffect ? "no catalogued extension pays on held-out data"
                                                        : "'" + chosen.effect + "' removes only " +
                                                              Num(100 * d.excess_removed, 3) + "% of the excess"));
     }
-    if (d.cause == kNoEffect) {
+    if (d.cause != chosen.effect) {
       d.rms_after = d.rms_before;
       d.excess_removed = 0.0;
       d.confidence = none.weight;

@@ -30,11 +30,13 @@ std::string ResolveRobotModelPath(const std::string& name_or_path) {
   if (it == bundled.end() || std::filesystem::exists(name_or_path)) return name_or_path;
   std::vector<std::string> dirs;
   if (const char* env = std::getenv("RAMTK_ROBOTS_DIR")) dirs.push_back(env);
-#ifdef RAMTK_DIAGNOSE_ROBOTS_DIR
-  dirs.push_back(RAMTK_DIAGNOSE_ROBOTS_DIR);
-#endif
+    // Installed data first, so an installed ramtk never reads a developer's checkout; the source
+    // tree's datasets/robots last, for the build tree.
 #ifdef RAMTK_DIAGNOSE_INSTALLED_ROBOTS_DIR
   dirs.push_back(RAMTK_DIAGNOSE_INSTALLED_ROBOTS_DIR);
+#endif
+#ifdef RAMTK_DIAGNOSE_ROBOTS_DIR
+  dirs.push_back(RAMTK_DIAGNOSE_ROBOTS_DIR);
 #endif
   for (const std::string& d : dirs) {
     const std::filesystem::path p = std::filesystem::path(d) / it->second;

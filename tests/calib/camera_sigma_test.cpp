@@ -19,6 +19,7 @@ void CheckSessions(double noise, std::initializer_list<unsigned> seeds) {
   BoardRenderOptions ro;
   ro.noise_sigma = noise;
   const BoardRenderer rl(board, t::TruthCamera(false), ro), rr(board, t::TruthCamera(true), ro);
+  int beyond_three = 0;
   for (unsigned seed : seeds) {
     const t::StereoImages img = t::RenderStereoImages(board, rl, rr, 12, seed, 1000ULL * seed);
     const StereoCalibrationResult st =
@@ -31,17 +32,17 @@ void CheckSessions(double noise, std::initializer_list<unsigned> seeds) {
     for (int p = 0; p < t::kStereoParameters; ++p) {
       std::printf(" %s %+.2f", t::StereoParameterName(p), e[p] / s[p]);
       ASSERT_GT(s[p], 0.0) << t::StereoParameterName(p);
-      // One exception, seed 13's rig roll rz: 3.14σ at σ = 1 and 3.58σ at σ = 8 grey levels (the
-      // same poses, and the corner error is mostly the detector's geometry-fixed part, so the two
-      // are one draw). Among the 66 values of a noise level, P(some |z| > 3) = 1 − (1 − 0.0027)^66
-      // = 16 % even if every σ were exact; over 30 sessions at σ = 2, rz shows obs/rep 1.13 and
-      // none beyond 3σ (bench/calib_sigma_sweep, docs/calib.md). It is held to 4σ.
-      const double limit = seed == 13 && p == 18 ? 4.0 : 3.0;
-      EXPECT_LT(std::abs(e[p]), limit * s[p])
+      // Family-wise rule over the 22 × 3 = 66 values of a noise level, if every σ were exact:
+      // P(|z| > 3.9 anywhere) = 66 · 9.6e-5 = 0.6 %, P(two or more beyond 3σ) = 1.3 %. (Seed 13's
+      // rig roll is the one value beyond 3σ today: 3.14σ at σ = 1, 3.58σ at σ = 8; over 30
+      // sessions rz has obs/rep 1.13, bench/calib_sigma_sweep, docs/calib.md.)
+      EXPECT_LT(std::abs(e[p]), 3.9 * s[p])
           << "noise " << noise << " seed " << seed << " " << t::StereoParameterName(p);
+      if (std::abs(e[p]) > 3.0 * s[p]) ++beyond_three;
     }
     std::printf("\n");
   }
+  EXPECT_LE(beyond_three, 1) << "values beyond 3 reported sigma at noise " << noise;
 }
 
 TEST(BoardDetectOptions, InvalidOptionsAreRefusedWithTheField) {

@@ -41,8 +41,6 @@ TEST_P(HiddenRobotEffect, NamesTheHiddenCauseAndRemovesHalfTheExcess) {
   if (draw.effect != kNoEffect) {
     EXPECT_GE(d.excess_removed, 0.5);
     EXPECT_LT(d.rms_after, d.rms_before);
-  } else {
-    EXPECT_EQ(d.rms_after, d.rms_before);
   }
 }
 

@@ -153,13 +153,17 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
           const double ratio =
               so.noise_model == PointNoiseModel::kAlongLineOfSight ? so.perpendicular_sigma_ratio : 1.0;
           const double sigma_n = result.cloud.sigma_mm[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1 - c * c));
+          if (!(sigma_n > 0)) continue;
           px.push_back(result.cloud.left_pixels[i]);
           z.push_back(((p - r.centre_mm).norm() - r.radius_mm) / sigma_n);
         }
         const NeighbourCorrelation nc = EstimateNeighbourCorrelation(px, z, cv::Size(sum.width, sum.height), 2);
-        r.correlation_factor = nc.factor;
-        r.centre_covariance_mm2 *= nc.factor;
-        r.radius_sigma_mm *= std::sqrt(nc.factor);
+        // Never below 1: on white residuals the estimate scatters around 1 and would shrink the
+        // independent-point covariance half the time.
+        const double factor = std::max(1.0, nc.factor);
+        r.correlation_factor = factor;
+        r.centre_covariance_mm2 *= factor;
+        r.radius_sigma_mm *= std::sqrt(factor);
       }
     }
     if (kept.size() != sum.spheres.spheres.size()) {
