@@ -191,6 +191,18 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
     e.note = effect + ": " + thermal::ParamListToString(params);
     out.push_back(std::move(e));
   };
+  // A candidate made of extra constant-coefficient columns (the kept ones of `cols`).
+  auto column_candidate = [&](const std::string& effect, const std::vector<Mat3X>& cols, const std::vector<int>& keep,
+                              const std::vector<std::string>& col_names,
+                              const std::vector<std::pair<std::string, double>>& keys) {
+    Evaluated e;
+    e.design = ctx.base;
+    AddStaticColumns(SelectColumns(cols, keep), col_names, &e.design);
+    e.cv = Cv(ctx, e.design);
+    e.fit = MakeFit(effect, static_cast<int>(keep.size()), e.cv);
+    ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+    out.push_back(std::move(e));
+  };
   std::vector<int> thetas, lengths = thermal::TraditionalParams(model), angles;
   for (int p = 0; p < kNumParams; ++p) {
     if (model.structural_zero[p]) continue;
@@ -326,19 +338,13 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
     std::vector<int> keep;
     for (int k : IndependentColumns(PooledBlocks(ctx.base), SelectColumns(cols, loaded))) keep.push_back(loaded[k]);
     if (!keep.empty()) {
-      Evaluated e;
-      e.design = ctx.base;
       std::vector<std::string> names;
       std::vector<std::pair<std::string, double>> keys;
       for (int k : keep) {
         names.push_back("c" + std::to_string(k + 2));
         keys.emplace_back("joint" + std::to_string(k + 2) + "_compliance_urad_per_kNm", 1e6);
       }
-      AddStaticColumns(SelectColumns(cols, keep), names, &e.design);
-      e.cv = Cv(ctx, e.design);
-      e.fit = MakeFit("joint_compliance", static_cast<int>(keep.size()), e.cv);
-      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
-      out.push_back(std::move(e));
+      column_candidate("joint_compliance", cols, keep, names, keys);
     }
     tick("joint_compliance");
   }
@@ -355,19 +361,13 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
     const std::vector<int> keep = IndependentColumns(PooledBlocks(ctx.base), cols);
     if (!keep.empty()) {
       static const char* names[6] = {"rx_urad", "ry_urad", "rz_urad", "tx_mm", "ty_mm", "tz_mm"};
-      Evaluated e;
-      e.design = ctx.base;
       std::vector<std::string> col_names;
       std::vector<std::pair<std::string, double>> keys;
       for (int k : keep) {
         const std::string name = std::string(names[k % 6]) + (k < 6 ? "_per_h" : "_per_h2");
         col_names.push_back(name), keys.emplace_back(name, k % 6 < 3 ? 1e6 : 1.0);
       }
-      AddStaticColumns(SelectColumns(cols, keep), col_names, &e.design);
-      e.cv = Cv(ctx, e.design);
-      e.fit = MakeFit("sensor_frame_drift", static_cast<int>(keep.size()), e.cv);
-      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
-      out.push_back(std::move(e));
+      column_candidate("sensor_frame_drift", cols, keep, col_names, keys);
     }
     tick("sensor_frame_drift");
 

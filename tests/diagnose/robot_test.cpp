@@ -57,22 +57,22 @@ TEST(HiddenRobotEffect, TheDrawsCoverEveryRobotEffectAndCleanData) {
 }
 
 // ---- recovered parameters against the hidden truth ----
-TEST(RobotDiagnosis, RecoversAHiddenJointOffsetWithinItsSigma) {
-  const HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), 3);  // theta3 offset
-  ASSERT_EQ(draw.effect, "joint_offset");
+// The hidden draw of `seed` is `effect`; its estimated parameter lies within 4σ of the truth.
+void ExpectRecoveredWithinSigma(int seed, const std::string& effect) {
+  const HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), seed);
+  ASSERT_EQ(draw.effect, effect);
   const Diagnosis d = DiagnoseRobotData(draw.input, DiagnoseOptions{});
   const auto& [key, truth] = *draw.truth.begin();
   ASSERT_TRUE(d.parameters.count(key)) << key;
   EXPECT_NEAR(d.parameters.at(key), truth, 4.0 * d.sigmas.at(key));
 }
 
+TEST(RobotDiagnosis, RecoversAHiddenJointOffsetWithinItsSigma) {
+  ExpectRecoveredWithinSigma(3, "joint_offset");  // theta3 offset
+}
+
 TEST(RobotDiagnosis, RecoversAHiddenLinkLengthErrorWithinItsSigma) {
-  const HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), 21);  // a2 off
-  ASSERT_EQ(draw.effect, "link_length_error");
-  const Diagnosis d = DiagnoseRobotData(draw.input, DiagnoseOptions{});
-  const auto& [key, truth] = *draw.truth.begin();
-  ASSERT_TRUE(d.parameters.count(key)) << key;
-  EXPECT_NEAR(d.parameters.at(key), truth, 4.0 * d.sigmas.at(key));
+  ExpectRecoveredWithinSigma(21, "link_length_error");  // a2 off
 }
 
 // ---- the noise floor from successive cycles against the simulator's noise ----
