@@ -52,7 +52,7 @@ def diagnose_command(ramtk, kind, data_dir, out_dir, robot_args):
     if kind == "robot":
         return ([ramtk, "diagnose", os.path.join(data_dir, "ball.csv"), "--model", "kr150",
                  "--with", os.path.join(data_dir, "setup.json")] + robot_args + ["--out", out_dir])
-    cmd = [ramtk, "diagnose", os.path.join(data_dir, "log.csv"), "--with",
+    cmd = [ramtk, "diagnose", os.path.join(data_dir, "laser_log.csv"), "--with",
            os.path.join(data_dir, "motion.json"), "--model", os.path.join(data_dir, "sensor.json"),
            "--out", out_dir]
     return cmd

@@ -225,13 +225,15 @@ void GenerateFringe(const GenOptions& o) {
     par["step_error_sigma_deg"] = sigma / kDeg;
   }
 
-  // Projector images: 8-bit levels (what the DLP shows), its response (gamma), optical blur.
+  // Projector images: the pattern per projector pixel, its response (gamma), optical blur.
   std::vector<std::vector<float>> projector(num_images);
   for (int i = 0; i < num_images; ++i) {
     projector[i].resize(static_cast<size_t>(proj.width) * proj.height);
     std::vector<float> row(proj.width);
     for (int u = 0; u < proj.width; ++u) {
-      const double level = std::round(255.0 * PatternValue(spec, i, u, proj.width, step_error)) / 255.0;
+      // Continuous levels: an 8-bit DLP's quantisation (≈ 0.1 % of B) is left out so that `none`
+      // holds camera noise only.
+      const double level = PatternValue(spec, i, u, proj.width, step_error);
       row[u] = static_cast<float>(std::pow(level, gamma));
     }
     for (int v = 0; v < proj.height; ++v) std::copy(row.begin(), row.end(), projector[i].begin() + static_cast<long>(v) * proj.width);
@@ -330,7 +332,7 @@ void GenerateFringe(const GenOptions& o) {
   par["peak_signal_e"] = 0.85 * full_well_e;
   par["prnu"] = 0.005;
   par["ambient_fraction"] = ambient_level;
-  par["projector_levels"] = 256;
+  par["projector_levels"] = "continuous";
   par["image_size"] = {w, h};
   par["working_distance_mm"] = work_mm;
   par["surface_tilt_deg"] = tilt / kDeg;

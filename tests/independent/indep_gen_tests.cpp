@@ -2,6 +2,7 @@
 // These test the generators themselves, not ramtk's diagnose.
 #include "common.h"
 #include "fringe_gen.h"
+#include "laser_gen.h"
 #include "mdh.h"
 #include "robot_gen.h"
 
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -228,6 +230,80 @@ TEST(IndependentRobot, FixedSeedIsDeterministic) {
   EXPECT_NE(read(dir / "a" / "ball.csv"), read(dir / "c" / "ball.csv"));
   const nlohmann::json truth = nlohmann::json::parse(read(dir / "a" / "truth.json"));
   EXPECT_EQ(truth["expected_verdict"], "joint_compliance");
+  std::filesystem::remove_all(dir);
+}
+
+// Line-to-segment distance against brute force over the segment (the line part is a projection).
+TEST(IndependentLaser, LineSegmentDistanceMatchesBruteForce) {
+  Rng rng(21);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d p(rng.Uniform(-5, 5), rng.Uniform(-5, 5), rng.Uniform(-5, 5));
+    const Eigen::Vector3d d = Eigen::Vector3d(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    const Eigen::Vector3d a(rng.Uniform(-5, 5), rng.Uniform(-5, 5), rng.Uniform(-5, 5));
+    const Eigen::Vector3d b(rng.Uniform(-5, 5), rng.Uniform(-5, 5), rng.Uniform(-5, 5));
+    double best = 1e300;
+    const int n = 20000;
+    for (int i = 0; i <= n; ++i) {
+      const Eigen::Vector3d x = a + (b - a) * (static_cast<double>(i) / n);
+      best = std::min(best, (x - p - d * d.dot(x - p)).norm());
+    }
+    // Sampling at spacing |b − a|/n moves the minimum by at most that spacing.
+    EXPECT_NEAR(LineSegmentDistance(p, d, a, b), best, (b - a).norm() / n + 1e-12);
+    EXPECT_LE(LineSegmentDistance(p, d, a, b), best + 1e-12);
+  }
+}
+
+// KUKA A, B, C: R = RotZ(A)·RotY(B)·RotX(C) (docs/conventions.md), recovered for B in (−90°, 90°).
+TEST(IndependentLaser, KukaAbcRoundTrip) {
+  Rng rng(22);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Eigen::Vector3d abc(rng.Uniform(-179, 179), rng.Uniform(-89, 89), rng.Uniform(-179, 179));
+    const Eigen::Matrix3d r = (Eigen::AngleAxisd(abc.x() * kDeg, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(abc.y() * kDeg, Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(abc.z() * kDeg, Eigen::Vector3d::UnitX())).toRotationMatrix();
+    EXPECT_LT((KukaAbcDeg(r) - abc).norm(), 1e-9);
+  }
+}
+
+// A laser set: every beam alternates blocked/clear from blocked, and each blocked interval of a
+// circle obeys the chord law: with the circle centre at distance e from the beam and the tool's
+// in-plane radius ρ, the tool blocks while |e + R sin φ| < ρ, an angular width
+// w = asin((ρ + e)/R) + asin((ρ − e)/R) (e < ρ) or asin((e + ρ)/R) − asin((e − ρ)/R) (e > ρ).
+// By the convexity of asin, w ≥ 2·asin(ρ/R); w grows with e, and e ≤ 3√2 mm (apex offset)
+// + 26·tan 4° (tilt at the upper circle) + 0.1 ≈ 6.1 mm gives w ≤ 1.17·2·asin(ρ/R). ρ = 2.5 mm
+// (the shank; ≥ 2.5/cos 4° along the tilt, < 0.3 % more).
+TEST(IndependentLaser, LogAlternatesAndCircleBlockTimesFollowTheChordLaw) {
+  const auto dir = std::filesystem::temp_directory_path() / "indep_gen_test_laser";
+  std::filesystem::remove_all(dir);
+  GenOptions o;
+  o.kind = "laser";
+  o.effect = "none";
+  o.seed = 2;
+  o.out_dir = dir.string();
+  GenerateLaser(o);
+  std::ifstream in(dir / "laser_log.csv");
+  std::string line;
+  std::getline(in, line);
+  std::map<char, std::vector<std::pair<double, bool>>> beams;
+  while (std::getline(in, line)) {
+    double t;
+    char beam;
+    char state[16];
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%c,%15s", &t, &beam, state), 3) << line;
+    beams[beam].push_back({t, std::string(state) == "blocked"});
+  }
+  const double omega = M_PI, radius = 12;  // 180°/s, R = 12 mm
+  for (const auto& [beam, ev] : beams) {
+    ASSERT_GE(ev.size(), 8u);
+    for (size_t i = 0; i < ev.size(); ++i) EXPECT_EQ(ev[i].second, i % 2 == 0) << beam << " event " << i;
+    for (size_t i = 0; i + 1 < ev.size(); i += 2) {
+      if (ev[i].first > 9.0) break;  // circles end at 9 s; the plunges follow
+      const double width = (ev[i + 1].first - ev[i].first) * omega;
+      const double nominal = 2 * std::asin(2.5 / radius);
+      EXPECT_GT(width, nominal * 0.999) << beam;
+      EXPECT_LT(width, nominal * 1.17) << beam;
+    }
+  }
   std::filesystem::remove_all(dir);
 }
 
