@@ -113,6 +113,7 @@ def main():
     os.makedirs(args.work, exist_ok=True)
 
     rows = []
+    failures = 0
     for kind in args.kinds.split(","):
         for effect_spec in EFFECTS[kind]:
             effect, _, gain = effect_spec.partition("@")
@@ -129,6 +130,7 @@ def main():
                 g = subprocess.run(cmd, capture_output=True, text=True)
                 if g.returncode != 0:
                     print("generator failed: %s\n%s" % (" ".join(cmd), g.stderr), file=sys.stderr)
+                    failures += 1
                     continue
                 with open(os.path.join(data, "truth.json")) as f:
                     truth = json.load(f)
@@ -143,6 +145,7 @@ def main():
                         diag = json.load(f)
                 else:
                     diag = {"cause": "error"}
+                    failures += 1
                     print("diagnose failed on %s: %s" % (tag, d.stderr.strip()[-400:]), file=sys.stderr)
                 label, ok = score(truth, diag)
                 excess = (diag.get("heldout") or {}).get("excess_removed")
@@ -162,6 +165,8 @@ def main():
             for r in rows:
                 f.write(",".join(str(r[k]) for k in keys) + "\n")
     print_report(rows, args)
+    if failures:
+        sys.exit("%d runs failed (generator or diagnose error)" % failures)
 
 
 def print_report(rows, args):
