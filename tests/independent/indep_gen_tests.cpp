@@ -47,6 +47,7 @@ TEST(IndependentMdh, MatchesRamtkFk) {
     const std::string path = std::string(RAMTK_DATASETS_DIR) + "/robots/" + file;
     const Robot robot = LoadRobot(path);
     for (const auto& q_deg : poses) {
+      if (&q_deg != &poses.front() && file != models.front()) continue;  // one pose on the others: each call starts a process
       std::ostringstream joints;
       for (int i = 0; i < 6; ++i) joints << (i ? "," : "") << q_deg[i];
       const std::string out = RunCommand(std::string("\"") + RAMTK_BINARY + "\" fk --robot \"" + path +
