@@ -148,10 +148,14 @@ def main():
                     failures += 1
                     print("diagnose failed on %s: %s" % (tag, d.stderr.strip()[-400:]), file=sys.stderr)
                 label, ok = score(truth, diag)
-                excess = (diag.get("heldout") or {}).get("excess_removed")
+                heldout = diag.get("heldout") or {}
+                excess = heldout.get("excess_removed")
                 row = {"kind": kind, "effect": effect_spec, "seed": seed, "truth": truth["expected_verdict"],
                        "reported": label, "correct": ok, "confidence": diag.get("confidence"),
-                       "excess_removed": excess, "seconds": round(seconds, 1)}
+                       "excess_removed": excess, "rms_before": heldout.get("rms_before"),
+                       "noise_floor": diag.get("noise_floor_rms"), "seconds": round(seconds, 1),
+                       "unexplained_accepted": any(a.startswith("unexplained")
+                                                   for a in truth.get("accepted_verdicts", []))}
                 rows.append(row)
                 print("%-40s truth %-24s -> %-40s %s (%.1f s)" % (tag, row["truth"], label,
                       "ok" if ok else "MISS", seconds), file=sys.stderr, flush=True)
@@ -184,12 +188,15 @@ def print_report(rows, args):
             if r["effect"] not in effects:
                 effects.append(r["effect"])
         print("## %s\n" % kind)
-        print("| truth \\ reported | " + " | ".join(labels) + " | correct |")
-        print("|---|" + "---|" * (len(labels) + 1))
+        print("| truth \\ reported | " + " | ".join(labels) + " | correct | median RMS before / noise floor |")
+        print("|---|" + "---|" * (len(labels) + 2))
         for e in effects:
             er = [r for r in kr if r["effect"] == e]
             cells = [str(sum(1 for r in er if r["reported"] == l) or "") for l in labels]
-            print("| %s | %s | %d/%d |" % (e, " | ".join(cells), sum(r["correct"] for r in er), len(er)))
+            ratios = sorted(r["rms_before"] / r["noise_floor"] for r in er
+                            if r.get("rms_before") is not None and r.get("noise_floor"))
+            ratio = "%.2f" % ratios[len(ratios) // 2] if ratios else "-"
+            print("| %s | %s | %d/%d | %s |" % (e, " | ".join(cells), sum(r["correct"] for r in er), len(er), ratio))
         summarize(kr, "%s" % kind)
         print()
     summarize(rows, "all kinds")
@@ -206,6 +213,11 @@ def summarize(rows, name):
              and r["reported"] not in ("none",) and not r["reported"].startswith("unexplained")]
     gain = sorted(r["excess_removed"] for r in named)
     med = gain[len(gain) // 2] if gain else float("nan")
+    lenient = sum(1 for r in rows if not r["correct"] and r["reported"].startswith("unexplained")
+                  and r.get("unexplained_accepted"))
+    if lenient:
+        print("\n%s: %d more sets would be correct if `unexplained` counted with any explaining variable"
+              % (name, lenient))
     print("\n%s: correct %d/%d = %.1f %%; false alarms %d/%d = %.1f %%; median excess removed where a "
           "cause is named correctly %.2f (%d sets)" % (name, correct, n, 100.0 * correct / n, alarms,
           len(clean), 100.0 * alarms / max(1, len(clean)), med, len(gain)))
