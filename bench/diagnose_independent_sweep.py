@@ -98,7 +98,17 @@ def main():
     ap.add_argument("--robot-with", default="",
                     help="extra robot --with arguments, e.g. 'thermal=none' (comma list)")
     ap.add_argument("--csv", default="", help="also write one row per run to this CSV")
+    ap.add_argument("--report-from", default="",
+                    help="print the report from earlier --csv files (comma list; a later file's row "
+                         "replaces an earlier one of the same kind, effect and seed) and run nothing")
     args = ap.parse_args()
+    if args.report_from:
+        merged = {}
+        for path in args.report_from.split(","):
+            for r in read_rows(path):
+                merged[(r["kind"], r["effect"], r["seed"])] = r
+        print_report(list(merged.values()), args)
+        return
 
     ramtk = os.path.join(args.build, "tools", "ramtk")
     gen = os.path.join(args.build, "tests", "independent", "ramtk_indep_gen")
@@ -173,10 +183,41 @@ def main():
         sys.exit("%d runs failed (generator or diagnose error)" % failures)
 
 
+def read_rows(path):
+    def value(text):
+        if text in ("True", "False"):
+            return text == "True"
+        if text == "None":
+            return None
+        try:
+            return float(text) if any(c in text for c in ".e") else int(text)
+        except ValueError:
+            return text
+    rows = []
+    with open(path) as f:
+        lines = f.read().splitlines()
+    keys = lines[0].split(",")
+    for line in lines[1:]:
+        # `reported` may hold commas (an ambiguous set in braces): rebuild it from the middle fields.
+        fields = line.split(",")
+        extra = len(fields) - len(keys)
+        i = keys.index("reported")
+        fields[i:i + extra + 1] = [",".join(fields[i:i + extra + 1])]
+        row = {k: value(v) for k, v in zip(keys, fields)}
+        row["reported"] = str(fields[i])
+        row["truth"] = str(row["truth"])
+        row["effect"] = str(row["effect"])
+        rows.append(row)
+    return rows
+
+
 def print_report(rows, args):
     print("# Independent-generator sweep of `ramtk diagnose`\n")
-    print("seeds %s, kinds %s%s\n" % (args.seeds, args.kinds,
-          (", robot --with " + args.robot_with) if args.robot_with else ""))
+    if args.report_from:
+        print("merged from %s\n" % args.report_from)
+    else:
+        print("seeds %s, kinds %s%s\n" % (args.seeds, args.kinds,
+              (", robot --with " + args.robot_with) if args.robot_with else ""))
     for kind in sorted({r["kind"] for r in rows}):
         kr = [r for r in rows if r["kind"] == kind]
         labels = []
