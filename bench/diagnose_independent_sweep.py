@@ -254,14 +254,15 @@ def summarize(rows, name):
              and r["reported"] not in ("none",) and not r["reported"].startswith("unexplained")]
     gain = sorted(r["excess_removed"] for r in named)
     med = gain[len(gain) // 2] if gain else float("nan")
+    half = sum(1 for g in gain if g >= 0.5)
     lenient = sum(1 for r in rows if not r["correct"] and r["reported"].startswith("unexplained")
                   and r.get("unexplained_accepted"))
     if lenient:
         print("\n%s: %d more sets would be correct if `unexplained` counted with any explaining variable"
               % (name, lenient))
     print("\n%s: correct %d/%d = %.1f %%; false alarms %d/%d = %.1f %%; median excess removed where a "
-          "cause is named correctly %.2f (%d sets)" % (name, correct, n, 100.0 * correct / n, alarms,
-          len(clean), 100.0 * alarms / max(1, len(clean)), med, len(gain)))
+          "cause is named correctly %.2f (%d sets, %d of them >= 50 %%)" % (name, correct, n, 100.0 * correct / n,
+          alarms, len(clean), 100.0 * alarms / max(1, len(clean)), med, len(gain), half))
 
 
 if __name__ == "__main__":
