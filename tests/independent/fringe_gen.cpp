@@ -104,11 +104,12 @@ double SoftKnee(double signal_dn, double knee_dn, double range_dn) {
 }
 
 double SensePixel(const SensorModel& s, double mean_e, Rng& rng) {
-  const double electrons = rng.Poisson(std::max(mean_e, 0.0)) + s.read_noise_e * rng.Normal();
-  double signal = s.gain_dn_per_e * electrons;
-  if (s.knee_fraction > 0) {
+  const double photo_e = rng.Poisson(std::max(mean_e, 0.0));
+  const double read_e = s.read_noise_e * rng.Normal();
+  double signal = s.gain_dn_per_e * (photo_e + read_e);
+  if (s.knee_fraction > 0) {  // the pixel compresses its photo-charge; the readout adds its noise after
     const double range = kFullScale - s.black_level_dn;
-    signal = SoftKnee(signal, s.knee_fraction * range, range);
+    signal = SoftKnee(s.gain_dn_per_e * photo_e, s.knee_fraction * range, range) + s.gain_dn_per_e * read_e;
   }
   const double dn = std::round(s.black_level_dn + signal);
   return std::clamp(dn, 0.0, kFullScale);
@@ -297,9 +298,10 @@ void GenerateFringe(const GenOptions& o) {
         const size_t k = p * sub * sub + s;
         if (weight[k] > 0) e += weight[k] * Bilinear(projector[i], proj.width, proj.height, proj_uv[k].x(), proj_uv[k].y());
       }
-      mean_e[p] = static_cast<float>(e * exposure_e * prnu[p]);
+      mean_e[p] = static_cast<float>(e * exposure_e);
     }
-    PillboxBlur(mean_e, w, h, camera_blur_px);
+    PillboxBlur(mean_e, w, h, camera_blur_px);  // optics first: the defocus disc blurs the irradiance,
+    for (size_t p = 0; p < npix; ++p) mean_e[p] *= prnu[p];  // then each pixel's own response
     cv::Mat img(h, w, CV_16UC1);
     for (int y = 0; y < h; ++y) {
       auto* row = img.ptr<std::uint16_t>(y);
