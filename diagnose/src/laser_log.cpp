@@ -22,6 +22,9 @@ using laser_detail::CandidateSpec;
 using laser_detail::ResidualModel;
 
 // Tool (tip in the flange, axis tilt) then the effects' parameters.
+// Largest plausible tilt of the beam plane against the motion plane (deg).
+constexpr double kMaxPlaneTiltDeg = 2.0;
+
 enum Param {
   kTx,
   kTy,
@@ -173,6 +176,19 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   model.step = Eigen::VectorXd::Constant(kNumParams, 1e-4);
   model.step(kAx) = model.step(kAy) = 1e-6;
   model.residuals = [&lm](const Eigen::VectorXd& q) { return lm.Residuals(q); };
+  // Plausibility bounds of the effects (the tool is free): a device mounted and checked by eye is
+  // not tilted by degrees (docs/tcf.md: a 0.3° plane tilt is undetectable in these logs, so a fitted
+  // tilt of several degrees stands for something else), beams are not 10° off square or mm apart,
+  // a receiver answers within 50 ms and not before the event, a robot keeps its speed within 10 %.
+  model.lower = Eigen::VectorXd::Constant(kNumParams, -INFINITY);
+  model.upper = Eigen::VectorXd::Constant(kNumParams, INFINITY);
+  model.lower(kBeta) = 80.0, model.upper(kBeta) = 100.0;
+  model.lower(kOffset) = -3.0, model.upper(kOffset) = 3.0;
+  model.lower(kWidth) = -0.1, model.upper(kWidth) = 5.0;
+  model.lower(kLatency) = -1.0, model.upper(kLatency) = 50.0;
+  model.lower(kSpeed) = -10.0, model.upper(kSpeed) = 10.0;
+  model.lower(kTiltX) = model.lower(kTiltY) = -kMaxPlaneTiltDeg;
+  model.upper(kTiltX) = model.upper(kTiltY) = kMaxPlaneTiltDeg;
 
   Diagnosis d;
   d.kind = DataKind::kLaser;
