@@ -64,7 +64,12 @@ int AddDrift(const Context& ctx, const std::vector<int>& params, bool per_cycle,
   const std::vector<Row>& rows = ctx.rows->rows;
   if (per_cycle) {
     const std::vector<int> keep = IdentifiablePerCycle(rows, *d, params);
+    const int first = d->np;
     AddParamColumns(rows, keep, true, d);
+    // A drift is a change from the first (reference) cycle, as in thesis eq. 3-8: the first cycle's
+    // values are 0, so a constant error stays with the static candidates.
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].cycle_pos == 0) d->cycle[i].rightCols(d->np - first).setZero();
     for (int p : keep) terms->cycle.emplace_back(p, -1);
     return static_cast<int>(keep.size()) * ctx.rows->num_cycles;
   }
@@ -302,6 +307,25 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
       }
     }
     tick("thermal drift");
+    // A drift must change with time: a thermal candidate whose held-out score a static error of
+    // the same parameters matches (within min_improvement) is a static effect (joint compliance, a
+    // zero or length error) seen through constant drift terms, and is dropped.
+    for (auto& list : forms)
+      for (auto it = list.begin(); it != list.end();) {
+        const std::vector<int> params = Identifiable(rows, ctx.base, it->added_cycle_params);
+        bool is_static = false;
+        if (!params.empty()) {
+          const CvResult st = Cv(ctx, WithParams(ctx, ctx.base, params, false));
+          const double static_score = Score(st.heldout_ss, st.heldout_n, static_cast<int>(params.size()));
+          const double drift_score = Score(it->cv.heldout_ss, it->cv.heldout_n, it->fit.num_parameters);
+          is_static = !(drift_score < static_score - ctx.min_improvement);
+          if (is_static)
+            notes->push_back(it->fit.effect + ": dropped, a static error of " + thermal::ParamListToString(params) +
+                             " explains as much (held-out score " + std::to_string(static_score) + " vs " +
+                             std::to_string(drift_score) + ")");
+        }
+        it = is_static ? list.erase(it) : it + 1;
+      }
     for (const char* effect : {"thermal_length_drift", "thermal_angle_drift"}) {
       Evaluated* best = nullptr;
       for (auto& list : forms)
@@ -384,24 +408,28 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
       int best_added = 0;
       for (int j = 0; j < 6; ++j) {
         if (std::find(joints.begin(), joints.end(), j) != joints.end()) continue;
-        const std::vector<Mat3X> cols = joint_cols(j);
-        const std::vector<int> keep = IndependentColumns(PooledBlocks(current), cols);
-        if (keep.empty()) continue;
-        static const char* kTerm[4] = {"sin_q", "cos_q", "sin_2q", "cos_2q"};
-        std::vector<std::string> names;
-        std::vector<std::pair<std::string, double>> ks;
-        for (int k : keep) {
-          names.push_back("q" + std::to_string(j + 1) + "_" + kTerm[k]);
-          ks.emplace_back("joint" + std::to_string(j + 1) + "_" + kTerm[k] + "_deg", kDegPerRad);
+        // Once per turn (eccentricity: sin/cos q) or once and twice per turn (+ sin/cos 2q).
+        for (const int terms : {2, 4}) {
+          const std::vector<Mat3X> all = joint_cols(j);
+          const std::vector<Mat3X> cols = SelectColumns(all, terms == 2 ? std::vector<int>{0, 1} : std::vector<int>{0, 1, 2, 3});
+          const std::vector<int> keep = IndependentColumns(PooledBlocks(current), cols);
+          if (keep.empty()) continue;
+          static const char* kTerm[4] = {"sin_q", "cos_q", "sin_2q", "cos_2q"};
+          std::vector<std::string> names;
+          std::vector<std::pair<std::string, double>> ks;
+          for (int k : keep) {
+            names.push_back("q" + std::to_string(j + 1) + "_" + kTerm[k]);
+            ks.emplace_back("joint" + std::to_string(j + 1) + "_" + kTerm[k] + "_deg", kDegPerRad);
+          }
+          Design d = current;
+          AddStaticColumns(SelectColumns(cols, keep), names, &d);
+          CvResult cv = Cv(ctx, d);
+          const int added = static_cast<int>(keep.size());
+          const double sc = Score(cv.heldout_ss, n, current_k + added);
+          if (sc < best)
+            best = sc, best_j = j, best_design = std::move(d), best_cv = std::move(cv), best_keys = ks,
+            best_added = added;
         }
-        Design d = current;
-        AddStaticColumns(SelectColumns(cols, keep), names, &d);
-        CvResult cv = Cv(ctx, d);
-        const int added = static_cast<int>(keep.size());
-        const double sc = Score(cv.heldout_ss, n, current_k + added);
-        if (sc < best)
-          best = sc, best_j = j, best_design = std::move(d), best_cv = std::move(cv), best_keys = ks,
-          best_added = added;
       }
       if (best_j < 0 || !(best < current_score - ctx.min_improvement)) break;
       joints.push_back(best_j);
@@ -420,8 +448,12 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
       std::string list;
       for (int j : joints) {
         list += (list.empty() ? "q" : ", q") + std::to_string(j + 1);
-        const double a = e.fit.parameters["joint" + std::to_string(j + 1) + "_sin_q_deg"];
-        const double b = e.fit.parameters["joint" + std::to_string(j + 1) + "_cos_q_deg"];
+        const auto value = [&](const std::string& k) {
+          const auto it = e.fit.parameters.find(k);
+          return it == e.fit.parameters.end() ? 0.0 : it->second;
+        };
+        const double a = value("joint" + std::to_string(j + 1) + "_sin_q_deg");
+        const double b = value("joint" + std::to_string(j + 1) + "_cos_q_deg");
         e.fit.parameters["joint" + std::to_string(j + 1) + "_amplitude_1q_deg"] = std::hypot(a, b);
       }
       e.note = "joint_cyclic_error: sin/cos of q and 2q on " + list;

@@ -85,10 +85,15 @@ std::vector<NamedTest> StructureTests(const robot_detail::RowSet& rs, const std:
     vars.emplace_back(c, v);
   }
   for (const auto& [name, v] : vars) {
+    // Joint angles: sin/cos of q and 2q (periodic in the angle); other variables: a quadratic.
+    const bool angle = name.size() == 2 && name[0] == 'q';
     for (int a = 0; a < 3; ++a) {
       std::vector<double> comp(n);
       for (int i = 0; i < n; ++i) comp[i] = res[i][a];
-      tests.push_back({TrendTest(comp, {sigma_eff}, v, 2, std::string(axis[a]) + " vs " + name), name});
+      const std::string label = std::string(axis[a]) + " vs " + name;
+      tests.push_back({angle ? HarmonicTrendTest(comp, {sigma_eff}, v, 2, label)
+                             : TrendTest(comp, {sigma_eff}, v, 2, label),
+                       name});
     }
   }
   // Ljung–Box in time order only for a static model: per-cycle fits leave residuals whose
@@ -108,16 +113,21 @@ std::vector<NamedTest> StructureTests(const robot_detail::RowSet& rs, const std:
 
 // The measured variable whose tests explain the most: Σ (χ² − dof) over its trend / group-mean
 // tests (x, y, z together). p-values cannot rank here: strong structure drives them all to 0.
+// A measured variable (time, a joint angle, an extra column) is preferred to the pose index when one
+// carries at least a third of the pose means' excess: "pose" only says that the error is static.
 std::string ExplainingVariable(const std::vector<NamedTest>& tests) {
   std::map<std::string, double> excess;
   for (const NamedTest& t : tests) {
     if (t.variable == "level" || t.variable == "time order") continue;
     excess[t.variable] += t.test.statistic - t.test.dof;
   }
-  std::string best;
-  double top = -INFINITY;
-  for (const auto& [v, e] : excess)
+  std::string best, best_measured;
+  double top = -INFINITY, top_measured = -INFINITY;
+  for (const auto& [v, e] : excess) {
     if (e > top) top = e, best = v;
+    if (v != "pose" && v != "cycle" && e > top_measured) top_measured = e, best_measured = v;
+  }
+  if (best == "pose" && !best_measured.empty() && top_measured >= top / 3.0 && top_measured > 0) return best_measured;
   return best;
 }
 
@@ -285,11 +295,6 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
                            "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
                            remaining.front().test.Describe() + "): structure outside the catalogue, '" +
                            chosen.effect + "' explains it only in part");
-    } else if (chosen.absorbed_share >= kNotObservableShare) {
-      verdict = kNotObservable;
-      d.look_alikes = {chosen.effect};
-      d.findings.push_back("'" + chosen.effect + "' is " + Num(100 * chosen.absorbed_share, 3) +
-                           "% absorbed by the current model's set-up parameters: not observable with these data");
     } else {
       // Look-alikes: candidates with a material gain whose held-out error is not worse than the
       // chosen one's by more than kSeparationZ standard errors of the per-pose scatter.
@@ -355,11 +360,21 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     d.confidence = none.weight;
   } else {
     d.cause = kNoEffect;
+    for (const CandidateFit& c : d.candidates)
+      if (c.absorbed_share >= kNotObservableShare)
+        d.findings.push_back("'" + c.effect + "' is " + Num(100 * c.absorbed_share, 4) +
+                             "% absorbed by the current model's set-up parameters: hardly observable with these poses");
     if (d.structure_found) {
       // Structure that no catalogued extension explains: say so, with the variable that carries it.
       d.explaining_variable = ExplainingVariable(tests);
       d.cause = kUnexplained;
       if (chosen.effect != kNoEffect && d.excess_removed > 0.05) d.partial = {chosen.effect};
+      if (chosen.effect != kNoEffect && chosen.absorbed_share >= kNotObservableShare) {
+        // The best candidate would be the cause, but the set-up parameters absorb almost all of it.
+        d.cause = kNotObservable;
+        d.look_alikes = {chosen.effect};
+        d.partial.clear();
+      }
       d.findings.push_back("structure best explained by " + d.explaining_variable + " (largest χ² above its dof); " +
                            (chosen.effect == kNoEffect ? "no catalogued extension pays on held-out data"
                                                        : "'" + chosen.effect + "' removes only " +

@@ -157,7 +157,7 @@ TEST(RobotDiagnosis, ThesisCaseNamesAngleDriftAndTheAnglesToAdd) {
   std::set<std::string> added;
   for (const auto& [k, v] : d.parameters)
     if (k.find("_deg") != std::string::npos) added.insert(k.substr(0, k.find("_drift")));
-  EXPECT_EQ(added, (std::set<std::string>{"alpha3", "alpha4", "beta2"}));
+  EXPECT_EQ(added, (std::set<std::string>{"alpha3", "alpha4", "beta2"})) << ::testing::PrintToString(d.findings);
   // The size of each added drift against the simulator's truth (range over the 90 cycles). The
   // drift is fitted as a quadratic in time, which cannot follow the kink where heating stops
   // (110 min) and shares part of each angle with the per-cycle lengths; 20 % allows for that.
