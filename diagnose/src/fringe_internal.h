@@ -11,7 +11,9 @@
 
 namespace ramtk::diagnose::fringe {
 
-// Noise-level function: residual variance against the model intensity I (DN).
+// Noise-level function of the sensor: variance of one sample against its intensity I (DN), estimated
+// from the phase-shift residuals (which keep (N − 3)/N of it). A residual's variance is that times
+// ResidualVarianceFactor (the per-pixel fit's leverage).
 inline constexpr double kQuadraticZ = 5.0;       // I² term significant beyond this many sigmas …
 inline constexpr double kQuadraticShare = 0.25;  // … and carrying this share of the brightest variance
 struct NoiseLevel {
@@ -74,6 +76,11 @@ double SensorExpectation(const FringeFit& fit, const PixelFit& p, double mu);
 
 // Noise-level function of the set (fringe_noise.cpp), from residual differences along the fringes.
 NoiseLevel EstimateNoiseLevel(const FringeFit& fit);
+
+// Residual variance over sample variance for frame f: 1 − 3/N for a phase-shift frame (the fit
+// absorbs 3 of N degrees of freedom), 1 + 3/N for a Gray-code frame (its prediction A ± B' carries
+// the variance of the fitted A and B, σ²/N + 2σ²/N).
+double ResidualVarianceFactor(const FringeFit& fit, int f);
 
 // Models the sensor's black end with the noise-level function `noise`: pixels whose phase samples
 // come within 4σ of 0 (and not more than 2σ below it: light is not negative) are refitted (A, B, φ)

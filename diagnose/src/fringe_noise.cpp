@@ -64,7 +64,7 @@ NoiseLevel EstimateNoiseLevel(const FringeFit& fit) {
     float level, d2;
   };
   std::vector<Pair> pairs;
-  const int nf = fit.frames;
+  const size_t nf = static_cast<size_t>(fit.frames);
   for (size_t i = 0; i < fit.pixels.size(); ++i) {
     const PixelFit& p = fit.pixels[i];
     const int nx = fit.vertical ? p.x : p.x + 1, ny = fit.vertical ? p.y + 1 : p.y;
@@ -72,7 +72,10 @@ NoiseLevel EstimateNoiseLevel(const FringeFit& fit) {
     const int j = fit.index.at<int>(ny, nx);
     if (j < 0) continue;
     const PixelFit& q = fit.pixels[j];
-    for (int f = 0; f < nf; ++f) {
+    // Phase-shift frames only: there the N-step model is exact up to the projector's response,
+    // whose error neighbours along the fringe share; the Gray-code model (edge profile, stripe
+    // contrast) carries small errors that scale with B and differ between neighbours.
+    for (int f : fit.phase_frame) {
       const float ri = fit.residual[i * nf + f], rj = fit.residual[static_cast<size_t>(j) * nf + f];
       if (!std::isfinite(ri) || !std::isfinite(rj)) continue;
       // Model intensity = measured − residual (not the measured value: its own noise would leak
@@ -88,7 +91,7 @@ NoiseLevel EstimateNoiseLevel(const FringeFit& fit) {
     // Too few pairs for a level function: one variance for all samples.
     double s = 0;
     for (const Pair& q : pairs) s += q.d2;
-    out.a = pairs.empty() ? kMinVariance : std::max(s / pairs.size() / 2.0, kMinVariance);
+    out.a = pairs.empty() ? kMinVariance : std::max(s / pairs.size() / 2.0 / ((fit.steps - 3.0) / fit.steps), kMinVariance);
     return out;
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) { return x.level < y.level; });
@@ -134,6 +137,10 @@ NoiseLevel EstimateNoiseLevel(const FringeFit& fit) {
     out.a = quad(0), out.b = quad(1), out.c = quad(2);
     out.sigma_a = std::sqrt(quad_cov(0, 0)), out.sigma_b = std::sqrt(quad_cov(1, 1));
   }
+  // The N-step fit leaves (N − 3)/N of a phase sample's variance in its residual: the sensor's own
+  // variance is the residual's over that factor.
+  const double keep = (fit.steps - 3.0) / fit.steps;
+  for (double* v : {&out.a, &out.b, &out.c, &out.sigma_a, &out.sigma_b, &out.quadratic_c, &out.sigma_c}) *v /= keep;
   return out;
 }
 
@@ -162,6 +169,13 @@ double ClampedMean(double mu, double s, double top, double* slope) {
 }
 
 }  // namespace
+
+double ResidualVarianceFactor(const FringeFit& fit, int f) {
+  const double n = fit.steps;
+  for (int k : fit.phase_frame)
+    if (k == f) return 1.0 - 3.0 / n;
+  return 1.0 + 3.0 / n;
+}
 
 double SensorExpectation(const FringeFit& fit, const PixelFit& p, double mu) {
   if (!fit.censored || !p.censored) return mu;
