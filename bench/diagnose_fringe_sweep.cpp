@@ -1,7 +1,8 @@
 // Sweep of the fringe diagnosis over hidden-effect draws: confusion matrix (hidden vs named),
 // correct-name rate, false-alarm rate on clean draws, share of effect draws with a held-out gain of
 // at least 50 % of the excess. Usage: diagnose_fringe_sweep [--seeds N] [--first S] [--verbose]
-//   [--effect NAME --magnitude M] (force one effect at every seed, for probing).
+//   [--effect NAME --magnitude M] (force one effect at every seed, for probing)
+//   [--gain G] (camera gain: DN per photo-electron relative to the default sensor, shot noise ×G).
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
   int seeds = 100, first = 1000;
   bool verbose = false;
   std::string effect;
-  double magnitude = 0;
+  double magnitude = 0, gain = 1.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seeds" && i + 1 < argc)
@@ -29,10 +30,12 @@ int main(int argc, char** argv) {
       effect = argv[++i];
     else if (a == "--magnitude" && i + 1 < argc)
       magnitude = std::atof(argv[++i]);
+    else if (a == "--gain" && i + 1 < argc)
+      gain = std::atof(argv[++i]);
     else if (a == "--verbose")
       verbose = true;
     else {
-      std::cerr << "usage: diagnose_fringe_sweep [--seeds N] [--first S] [--verbose] [--effect NAME --magnitude M]\n";
+      std::cerr << "usage: diagnose_fringe_sweep [--seeds N] [--first S] [--verbose] [--effect NAME --magnitude M] [--gain G]\n";
       return 2;
     }
   }
@@ -42,6 +45,8 @@ int main(int argc, char** argv) {
   for (int s = first; s < first + seeds; ++s) {
     HiddenFringeDraw draw = DrawHiddenFringeEffect(static_cast<std::uint64_t>(s));
     if (!effect.empty()) draw.effect = draw.expected = effect, draw.magnitude = magnitude;
+    if (effect == "none") draw.expected = "none";
+    draw.camera_gain = gain;
     const HiddenFringeSet set = SimulateHiddenFringe(draw);
     DiagnoseOptions options;
     options.seed = static_cast<std::uint64_t>(s);

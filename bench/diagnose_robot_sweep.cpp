@@ -2,6 +2,7 @@
 // confusion matrix hidden vs named, the correct-name rate, the false-alarm rate on clean draws and
 // the share of present effects whose held-out excess removed is >= 50 %.
 //   diagnose_robot_sweep [--draws N] [--first-seed S] [--cycles C] [--poses P] [--verbose]
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <iomanip>
@@ -55,9 +56,17 @@ int main(int argc, char** argv) {
     if (!report.empty()) opt.output_folder = report + "/seed-" + std::to_string(seed);
     const auto d = ramtk::diagnose::DiagnoseRobotData(draw.input, opt);
     if (!report.empty()) ramtk::diagnose::WriteDiagnosis(d, opt.output_folder);
-    ++confusion[draw.effect][d.cause];
-    named_set.insert(d.cause);
-    const bool ok = d.cause == draw.effect;
+    // `ambiguous` counts as correct when the truth is in the look-alike set of at most 2 (issue 15).
+    std::string named = d.cause;
+    if (d.cause == ramtk::diagnose::kAmbiguous || d.cause == ramtk::diagnose::kNotObservable) {
+      named += "{";
+      for (size_t i = 0; i < d.look_alikes.size(); ++i) named += (i ? "," : "") + d.look_alikes[i];
+      named += "}";
+    }
+    ++confusion[draw.effect][named];
+    named_set.insert(named);
+    const bool in_set = std::find(d.look_alikes.begin(), d.look_alikes.end(), draw.effect) != d.look_alikes.end();
+    const bool ok = d.cause == draw.effect || (d.cause == ramtk::diagnose::kAmbiguous && in_set && d.look_alikes.size() <= 2);
     correct += ok;
     if (draw.effect == ramtk::diagnose::kNoEffect) {
       ++clean;
@@ -68,15 +77,17 @@ int main(int argc, char** argv) {
     }
     if (verbose || !ok)
       std::cout << "seed " << seed << ": hidden " << draw.effect << " (" << draw.description << ") -> named " << d.cause
-                << ", excess removed " << std::setprecision(3) << d.excess_removed << ", held-out " << d.rms_before
+                << (named != d.cause ? " " + named : std::string()) << ", excess removed " << std::setprecision(3) << d.excess_removed << ", held-out " << d.rms_before
                 << " -> " << d.rms_after << " mm\n";
+    if (verbose)
+      for (const std::string& f : d.findings) std::cout << "    # " << f << "\n";
   }
   std::cout << "\nconfusion (rows hidden, columns named):\n" << std::setw(22) << "";
-  for (const auto& n : named_set) std::cout << std::setw(22) << n;
+  for (const auto& n : named_set) std::cout << "  " << n;
   std::cout << "\n";
   for (const auto& [hidden, row] : confusion) {
     std::cout << std::setw(22) << hidden;
-    for (const auto& n : named_set) std::cout << std::setw(22) << (row.count(n) ? row.at(n) : 0);
+    for (const auto& n : named_set) std::cout << "  " << std::setw(static_cast<int>(n.size())) << (row.count(n) ? row.at(n) : 0);
     std::cout << "\n";
   }
   std::cout << std::fixed << std::setprecision(1) << "\ncorrect names: " << correct << "/" << draws << " ("

@@ -12,6 +12,10 @@ const std::vector<EffectInfo>& EffectCatalogue() {
       {"defocus", DataKind::kFringe, "projector or camera blur lowers the modulation of fine patterns"},
       {"ambient_light", DataKind::kFringe, "light not from the projector raises the background"},
       {"lens_distortion_unmodelled", DataKind::kFringe, "the calibration misses part of the lens distortion"},
+      {"camera_defocus", DataKind::kFringe, "the camera blurs the image (mixes neighbouring pixels of different albedo)"},
+      {"signal_dependent_noise", DataKind::kFringe,
+       "noise variance grows faster with intensity than read + photon shot noise (a + b·I) allows"},
+      {"soft_knee_response", DataKind::kFringe, "bright samples are compressed smoothly below full scale"},
       {"joint_offset", DataKind::kRobot, "a joint's zero differs from the model"},
       {"link_length_error", DataKind::kRobot, "a link length differs from the model"},
       {"thermal_length_drift", DataKind::kRobot, "link lengths grow with temperature"},
@@ -19,6 +23,9 @@ const std::vector<EffectInfo>& EffectCatalogue() {
       {"joint_compliance", DataKind::kRobot, "joints deflect under gravity load"},
       {"sensor_frame_drift", DataKind::kRobot, "the fixed sensor moves relative to the robot base"},
       {"tool_offset_change", DataKind::kRobot, "the ball moved on the flange"},
+      {"joint_cyclic_error", DataKind::kRobot, "a joint's encoder or gear has an error cyclic in its angle (q, 2q)"},
+      {"backlash", DataKind::kRobot, "a joint's position depends on the direction it was approached from"},
+      {"temperature_driven_drift", DataKind::kRobot, "the residual follows a measured temperature column"},
       {"beam_non_perpendicular", DataKind::kLaser, "the two beams are not at 90°"},
       {"beam_offset", DataKind::kLaser, "the beams do not intersect (offset along the tool axis)"},
       {"beam_width", DataKind::kLaser, "the beams have a finite width that shifts the break instants"},
@@ -38,7 +45,7 @@ std::vector<EffectInfo> EffectsOf(DataKind kind) {
 }
 
 bool IsKnownCause(const std::string& name) {
-  if (name == kNoEffect || name == kUnexplained) return true;
+  if (name == kNoEffect || name == kUnexplained || name == kAmbiguous || name == kNotObservable) return true;
   for (const EffectInfo& e : EffectCatalogue())
     if (name == e.name) return true;
   return false;

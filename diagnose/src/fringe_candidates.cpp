@@ -17,6 +17,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Weight of residual sample k (σ̄/σ(I), 1 without a noise-level function).
+inline double W(const FringeFit& fit, size_t k) { return fit.weight.empty() ? 1.0 : fit.weight[k]; }
+
 std::vector<std::vector<int>> PixelsByTile(const FringeFit& fit) {
   std::vector<std::vector<int>> out(fit.tiles_x * fit.tiles_y);
   for (size_t i = 0; i < fit.pixels.size(); ++i) out[fit.pixels[i].tile].push_back(static_cast<int>(i));
@@ -89,11 +92,15 @@ CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, con
         }
         long used = 0;
         for (int f = 0; f < nf; ++f) {
-          r(f) = fit.residual[static_cast<size_t>(i) * nf + f];
-          if (std::isfinite(r(f)))
+          const size_t idx = static_cast<size_t>(i) * nf + f;
+          r(f) = fit.residual[idx];
+          if (std::isfinite(r(f))) {
             ++used;
-          else
+            const double w = W(fit, idx);
+            r(f) *= w, mat.row(f) *= w;
+          } else {
             r(f) = 0, mat.row(f).setZero();
+          }
         }
         // Rows are sparse (a Gray frame touches one or two columns): accumulate over non-zeros.
         for (int f = 0; f < nf; ++f) {
@@ -173,7 +180,8 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
   for (int t = 0; t < nt; ++t)
     for (int i : by_tile[t]) {
       for (int f = 0; f < nf; ++f) {
-        const double r = fit.residual[static_cast<size_t>(i) * nf + f];
+        const size_t idx = static_cast<size_t>(i) * nf + f;
+        const double r = fit.residual[idx] * W(fit, idx);
         if (std::isfinite(r)) base_ssr[t] += r * r, ++count[t];
       }
     }
@@ -254,9 +262,10 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
             }
           }
           for (int f = 0; f < nf; ++f) {
-            if (!std::isfinite(fit.residual[static_cast<size_t>(i) * nf + f])) continue;
+            const size_t idx = static_cast<size_t>(i) * nf + f;
+            if (!std::isfinite(fit.residual[idx])) continue;
             const double v = fit.images[f].at<float>(p.y, p.x);
-            ssr[t] += std::pow(v - std::min(IdealIntensity(fit, p, f), clip), 2);
+            ssr[t] += std::pow((v - std::min(IdealIntensity(fit, p, f), clip)) * W(fit, idx), 2);
           }
         }
     });
@@ -283,16 +292,19 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
         for (int i : by_tile[t]) {
           const PixelFit& p = fit.pixels[i];
           double phase_ssr = 0;
-          for (int k = 0; k < n; ++k)
-            phase_ssr += std::pow(fit.residual[static_cast<size_t>(i) * nf + fit.phase_frame[k]], 2);
+          for (int k = 0; k < n; ++k) {
+            const size_t idx = static_cast<size_t>(i) * nf + fit.phase_frame[k];
+            phase_ssr += std::pow(fit.residual[idx] * W(fit, idx), 2);
+          }
           const double g = std::hypot(p.grad_x, p.grad_y);
           for (int s = 0; s < ng; ++s) {
             double sum = phase_ssr;
             for (int j = 0; j < fit.gray_bits; ++j) {
               const int f = fit.gray_frame[j];
-              if (!std::isfinite(fit.residual[static_cast<size_t>(i) * nf + f])) continue;
-              const double pred = GrayIntensity(fit, p, j, grid[s] * g);
-              sum += std::pow(fit.images[f].at<float>(p.y, p.x) - pred, 2);
+              const size_t idx = static_cast<size_t>(i) * nf + f;
+              if (!std::isfinite(fit.residual[idx])) continue;
+              const double pred = SensorExpectation(fit, p, GrayIntensity(fit, p, j, grid[s] * g));
+              sum += std::pow((fit.images[f].at<float>(p.y, p.x) - pred) * W(fit, idx), 2);
             }
             ssr[s][t] += sum;
           }

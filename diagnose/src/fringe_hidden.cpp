@@ -57,6 +57,7 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   config.cameras.right = cam;  // unused: only the left camera is rendered
   config.supersampling = 2;
   config.seed = draw.seed;
+  config.sensor.full_well_electrons /= draw.camera_gain;
   if (draw.effect != "none") config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
   const vision::SimulatedCamera sim = vision::SimulateCamera(config, 0);
 

@@ -11,6 +11,24 @@
 
 namespace ramtk::diagnose::fringe {
 
+// Noise-level function of the sensor: variance of one sample against its intensity I (DN), estimated
+// from the phase-shift residuals (which keep (N − 3)/N of it). A residual's variance is that times
+// ResidualVarianceFactor (the per-pixel fit's leverage).
+inline constexpr double kQuadraticZ = 5.0;       // I² term significant beyond this many sigmas …
+inline constexpr double kQuadraticShare = 0.25;  // … and carrying this share of the brightest variance
+struct NoiseLevel {
+  double a = 0, b = 0, c = 0;  // variance a + b·I + c·I² (c = 0 unless super_poisson), DN², DN, 1
+  double sigma_a = 0, sigma_b = 0;
+  double quadratic_c = 0, sigma_c = 0;  // the I² coefficient of the quadratic fit, always reported
+  double quadratic_share = 0;           // its share of the variance at the brightest level
+  bool super_poisson = false;           // the I² term is significant and material
+  double linear_chi2 = 0;               // lack of fit of a + b·I over the bins
+  int bins = 0;
+  double top_level = 0;  // mean level of the brightest bin (DN)
+  long pairs = 0;        // neighbour differences used
+  double Variance(double level) const;  // ≥ 1/12 DN² (quantisation)
+};
+
 // One analysed pixel: the ideal model's per-pixel parameters.
 struct PixelFit {
   int x = 0, y = 0;
@@ -20,6 +38,7 @@ struct PixelFit {
   double u = 0;                   // unwrapped projector coordinate (projector px)
   double grad_x = 0, grad_y = 0;  // du/dx, du/dy (projector px per camera px)
   bool clipped = false;           // a phase-shift sample at the clip level
+  bool censored = false;          // fitted against the expectation clamped at 0 (ModelSensorRange)
 };
 
 // The measured set and the ideal model fitted to it.
@@ -39,9 +58,34 @@ struct FringeFit {
   std::vector<PixelFit> pixels;  // analysed pixels
   std::vector<float> residual;   // pixels.size() × frames: measured − ideal model; NaN = not
                                  // used (Gray samples within one camera pixel of a code edge)
+  std::vector<float> weight;     // same layout: σ̄/σ(I) from the noise-level function (empty = all 1);
+                                 // candidates fit and score residual·weight (heteroscedastic)
   cv::Mat index;                 // CV_32S, pixel → index into `pixels`, −1 if not analysed
   long masked_saturated = 0;     // informational counts
+  // The sensor's black end: with `censored`, a sample's expected value is that of a noisy value
+  // (σ from `noise`) clamped at 0 (SensorExpectation), which bends the mean response of dark
+  // samples when the noise is large (high camera gain, no black offset). Clipping at full scale
+  // stays the `saturation` candidate's.
+  NoiseLevel noise;
+  bool censored = false;
+  long range_refitted = 0;  // pixels refitted with the censored expectation
 };
+
+// E[max(X, 0)] for X ~ N(mu, σ²(mu)) for a censored pixel, else mu.
+double SensorExpectation(const FringeFit& fit, const PixelFit& p, double mu);
+
+// Noise-level function of the set (fringe_noise.cpp), from residual differences along the fringes.
+NoiseLevel EstimateNoiseLevel(const FringeFit& fit);
+
+// Residual variance over sample variance for frame f: 1 − 3/N for a phase-shift frame (the fit
+// absorbs 3 of N degrees of freedom), 1 + 3/N for a Gray-code frame (its prediction A ± B' carries
+// the variance of the fitted A and B, σ²/N + 2σ²/N).
+double ResidualVarianceFactor(const FringeFit& fit, int f);
+
+// Models the sensor's black end with the noise-level function `noise`: pixels whose phase samples
+// come within 4σ of 0 (and not more than 2σ below it: light is not negative) are refitted (A, B, φ)
+// against the censored expectation, and every residual is recomputed against it.
+void ModelSensorRange(const NoiseLevel& noise, FringeFit* fit);
 
 // Shift of phase step k (nominal, rad).
 double StepShift(int k, int steps);
@@ -70,6 +114,7 @@ double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f);
 // Noise floor: RMS of the residual differences between neighbouring analysed pixels along the
 // fringe direction, over √2 (outliers beyond 6 robust sigmas left out).
 double NoiseFloor(const FringeFit& fit, long* pairs);
+
 
 // Fits every candidate with cross-validation over tiles; returns them with heldout/train RMS
 // filled (kNoEffect first). `sigma` is the noise floor (for the parameter sigmas).

@@ -72,9 +72,9 @@ double EdgeDistance(const FringeFit& fit, int j, double u) {
 
 double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f) {
   for (int k = 0; k < fit.steps; ++k)
-    if (fit.phase_frame[k] == f) return p.a + p.b * std::cos(p.phi + StepShift(k, fit.steps));
+    if (fit.phase_frame[k] == f) return SensorExpectation(fit, p, p.a + p.b * std::cos(p.phi + StepShift(k, fit.steps)));
   for (int j = 0; j < fit.gray_bits; ++j)
-    if (fit.gray_frame[j] == f) return GrayIntensity(fit, p, j, 0.0);
+    if (fit.gray_frame[j] == f) return SensorExpectation(fit, p, GrayIntensity(fit, p, j, 0.0));
   return 0.0;
 }
 

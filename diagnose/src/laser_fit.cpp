@@ -107,6 +107,14 @@ CandidateOutcome EvaluateCandidate(const ResidualModel& model, const std::vector
   for (int i : spec.params) {
     c.parameters[model.names[i]] = out.full.params(i);
     c.sigmas[model.names[i]] = out.full.sigma(i);
+    if (model.lower.size() == model.initial.size() &&
+        (out.full.params(i) < model.lower(i) || out.full.params(i) > model.upper(i))) {
+      std::ostringstream why;
+      why.precision(4);
+      why << model.names[i] << " = " << out.full.params(i) << " outside the plausible [" << model.lower(i) << ", "
+          << model.upper(i) << "]";
+      c.implausible += (c.implausible.empty() ? "" : "; ") + why.str();
+    }
   }
   c.train_rms = out.full.rms;
   c.heldout_rms = Rms(out.heldout_resid);

@@ -18,6 +18,9 @@ struct ResidualModel {
   Eigen::VectorXd initial, step;
   // All residuals for a parameter vector (same length for every call).
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> residuals;
+  // Plausibility bounds [lo, hi] of each parameter (absolute values; empty = none): a fitted value
+  // outside them is evidence against the candidate, which is then never named.
+  Eigen::VectorXd lower, upper;
   // Group (cross-validation unit) of each residual.
   std::vector<int> group;
   int num_groups = 0;

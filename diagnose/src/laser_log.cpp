@@ -22,6 +22,9 @@ using laser_detail::CandidateSpec;
 using laser_detail::ResidualModel;
 
 // Tool (tip in the flange, axis tilt) then the effects' parameters.
+// Largest plausible tilt of the beam plane against the motion plane (deg).
+constexpr double kMaxPlaneTiltDeg = 2.0;
+
 enum Param {
   kTx,
   kTy,
@@ -173,6 +176,19 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   model.step = Eigen::VectorXd::Constant(kNumParams, 1e-4);
   model.step(kAx) = model.step(kAy) = 1e-6;
   model.residuals = [&lm](const Eigen::VectorXd& q) { return lm.Residuals(q); };
+  // Plausibility bounds of the effects (the tool is free): a device mounted and checked by eye is
+  // not tilted by degrees (docs/tcf.md: a 0.3° plane tilt is undetectable in these logs, so a fitted
+  // tilt of several degrees stands for something else), beams are not 10° off square or mm apart,
+  // a receiver answers within 50 ms and not before the event, a robot keeps its speed within 10 %.
+  model.lower = Eigen::VectorXd::Constant(kNumParams, -INFINITY);
+  model.upper = Eigen::VectorXd::Constant(kNumParams, INFINITY);
+  model.lower(kBeta) = 80.0, model.upper(kBeta) = 100.0;
+  model.lower(kOffset) = -3.0, model.upper(kOffset) = 3.0;
+  model.lower(kWidth) = -0.1, model.upper(kWidth) = 5.0;
+  model.lower(kLatency) = -1.0, model.upper(kLatency) = 50.0;
+  model.lower(kSpeed) = -10.0, model.upper(kSpeed) = 10.0;
+  model.lower(kTiltX) = model.lower(kTiltY) = -kMaxPlaneTiltDeg;
+  model.upper(kTiltX) = model.upper(kTiltY) = kMaxPlaneTiltDeg;
 
   Diagnosis d;
   d.kind = DataKind::kLaser;
@@ -201,19 +217,27 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   // Structure of the ideal model's residual (scaled for the fitted tool) against the noise.
   const Eigen::VectorXd r0 = model.residuals(outcomes[0].full.params);
   const double dof_scale = std::sqrt(static_cast<double>(n) / (n - static_cast<double>(base.size())));
-  std::vector<double> scaled(n), state(n), beam(n), direction, circle_resid, elapsed(n);
+  std::vector<double> scaled(n), state(n), beam(n), direction, circle_resid, circle_angle, elapsed(n);
   for (int i = 0; i < n; ++i) {
     const UsedEvent& u = lm.used[i];
     scaled[i] = r0(i) * dof_scale;
     state[i] = u.event.state == tcf::BeamState::kBlocked ? 1.0 : -1.0;
     beam[i] = u.event.beam == tcf::Beam::kX ? 1.0 : -1.0;
     elapsed[i] = u.event.time_s - u.start;
-    if (u.circle) direction.push_back(u.direction), circle_resid.push_back(scaled[i]);
+    if (u.circle) {
+      direction.push_back(u.direction), circle_resid.push_back(scaled[i]);
+      const tcf::CircleSegment& c = motion.circles[u.segment];
+      circle_angle.push_back(c.AngleAt(u.event.time_s) - c.start_angle_rad);
+    }
   }
   std::vector<TestResult> tests = {VarianceTest(scaled, {sigma}), TrendTest(scaled, {sigma}, state, 1, "state"),
                                    TrendTest(scaled, {sigma}, beam, 1, "beam"),
                                    TrendTest(scaled, {sigma}, elapsed, 1, "time in segment")};
   if (!circle_resid.empty()) tests.push_back(TrendTest(circle_resid, {sigma}, direction, 1, "direction cw/ccw"));
+  // A speed that varies along the circle (servo ripple) shifts the crossings periodically in the
+  // angle travelled: once and twice per turn.
+  if (circle_resid.size() > 8)
+    tests.push_back(HarmonicTrendTest(circle_resid, {sigma}, circle_angle, 2, "angle along the circle"));
   std::vector<double> p;
   for (const TestResult& t : tests) p.push_back(t.p_value);
   const std::vector<double> holm = HolmCorrection(p);

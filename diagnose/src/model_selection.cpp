@@ -19,9 +19,14 @@ int SelectCandidate(std::vector<CandidateFit>* candidates, const SelectionOption
   const double none_score = none->score;
   std::stable_sort(candidates->begin(), candidates->end(),
                    [](const CandidateFit& a, const CandidateFit& b) { return a.score < b.score; });
+  // Implausible candidates (fitted values outside their bounds) keep their scores for the report but
+  // go last with no evidence weight: they are never chosen.
+  std::stable_partition(candidates->begin(), candidates->end(),
+                        [](const CandidateFit& c) { return c.implausible.empty(); });
   const double best = candidates->front().score;
   double total = 0.0;
-  for (CandidateFit& c : *candidates) total += (c.weight = std::exp(-0.5 * (c.score - best)));
+  for (CandidateFit& c : *candidates)
+    total += (c.weight = c.implausible.empty() ? std::exp(-0.5 * (c.score - best)) : 0.0);
   for (CandidateFit& c : *candidates) c.weight /= total;
   if (candidates->front().effect != kNoEffect && none_score - best < options.min_improvement) {
     // Not enough evidence for an extension: the current model stays, with its own weight.

@@ -35,6 +35,8 @@ std::string DiagnosisJson(const Diagnosis& d) {
   j["unit"] = d.unit;
   j["num_residuals"] = d.num_residuals;
   j["noise_floor_rms"] = Finite(d.noise_floor_rms);
+  if (!d.noise_model.empty())
+    j["noise_model"] = {{"parameters", MapJson(d.noise_model)}, {"sigmas", MapJson(d.noise_model_sigmas)}};
   j["residual_rms"] = Finite(d.residual_rms);
   j["structure_found"] = d.structure_found;
   j["structure_p_value"] = Finite(d.structure_p_value);
@@ -44,6 +46,9 @@ std::string DiagnosisJson(const Diagnosis& d) {
   j["sigmas"] = MapJson(d.sigmas);
   j["confidence"] = Finite(d.confidence);
   if (!d.explaining_variable.empty()) j["explaining_variable"] = d.explaining_variable;
+  if (!d.partial.empty()) j["partial"] = d.partial;
+  if (!d.look_alikes.empty()) j["look_alikes"] = d.look_alikes;
+  if (!d.separate_with.empty()) j["separate_with"] = d.separate_with;
   j["heldout"] = {{"rms_before", Finite(d.rms_before)},
                   {"rms_after", Finite(d.rms_after)},
                   {"excess_removed", Finite(d.excess_removed)}};
@@ -58,6 +63,9 @@ std::string DiagnosisJson(const Diagnosis& d) {
                           {"heldout_count", c.heldout_count},
                           {"score", Finite(c.score)},
                           {"weight", Finite(c.weight)}});
+    if (c.absorbed_share >= 0) candidates.back()["absorbed_share"] = Finite(c.absorbed_share);
+    if (c.signature_cos >= 0) candidates.back()["signature_cos"] = Finite(c.signature_cos);
+    if (!c.implausible.empty()) candidates.back()["implausible"] = c.implausible;
   }
   j["candidates"] = candidates;
   nlohmann::json pictures = nlohmann::json::array();
@@ -78,6 +86,12 @@ std::string OneLine(const Diagnosis& d) {
   out << "cause '" << d.cause << "'";
   if (d.cause == kUnexplained && !d.explaining_variable.empty())
     out << " (explained by " << d.explaining_variable << ")";
+  if (!d.look_alikes.empty()) {
+    out << " {";
+    for (size_t i = 0; i < d.look_alikes.size(); ++i) out << (i ? ", " : "") << d.look_alikes[i];
+    out << "}";
+  }
+  if (!d.partial.empty()) out << " (partly " << d.partial.front() << ")";
   out << " (confidence " << Fixed(d.confidence, 3) << "): held-out RMS " << Fixed(d.rms_before, 4) << " -> "
       << Fixed(d.rms_after, 4) << " " << d.unit << ", " << Fixed(100.0 * d.excess_removed, 3)
       << "% of the excess over the noise floor removed";

@@ -1,6 +1,7 @@
 #include "robot_candidates.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "ramtk/core/units.h"
@@ -63,7 +64,12 @@ int AddDrift(const Context& ctx, const std::vector<int>& params, bool per_cycle,
   const std::vector<Row>& rows = ctx.rows->rows;
   if (per_cycle) {
     const std::vector<int> keep = IdentifiablePerCycle(rows, *d, params);
+    const int first = d->np;
     AddParamColumns(rows, keep, true, d);
+    // A drift is a change from the first (reference) cycle, as in thesis eq. 3-8: the first cycle's
+    // values are 0, so a constant error stays with the static candidates.
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (rows[i].cycle_pos == 0) d->cycle[i].rightCols(d->np - first).setZero();
     for (int p : keep) terms->cycle.emplace_back(p, -1);
     return static_cast<int>(keep.size()) * ctx.rows->num_cycles;
   }
@@ -169,7 +175,7 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   const bool multi_cycle = num_cycles >= 3;
   std::vector<Evaluated> out;
   int step = 0;
-  const size_t steps = multi_cycle ? 7 : 3;
+  const size_t steps = multi_cycle ? 8 : 4;
   auto tick = [&](const std::string& what) {
     if (ctx.progress) ctx.progress({"diagnose robot: " + what, static_cast<size_t>(++step), steps});
   };
@@ -301,6 +307,25 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
       }
     }
     tick("thermal drift");
+    // A drift must change with time: a thermal candidate whose held-out score a static error of
+    // the same parameters matches (within min_improvement) is a static effect (joint compliance, a
+    // zero or length error) seen through constant drift terms, and is dropped.
+    for (auto& list : forms)
+      for (auto it = list.begin(); it != list.end();) {
+        const std::vector<int> params = Identifiable(rows, ctx.base, it->added_cycle_params);
+        bool is_static = false;
+        if (!params.empty()) {
+          const CvResult st = Cv(ctx, WithParams(ctx, ctx.base, params, false));
+          const double static_score = Score(st.heldout_ss, st.heldout_n, static_cast<int>(params.size()));
+          const double drift_score = Score(it->cv.heldout_ss, it->cv.heldout_n, it->fit.num_parameters);
+          is_static = !(drift_score < static_score - ctx.min_improvement);
+          if (is_static)
+            notes->push_back(it->fit.effect + ": dropped, a static error of " + thermal::ParamListToString(params) +
+                             " explains as much (held-out score " + std::to_string(static_score) + " vs " +
+                             std::to_string(drift_score) + ")");
+        }
+        it = is_static ? list.erase(it) : it + 1;
+      }
     for (const char* effect : {"thermal_length_drift", "thermal_angle_drift"}) {
       Evaluated* best = nullptr;
       for (auto& list : forms)
@@ -348,6 +373,148 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
     }
     tick("joint_compliance");
   }
+
+  // Joint cyclic error (encoder eccentricity, gear run-out): Δθ_j = a·sin q_j + b·cos q_j +
+  // c·sin 2q_j + d·cos 2q_j. Joints added greedily by held-out score (each must pay
+  // min_improvement), at most two.
+  {
+    auto joint_cols = [&](int j) {
+      std::vector<Mat3X> cols;
+      const int theta = kinematics::ParamIndex(ParamKind::kTheta, j + 1);
+      for (const Row& r : rows) {
+        Mat3X m(3, 4);
+        const double q = r.q[j];
+        m.col(0) = r.j_param.col(theta) * std::sin(q);
+        m.col(1) = r.j_param.col(theta) * std::cos(q);
+        m.col(2) = r.j_param.col(theta) * std::sin(2 * q);
+        m.col(3) = r.j_param.col(theta) * std::cos(2 * q);
+        cols.push_back(m);
+      }
+      return cols;
+    };
+    Design current = ctx.base;
+    const int n = ctx.base_cv.heldout_n;
+    double current_score = Score(ctx.base_cv.heldout_ss, n, 0);
+    int current_k = 0;
+    std::vector<int> joints;
+    std::vector<std::pair<std::string, double>> keys;
+    CvResult current_cv;
+    while (joints.size() < 2) {
+      double best = INFINITY;
+      int best_j = -1;
+      Design best_design;
+      CvResult best_cv;
+      std::vector<std::pair<std::string, double>> best_keys;
+      int best_added = 0;
+      for (int j = 0; j < 6; ++j) {
+        if (std::find(joints.begin(), joints.end(), j) != joints.end()) continue;
+        // Once per turn (eccentricity: sin/cos q) or once and twice per turn (+ sin/cos 2q).
+        for (const int terms : {2, 4}) {
+          const std::vector<Mat3X> all = joint_cols(j);
+          const std::vector<Mat3X> cols = SelectColumns(all, terms == 2 ? std::vector<int>{0, 1} : std::vector<int>{0, 1, 2, 3});
+          const std::vector<int> keep = IndependentColumns(PooledBlocks(current), cols);
+          if (keep.empty()) continue;
+          static const char* kTerm[4] = {"sin_q", "cos_q", "sin_2q", "cos_2q"};
+          std::vector<std::string> names;
+          std::vector<std::pair<std::string, double>> ks;
+          for (int k : keep) {
+            names.push_back("q" + std::to_string(j + 1) + "_" + kTerm[k]);
+            ks.emplace_back("joint" + std::to_string(j + 1) + "_" + kTerm[k] + "_deg", kDegPerRad);
+          }
+          Design d = current;
+          AddStaticColumns(SelectColumns(cols, keep), names, &d);
+          CvResult cv = Cv(ctx, d);
+          const int added = static_cast<int>(keep.size());
+          const double sc = Score(cv.heldout_ss, n, current_k + added);
+          if (sc < best)
+            best = sc, best_j = j, best_design = std::move(d), best_cv = std::move(cv), best_keys = ks,
+            best_added = added;
+        }
+      }
+      if (best_j < 0 || !(best < current_score - ctx.min_improvement)) break;
+      joints.push_back(best_j);
+      current = std::move(best_design);
+      current_cv = std::move(best_cv);
+      current_score = best;
+      current_k += best_added;
+      keys.insert(keys.end(), best_keys.begin(), best_keys.end());
+    }
+    if (!joints.empty()) {
+      Evaluated e;
+      e.design = current;
+      e.cv = current_cv;
+      e.fit = MakeFit("joint_cyclic_error", current_k, e.cv);
+      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+      std::string list;
+      for (int j : joints) {
+        list += (list.empty() ? "q" : ", q") + std::to_string(j + 1);
+        const auto value = [&](const std::string& k) {
+          const auto it = e.fit.parameters.find(k);
+          return it == e.fit.parameters.end() ? 0.0 : it->second;
+        };
+        const double a = value("joint" + std::to_string(j + 1) + "_sin_q_deg");
+        const double b = value("joint" + std::to_string(j + 1) + "_cos_q_deg");
+        e.fit.parameters["joint" + std::to_string(j + 1) + "_amplitude_1q_deg"] = std::hypot(a, b);
+      }
+      e.note = "joint_cyclic_error: sin/cos of q and 2q on " + list;
+      out.push_back(std::move(e));
+    } else {
+      notes->push_back("joint_cyclic_error: no joint's cyclic terms improve the held-out score");
+    }
+    tick("joint_cyclic_error");
+  }
+
+  // Temperature-driven drift: link lengths and the sensor translation linear in a measured
+  // temperature column (any extra column whose name contains "temp"); the best column kept.
+  {
+    Evaluated best;
+    double best_score = INFINITY;
+    for (const std::string& column : ctx.rows->extra_columns) {
+      std::string lower = column;
+      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (lower.find("temp") == std::string::npos) continue;
+      double mean = 0;
+      for (const Row& r : rows) {
+        const auto it = r.extra.find(column);
+        mean += it == r.extra.end() ? 0.0 : it->second;
+      }
+      mean /= std::max<size_t>(1, rows.size());
+      std::vector<Mat3X> cols;
+      for (const Row& r : rows) {
+        const auto it = r.extra.find(column);
+        const double dt = (it == r.extra.end() ? mean : it->second) - mean;
+        Mat3X m(3, lengths.size() + 3);
+        for (size_t k = 0; k < lengths.size(); ++k) m.col(k) = r.j_param.col(lengths[k]) * dt;
+        m.rightCols(3) = r.j_setup.middleCols(3, 3) * dt;
+        cols.push_back(m);
+      }
+      const std::vector<int> keep = IndependentColumns(PooledBlocks(ctx.base), cols);
+      if (keep.empty()) continue;
+      std::vector<std::string> names;
+      std::vector<std::pair<std::string, double>> keys;
+      for (int k : keep) {
+        const std::string name = k < static_cast<int>(lengths.size())
+                                     ? kinematics::ParamName(lengths[k]) + "_mm_per_K"
+                                     : std::string(k - lengths.size() == 0 ? "tx" : k - lengths.size() == 1 ? "ty" : "tz") +
+                                           "_mm_per_K";
+        names.push_back(name), keys.emplace_back(name, 1.0);
+      }
+      Evaluated e;
+      e.design = ctx.base;
+      AddStaticColumns(SelectColumns(cols, keep), names, &e.design);
+      e.cv = Cv(ctx, e.design);
+      e.fit = MakeFit("temperature_driven_drift", static_cast<int>(keep.size()), e.cv);
+      ReportStatic(e.design, e.cv, ctx.base.ns, ctx.sigma, keys, &e.fit);
+      e.note = "temperature_driven_drift: lengths and sensor translation linear in column '" + column + "'";
+      const double sc = Score(e.cv.heldout_ss, e.cv.heldout_n, e.fit.num_parameters);
+      if (sc < best_score) best_score = sc, best = std::move(e);
+    }
+    if (std::isfinite(best_score))
+      out.push_back(std::move(best));
+    else
+      notes->push_back("temperature_driven_drift: no temperature column in the data");
+  }
+  notes->push_back("backlash: not testable (the data carry no direction of approach)");
 
   if (multi_cycle) {
     // Sensor frame drift: rotation and translation, quadratic in time (sensor frame).

@@ -39,4 +39,30 @@ Design CurrentModelDesign(const RobotDiagnoseInput& in, const RowSet& rs);
 // `notes`).
 std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::string>* notes);
 
+// ---- identifiability (robot_identify.cpp) ----
+
+// Mean share of the columns `extended` adds to `base` that lies in the span of the base columns
+// (pooled over rows, per-cycle columns pooled as static): 1 = the current model absorbs it.
+double AbsorbedShare(const Design& base, const Design& extended);
+// Is `extended` nested in `container`? The columns of `extended` from (first_stat, first_cycle) on,
+// with their part in the common base (the columns before) removed: mean share of what remains
+// that lies in the span of `container` (≈ 1: nested).
+double NestedShare(const Design& container, const Design& extended, int first_stat, int first_cycle);
+
+// A candidate's fitted correction (3n, pooled): base residual − candidate residual, full fits. It
+// lies outside what the base absorbs, so the angle between two signatures says how alike two
+// candidates look in these data.
+Eigen::VectorXd Signature(const std::vector<Row>& rows, const Design& base, const Fit& base_fit, const Design& d,
+                          const Fit& f);
+
+// Held-out difference of two candidates in units of its cross-validation scatter: Σ(|a|² − |b|²)
+// over rows, divided by the standard error from per-pose sums (poses are the independent units).
+// Negative: `a` predicts better.
+double HeldoutDifferenceZ(const RowSet& rs, const std::vector<Eigen::Vector3d>& a,
+                          const std::vector<Eigen::Vector3d>& b);
+
+// What data would separate candidates whose signatures differ by `difference` (3n): the joint
+// along which they part most and where, plus a temperature column / payload change when relevant.
+std::string SeparatingData(const RowSet& rs, const Eigen::VectorXd& difference, const std::vector<std::string>& effects);
+
 }  // namespace ramtk::diagnose::robot_detail

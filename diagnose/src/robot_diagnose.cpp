@@ -16,6 +16,19 @@ namespace {
 
 using robot_detail::Row;
 
+// A named cause must remove at least this share of the excess, or leave no structure behind.
+constexpr double kExplainedShare = 0.9;
+// Absorbed share at which a candidate counts as not observable with the data at hand.
+constexpr double kNotObservableShare = 0.99;
+// Two candidates are separated when their held-out errors differ by this many standard errors.
+constexpr double kSeparationZ = 2.0;
+// Two candidates look alike when their fitted corrections are this parallel (|cos| of the angle).
+constexpr double kLookAlikeCos = 0.8;
+// A candidate whose columns lie this much in another's span is nested in it.
+constexpr double kNestedShare = 0.98;
+// A contender with more than this many times the chosen candidate's parameters is not a look-alike.
+constexpr int kOccamFactor = 2;
+
 std::string Num(double v, int digits = 4) {
   std::ostringstream o;
   o.precision(digits);
@@ -72,10 +85,15 @@ std::vector<NamedTest> StructureTests(const robot_detail::RowSet& rs, const std:
     vars.emplace_back(c, v);
   }
   for (const auto& [name, v] : vars) {
+    // Joint angles: sin/cos of q and 2q (periodic in the angle); other variables: a quadratic.
+    const bool angle = name.size() == 2 && name[0] == 'q';
     for (int a = 0; a < 3; ++a) {
       std::vector<double> comp(n);
       for (int i = 0; i < n; ++i) comp[i] = res[i][a];
-      tests.push_back({TrendTest(comp, {sigma_eff}, v, 2, std::string(axis[a]) + " vs " + name), name});
+      const std::string label = std::string(axis[a]) + " vs " + name;
+      tests.push_back({angle ? HarmonicTrendTest(comp, {sigma_eff}, v, 2, label)
+                             : TrendTest(comp, {sigma_eff}, v, 2, label),
+                       name});
     }
   }
   // Ljung–Box in time order only for a static model: per-cycle fits leave residuals whose
@@ -95,16 +113,21 @@ std::vector<NamedTest> StructureTests(const robot_detail::RowSet& rs, const std:
 
 // The measured variable whose tests explain the most: Σ (χ² − dof) over its trend / group-mean
 // tests (x, y, z together). p-values cannot rank here: strong structure drives them all to 0.
+// A measured variable (time, a joint angle, an extra column) is preferred to the pose index when one
+// carries at least a third of the pose means' excess: "pose" only says that the error is static.
 std::string ExplainingVariable(const std::vector<NamedTest>& tests) {
   std::map<std::string, double> excess;
   for (const NamedTest& t : tests) {
     if (t.variable == "level" || t.variable == "time order") continue;
     excess[t.variable] += t.test.statistic - t.test.dof;
   }
-  std::string best;
-  double top = -INFINITY;
-  for (const auto& [v, e] : excess)
+  std::string best, best_measured;
+  double top = -INFINITY, top_measured = -INFINITY;
+  for (const auto& [v, e] : excess) {
     if (e > top) top = e, best = v;
+    if (v != "pose" && v != "cycle" && e > top_measured) top_measured = e, best_measured = v;
+  }
+  if (best == "pose" && !best_measured.empty() && top_measured >= top / 3.0 && top_measured > 0) return best_measured;
   return best;
 }
 
@@ -210,6 +233,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   // Step 3: candidates.
   std::vector<std::string> notes;
   std::vector<robot_detail::Evaluated> evaluated = robot_detail::EvaluateCandidates(ctx, &notes);
+  for (auto& e : evaluated) e.fit.absorbed_share = robot_detail::AbsorbedShare(ctx.base, e.design);
   CandidateFit none;
   none.effect = kNoEffect;
   none.train_rms = ctx.base_cv.TrainRms();
@@ -232,16 +256,125 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   d.rms_after = chosen.heldout_rms;
   d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, sigma);
   d.confidence = chosen.weight;
-  if (chosen.effect != kNoEffect && d.structure_found && d.excess_removed >= 0.25) {
-    d.cause = chosen.effect;
+  // Step 3b: is the chosen candidate the whole story, and can these data tell it from the others?
+  std::string verdict = chosen.effect;
+  Eigen::VectorXd sig_chosen;
+  if (chosen_eval != nullptr) {
+    sig_chosen =
+        robot_detail::Signature(rs.rows, ctx.base, ctx.base_cv.full, chosen_eval->design, chosen_eval->cv.full);
+    for (CandidateFit& c : d.candidates)
+      for (const auto& e : evaluated)
+        if (e.fit.effect == c.effect) {
+          const Eigen::VectorXd sc =
+              robot_detail::Signature(rs.rows, ctx.base, ctx.base_cv.full, e.design, e.cv.full);
+          const double den = sc.norm() * sig_chosen.norm();
+          c.signature_cos = den > 0 ? std::abs(sc.dot(sig_chosen)) / den : 0.0;
+        }
+  }
+  if (chosen_eval != nullptr && d.structure_found && d.excess_removed >= 0.25) {
+    // Out-of-catalogue honesty: after fitting the chosen extension, does a structure test still find
+    // dependence on a measured variable? Then the name would claim too much.
+    std::vector<Eigen::Vector3d> after(n);
+    for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
+    const double fitted_after =
+        chosen_eval->design.ns + static_cast<double>(chosen_eval->design.np) * rs.num_cycles;
+    const double sigma_after = sigma * std::sqrt(std::max(0.05, 1.0 - fitted_after / (3.0 * n)));
+    std::vector<NamedTest> rest = StructureTests(rs, after, sigma_after, chosen_eval->design.np == 0);
+    std::vector<double> rp;
+    for (const NamedTest& t : rest) rp.push_back(t.test.p_value);
+    const std::vector<double> rc = HolmCorrection(rp);
+    std::vector<NamedTest> remaining;
+    for (size_t i = 0; i < rest.size(); ++i)
+      if (rc[i] < options.alpha && rest[i].variable != "level" && rest[i].variable != "time order")
+        remaining.push_back(rest[i]);
+    if (!remaining.empty() && d.excess_removed < kExplainedShare) {
+      verdict = kUnexplained;
+      d.explaining_variable = ExplainingVariable(remaining);
+      d.partial = {chosen.effect};
+      d.findings.push_back("after fitting '" + chosen.effect + "' (" + Num(100 * d.excess_removed, 3) +
+                           "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
+                           remaining.front().test.Describe() + "): structure outside the catalogue, '" +
+                           chosen.effect + "' explains it only in part");
+    } else {
+      // Look-alikes: candidates with a material gain whose held-out error is not worse than the
+      // chosen one's by more than kSeparationZ standard errors of the per-pose scatter.
+      // Look-alikes predict nearly the same correction (|cos| of their signatures ≥ kLookAlikeCos);
+      // the closest one (highest z) forms the reported pair, further ones are listed in the findings.
+      // Nested pairs are not look-alikes: the held-out score with its parameter penalty already
+      // decided between a model and its own special case.
+      std::vector<std::string> alike{chosen.effect};
+      Eigen::VectorXd difference;
+      double closest = -INFINITY;
+      std::string closest_effect;
+      for (const auto& e : evaluated) {
+        if (e.fit.effect == chosen.effect) continue;
+        if (ExcessRemoved(d.rms_before, e.fit.heldout_rms, sigma) < 0.25) continue;
+        // Nested: one candidate's columns lie in the other's span (beyond the common base), so the
+        // richer one only adds parameters and the penalised held-out score has chosen between them.
+        // (Not judged on the fitted corrections: a rich model reproduces many signals it does not
+        // contain, e.g. a sensor drift quadratic in time and a temperature rising with time.)
+        const double nested =
+            std::max(robot_detail::NestedShare(chosen_eval->design, e.design, ctx.base.ns, ctx.base.np),
+                     robot_detail::NestedShare(e.design, chosen_eval->design, ctx.base.ns, ctx.base.np));
+        if (e.fit.num_parameters > kOccamFactor * chosen.num_parameters) {
+          d.findings.push_back("'" + e.fit.effect + "' (" + std::to_string(e.fit.num_parameters) +
+                               " parameters) matches '" + chosen.effect + "' (" +
+                               std::to_string(chosen.num_parameters) +
+                               ") only with many more parameters: not a look-alike (parsimony)");
+          continue;
+        }
+        if (nested >= kNestedShare) {
+          d.findings.push_back("'" + e.fit.effect + "' and '" + chosen.effect + "' are nested (" + Num(100 * nested, 3) +
+                               "% of the smaller one's columns lie in the larger one): the penalised held-out score "
+                               "decides");
+          continue;
+        }
+        const double z = robot_detail::HeldoutDifferenceZ(rs, chosen_eval->cv.heldout_residual, e.cv.heldout_residual);
+        double cos = 0;
+        for (const CandidateFit& c : d.candidates)
+          if (c.effect == e.fit.effect) cos = c.signature_cos;
+        d.findings.push_back("held-out difference '" + chosen.effect + "' - '" + e.fit.effect + "': " + Num(z, 3) +
+                             " standard errors (per-pose scatter); signatures |cos| " + Num(cos, 3));
+        if (z > -kSeparationZ && cos >= kLookAlikeCos && z > closest) {
+          closest = z, closest_effect = e.fit.effect;
+          difference = robot_detail::Signature(rs.rows, e.design, e.cv.full, chosen_eval->design, chosen_eval->cv.full);
+        }
+      }
+      if (!closest_effect.empty()) alike.push_back(closest_effect);
+      if (alike.size() > 1) {
+        verdict = kAmbiguous;
+        d.look_alikes = alike;
+        d.separate_with = robot_detail::SeparatingData(rs, difference, alike);
+        d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
+      }
+    }
+  }
+  if (verdict != kUnexplained && chosen.effect != kNoEffect && d.structure_found && d.excess_removed >= 0.25) {
+    d.cause = verdict;
     d.parameters = chosen.parameters;
     d.sigmas = chosen.sigmas;
+  } else if (verdict == kUnexplained) {
+    d.cause = kUnexplained;
+    d.rms_after = d.rms_before;
+    d.excess_removed = 0.0;
+    d.confidence = none.weight;
   } else {
     d.cause = kNoEffect;
+    for (const CandidateFit& c : d.candidates)
+      if (c.absorbed_share >= kNotObservableShare)
+        d.findings.push_back("'" + c.effect + "' is " + Num(100 * c.absorbed_share, 4) +
+                             "% absorbed by the current model's set-up parameters: hardly observable with these poses");
     if (d.structure_found) {
       // Structure that no catalogued extension explains: say so, with the variable that carries it.
       d.explaining_variable = ExplainingVariable(tests);
       d.cause = kUnexplained;
+      if (chosen.effect != kNoEffect && d.excess_removed > 0.05) d.partial = {chosen.effect};
+      if (chosen.effect != kNoEffect && chosen.absorbed_share >= kNotObservableShare) {
+        // The best candidate would be the cause, but the set-up parameters absorb almost all of it.
+        d.cause = kNotObservable;
+        d.look_alikes = {chosen.effect};
+        d.partial.clear();
+      }
       d.findings.push_back("structure best explained by " + d.explaining_variable + " (largest χ² above its dof); " +
                            (chosen.effect == kNoEffect ? "no catalogued extension pays on held-out data"
                                                        : "'" + chosen.effect + "' removes only " +
@@ -256,7 +389,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
 
   // λ of thesis §3.2 on the monitoring points, current vs extended per-cycle set.
   if (in.has_monitoring && in.has_setup && in.setup.has_tool_sensor && chosen_eval != nullptr &&
-      !chosen_eval->added_cycle_params.empty() && d.cause == chosen.effect) {
+      !chosen_eval->added_cycle_params.empty() && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
     try {
       const thermal::ThermalExperiment exp =
           thermal::MakeExperiment(in.model, in.setup, thermal::GroupCycles(in.ball, in.ball_path),
@@ -279,7 +412,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     std::vector<Eigen::Vector3d> heldout_after = ctx.base_cv.heldout_residual;
     std::vector<std::string> added;
     Eigen::MatrixXd added_series;
-    if (chosen_eval != nullptr && d.cause == chosen.effect) {
+    if (chosen_eval != nullptr && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
       for (int i = 0; i < n; ++i)
         after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
       heldout_after = chosen_eval->cv.heldout_residual;

@@ -119,6 +119,38 @@ TestResult TrendTest(const std::vector<double>& residuals, const std::vector<dou
   return t;
 }
 
+TestResult HarmonicTrendTest(const std::vector<double>& residuals, const std::vector<double>& sigma,
+                             const std::vector<double>& angle_rad, int harmonics, const std::string& name) {
+  CheckSigma(residuals, sigma);
+  if (angle_rad.size() != residuals.size()) throw std::invalid_argument("angle and residuals differ in length");
+  TestResult t;
+  t.name = "trend(" + name + ")";
+  const int n = static_cast<int>(residuals.size()), m = 2 * harmonics;
+  if (n <= m + 2) return t;
+  Eigen::MatrixXd a(n, m + 1);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    const double w = 1.0 / SigmaAt(sigma, i);
+    a(i, 0) = w;
+    for (int k = 1; k <= harmonics; ++k) {
+      a(i, 2 * k - 1) = w * std::sin(k * angle_rad[i]);
+      a(i, 2 * k) = w * std::cos(k * angle_rad[i]);
+    }
+    b(i) = w * residuals[i];
+  }
+  const Eigen::VectorXd full = a.colPivHouseholderQr().solve(b);
+  const Eigen::VectorXd constant_only = a.col(0).colPivHouseholderQr().solve(b);
+  const double ss_const = (b - a.col(0) * constant_only).squaredNorm();
+  const double ss_full = (b - a * full).squaredNorm();
+  t.statistic = std::max(0.0, ss_const - ss_full);
+  // Over a short range of angle the columns are nearly dependent: count the rank actually used.
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
+  qr.setThreshold(1e-8);
+  t.dof = std::max<Eigen::Index>(1, qr.rank() - 1);
+  t.p_value = ChiSquareUpperTail(t.statistic, t.dof);
+  return t;
+}
+
 std::vector<double> HolmCorrection(const std::vector<double>& p_values) {
   const size_t m = p_values.size();
   std::vector<size_t> order(m);

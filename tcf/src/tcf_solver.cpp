@@ -89,6 +89,21 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
       sum += WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
     }
     s.beta_self_calibrated_rad = sum / s.circles.size();
+    // Its σ: the circles' scatter, or the noise propagated to a phase difference if larger.
+    const int kc = static_cast<int>(s.circles.size());
+    double scatter = 0.0, noise = 0.0;
+    for (int k = 0; k < kc; ++k) {
+      const CircleSegment& c = motion.circles[k];
+      const double sense = c.u_in_base.cross(c.v_in_base).dot(base_from_sensor.linear().col(2)) >= 0 ? 1.0 : -1.0;
+      const double b =
+          WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
+      scatter += (b - s.beta_self_calibrated_rad) * (b - s.beta_self_calibrated_rad);
+      // Timing noise moves each gap midpoint by ω·σ_t/√2; a circle-centre offset (repeatability)
+      // moves both crossings of a gap alike and leaves its midpoint, hence β, in place.
+      noise += std::pow(c.angular_speed_rad_s * opt.timing_sigma_s, 2);
+    }
+    const double sd = kc > 1 ? std::sqrt(scatter / (kc - 1)) : 0.0;
+    s.beta_self_calibrated_sigma_rad = std::max(sd, std::sqrt(noise / std::max(kc, 1))) / std::sqrt(std::max(kc, 1));
   }
   if (opt.self_calibrate_beta) {
     if (!(s.beta_self_calibrated_rad > DegToRad(20) && s.beta_self_calibrated_rad < DegToRad(160)))
@@ -430,7 +445,43 @@ TcfSummary SolveTcf(const std::vector<BeamEvent>& events_in, const ProgrammedMot
     s.tcp_covariance_mm2 = cov.topLeftCorner<3, 3>();
     s.tcp_sigma_mm = std::sqrt(std::max(0.0, s.tcp_covariance_mm2.trace()));
     s.axis_sigma_deg = RadToDeg(std::sqrt(std::max(0.0, cov.bottomRightCorner<3, 3>().trace())));
+    // Does the tip residual hold more than the noise? Expected scatter of one tip event: the
+    // segment's repeatability plus the timing noise times the straight moves' speed.
+    double speed2 = 0.0;
+    for (const LineSegment& l : motion.lines) speed2 += l.velocity_in_base_mm_s.squaredNorm();
+    speed2 /= std::max<std::size_t>(1, motion.lines.size());
+    const double expected = std::sqrt(std::pow(options.repeatability_sigma_mm, 2) + speed2 * std::pow(options.timing_sigma_s, 2));
+    if (expected > 0.0 && s.tip_events > 1) {
+      s.tip_noise_ratio = s.tip_rms_mm / expected;
+      if (s.tip_noise_ratio > kStructureRatio) {
+        s.sigma_inflated = true;
+        s.tcp_covariance_mm2 *= s.tip_noise_ratio * s.tip_noise_ratio;
+        s.tcp_sigma_mm *= s.tip_noise_ratio;
+        s.axis_sigma_deg *= s.tip_noise_ratio;
+        char buf[300];
+        std::snprintf(buf, sizeof(buf),
+                      "tip residual RMS %.4f mm is %.1fx the expected noise %.4f mm: the data hold an effect the "
+                      "solver does not model; the reported sigmas are inflated by that factor (run ramtk diagnose "
+                      "on the log)",
+                      s.tip_rms_mm, s.tip_noise_ratio, expected);
+        s.warnings.push_back(buf);
+      }
+    }
   }
+  if (!options.self_calibrate_beta && s.beta_self_calibrated_sigma_rad > 0.0 && !s.circles.empty() &&
+      std::abs(s.beta_self_calibrated_rad - sensor.beta_rad) >
+          std::max(kBetaDisagreementSigmas * s.beta_self_calibrated_sigma_rad, DegToRad(kBetaMaterialDeg))) {
+    s.beta_disagrees = true;
+    char buf[300];
+    std::snprintf(buf, sizeof(buf),
+                  "the circle phases give beta = %.3f +- %.3f deg, the sensor file says %.3f deg (%.0f sigma): "
+                  "the file's beta was used; pass --self-calibrate-beta or recalibrate the device",
+                  RadToDeg(s.beta_self_calibrated_rad), RadToDeg(s.beta_self_calibrated_sigma_rad),
+                  RadToDeg(sensor.beta_rad),
+                  std::abs(s.beta_self_calibrated_rad - sensor.beta_rad) / s.beta_self_calibrated_sigma_rad);
+    s.warnings.push_back(buf);
+  }
+  for (const std::string& w : s.warnings) RAMTK_LOG(kWarning) << w;
   RAMTK_LOG(kDebug) << s.BriefReport();
   return s;
 }
@@ -445,6 +496,11 @@ std::string TcfSummaryToJson(const TcfSummary& s) {
   j["theta_deg"] = RadToDeg(s.solution.theta_rad);
   j["beta_used_deg"] = RadToDeg(s.beta_used_rad);
   j["beta_from_circle_phases_deg"] = RadToDeg(s.beta_self_calibrated_rad);
+  j["beta_from_circle_phases_sigma_deg"] = RadToDeg(s.beta_self_calibrated_sigma_rad);
+  j["beta_disagrees"] = s.beta_disagrees;
+  j["tip_noise_ratio"] = s.tip_noise_ratio;
+  j["sigma_inflated"] = s.sigma_inflated;
+  j["warnings"] = s.warnings;
   j["latency_ms"] = s.latency_s * 1e3;
   j["latency_estimated"] = s.latency_estimated;
   j["phase_misalignment_deg"] = RadToDeg(s.phase_misalignment_rad);

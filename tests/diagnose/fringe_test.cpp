@@ -11,6 +11,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <tuple>
 
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/fringe_hidden.h"
@@ -57,6 +58,33 @@ TEST_P(FringeHiddenDraw, NamesTheHiddenCause) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Draws, FringeHiddenDraw, ::testing::ValuesIn(Seeds()));
+
+// Clean sets with only read + photon shot noise at camera gains 1, 4 and 16 (full well 10000,
+// 2500, 625 e−): the variance grows with intensity, up to ~80 DN² at the bright end for gain 16,
+// and the dark end (no black offset) clips noisy samples at 0.
+// The diagnosis must say "none", and the noise-level function must recover the simulator's shot
+// term b = 255/full well DN per electron (the per-pixel fit's loss of degrees of freedom and the
+// Gray frames' extra variance scale it by less than ±15 %, the renderer's 2×2 supersampling does
+// not touch the noise).
+class FringeShotNoise : public ::testing::TestWithParam<std::tuple<double, std::uint64_t>> {};
+
+TEST_P(FringeShotNoise, PhotonNoiseAloneIsNone) {
+  HiddenFringeDraw draw;
+  draw.camera_gain = std::get<0>(GetParam());
+  draw.seed = std::get<1>(GetParam());
+  const HiddenFringeSet set = SimulateHiddenFringe(draw);
+  const Diagnosis d = DiagnoseSet(set);
+  SCOPED_TRACE("gain " + std::to_string(draw.camera_gain));
+  EXPECT_EQ(d.cause, "none");
+  const double b_true = 255.0 / (10000.0 / draw.camera_gain);
+  ASSERT_TRUE(d.noise_model.count("b_DN"));
+  EXPECT_NEAR(d.noise_model.at("b_DN"), b_true, 0.15 * b_true + 3 * d.noise_model_sigmas.at("b_DN"));
+  EXPECT_EQ(d.noise_model.at("c"), 0.0);  // Poisson–Gaussian: no I² term claimed
+}
+
+INSTANTIATE_TEST_SUITE_P(Gains, FringeShotNoise,
+                         ::testing::Values(std::make_tuple(1.0, 501ull), std::make_tuple(4.0, 502ull),
+                                           std::make_tuple(16.0, 503ull)));
 
 TEST(FringeDiagnosis, SeedListCoversEveryEffect) {
   std::set<std::string> effects;

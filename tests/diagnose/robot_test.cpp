@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -37,7 +38,14 @@ TEST_P(HiddenRobotEffect, NamesTheHiddenCauseAndRemovesHalfTheExcess) {
   const HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), GetParam());
   const Diagnosis d = DiagnoseRobotData(draw.input, DiagnoseOptions{});
   SCOPED_TRACE("seed " + std::to_string(GetParam()) + ": " + draw.description);
-  EXPECT_EQ(d.cause, draw.effect);
+  // Issue 15's rule: `ambiguous` is right when the hidden effect is one of a look-alike pair.
+  if (d.cause == kAmbiguous) {
+    EXPECT_LE(d.look_alikes.size(), 2u);
+    EXPECT_NE(std::find(d.look_alikes.begin(), d.look_alikes.end(), draw.effect), d.look_alikes.end());
+    EXPECT_FALSE(d.separate_with.empty());
+  } else {
+    EXPECT_EQ(d.cause, draw.effect);
+  }
   if (draw.effect != kNoEffect) {
     EXPECT_GE(d.excess_removed, 0.5);
     EXPECT_LT(d.rms_after, d.rms_before);
@@ -68,7 +76,8 @@ void ExpectRecoveredWithinSigma(int seed, const std::string& effect) {
 }
 
 TEST(RobotDiagnosis, RecoversAHiddenJointOffsetWithinItsSigma) {
-  ExpectRecoveredWithinSigma(3, "joint_offset");  // theta3 offset
+  ExpectRecoveredWithinSigma(39, "joint_offset");  // theta5 offset (seed 3's theta3 offset is a look-alike
+                                                   // of a cyclic error of joint 2 in its poses)
 }
 
 TEST(RobotDiagnosis, RecoversAHiddenLinkLengthErrorWithinItsSigma) {
@@ -148,7 +157,7 @@ TEST(RobotDiagnosis, ThesisCaseNamesAngleDriftAndTheAnglesToAdd) {
   std::set<std::string> added;
   for (const auto& [k, v] : d.parameters)
     if (k.find("_deg") != std::string::npos) added.insert(k.substr(0, k.find("_drift")));
-  EXPECT_EQ(added, (std::set<std::string>{"alpha3", "alpha4", "beta2"}));
+  EXPECT_EQ(added, (std::set<std::string>{"alpha3", "alpha4", "beta2"})) << ::testing::PrintToString(d.findings);
   // The size of each added drift against the simulator's truth (range over the 90 cycles). The
   // drift is fitted as a quadratic in time, which cannot follow the kink where heating stops
   // (110 min) and shares part of each angle with the per-cycle lengths; 20 % allows for that.

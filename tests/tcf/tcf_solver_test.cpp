@@ -139,6 +139,30 @@ TEST(TcfSolver, BetaSelfCalibrationRecoversFromAWrongCalibratedBeta) {
   EXPECT_GT((wrong.solution.tcp_in_flange - sim.truth.tcp_in_flange).norm(), 0.02);
 }
 
+// Issue 15: a β measured from the circle phases that disagrees with the sensor file is reported
+// (not silently dropped); a file that agrees gives no warning. Default noise (jitter 20 µs,
+// repeatability 0.03 mm) and the default uncertainty options.
+TEST(TcfSolver, WarnsWhenTheCirclePhasesContradictTheFilesBeta) {
+  TcfSimulationOptions o;
+  ASSERT_TRUE(o.effects.Enable("beam_non_perpendicular"));
+  o.seed = 4;
+  TcfSimulation sim = SimulateTcf(o);
+  const TcfSummary agree = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, TcfSolverOptions{});
+  EXPECT_FALSE(agree.beta_disagrees);
+  EXPECT_TRUE(agree.warnings.empty());
+  // The phase estimate is within 3σ of the truth, and σ is the size the timing noise implies
+  // (ω·σ_t/√K = π rad/s · 0.1 ms / √3 ≈ 0.01°), not orders of magnitude off.
+  EXPECT_NEAR(RadToDeg(agree.beta_self_calibrated_rad), o.effects.beta_deg,
+              3 * RadToDeg(agree.beta_self_calibrated_sigma_rad));
+  EXPECT_GT(RadToDeg(agree.beta_self_calibrated_sigma_rad), 0.003);
+  EXPECT_LT(RadToDeg(agree.beta_self_calibrated_sigma_rad), 0.05);
+  sim.calibrated_sensor.beta_rad = DegToRad(90.0);  // the file lost β (thesis value 92.15°)
+  const TcfSummary lost = SolveTcf(sim.events, sim.motion, sim.calibrated_sensor, TcfSolverOptions{});
+  EXPECT_TRUE(lost.beta_disagrees);
+  ASSERT_EQ(lost.warnings.size(), 1u);
+  EXPECT_NE(lost.warnings[0].find("--self-calibrate-beta"), std::string::npos);
+}
+
 TEST(TcfSolver, SpeedScaleIsNotTakenForLatency) {
   TcfSimulationOptions o = Noiseless();
   ASSERT_TRUE(o.effects.Enable("speed_variation"));

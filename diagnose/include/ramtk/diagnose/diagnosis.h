@@ -16,6 +16,8 @@ const char* DataKindName(DataKind kind);  // "fringe", "robot", "laser"
 // Cause names that are not catalogue effects.
 inline constexpr const char* kNoEffect = "none";            // residual is white at the expected level
 inline constexpr const char* kUnexplained = "unexplained";  // structure no catalogued effect explains
+inline constexpr const char* kAmbiguous = "ambiguous";      // look-alike candidates the data cannot separate
+inline constexpr const char* kNotObservable = "not_observable";  // the current model absorbs the candidate
 
 // One candidate model (the current model itself is the candidate named kNoEffect with 0 parameters).
 struct CandidateFit {
@@ -28,6 +30,11 @@ struct CandidateFit {
   int heldout_count = 0;                     // residuals behind heldout_rms
   double score = 0.0;                        // selection score, lower is better (model_selection.h)
   double weight = 0.0;                       // relative evidence in [0, 1] over all candidates
+  double absorbed_share = -1.0;              // share of the candidate the current model absorbs (< 0: not computed)
+  double signature_cos = -1.0;               // |cos| of the angle between its fitted correction and the chosen
+                                             // candidate's (1 = look-alike; < 0: not computed)
+  std::string implausible;                   // why a fitted value is outside the candidate's plausibility bounds
+                                             // (empty: plausible); an implausible candidate is never named
 };
 
 // A picture written next to the report.
@@ -45,6 +52,9 @@ struct Diagnosis {
   // Step 1–2: the residual of the current model against the expected noise.
   int num_residuals = 0;
   double noise_floor_rms = 0.0;       // expected RMS from the noise model alone
+  std::map<std::string, double> noise_model;         // noise-level function estimated from the data, when the
+                                                     // kind has one (fringe: a_DN2, b_DN, c of a + b·I + c·I²)
+  std::map<std::string, double> noise_model_sigmas;  // their standard deviations
   double residual_rms = 0.0;          // current model, all data
   bool structure_found = false;       // false: white at the expected level (a valid answer)
   double structure_p_value = 1.0;     // smallest (corrected) p-value of the structure tests
@@ -56,6 +66,9 @@ struct Diagnosis {
   std::map<std::string, double> sigmas;
   double confidence = 0.0;               // in [0, 1]: evidence weight of the chosen candidate
   std::string explaining_variable;       // for kUnexplained: the measured variable that explains it
+  std::vector<std::string> partial;      // for kUnexplained: catalogue candidates that explain part of it
+  std::vector<std::string> look_alikes;  // for kAmbiguous / kNotObservable: the candidates concerned
+  std::string separate_with;             // for kAmbiguous: what data would separate them
   std::vector<CandidateFit> candidates;  // all fitted, best first
 
   // Step 4: held-out gain of the chosen extension.

@@ -19,6 +19,8 @@ struct HiddenFringeDraw {
   std::string expected = "none";  // the cause a correct diagnosis names: the effect, or "none" for
                                   // effects the ideal intensity model cannot see (ambient light,
                                   // unmodelled lens distortion)
+  double camera_gain = 1.0;        // DN per photo-electron relative to the default sensor (the full
+                                  // well is divided by it): shot-noise variance b·I grows with it
 };
 
 // Draw for `seed`: "none" with probability 1/3, else one of the seven fringe effects uniformly.

@@ -30,6 +30,11 @@ TestResult LjungBoxTest(const std::vector<double>& ordered_residuals, int max_la
 TestResult TrendTest(const std::vector<double>& residuals, const std::vector<double>& sigma,
                      const std::vector<double>& variable, int degree, const std::string& name);
 
+// The same test for an angle (rad): sin/cos of k·angle for k = 1..harmonics (2·harmonics dof), the
+// natural low-order model of anything periodic in a joint angle.
+TestResult HarmonicTrendTest(const std::vector<double>& residuals, const std::vector<double>& sigma,
+                             const std::vector<double>& angle_rad, int harmonics, const std::string& name);
+
 // Holm–Bonferroni family-wise correction; returns corrected p-values in the input order.
 std::vector<double> HolmCorrection(const std::vector<double>& p_values);
 

@@ -72,6 +72,13 @@ struct TcfSolverOptions {
   std::string Validate() const;
 };
 
+// A self-calibrated quantity disagreeing with the sensor file by more than this many σ is reported.
+inline constexpr double kBetaDisagreementSigmas = 5.0;
+// … and by more than this (deg): smaller differences move the TCP by well under a micrometre.
+inline constexpr double kBetaMaterialDeg = 0.1;
+// Tip residual RMS beyond this multiple of the expected noise counts as structure (σ inflated).
+inline constexpr double kStructureRatio = 2.0;
+
 struct TcfSolution {
   Isometry3 flange_from_tcp = Isometry3::Identity();  // 5-DOF tool frame
   Vec3 tcp_in_flange = Vec3::Zero();
@@ -84,6 +91,18 @@ struct TcfSummary {
   std::vector<CircleObservation> circles;
   double beta_used_rad = 0.0;             // β used in eq. (4-29) (90° if not corrected)
   double beta_self_calibrated_rad = 0.0;  // from circle phases (0 if fewer than 1 circle)
+  // 1σ of beta_self_calibrated_rad: the larger of the circles' scatter and the timing noise
+  // propagated to the phase difference (ω·σ_t per circle), over √K.
+  double beta_self_calibrated_sigma_rad = 0.0;
+  // The sensor file's β disagrees with the circle phases by more than kBetaDisagreementSigmas σ and
+  // kBetaMaterialDeg (and β was not self-calibrated): a warning is logged and listed in `warnings`.
+  bool beta_disagrees = false;
+  // Tip residual RMS over its expected scatter (√(σ_rep² + (v·σ_t)²) per event): > kStructureRatio
+  // means the residual holds more than the noise (an unmodelled effect); tcp_sigma_mm and
+  // axis_sigma_deg are then multiplied by this ratio (sigma_inflated).
+  double tip_noise_ratio = 0.0;
+  bool sigma_inflated = false;
+  std::vector<std::string> warnings;  // one sentence each; also logged at kWarning
   double latency_s = 0.0;                 // used on straight moves
   bool latency_estimated = false;
   double phase_misalignment_rad = 0.0;     // common phase offset of cw + ccw circles
