@@ -25,6 +25,7 @@ struct ScanCommandOptions {
   int jobs = 2;                               // sets in parallel (--batch)
   bool force = false;                         // replace existing outputs
   bool quiet = false;                         // no progress bar
+  bool reference_decode = false;              // the reference (unfused) decode path
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -48,6 +49,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.sphere.max_spheres = opt.spheres;
   options.match.min_depth_mm = opt.min_depth;
   options.match.max_depth_mm = opt.max_depth;
+  options.decode.reference_path = opt.reference_decode;
   options.Validate();
 
   if (!opt.batch.empty()) {
@@ -113,6 +115,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--jobs", opt->jobs, "Sets scanned at once with --batch")->capture_default_str();
   sub->add_flag("--force", opt->force, "Replace existing outputs");
   sub->add_flag("-q,--quiet", opt->quiet, "No progress bar");
+  sub->add_flag("--reference-decode", opt->reference_decode,
+                "Decode with the reference implementation (float copies, one pass per stage; same results within "
+                "float rounding, ~20x slower): for comparisons");
   sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
 }
 
