@@ -106,7 +106,7 @@ InProcess RunRamtk(const std::string& set, bool reference) {
   return r;
 }
 
-void Floor(const std::string& set) {
+void Floor(const std::string& set, int reps) {
   const FringeManifest m = ReadFringeManifest(set);
   std::vector<std::string> paths;
   for (const auto& [cam, files] : m.cameras)
@@ -135,7 +135,7 @@ void Floor(const std::string& set) {
               imgs.size(), bytes / 1e6, Min(t), static_cast<unsigned long long>(checksum % 1000));
   // Loading: OpenImageIO to float (reference path), native 8/16-bit (fast path), cv::imread.
   std::vector<double> oiio_f, native, imread;
-  for (int rep = 0; rep < 3; ++rep) {
+  for (int rep = 0; rep < std::min(3, reps); ++rep) {
     auto t0 = Clock::now();
     for (const std::string& p : paths) (void)LoadImageDn(p, nullptr);
     oiio_f.push_back(Ms(t0));
@@ -146,8 +146,8 @@ void Floor(const std::string& set) {
     for (const std::string& p : paths) (void)cv::imread(p, cv::IMREAD_UNCHANGED);
     imread.push_back(Ms(t0));
   }
-  std::printf("loading %zu images (min of 3): OpenImageIO -> float %.1f ms, LoadImageNative %.1f ms, cv::imread %.1f ms\n",
-              paths.size(), Min(oiio_f), Min(native), Min(imread));
+  std::printf("loading %zu images (min of %d): OpenImageIO -> float %.1f ms, LoadImageNative %.1f ms, cv::imread %.1f ms\n",
+              paths.size(), std::min(3, reps), Min(oiio_f), Min(native), Min(imread));
 }
 
 }  // namespace
@@ -174,12 +174,12 @@ int main(int argc, char** argv) {
   if (!have_exe) std::printf("whole process: %s not found; skipped\n", ramtk_exe.c_str());
   const std::string tmp = (fs::temp_directory_path() / ("ramtk_scan_speed_" + std::to_string(getpid()))).string();
 
-  Floor(set);
+  Floor(set, reps);
   std::vector<double> r_load, r_decode, r_match, r_tri, r_fit, r_total, r_wall, ref_total, ref_decode;
   std::vector<double> p_load, p_pipe, p_wall;
   long r_points = 0, ref_points = 0;
   std::string p_valid = "-";
-  (void)RunRamtk(set, false);  // warm-up (file cache, TBB threads)
+  if (reps > 1) (void)RunRamtk(set, false);  // warm-up (file cache, TBB threads)
   for (int rep = 0; rep < reps; ++rep) {
     const InProcess r = RunRamtk(set, false);
     r_load.push_back(r.load_ms);
