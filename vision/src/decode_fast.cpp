@@ -118,12 +118,14 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     // Filled after all rows (UnwrapHeterodyne over whole images).
   } else if (!in.gray_frames.empty()) {
     const int bits = static_cast<int>(in.gray_frames.size());
+    std::vector<const T*> gray_rows(bits);
+    for (int j = 0; j < bits; ++j) gray_rows[j] = in.gray_frames[j]->ptr<T>(y);
     for (int x = 0; x < width; ++x) {
       if (!mk[x]) continue;
       const float th = a_row[x];
       int binary = 0, bit = 0;
       for (int j = 0; j < bits; ++j) {
-        bit ^= static_cast<float>(in.gray_frames[j]->ptr<T>(y)[x]) > th ? 1 : 0;  // Gray -> binary
+        bit ^= static_cast<float>(gray_rows[j][x]) > th ? 1 : 0;  // Gray -> binary
         binary = (binary << 1) | bit;
       }
       const double t = PeriodFraction(phi[x], in.phase_at_origin_rad);
