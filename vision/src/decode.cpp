@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "decode_internal.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
@@ -44,6 +45,7 @@ void DecodeOptions::Validate() const {
   if (!(max_order_residual > 0 && max_order_residual < 0.5))
     throw InputError({"", 0, "max_order_residual"}, "expected a value in (0, 0.5)");
   if (correct_nonlinearity) nonlinearity.Validate();
+  if (harmonic_stride < 1) throw InputError({"", 0, "harmonic_stride"}, "must be >= 1");
 }
 
 std::string DecodeSummary::BriefReport() const {
@@ -64,14 +66,12 @@ std::string DecodeSummary::BriefReport() const {
   return s.str();
 }
 
-DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
-                           const DecodeOptions& options, const std::string& camera) {
-  options.Validate();
-  m.Validate();
+namespace {
+
+// The reference implementation (DecodeOptions::reference_path): float frames, one pass per stage.
+DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                                    const DecodeOptions& options, const std::string& camera) {
   const std::string where = m.path.empty() ? camera : m.path;
-  if (static_cast<int>(frames.size()) != m.ImageCount())
-    throw InputError({where, 0, "cameras." + camera}, "the sequence needs " + std::to_string(m.ImageCount()) +
-                                                          " images, got " + std::to_string(frames.size()));
   DecodedCamera out;
   DecodeSummary& sum = out.summary;
   sum.camera = camera;
@@ -257,6 +257,37 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
   return out;
 }
 
+}  // namespace
+
+DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                           const DecodeOptions& options, const std::string& camera) {
+  options.Validate();
+  m.Validate();
+  const std::string where = m.path.empty() ? camera : m.path;
+  if (static_cast<int>(frames.size()) != m.ImageCount())
+    throw InputError({where, 0, "cameras." + camera}, "the sequence needs " + std::to_string(m.ImageCount()) +
+                                                          " images, got " + std::to_string(frames.size()));
+  // One sample type and size for the whole set (else everything as float).
+  bool uniform = true;
+  for (const cv::Mat& f : frames) {
+    if (f.size() != frames[0].size())
+      throw InputError({where, 0, "cameras." + camera}, "the images differ in size");
+    uniform = uniform && f.type() == frames[0].type() && f.channels() == 1 &&
+              (f.depth() == CV_8U || f.depth() == CV_16U || f.depth() == CV_32F);
+  }
+  if (options.reference_path || !uniform) {
+    if (uniform && frames[0].depth() == CV_32F) {
+      return options.reference_path ? DecodeFramesReference(m, frames, full_scale, options, camera)
+                                    : detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+    }
+    std::vector<cv::Mat> as_float(frames.size());
+    for (std::size_t i = 0; i < frames.size(); ++i) frames[i].convertTo(as_float[i], CV_32F);
+    return options.reference_path ? DecodeFramesReference(m, as_float, full_scale, options, camera)
+                                  : detail::DecodeFramesFast(m, as_float, full_scale, options, camera);
+  }
+  return detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+}
+
 DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& camera, const DecodeOptions& options) {
   options.Validate();
   const auto it = manifest.cameras.find(camera);
@@ -267,7 +298,8 @@ DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& ca
   }
   std::vector<std::string> paths;
   for (const std::string& f : it->second) paths.push_back(manifest.Resolve(f));
-  const ImageStack stack = LoadImageStack(paths, options.dark_fraction);
+  // The fast path reads 8/16-bit grey files as stored; the reference path as float.
+  const ImageStack stack = LoadImageStack(paths, options.dark_fraction, !options.reference_path);
   return DecodeFrames(manifest, stack.frames, stack.full_scale, options, camera);
 }
 

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "ramtk/core/error.h"
@@ -53,13 +54,37 @@ cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
   return out;
 }
 
-ImageStack LoadImageStack(const std::vector<std::string>& paths, double dark_fraction) {
+cv::Mat LoadImageNative(const std::string& path, int* bits_per_sample) {
+  if (!std::filesystem::exists(path)) Fail(path, "image file does not exist");
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) Fail(path, "cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec spec = in->spec();
+  in->close();
+  if (spec.nchannels != 1 || (spec.format != OIIO::TypeDesc::UINT8 && spec.format != OIIO::TypeDesc::UINT16))
+    return LoadImageDn(path, bits_per_sample);  // colour or unsupported: the converting loader (its errors)
+  const bool eight = spec.format == OIIO::TypeDesc::UINT8;
+  if (spec.width <= 0 || spec.height <= 0) Fail(path, "image has no pixels");
+  // OpenCV's decoders read 8/16-bit grey BMP/PNG/TIFF straight into the matrix (measured faster
+  // than OpenImageIO's scanline path for BMP, docs/performance.md); OpenImageIO for the rest.
+  cv::Mat out = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (out.empty() || out.channels() != 1 || out.depth() != (eight ? CV_8U : CV_16U) || out.cols != spec.width ||
+      out.rows != spec.height) {
+    out.create(spec.height, spec.width, eight ? CV_8UC1 : CV_16UC1);
+    auto again = OIIO::ImageInput::open(path);
+    if (!again || !again->read_image(0, 0, 0, 1, spec.format, out.data))
+      Fail(path, "cannot read pixels: " + (again ? again->geterror() : OIIO::geterror()));
+  }
+  if (bits_per_sample) *bits_per_sample = eight ? 8 : 16;
+  return out;
+}
+
+ImageStack LoadImageStack(const std::vector<std::string>& paths, double dark_fraction, bool native) {
   if (paths.empty()) Fail("", "no images given");
   ImageStack stack;
   double brightest = 0;
   for (std::size_t i = 0; i < paths.size(); ++i) {
     int bits = 0;
-    cv::Mat img = LoadImageDn(paths[i], &bits);
+    cv::Mat img = native ? LoadImageNative(paths[i], &bits) : LoadImageDn(paths[i], &bits);
     if (i == 0) {
       stack.bits_per_sample = bits;
       stack.full_scale = bits == 8 ? 255.0 : 65535.0;

@@ -6,13 +6,16 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "nonlinearity_internal.h"
 #include "ramtk/core/error.h"
 
 namespace ramtk::vision {
-namespace {
+namespace detail {
 
 // Median camera fringe period (px) from the gradient of the unwrapped phase.
 double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
@@ -33,6 +36,10 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
   std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
   return 2 * CV_PI / g[g.size() / 2];
 }
+
+}  // namespace detail
+namespace {
+using detail::CameraFringePeriod;
 
 // Masked box mean: (box(v*m) / box(m)).
 cv::Mat MaskedMean(const cv::Mat& v, const cv::Mat& mf, const cv::Mat& den, int w) {
@@ -213,9 +220,17 @@ double SecondHarmonicOfGamma(double gamma) {
 }
 
 double GammaFromSecondHarmonic(double r2) {
-  double prev_g = 0.3, prev_r = SecondHarmonicOfGamma(prev_g);
+  // The grid of r_2(gamma) does not depend on the data: computed once.
+  static const std::vector<double> grid = [] {
+    std::vector<double> v;
+    v.push_back(SecondHarmonicOfGamma(0.3));
+    for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) v.push_back(SecondHarmonicOfGamma(g));
+    return v;
+  }();
+  double prev_g = 0.3, prev_r = grid[0];
+  std::size_t i = 1;
   for (double g = 0.35; g <= 5.0 + 1e-9; g += 0.05) {
-    const double r = SecondHarmonicOfGamma(g);
+    const double r = grid[i++];
     if ((prev_r - r2) * (r - r2) <= 0 && r != prev_r) return prev_g + (g - prev_g) * (r2 - prev_r) / (r - prev_r);
     prev_g = g;
     prev_r = r;
@@ -253,10 +268,25 @@ double RippleOfGamma(double gamma, int steps) {
 double EquivalentGamma(double ripple_sin1, int steps) {
   // Projectors are expansive (gamma > 1), so [1, 5] is searched first, then [0.3, 1]. For N = 4
   // the ripple of a power law vanishes at gamma 1 and 2, so small ripples have two roots.
+  // RippleOfGamma on the search grid depends only on N: computed once per N (a few ms each).
+  static std::mutex cache_mutex;
+  static std::map<std::pair<int, double>, double> cache;
+  auto ripple = [&](double g) {
+    const std::pair<int, double> key(steps, g);
+    {
+      const std::lock_guard<std::mutex> lock(cache_mutex);
+      const auto it = cache.find(key);
+      if (it != cache.end()) return it->second;
+    }
+    const double r = RippleOfGamma(g, steps);
+    const std::lock_guard<std::mutex> lock(cache_mutex);
+    cache.emplace(key, r);
+    return r;
+  };
   auto scan = [&](double from, double to) {
-    double prev_g = from, prev_r = RippleOfGamma(from, steps);
+    double prev_g = from, prev_r = ripple(from);
     for (double g = from + 0.05; g <= to + 1e-9; g += 0.05) {
-      const double r = RippleOfGamma(g, steps);
+      const double r = ripple(g);
       if ((prev_r - ripple_sin1) * (r - ripple_sin1) <= 0 && r != prev_r)
         return prev_g + (g - prev_g) * (ripple_sin1 - prev_r) / (r - prev_r);
       prev_g = g;

@@ -199,7 +199,7 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   for (const std::string& cam : {options.left_camera, options.right_camera}) {
     const std::string first = m.Resolve(m.cameras.at(cam).front());
     int bits = 0;
-    const cv::Mat im = LoadImageDn(first, &bits);
+    const cv::Mat im = LoadImageNative(first, &bits);
     const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
     if (im.cols != k.width || im.rows != k.height)
       throw InputError({calib_path, 0, "image_size"},

@@ -31,6 +31,12 @@ struct Pass {
   double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0;
   // Per destination row: the smallest and largest valid coordinate (a crossing needs c_src in between).
   std::vector<float> row_min, row_max;
+  // Per kTile x kTile tile of destination cells: the smallest and largest valid coordinate of
+  // the cells' corners (pixels tile..tile+kTile inclusive); +inf/-inf if none. The full search
+  // skips the samples of tiles that cannot hold a crossing (TileSign).
+  static constexpr int kTile = 8;
+  int tiles_x = 0, tiles_y = 0;
+  std::vector<float> tile_min, tile_max;
   double period = 1;
   double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
   double max_sigma = 0;       // projector px
@@ -102,11 +108,33 @@ struct Matcher {
     const double iz = 1.0 / q.z();
     const double dx = (p.T.x() * q.z() - q.x() * p.T.z()) * iz * iz;
     const double dy = (p.T.y() * q.z() - q.y() * p.T.z()) * iz * iz;
-    return std::hypot(p.dst->fx * dx, p.dst->fy * dy);
+    const double sx = p.dst->fx * dx, sy = p.dst->fy * dy;
+    return std::sqrt(sx * sx + sy * sy);  // no overflow at these magnitudes: hypot's care is not needed
   }
   Sample Eval(double w) const {
     Sample s;
     if (!Pixel(w, &s.pix)) return s;
+    return EvalAt(s.pix);
+  }
+  // What a sample at destination pixel `pix` can be, from the tile bounds alone: +1 (if valid,
+  // f > 0), -1 (if valid, f < 0), 2 (never valid: outside the image or no valid corner), 0 (unknown).
+  int TileSign(bool in_front, const Vec2& pix) const {
+    if (!in_front) return 2;
+    const double u = pix.x(), v = pix.y();
+    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return 2;
+    const int tx = u0 / Pass::kTile, ty = v0 / Pass::kTile;
+    const std::size_t t = static_cast<std::size_t>(ty) * p.tiles_x + tx;
+    const float lo = p.tile_min[t], hi = p.tile_max[t];
+    if (!(lo <= hi)) return 2;
+    const double margin = 1e-3;  // projector px, far above the rounding of a bilinear sum
+    if (c_src < lo - margin) return +1;
+    if (c_src > hi + margin) return -1;
+    return 0;
+  }
+  Sample EvalAt(const Vec2& pix) const {
+    Sample s;
+    s.pix = pix;
     const double u = s.pix.x(), v = s.pix.y();
     const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
@@ -216,20 +244,48 @@ struct Matcher {
       for (int r = r0; r <= r1; ++r) lo = std::min(lo, p.row_min[r]), hi = std::max(hi, p.row_max[r]);
       if (!(c_src >= lo && c_src <= hi)) return;
     }
-    double w = w_lo;
+    // Samples every step_px along the curve; a crossing lies between two consecutive valid
+    // samples of opposite sign. A sample whose tile fixes its sign (or makes it invalid), with
+    // neighbours of the same sign or invalid, cannot be one end of such a pair: it is not
+    // evaluated (the curve is still followed with the same steps, so the samples and the
+    // crossings found are those of evaluating every sample).
+    struct Point {
+      double w = 0, speed = 0;
+      Vec2 pix = Vec2::Zero();
+      int sign = 0;
+    };
+    auto make = [&](double w, Point* pt) {
+      pt->w = w;
+      pt->speed = Speed(w);
+      if (!(pt->speed > 1e-9)) return false;
+      pt->sign = TileSign(Pixel(w, &pt->pix), pt->pix);
+      return true;
+    };
+    auto compatible = [](int a, int b) { return a == b || a == 2 || b == 2; };
+    Point cur, nxt;
+    bool have_cur = w_lo <= w_hi && make(w_lo, &cur);
+    int sign_prev = 2;
     Sample prev;
-    double w_prev = w;
-    while (w <= w_hi) {
-      const double speed = Speed(w);
-      if (!(speed > 1e-9)) break;
-      const Sample s = Eval(w);
-      if (s.ok && prev.ok && ((s.f > 0) != (prev.f > 0) || s.f == 0)) {
-        Root r;
-        if (Refine(w_prev, prev, w, s, &r)) roots->push_back(r);
+    double w_prev = w_lo;
+    while (have_cur) {
+      const double w_next = cur.w + p.step_px / cur.speed;
+      const bool have_next = w_next <= w_hi && make(w_next, &nxt);
+      const bool skip = cur.sign == 2 || (cur.sign != 0 && compatible(sign_prev, cur.sign) &&
+                                          (!have_next || compatible(nxt.sign, cur.sign)));
+      if (skip) {
+        prev = Sample{};  // no crossing with it, either side
+      } else {
+        const Sample s = cur.sign == 2 ? Sample{} : EvalAt(cur.pix);
+        if (s.ok && prev.ok && ((s.f > 0) != (prev.f > 0) || s.f == 0)) {
+          Root r;
+          if (Refine(w_prev, prev, cur.w, s, &r)) roots->push_back(r);
+        }
+        prev = s;
       }
-      prev = s;
-      w_prev = w;
-      w += p.step_px / speed;
+      w_prev = cur.w;
+      sign_prev = cur.sign;
+      cur = nxt;
+      have_cur = have_next;
     }
   }
 
@@ -432,6 +488,21 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
       for (int x = 0; x < d.coordinate.cols; ++x) {
         const float c = d.coordinate.at<float>(y, x);
         if (std::isfinite(c)) p.row_min[y] = std::min(p.row_min[y], c), p.row_max[y] = std::max(p.row_max[y], c);
+      }
+    p.tiles_x = (d.coordinate.cols + Pass::kTile - 1) / Pass::kTile;
+    p.tiles_y = (d.coordinate.rows + Pass::kTile - 1) / Pass::kTile;
+    p.tile_min.assign(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, std::numeric_limits<float>::infinity());
+    p.tile_max.assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
+    for (int ty = 0; ty < p.tiles_y; ++ty)
+      for (int y = ty * Pass::kTile; y <= std::min(d.coordinate.rows - 1, (ty + 1) * Pass::kTile); ++y) {
+        const float* row = d.coordinate.ptr<float>(y);
+        for (int tx = 0; tx < p.tiles_x; ++tx) {
+          float lo = p.tile_min[ty * p.tiles_x + tx], hi = p.tile_max[ty * p.tiles_x + tx];
+          for (int x = tx * Pass::kTile; x <= std::min(d.coordinate.cols - 1, (tx + 1) * Pass::kTile); ++x)
+            if (std::isfinite(row[x])) lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);
+          p.tile_min[ty * p.tiles_x + tx] = lo;
+          p.tile_max[ty * p.tiles_x + tx] = hi;
+        }
       }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;

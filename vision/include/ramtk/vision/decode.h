@@ -29,6 +29,16 @@ struct DecodeOptions {
   NonlinearityOptions nonlinearity;  // used when correct_nonlinearity
   // Heterodyne: reject pixels whose beat orders disagree by more than this (periods).
   double max_order_residual = 0.3;
+  // Run the reference implementation (separate passes over float copies of the frames, every
+  // pixel; the pre-issue-13 code) instead of the fused fast path. Both give the same phase,
+  // mask and coordinate within float rounding (tests/vision/decode_fast_test.cpp); kept for
+  // tests and benchmarks. The fast path differs only in (a) `wrapped` is 0 where a pixel is
+  // masked by darkness, saturation or modulation, (b) edge_corrections counts unmasked pixels
+  // only, (c) the harmonic ratios are averaged over every harmonic_stride-th pixel.
+  bool reference_path = false;
+  // Fast path: the harmonic ratios (a diagnostic, not used for the coordinate) are averaged
+  // over every harmonic_stride-th pixel in x and y (1 = all, as the reference path).
+  int harmonic_stride = 2;
   // Called after each stage; returning false stops the decode (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
@@ -79,8 +89,9 @@ struct DecodedCamera {
   DecodeSummary summary;
 };
 
-// Decodes frames already in memory (CV_32FC1 in DN, full_scale = 2^bits - 1), in the order of
-// the manifest's sequence. InputError if the count does not match or the set is dark.
+// Decodes frames already in memory (CV_32FC1 in DN, or CV_8UC1 / CV_16UC1 as loaded; full_scale
+// = 2^bits - 1), in the order of the manifest's sequence. InputError if the count does not match
+// or the set is dark.
 DecodedCamera DecodeFrames(const FringeManifest& manifest, const std::vector<cv::Mat>& frames, double full_scale,
                            const DecodeOptions& options, const std::string& camera = "");
 

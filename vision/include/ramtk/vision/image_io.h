@@ -11,7 +11,7 @@ namespace ramtk::vision {
 
 // An ordered stack of camera frames of one size and one bit depth.
 struct ImageStack {
-  std::vector<cv::Mat> frames;     // CV_32FC1, DN
+  std::vector<cv::Mat> frames;     // CV_32FC1, DN (native loading: CV_8UC1 / CV_16UC1 for grey files)
   std::vector<std::string> files;  // source file of each frame
   int bits_per_sample = 8;         // 8 or 16
   double full_scale = 255.0;       // 2^bits - 1
@@ -21,10 +21,14 @@ struct ImageStack {
 // the file if it is missing, unreadable or of another pixel type.
 cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample);
 
-// Loads all files; InputError naming the first file whose size or bit depth differs from the
+// Loads one single-channel 8- or 16-bit image as it is stored (CV_8UC1 / CV_16UC1, no copy into
+// float); other images go through LoadImageDn (CV_32F). Same errors as LoadImageDn.
+cv::Mat LoadImageNative(const std::string& path, int* bits_per_sample);
+
+// Loads all files (`native`: with LoadImageNative, else LoadImageDn); InputError naming the first file whose size or bit depth differs from the
 // first one, and naming the set if every image is dark (brightest sample < dark_fraction of
 // full scale).
-ImageStack LoadImageStack(const std::vector<std::string>& paths, double dark_fraction = 0.02);
+ImageStack LoadImageStack(const std::vector<std::string>& paths, double dark_fraction = 0.02, bool native = false);
 
 // Writes a CV_32FC1 / CV_8UC1 / CV_8UC3 / CV_16UC1 matrix; the format follows the extension
 // (.tif/.tiff/.exr/.png). Written to "<path>.tmp<ext>" and renamed, so a failure leaves nothing.

@@ -50,6 +50,12 @@ struct NonlinearityEstimate {
 NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
                                               int steps, const NonlinearityOptions& options = {});
 
+// The same estimate and correction computed faster (only the mask's bounding box, basis functions
+// at valid pixels, parallel box filters and accumulation); equal to CorrectPhaseNonlinearity
+// within float rounding of the basis functions. The decode's fast path uses it.
+NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
+                                                  int steps, const NonlinearityOptions& options = {});
+
 // Direct harmonic content for N >= 5 steps (harmonics h < N/2 are resolved per pixel): the
 // signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over
 // the pixels where `mask` is non-zero, for h = 2 .. ceil(N/2) - 1. Empty for N < 5.

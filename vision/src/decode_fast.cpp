@@ -1,0 +1,469 @@
+// The fused decode path (decode.h, DecodeOptions::reference_path = false): one pass per image
+// row over the 8/16-bit (or float) samples computes the LS phase, background, modulation, fit
+// residual, quality mask, Gray code and absolute coordinate; rows run in parallel (TBB). The
+// step angles come from a table, sums are exact integers for 8-bit frames, and the
+// trigonometry runs only on pixels that pass the quality mask. The results equal the
+// reference path's within float rounding (tests/vision/decode_fast_test.cpp).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+#include "decode_internal.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/log.h"
+#include "ramtk/vision/nonlinearity.h"
+#include "ramtk/vision/unwrap.h"
+#include <opencv2/imgproc.hpp>
+
+namespace ramtk::vision::detail {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kTwoPi = 6.283185307179586476925;
+
+struct RowCounts {
+  long dark = 0, saturated = 0, low = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
+  double ss = 0, phase_ss = 0, worst = 0;
+};
+
+// Sums of one phase-shift block over one row: S = sum I sin, C = sum I cos, sum I, sum I^2, max I.
+// Acc is float for 8-bit samples (every sum exact while N * 255^2 < 2^24), else double.
+template <typename T, typename Acc>
+void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const float* sn, const float* cs, float* s,
+                   float* c, Acc* sum, Acc* sum2, float* top) {
+  std::fill(s, s + width, 0.0f);
+  std::fill(c, c + width, 0.0f);
+  std::fill(sum, sum + width, Acc(0));
+  std::fill(sum2, sum2 + width, Acc(0));
+  std::fill(top, top + width, -std::numeric_limits<float>::infinity());
+  for (int k = 0; k < n; ++k) {
+    const T* row = frames[k]->ptr<T>(y);
+    const float sk = sn[k], ck = cs[k];
+    for (int x = 0; x < width; ++x) {
+      const float v = static_cast<float>(row[x]);
+      s[x] += v * sk;
+      c[x] += v * ck;
+      const Acc a = static_cast<Acc>(row[x]);
+      sum[x] += a;
+      sum2[x] += a * a;
+      top[x] = v > top[x] ? v : top[x];
+    }
+  }
+}
+
+// One row of every block. Writes the fine block's maps and the coordinate; counts into `rc`.
+template <typename T>
+void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput* out) {
+  using Acc = std::conditional_t<std::is_same_v<T, uchar>, float, double>;
+  const int width = in.width;
+  std::vector<float> s(width), c(width), top(width);
+  std::vector<Acc> sum(width), sum2(width);
+  uchar* mk = out->mask.ptr<uchar>(y);
+  std::fill(mk, mk + width, uchar(255));
+  std::vector<uchar> dark(width, 0), sat(width, 0), low(width, 0);
+  float* phi = out->wrapped.ptr<float>(y);
+  float* a_row = out->background.ptr<float>(y);
+  float* b_row = out->modulation.ptr<float>(y);
+  float* res_row = out->fit_residual.ptr<float>(y);
+  float* coord = out->coordinate.ptr<float>(y);
+  const int n_fine = in.steps[0];
+  std::vector<float> res_ss(width);
+  // Coarser frequencies (heterodyne) first, the finest last so its sums stay in the buffers.
+  for (int f = static_cast<int>(in.ps_frames.size()) - 1; f >= 0; --f) {
+    const int n = in.steps[f];
+    AccumulateRow<T, Acc>(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(),
+                          s.data(), c.data(), sum.data(), sum2.data(), top.data());
+    for (int x = 0; x < width; ++x) {
+      const double amp2 = static_cast<double>(s[x]) * s[x] + static_cast<double>(c[x]) * c[x];
+      const float b = static_cast<float>(2.0 / n * std::sqrt(amp2));
+      dark[x] |= top[x] < in.dark;
+      sat[x] |= top[x] >= in.saturation;
+      low[x] |= b < in.b_min;
+      if (f == 0) {
+        const double mean = static_cast<double>(sum[x]) / n;
+        a_row[x] = static_cast<float>(mean);
+        b_row[x] = b;
+        res_ss[x] = static_cast<float>(
+            std::max(0.0, static_cast<double>(sum2[x]) - n * mean * mean - 2.0 / n * amp2));
+        res_row[x] = n > 3 ? std::sqrt(res_ss[x] / (n - 3)) : 0.0f;
+      }
+    }
+    if (f > 0) {  // heterodyne: this frequency's wrapped phase where the pixel may be valid
+      float* w = out->coarse_wrapped[f - 1].ptr<float>(y);
+      for (int x = 0; x < width; ++x) w[x] = (dark[x] | sat[x] | low[x]) ? 0.0f : WrappedPhase(s[x], c[x]);
+    }
+  }
+  for (int x = 0; x < width; ++x) {
+    if (dark[x]) {
+      ++rc->dark;
+    } else if (sat[x]) {
+      ++rc->saturated;
+    } else if (low[x]) {
+      ++rc->low;
+    } else {
+      phi[x] = WrappedPhase(s[x], c[x]);
+      continue;
+    }
+    mk[x] = 0;
+    phi[x] = 0;
+    coord[x] = kNaN;
+  }
+  // Absolute coordinate.
+  const double period = in.period;
+  if (in.heterodyne) {
+    // Filled after all rows (UnwrapHeterodyne over whole images).
+  } else if (!in.gray_frames.empty()) {
+    const int bits = static_cast<int>(in.gray_frames.size());
+    std::vector<const T*> gray_rows(bits);
+    for (int j = 0; j < bits; ++j) gray_rows[j] = in.gray_frames[j]->ptr<T>(y);
+    for (int x = 0; x < width; ++x) {
+      if (!mk[x]) continue;
+      const float th = a_row[x];
+      int binary = 0, bit = 0;
+      for (int j = 0; j < bits; ++j) {
+        bit ^= static_cast<float>(gray_rows[j][x]) > th ? 1 : 0;  // Gray -> binary
+        binary = (binary << 1) | bit;
+      }
+      const double t = PeriodFraction(phi[x], in.phase_at_origin_rad);
+      long order;
+      if (in.complementary) {
+        order = std::lround((binary + 0.5) / 2.0 - t);
+        if (order != (binary >> 1)) ++rc->corrected;
+      } else {
+        order = binary;
+      }
+      const double u = (order + t) * period;
+      if (u < -0.5 || u >= in.extent - 0.5) {
+        coord[x] = kNaN;
+        mk[x] = 0;
+        ++rc->unwrap_rejected;
+      } else {
+        coord[x] = static_cast<float>(u);
+      }
+    }
+  } else {  // one period across the projector: the phase is absolute
+    for (int x = 0; x < width; ++x)
+      if (mk[x]) coord[x] = static_cast<float>(PeriodFraction(phi[x], in.phase_at_origin_rad) * period);
+  }
+  if (in.heterodyne) return;
+  for (int x = 0; x < width; ++x) {
+    if (!mk[x]) continue;
+    const float r = res_row[x];
+    const float b = b_row[x];
+    rc->ss += res_ss[x];
+    rc->phase_ss += 2.0 / n_fine * r * r / (b * b);
+    rc->worst = std::max(rc->worst, static_cast<double>(r));
+    ++rc->valid;
+  }
+}
+
+template <typename T>
+std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                                             int stride) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<double> ratios;
+  const int max_h = (n + 1) / 2 - 1;
+  if (n < 5 || max_h < 2) return ratios;
+  // Twiddle table e^{-i 2 pi h k / n}.
+  std::vector<double> tc((max_h + 1) * n), ts((max_h + 1) * n);
+  for (int h = 1; h <= max_h; ++h)
+    for (int k = 0; k < n; ++k) {
+      tc[h * n + k] = std::cos(2 * CV_PI * h * k / n);
+      ts[h * n + k] = -std::sin(2 * CV_PI * h * k / n);
+    }
+  std::vector<double> sum(max_h + 1, 0.0);
+  long count = 0;
+  std::vector<double> re(max_h + 1), im(max_h + 1);
+  for (int y = 0; y < mask.rows; y += stride) {
+    const uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; x += stride) {
+      if (!m[x]) continue;
+      std::fill(re.begin(), re.end(), 0.0);
+      std::fill(im.begin(), im.end(), 0.0);
+      for (int k = 0; k < n; ++k) {
+        const double v = frames[k]->ptr<T>(y)[x];
+        for (int h = 1; h <= max_h; ++h) re[h] += v * tc[h * n + k], im[h] += v * ts[h * n + k];
+      }
+      const double a1 = std::hypot(re[1], im[1]);
+      if (a1 <= 0) continue;
+      // unit = conj(c1) / |c1| = e^{-i phi}; sum_h += Re(c_h * unit^h) / |c1|.
+      const double ur = re[1] / a1, ui = -im[1] / a1;
+      double rr = ur, ri = ui;
+      for (int h = 2; h <= max_h; ++h) {
+        const double nr = rr * ur - ri * ui, ni = rr * ui + ri * ur;
+        rr = nr;
+        ri = ni;
+        sum[h] += (re[h] * rr - im[h] * ri) / a1;
+      }
+      ++count;
+    }
+  }
+  for (int h = 2; h <= max_h; ++h) ratios.push_back(count ? sum[h] / count : 0.0);
+  return ratios;
+}
+
+}  // namespace
+
+float WrappedPhase(float s, float c) {
+  float p = std::atan2(-s, c);
+  if (p >= static_cast<float>(CV_PI)) p -= static_cast<float>(kTwoPi);
+  return p;
+}
+
+void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCounts* counts) {
+  const cv::Size size(in.width, in.height);
+  out->wrapped.create(size, CV_32F);
+  out->background.create(size, CV_32F);
+  out->modulation.create(size, CV_32F);
+  out->fit_residual.create(size, CV_32F);
+  out->coordinate.create(size, CV_32F);
+  out->mask.create(size, CV_8U);
+  out->coarse_wrapped.clear();
+  for (std::size_t f = 1; f < in.ps_frames.size(); ++f) out->coarse_wrapped.emplace_back(size, CV_32F);
+  const int depth = in.ps_frames[0][0]->depth();
+  std::vector<RowCounts> rows(static_cast<std::size_t>(in.height));
+  tbb::parallel_for(tbb::blocked_range<int>(0, in.height, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      if (depth == CV_8U) {
+        DecodeRow<uchar>(in, y, &rows[y], out);
+      } else if (depth == CV_16U) {
+        DecodeRow<ushort>(in, y, &rows[y], out);
+      } else {
+        DecodeRow<float>(in, y, &rows[y], out);
+      }
+    }
+  });
+  FastDecodeCounts& c = *counts;
+  c = FastDecodeCounts{};
+  for (const RowCounts& rc : rows) {
+    c.dark += rc.dark;
+    c.saturated += rc.saturated;
+    c.low_modulation += rc.low;
+    c.unwrap_rejected += rc.unwrap_rejected;
+    c.corrected += rc.corrected;
+    c.valid += rc.valid;
+    c.residual_ss += rc.ss;
+    c.phase_ss += rc.phase_ss;
+    c.worst_residual = std::max(c.worst_residual, rc.worst);
+  }
+}
+
+std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                                              int stride) {
+  switch (frames[0]->depth()) {
+    case CV_8U:
+      return HarmonicRatiosSubsampled<uchar>(frames, mask, stride);
+    case CV_16U:
+      return HarmonicRatiosSubsampled<ushort>(frames, mask, stride);
+    default:
+      return HarmonicRatiosSubsampled<float>(frames, mask, stride);
+  }
+}
+
+namespace {
+
+bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
+  return !o.progress || o.progress(Progress{stage, done, total});
+}
+
+}  // namespace
+
+DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                               const DecodeOptions& options, const std::string& camera) {
+  const std::string where = m.path.empty() ? camera : m.path;
+  DecodedCamera out;
+  DecodeSummary& sum = out.summary;
+  sum.camera = camera;
+  sum.width = frames[0].cols;
+  sum.height = frames[0].rows;
+  const int extent = m.Extent();
+
+  FastDecodeInput in;
+  in.width = sum.width;
+  in.height = sum.height;
+  in.extent = extent;
+  const SequenceBlock* ps_block = nullptr;
+  const SequenceBlock* gc_block = nullptr;
+  std::size_t next = 0;
+  for (const SequenceBlock& b : m.sequence) {
+    if (b.type == BlockType::kGrayCode) {
+      gc_block = &b;
+      in.gray_frames.clear();
+      for (int j = 0; j < b.bits; ++j) in.gray_frames.push_back(&frames[next + j]);
+    } else {
+      ps_block = &b;
+      for (std::size_t f = 0; f < b.cycles.size(); ++f) {
+        std::vector<const cv::Mat*> block;
+        for (int k = 0; k < b.steps; ++k) block.push_back(&frames[next + f * b.steps + k]);
+        in.ps_frames.push_back(block);
+        in.steps.push_back(b.steps);
+        std::vector<float> sn(b.steps), cs(b.steps);
+        for (int k = 0; k < b.steps; ++k) {
+          sn[k] = static_cast<float>(std::sin(2.0 * CV_PI * k / b.steps));
+          cs[k] = static_cast<float>(std::cos(2.0 * CV_PI * k / b.steps));
+        }
+        in.sin_table.push_back(sn);
+        in.cos_table.push_back(cs);
+      }
+    }
+    next += b.ImageCount();
+  }
+  double brightest = 0;
+  for (const cv::Mat& f : frames) {
+    double mx = 0;
+    cv::minMaxLoc(f, nullptr, &mx);
+    brightest = std::max(brightest, mx);
+  }
+  if (brightest < options.dark_fraction * full_scale)
+    throw InputError({where, 0, "cameras." + camera}, "all images are dark: projector off or wrong exposure?");
+  in.heterodyne = ps_block->type == BlockType::kHeterodyne;
+  in.complementary = gc_block && gc_block->complementary;
+  if (in.heterodyne || !gc_block) in.gray_frames.clear();
+  in.phase_at_origin_rad = ps_block->phase_at_origin_rad;
+  in.period = extent / ps_block->cycles[0];
+  in.b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
+  in.saturation = static_cast<float>(options.saturation_fraction * full_scale);
+  in.dark = static_cast<float>(options.dark_fraction * full_scale);
+  sum.steps = in.steps[0];
+  sum.period_px = in.period;
+  const int n = sum.steps;
+
+  FastDecodeOutput fo;
+  FastDecodeCounts counts;
+  DecodeFused(in, &fo, &counts);
+  cv::Mat& mask = fo.mask;
+  cv::Mat& coord = fo.coordinate;
+  if (in.heterodyne) {
+    std::vector<cv::Mat> w{fo.wrapped};
+    for (const cv::Mat& c : fo.coarse_wrapped) w.push_back(c);
+    const UnwrapResult u =
+        UnwrapHeterodyne(w, ps_block->cycles, ps_block->phase_at_origin_rad, extent, options.max_order_residual);
+    for (int y = 0; y < mask.rows; ++y) {
+      uchar* mk = mask.ptr<uchar>(y);
+      const uchar* ok = u.valid.ptr<uchar>(y);
+      const float* uc = u.coordinate.ptr<float>(y);
+      float* c = coord.ptr<float>(y);
+      const float* r = fo.fit_residual.ptr<float>(y);
+      const float* b = fo.modulation.ptr<float>(y);
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!mk[x]) continue;
+        if (!ok[x]) {
+          mk[x] = 0;
+          c[x] = kNaN;
+          ++counts.unwrap_rejected;
+          continue;
+        }
+        c[x] = uc[x];
+        counts.residual_ss += static_cast<double>(r[x]) * r[x] * std::max(0, n - 3);
+        counts.phase_ss += 2.0 / n * r[x] * r[x] / (b[x] * b[x]);
+        counts.worst_residual = std::max(counts.worst_residual, static_cast<double>(r[x]));
+        ++counts.valid;
+      }
+    }
+  }
+  sum.dark = counts.dark;
+  sum.saturated = counts.saturated;
+  sum.low_modulation = counts.low_modulation;
+  sum.unwrap_rejected = counts.unwrap_rejected;
+  sum.edge_corrections = counts.corrected;
+  if (!Report(options, "phase", 1, 4) || !Report(options, "unwrap", 2, 4)) {
+    sum.termination = "cancelled";
+    return out;
+  }
+
+  const long count = counts.valid;
+  sum.valid_pixels = count;
+  sum.valid_fraction = static_cast<double>(count) / mask.total();
+  sum.outliers = static_cast<long>(mask.total()) - count;
+  sum.worst_residual_dn = counts.worst_residual;
+  if (n > 3 && count > 0) {
+    sum.fit_residual_rms_dn = std::sqrt(counts.residual_ss / (static_cast<double>(count) * (n - 3)));
+    sum.phase_residual_rms_rad = std::sqrt(counts.phase_ss / count);
+  }
+  std::vector<float> bs;
+  bs.reserve(static_cast<std::size_t>(count));
+  for (int y = 0; y < mask.rows; ++y) {
+    const uchar* mk = mask.ptr<uchar>(y);
+    const float* b = fo.modulation.ptr<float>(y);
+    for (int x = 0; x < mask.cols; ++x)
+      if (mk[x]) bs.push_back(b[x]);
+  }
+  if (options.intensity_sigma_dn > 0) {
+    sum.sigma_intensity_dn = options.intensity_sigma_dn;
+  } else if (n > 3 && count > 0) {
+    sum.sigma_intensity_dn = sum.fit_residual_rms_dn;
+  } else {
+    sum.sigma_intensity_dn = 1.0 / std::sqrt(12.0);
+    RAMTK_LOG(kWarning) << "3-step set and no intensity noise given: sigma_phi uses quantisation noise only";
+  }
+  const double k_sigma = std::sqrt(2.0 / n) * sum.sigma_intensity_dn;
+  if (!bs.empty()) {
+    // sigma_phi = k / B falls with B: the reference's median sigma element is k over the
+    // B element at the mirrored rank.
+    std::nth_element(bs.begin(), bs.begin() + bs.size() / 2, bs.end());
+    sum.median_modulation_dn = bs[bs.size() / 2];
+    const std::size_t mirrored = bs.size() - 1 - bs.size() / 2;
+    std::nth_element(bs.begin(), bs.begin() + mirrored, bs.end());
+    sum.median_sigma_phase_rad = static_cast<float>(k_sigma / bs[mirrored]);
+  }
+  sum.harmonic_ratios = MeasureHarmonicRatiosFast(in.ps_frames[0], mask, options.harmonic_stride);
+  sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                                         : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
+
+  // Projector nonlinearity, on the mask's bounding box (even origin: the same period samples as
+  // the reference path).
+  if (options.correct_nonlinearity && count > 0) {
+    const cv::Rect box = cv::boundingRect(mask);
+    const cv::Rect even(box.x & ~1, box.y & ~1, box.br().x - (box.x & ~1), box.br().y - (box.y & ~1));
+    const double to_rad = 2 * CV_PI / sum.period_px;
+    cv::Mat roi_coord = coord(even);
+    const cv::Mat roi_mask = mask(even);
+    cv::Mat phase;
+    roi_coord.convertTo(phase, CV_32F, to_rad);
+    phase.setTo(0, roi_mask == 0);
+    sum.nonlinearity = CorrectPhaseNonlinearityFast(phase, fo.wrapped(even), roi_mask, n, options.nonlinearity);
+    phase.convertTo(roi_coord, CV_32F, 1.0 / to_rad);  // writes into coord
+    sum.iterations = sum.nonlinearity.passes;
+    sum.initial_cost = sum.nonlinearity.residual_rms_before_rad;
+    sum.final_cost = sum.nonlinearity.residual_rms_after_rad;
+  }
+  if (!Report(options, "nonlinearity", 3, 4)) {
+    sum.termination = "cancelled";
+    return out;
+  }
+
+  out.sigma_phase.create(mask.size(), CV_32F);
+  out.sigma_coordinate.create(mask.size(), CV_32F);
+  const double to_px = sum.period_px / (2 * CV_PI);
+  tbb::parallel_for(tbb::blocked_range<int>(0, mask.rows, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      const uchar* mk = mask.ptr<uchar>(y);
+      const float* b = fo.modulation.ptr<float>(y);
+      float* c = coord.ptr<float>(y);
+      float* sp = out.sigma_phase.ptr<float>(y);
+      float* sc = out.sigma_coordinate.ptr<float>(y);
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!mk[x]) {
+          c[x] = sp[x] = sc[x] = kNaN;
+          continue;
+        }
+        sp[x] = b[x] > 0 ? static_cast<float>(k_sigma / b[x]) : std::numeric_limits<float>::infinity();
+        sc[x] = static_cast<float>(sp[x] * to_px);
+      }
+    }
+  });
+  out.coordinate = coord;
+  out.wrapped = fo.wrapped;
+  out.background = fo.background;
+  out.modulation = fo.modulation;
+  out.fit_residual = fo.fit_residual;
+  out.mask = mask;
+  Report(options, "done", 4, 4);
+  return out;
+}
+
+}  // namespace ramtk::vision::detail
