@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterDiagnoseCommand(app, &exit_code);
   ramtk::tools::RegisterScanCommand(app, &exit_code);
   ramtk::tools::RegisterMeasureCommand(app, &exit_code);
+  ramtk::tools::RegisterCampaignCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
