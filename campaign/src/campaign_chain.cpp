@@ -30,6 +30,8 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 
 struct ChainResult {
   calib::SensorRobotCalibration calibration;
+  calib::SensorRobotSummary calibration_summary;
+  std::vector<calib::BallObservation> cold;  // the cold cycle's observations
   thermal::ThermalSetup setup;
   Eigen::MatrixXd delta_x;  // 30 × ball cycles
   Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
@@ -45,8 +47,8 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   for (const auto& row : ball.rows) {
     if (row.cycle == reference_cycle) cold.rows.push_back(row);
   }
-  const std::vector<calib::BallObservation> obs = calib::BallObservationsFromMeasurements(cold, ball_path);
-  r.calibration = calib::CalibrateSensorRobot(model, obs);
+  r.cold = calib::BallObservationsFromMeasurements(cold, ball_path);
+  r.calibration = calib::CalibrateSensorRobot(model, r.cold, {}, &r.calibration_summary);
   r.setup.sensor_from_base = r.calibration.sensor_from_base;
   r.setup.ball_in_flange = r.calibration.ball_in_flange;
   // The tool-mounted sensor is calibrated separately (not part of this chain).
@@ -140,7 +142,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru =
       RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0);
-  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration, {}, {});
+  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
+                                img.calibration_summary, img.cold);
+  // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
+  thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
   s.chain_s = Seconds(t0);
 
   auto setup_errors = [&](const ChainResult& r, double* rot, double* trans, double* ball_um) {

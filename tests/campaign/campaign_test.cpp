@@ -22,7 +22,7 @@ TEST(CampaignTwin, SmallPresetRunsEndToEndAndEveryStageIsWithinItsNoise) {
   EXPECT_EQ(s.sets, 32);
   EXPECT_EQ(s.centres, 32);
   for (const char* f : {"controller_log.csv", "chain/scan/results.csv", "chain/ball.csv", "budget.json", "budget.md",
-                        "monitoring_error.png", "truth/truth_params.csv"}) {
+                        "monitoring_error.png", "truth/truth_params.csv", "chain/setup.json"}) {
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   }
   // Centres: against the true ball positions. The scan's covariance at these coarse 160×128
