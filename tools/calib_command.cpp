@@ -29,11 +29,24 @@ struct SensorRobotCommandOptions {
   double loss_scale_mm = 0.1;
   double penalty = 1e8;
   int min_poses = 5;
+  int cycle = -1;           // only the rows of this cycle (-1: every row)
+  bool unweighted = false;  // ignore the centre covariance columns
 };
 
 int RunSensorRobot(const SensorRobotCommandOptions& opt) {
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
-  const std::vector<calib::BallObservation> obs = calib::ReadBallObservations(opt.measurements_path);
+  kinematics::RobotMeasurementSet set = kinematics::ReadRobotMeasurements(opt.measurements_path);
+  if (opt.cycle >= 0) {
+    std::vector<kinematics::RobotMeasurement> rows;
+    for (const auto& r : set.rows) {
+      if (r.cycle == opt.cycle) rows.push_back(r);
+    }
+    if (rows.empty()) {
+      throw InputError({opt.measurements_path, 0, "cycle"}, "no row of cycle " + std::to_string(opt.cycle) + " (--cycle)");
+    }
+    set.rows = rows;
+  }
+  const std::vector<calib::BallObservation> obs = calib::BallObservationsFromMeasurements(set, opt.measurements_path);
   calib::SensorRobotSummary summary;
   calib::SensorRobotCalibration result;
   try {
@@ -49,6 +62,7 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
                                       : calib::RobustLoss::kHuber;
       o.loss_scale_mm = opt.loss_scale_mm;
       o.checks.min_poses = opt.min_poses;
+      o.use_covariance = !opt.unweighted;
       result = calib::CalibrateSensorRobot(model, obs, o, &summary);
     }
   } catch (const InputError& e) {
@@ -290,6 +304,10 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--loss-scale", opt->loss_scale_mm, "Robust loss scale (mm)");
     sub->add_option("--penalty", opt->penalty, "Orthogonality penalty factor M of the thesis method (eq. 3-18)");
     sub->add_option("--min-poses", opt->min_poses, "Fewest poses accepted");
+    sub->add_option("--cycle", opt->cycle, "Use only the rows of this cycle (e.g. 0, the cold cycle of a campaign)");
+    sub->add_flag("--unweighted", opt->unweighted,
+                  "Ignore the centre covariance columns cov_xx..cov_yz (default: the manifold method weights each "
+                  "centre by its covariance when the file has them)");
     sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
   }
   {

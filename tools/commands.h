@@ -30,5 +30,7 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
 void RegisterDiagnoseCommand(CLI::App& app, int* exit_code);  // diagnose DATA
 void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch LIST
+void RegisterMeasureCommand(CLI::App& app, int* exit_code);  // measure --scans --log
+void RegisterCampaignCommand(CLI::App& app, int* exit_code);  // simulate campaign
 
 }  // namespace ramtk::tools

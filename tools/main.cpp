@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterSimulateFringeCommand(app, &exit_code);
   ramtk::tools::RegisterDiagnoseCommand(app, &exit_code);
   ramtk::tools::RegisterScanCommand(app, &exit_code);
+  ramtk::tools::RegisterMeasureCommand(app, &exit_code);
+  ramtk::tools::RegisterCampaignCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -88,6 +88,7 @@ struct ExperimentInputs {
   std::string params;   // names, "traditional", "all"
   std::string poses;    // pose positions, comma list
   int pose_budget = 0;  // choose this many poses D-optimally for `params`
+  bool unweighted = false;  // ignore the ball file's centre covariance (cov_xx..cov_yz)
 };
 
 void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
@@ -101,6 +102,8 @@ void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
   sub->add_option("--reference-cycle", in->reference_cycle, "Cold reference cycle number (default 0)");
   sub->add_option("--joint-tolerance-deg", in->joint_tolerance_deg,
                   "Largest joint difference of a pose between cycles (deg, default 0.01)");
+  sub->add_flag("--unweighted", in->unweighted,
+                "Ignore the ball file's centre covariance columns (default: weight each centre by its covariance)");
 }
 
 struct LoadedExperiment {
@@ -126,10 +129,16 @@ LoadedExperiment Load(const ExperimentInputs& in) {
   return e;
 }
 
+// Weights from the ball file's centre covariance (when it has the columns and --unweighted is off).
+std::vector<std::vector<Mat3>> Weights(const ExperimentInputs& in, const LoadedExperiment& e) {
+  return in.unweighted ? std::vector<std::vector<Mat3>>{} : e.ball.DifferenceCovariances();
+}
+
 IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExperiment& e, const DriftModel& dm,
                                     const std::vector<int>& params) {
   IdentificationOptions id;
   id.params = params;
+  id.difference_covariance_mm2 = Weights(in, e);
   if (!in.poses.empty()) {
     for (double p : ParseDoubleList(in.poses, {"", 0, "--poses"})) {
       const int k = static_cast<int>(p);
@@ -237,7 +246,12 @@ int RunScreen(const ScreenOptions& opt) {
   so.lambda = MakeLambda(opt.threshold_mm, opt.statistic);
   so.first_improvement = !opt.best_improvement;
   if (!opt.in.params.empty()) so.candidates = ParseParamList(opt.in.params, e.model, "--params");
+  so.identification.difference_covariance_mm2 = Weights(opt.in, e);
   const ScreeningSummary s = ScreenParameters(ex, so);
+  if (!so.identification.difference_covariance_mm2.empty()) {
+    std::cout << "identification weighted by each centre's covariance (cov_xx..cov_yz of " << opt.in.ball_path
+              << ")\n";
+  }
   std::cout << "Elimination (form of thesis Table 5-1):\n" << FormatEliminationTable(s) << s.BriefReport() << "\n\n";
   if (!opt.out_series.empty()) {
     // Per-parameter series with every candidate (Figs. 3-3/3-4), and which the first test called steady.
@@ -257,12 +271,13 @@ int RunScreen(const ScreenOptions& opt) {
   }
   const std::vector<std::pair<std::string, std::vector<int>>> sets = {
       {"traditional", TraditionalParams(e.model)}, {"screened", s.selected}, {"all", e.model.FreeParams()}};
-  const auto rows = CompareParameterSets(ex, sets, {}, so.lambda);
+  const auto rows = CompareParameterSets(ex, sets, so.identification, so.lambda);
   std::cout << "Share of monitored directions under " << opt.threshold_mm << " mm (form of thesis Table 5-2), all "
             << e.ball.NumPoses() << " poses:\n"
             << FormatComparisonTable(rows);
   nlohmann::json j;
   j["selected"] = ParamListToString(s.selected);
+  j["weighted_by_centre_covariance"] = !so.identification.difference_covariance_mm2.empty();
   j["initial_lambda_percent"] = s.initial_lambda;
   j["final_lambda_percent"] = s.final_lambda;
   for (const ScreeningStep& st : s.steps) {
@@ -290,7 +305,7 @@ int RunScreen(const ScreenOptions& opt) {
     std::vector<ComparisonRow> budget_rows;
     for (const auto& set : sets) {
       if (3 * opt.budget < static_cast<int>(set.second.size())) continue;
-      IdentificationOptions id;
+      IdentificationOptions id = so.identification;
       id.poses = SelectPoses(dm, set.second, opt.budget);
       const auto r = CompareParameterSets(ex, {set}, id, so.lambda);
       if (budget_rows.empty()) budget_rows.push_back(r[0]);

@@ -35,6 +35,7 @@ std::vector<BallObservation> BallObservationsFromMeasurements(const kinematics::
   if (set.kind != kinematics::MeasurementKind::kBall) {
     throw InputError({path, 1, "pose"}, "expected a ball measurement file (column 'pose'), got monitoring points");
   }
+  const bool with_covariance = kinematics::HasCentreCovariance(set, path);
   std::vector<BallObservation> obs;
   for (const kinematics::RobotMeasurement& m : set.rows) {
     if (!m.q_controller.allFinite() || !m.position_mm.allFinite()) {
@@ -45,6 +46,10 @@ std::vector<BallObservation> BallObservationsFromMeasurements(const kinematics::
     o.ball_in_sensor = m.position_mm;
     o.pose = m.index;
     o.line = m.line;
+    if (with_covariance) {
+      o.covariance_mm2 = kinematics::CentreCovariance(m, path);
+      o.has_covariance = true;
+    }
     obs.push_back(o);
   }
   return obs;
@@ -89,7 +94,7 @@ std::string SensorRobotSummary::BriefReport() const {
                 method.c_str(), TerminationName(termination), iterations, initial_cost, final_cost, rms_mm,
                 max_residual_mm, worst_pose, outliers.size(), diagnostics.num_poses, diagnostics.rotation_spread_deg,
                 diagnostics.condition_number);
-  return buf;
+  return std::string(buf) + (weighted ? ", each centre weighted by its covariance" : "");
 }
 
 Vec3 PredictBallInSensor(const kinematics::RobotModel& model, const Isometry3& sensor_from_base,

@@ -76,6 +76,7 @@ std::string SensorRobotResultJson(const SensorRobotCalibration& c, const SensorR
   sj["min_axis_spread_deg"] = s.diagnostics.min_axis_spread_deg;
   sj["condition_number"] = s.diagnostics.condition_number;
   sj["warnings"] = s.warnings;
+  sj["weighted_by_centre_covariance"] = s.weighted;
   sj["brief"] = s.BriefReport();
   j["summary"] = sj;
   return j.dump(2) + "\n";

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/Cholesky>
 #include <cmath>
 
 #include "ramtk/calib/sensor_robot.h"
@@ -15,10 +16,12 @@ namespace ramtk::calib {
 namespace {
 
 // measured − R_s·(R_i·P_e + t_i) − t_s for one pose; quaternion in Eigen order (x, y, z, w).
+// `weight` whitens the residual (identity when unweighted).
 struct BallResidual {
   Mat3 flange_rotation;
   Vec3 flange_translation;
   Vec3 measured;
+  Mat3 weight;
   template <typename T>
   bool operator()(const T* quaternion, const T* translation, const T* ball, T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(quaternion);
@@ -26,10 +29,32 @@ struct BallResidual {
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> pe(ball);
     const Eigen::Matrix<T, 3, 1> in_base = flange_rotation.cast<T>() * pe + flange_translation.cast<T>();
     Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = measured.cast<T>() - (q * in_base + t);
+    r = weight.cast<T>() * (measured.cast<T>() - (q * in_base + t));
     return true;
   }
 };
+
+// Per observation the whitening σ̄·L⁻¹ (C = L·Lᵀ, σ̄² the mean variance over all centres), or
+// empty when not every observation has a covariance.
+std::vector<Mat3> CentreWeights(const std::vector<BallObservation>& obs) {
+  double mean_variance = 0.0;
+  for (const BallObservation& o : obs) {
+    if (!o.has_covariance) return {};
+    mean_variance += o.covariance_mm2.trace() / 3.0;
+  }
+  mean_variance /= static_cast<double>(obs.size());
+  std::vector<Mat3> w;
+  for (const BallObservation& o : obs) {
+    const Eigen::LLT<Mat3> llt(o.covariance_mm2);
+    if (llt.info() != Eigen::Success) {
+      throw InputError({"", o.line, "cov_xx..cov_yz"}, "the centre covariance of pose " + std::to_string(o.pose) +
+                                                            " is not positive definite");
+    }
+    const Mat3 l_inv = llt.matrixL().solve(Mat3::Identity());
+    w.push_back(std::sqrt(mean_variance) * l_inv);
+  }
+  return w;
+}
 
 }  // namespace
 
@@ -61,14 +86,19 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
   Vec3 t = start.sensor_from_base.translation();
   Vec3 ball = start.ball_in_flange;
 
+  std::vector<Mat3> weights;
+  if (options.use_covariance) weights = CentreWeights(obs);
+  s.weighted = !weights.empty();
   ceres::Problem problem;
-  for (const BallObservation& o : obs) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const BallObservation& o = obs[i];
     const Isometry3 f = kinematics::BaseFromFlange(model, o.q_controller);
     ceres::LossFunction* loss = nullptr;
     if (options.loss == RobustLoss::kHuber) loss = new ceres::HuberLoss(options.loss_scale_mm);
     if (options.loss == RobustLoss::kCauchy) loss = new ceres::CauchyLoss(options.loss_scale_mm);
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BallResidual, 3, 4, 3, 3>(
-                                 new BallResidual{f.linear(), f.translation(), o.ball_in_sensor}),
+                                 new BallResidual{f.linear(), f.translation(), o.ball_in_sensor,
+                                                  s.weighted ? weights[i] : Mat3::Identity()}),
                              loss, q.coeffs().data(), t.data(), ball.data());
   }
   problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
@@ -117,7 +147,9 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
       scale.topLeftCorner<3, 3>() *= 2.0;
       const int dof = 3 * static_cast<int>(obs.size()) - 9;
       double sum2 = 0.0;
-      for (const Vec3& r : c.residuals_mm) sum2 += r.squaredNorm();
+      for (std::size_t i = 0; i < c.residuals_mm.size(); ++i) {
+        sum2 += (s.weighted ? Vec3(weights[i] * c.residuals_mm[i]) : c.residuals_mm[i]).squaredNorm();
+      }
       const double variance = dof > 0 ? sum2 / dof : 0.0;
       c.covariance = variance * scale * cov * scale;
       c.has_covariance = true;

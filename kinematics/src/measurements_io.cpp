@@ -1,5 +1,7 @@
 #include "ramtk/kinematics/measurements_io.h"
 
+#include <Eigen/Cholesky>
+#include <cmath>
 #include <cstdio>
 
 #include "ramtk/core/csv.h"
@@ -74,7 +76,13 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
     for (int i = 0; i < 3; ++i) cells.push_back(Fixed(m.position_mm[i], 6));
     for (const std::string& name : set.extra_columns) {
       const auto it = m.extra.find(name);
-      cells.push_back(it == m.extra.end() ? "nan" : Fixed(it->second, 6));
+      if (it == m.extra.end()) {
+        cells.push_back("nan");
+      } else {
+        char buf[64];
+        std::snprintf(buf, sizeof(buf), "%.10g", it->second);
+        cells.push_back(buf);
+      }
     }
     rows.push_back(std::move(cells));
   }
@@ -83,6 +91,60 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
 
 void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path) {
   WriteFileAtomically(path, FormatRobotMeasurements(set));
+}
+
+bool HasCentreCovariance(const RobotMeasurementSet& set, const std::string& path) {
+  int found = 0;
+  std::string missing;
+  for (const char* name : kCentreCovarianceColumns) {
+    bool has = false;
+    for (const std::string& c : set.extra_columns) has |= (c == name);
+    if (has) {
+      ++found;
+    } else if (missing.empty()) {
+      missing = name;
+    }
+  }
+  if (found > 0 && found < static_cast<int>(kCentreCovarianceColumns.size())) {
+    throw InputError({path, 1, missing},
+                     "missing: the centre covariance needs all of cov_xx,cov_yy,cov_zz,cov_xy,cov_xz,cov_yz");
+  }
+  return found == static_cast<int>(kCentreCovarianceColumns.size());
+}
+
+Mat3 CentreCovariance(const RobotMeasurement& row, const std::string& path) {
+  double v[6];
+  for (std::size_t i = 0; i < kCentreCovarianceColumns.size(); ++i) {
+    const auto it = row.extra.find(kCentreCovarianceColumns[i]);
+    if (it == row.extra.end() || !std::isfinite(it->second)) {
+      throw InputError({path, row.line, kCentreCovarianceColumns[i]}, "missing or not a finite number");
+    }
+    v[i] = it->second;
+  }
+  Mat3 c;
+  c << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+  for (int i = 0; i < 3; ++i) {
+    if (!(v[i] > 0.0)) throw InputError({path, row.line, kCentreCovarianceColumns[i]}, "variance must be > 0");
+  }
+  Eigen::LLT<Mat3> llt(c);
+  if (llt.info() != Eigen::Success) {
+    throw InputError({path, row.line, "cov_xy,cov_xz,cov_yz"},
+                     "the centre covariance is not positive definite (a correlation of magnitude >= 1)");
+  }
+  return c;
+}
+
+void SetCentreCovariance(const Mat3& c, RobotMeasurement* row) {
+  const double v[6] = {c(0, 0), c(1, 1), c(2, 2), c(0, 1), c(0, 2), c(1, 2)};
+  for (std::size_t i = 0; i < kCentreCovarianceColumns.size(); ++i) row->extra[kCentreCovarianceColumns[i]] = v[i];
+}
+
+void AddCentreCovarianceColumns(RobotMeasurementSet* set) {
+  for (const char* name : kCentreCovarianceColumns) {
+    bool has = false;
+    for (const std::string& c : set->extra_columns) has |= (c == name);
+    if (!has) set->extra_columns.push_back(name);
+  }
 }
 
 }  // namespace ramtk::kinematics

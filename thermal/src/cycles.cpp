@@ -34,6 +34,17 @@ Eigen::MatrixXd CycleSeries::DifferencesFromReference(const std::vector<int>& po
   return y;
 }
 
+std::vector<std::vector<Mat3>> CycleSeries::DifferenceCovariances() const {
+  std::vector<std::vector<Mat3>> out;
+  if (!has_covariance || cycles.empty()) return out;
+  for (const Cycle& c : cycles) {
+    std::vector<Mat3> per_pose(c.covariance_mm2.size());
+    for (std::size_t k = 0; k < per_pose.size(); ++k) per_pose[k] = c.covariance_mm2[k] + cycles[0].covariance_mm2[k];
+    out.push_back(std::move(per_pose));
+  }
+  return out;
+}
+
 CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::string& path,
                         const CycleOptions& options) {
   const std::string problem = options.Validate();
@@ -42,6 +53,7 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
   CycleSeries series;
   series.path = path;
   series.extra_columns = set.extra_columns;
+  series.has_covariance = kinematics::HasCentreCovariance(set, path);
 
   std::map<int, std::vector<const kinematics::RobotMeasurement*>> by_cycle;
   for (const auto& row : set.rows) by_cycle[row.cycle].push_back(&row);
@@ -68,6 +80,7 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
     cycle.cycle = cycle_number;
     cycle.position_mm.assign(series.ids.size(), Vec3::Zero());
     cycle.q_controller.assign(series.ids.size(), JointVector::Zero());
+    if (series.has_covariance) cycle.covariance_mm2.assign(series.ids.size(), Mat3::Zero());
     std::vector<bool> seen(series.ids.size(), false);
     double time_sum = 0.0;
     for (const auto* row : rows) {
@@ -93,6 +106,7 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
       }
       cycle.position_mm[k] = row->position_mm;
       cycle.q_controller[k] = row->q_controller;
+      if (series.has_covariance) cycle.covariance_mm2[k] = kinematics::CentreCovariance(*row, path);
       time_sum += row->time_s;
       for (const auto& [name, value] : row->extra) cycle.extra[name] += value / static_cast<double>(rows.size());
     }

@@ -1,5 +1,6 @@
 #include "ramtk/thermal/identify.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -35,8 +36,58 @@ std::string IdentificationSummary::BriefReport() const {
                 "cost %.4g -> %.4g mm^2, RMS %.4f mm, worst %.4f mm",
                 termination.c_str(), params.size(), num_poses, num_equations, rank, condition_number, num_cycles,
                 initial_cost, final_cost, rms_residual_mm, worst_residual_mm);
-  return buf;
+  return std::string(buf) + (weighted ? ", each centre difference weighted by its covariance" : "");
 }
+
+namespace {
+
+// Generalised least squares per column of y: every pose's 3 rows whitened by L⁻¹ (C = L·Lᵀ of
+// that column's difference), columns equilibrated, SVD with the same truncation as eq. (3-10).
+Eigen::MatrixXd SolveWeighted(const Eigen::MatrixXd& a, const Eigen::MatrixXd& y, const std::vector<int>& poses,
+                              const IdentificationOptions& options) {
+  const auto& cov = options.difference_covariance_mm2;
+  if (static_cast<Eigen::Index>(cov.size()) != y.cols()) {
+    throw InputError({"", 0, "difference_covariance_mm2"}, "has " + std::to_string(cov.size()) +
+                                                               " cycles, the differences " + std::to_string(y.cols()));
+  }
+  const int m = static_cast<int>(poses.size());
+  const Eigen::Index k = a.cols();
+  Eigen::MatrixXd x(k, y.cols());
+  Eigen::MatrixXd aw(a.rows(), k);
+  Eigen::VectorXd yw(y.rows());
+  for (Eigen::Index c = 0; c < y.cols(); ++c) {
+    for (int i = 0; i < m; ++i) {
+      if (poses[i] >= static_cast<int>(cov[c].size())) {
+        throw InputError({"", 0, "difference_covariance_mm2"}, "cycle " + std::to_string(c) + " lacks pose position " +
+                                                                   std::to_string(poses[i]));
+      }
+      const Eigen::LLT<Mat3> llt(cov[c][poses[i]]);
+      if (llt.info() != Eigen::Success) {
+        throw InputError({"", 0, "difference_covariance_mm2"},
+                         "not positive definite at cycle " + std::to_string(c) + ", pose position " +
+                             std::to_string(poses[i]));
+      }
+      aw.middleRows(3 * i, 3) = llt.matrixL().solve(a.middleRows(3 * i, 3));
+      yw.segment<3>(3 * i) = llt.matrixL().solve(Vec3(y.block<3, 1>(3 * i, c)));
+    }
+    Eigen::VectorXd scale(k);
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const double n = aw.col(j).norm();
+      scale[j] = n > 0.0 ? 1.0 / n : 1.0;
+    }
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(aw * scale.asDiagonal(), Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& s = svd.singularValues();
+    const double smax = s.size() > 0 ? s[0] : 0.0;
+    Eigen::VectorXd s_inv = Eigen::VectorXd::Zero(s.size());
+    for (Eigen::Index i = 0; i < s.size(); ++i) {
+      if (s[i] > options.singular_value_rtol * smax && s[i] > 0.0) s_inv[i] = 1.0 / s[i];
+    }
+    x.col(c) = scale.asDiagonal() * (svd.matrixV() * s_inv.asDiagonal() * (svd.matrixU().transpose() * yw));
+  }
+  return x;
+}
+
+}  // namespace
 
 DriftModel::DriftModel(const RobotModel& model, const ThermalSetup& setup, const std::vector<JointVector>& taught)
     : model_(model), a_full_(3 * taught.size(), kNumParams) {
@@ -95,8 +146,14 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
     }
   }
   // Eq. (3-10) on the equilibrated columns.
-  const Eigen::MatrixXd x_scaled = svd.matrixV() * s_inv.asDiagonal() * (svd.matrixU().transpose() * y);
-  const Eigen::MatrixXd x_sub = scale.asDiagonal() * x_scaled;
+  Eigen::MatrixXd x_sub;
+  const bool weighted = !options.difference_covariance_mm2.empty();
+  if (!weighted) {
+    const Eigen::MatrixXd x_scaled = svd.matrixV() * s_inv.asDiagonal() * (svd.matrixU().transpose() * y);
+    x_sub = scale.asDiagonal() * x_scaled;
+  } else {
+    x_sub = SolveWeighted(a, y, poses, options);
+  }
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(kNumParams, y.cols());
   for (int c = 0; c < k; ++c) x.row(params[c]) = x_sub.row(c);
 
@@ -127,6 +184,7 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
       out.null_space.push_back(combo);
     }
     out.termination = dropped == 0 ? "solved" : "rank deficient (" + std::to_string(dropped) + " dropped)";
+    out.weighted = weighted;
     const Eigen::MatrixXd residual = y - a * x_sub;
     out.num_cycles = static_cast<int>(y.cols());
     out.initial_cost = 0.5 * y.squaredNorm();

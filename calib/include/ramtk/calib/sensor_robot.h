@@ -30,10 +30,16 @@ struct BallObservation {
   Vec3 ball_in_sensor = Vec3::Zero();                                      // mm
   int pose = 0;  // the `pose` column of the measurement file (for reports)
   int line = 0;  // 1-based line of the measurement file (0 if not from a file)
+  // Covariance of ball_in_sensor (mm², from the scan's sphere fit: the cov_xx..cov_yz columns
+  // of the measurement file); has_covariance false when the file has none.
+  Mat3 covariance_mm2 = Mat3::Zero();
+  bool has_covariance = false;
 };
 
 // Ball observations from a robot measurement set (kind kBall). Every row becomes one
-// observation. InputError if the set holds monitoring points or a value is not finite.
+// observation, with its centre covariance when the set has the cov_xx..cov_yz columns.
+// InputError if the set holds monitoring points, a value is not finite or a covariance is not
+// positive definite.
 std::vector<BallObservation> BallObservationsFromMeasurements(const kinematics::RobotMeasurementSet& set,
                                                               const std::string& path);
 
@@ -111,6 +117,9 @@ struct SensorRobotSummary {
   std::vector<int> outliers;          // observations whose residual exceeds the outlier limit
   PoseSetDiagnostics diagnostics;     // of the pose set
   std::vector<std::string> warnings;  // diagnostics warnings and solver remarks
+  // Each centre's residual was weighted by its covariance (manifold method, every observation
+  // has one and SensorRobotOptions::use_covariance).
+  bool weighted = false;
 
   std::string BriefReport() const;  // one line
 };
@@ -150,8 +159,13 @@ struct SensorRobotOptions {
   double function_tolerance = 1e-15;
   double parameter_tolerance = 1e-14;
   double gradient_tolerance = 1e-16;
-  // Compute the covariance (ceres::Covariance, scaled by the residual variance Σ|r|²/(3n − 9)).
+  // Compute the covariance (ceres::Covariance, scaled by the residual variance Σ|r|²/(3n − 9);
+  // weighted: of the weighted residuals).
   bool compute_covariance = true;
+  // Weight each centre's residual by the inverse of its covariance when every observation has
+  // one (generalised least squares). The weights are normalised by the mean variance so that
+  // loss_scale_mm and the residuals keep their mm meaning.
+  bool use_covariance = true;
   PoseSetCheckOptions checks;
 
   std::string Validate() const;

@@ -5,6 +5,7 @@
 // Joints in degrees and positions in mm in the file; radians and mm in memory. Extra columns
 // (for example temp_j2) are carried through by name.
 
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -35,8 +36,24 @@ struct RobotMeasurementSet {
 // Reads either kind (decided by the presence of a `pose` or `point` column). InputError names
 // the file, line and column of anything malformed.
 RobotMeasurementSet ReadRobotMeasurements(const std::string& path);
-// Writes atomically (no half-written file); positions with 6 decimals (nm), joints with 9.
+// Writes atomically (no half-written file); positions with 6 decimals (nm), joints with 9, extra
+// columns with 10 significant digits (a covariance of 1e-7 mm² keeps its digits).
 void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path);
 std::string FormatRobotMeasurements(const RobotMeasurementSet& set);
+
+// Optional extra columns of a ball file: the covariance of the measured centre (mm², the
+// sensor frame), written by `ramtk measure` from the scan's sphere fit. When present, the
+// sensor-to-robot calibration and the thermal identification weight each centre by it.
+inline constexpr std::array<const char*, 6> kCentreCovarianceColumns = {"cov_xx", "cov_yy", "cov_zz",
+                                                                       "cov_xy", "cov_xz", "cov_yz"};
+// True when the set has all six columns; InputError naming the file and the missing column when
+// it has only some of them.
+bool HasCentreCovariance(const RobotMeasurementSet& set, const std::string& path);
+// The row's 3×3 covariance (mm²) from those columns. InputError naming path:line and the column
+// when it is not symmetric positive definite (a zero or negative variance, |correlation| ≥ 1).
+Mat3 CentreCovariance(const RobotMeasurement& row, const std::string& path);
+// Stores a covariance into the row's extra columns (adds the names to set.extra_columns once).
+void SetCentreCovariance(const Mat3& covariance_mm2, RobotMeasurement* row);
+void AddCentreCovarianceColumns(RobotMeasurementSet* set);
 
 }  // namespace ramtk::kinematics

@@ -31,6 +31,9 @@ struct Cycle {
   std::vector<Vec3> position_mm;          // per pose
   std::vector<JointVector> q_controller;  // per pose, rad
   std::map<std::string, double> extra;    // mean of each extra column (e.g. temp_j2) over the rows
+  // Per pose, the covariance of position_mm (mm²) from the cov_xx..cov_yz columns; empty when
+  // the file has none.
+  std::vector<Mat3> covariance_mm2;
 };
 
 struct CycleSeries {
@@ -39,6 +42,7 @@ struct CycleSeries {
   std::vector<JointVector> taught;  // reference cycle's joints per id, rad
   std::vector<Cycle> cycles;        // ascending cycle number; cycles[0] is the reference
   std::vector<std::string> extra_columns;
+  bool has_covariance = false;  // every cycle holds covariance_mm2 (the file had cov_xx..cov_yz)
 
   int NumPoses() const { return static_cast<int>(ids.size()); }
   int NumCycles() const { return static_cast<int>(cycles.size()); }
@@ -47,6 +51,10 @@ struct CycleSeries {
   // Stacked Y (eq. 3-8) of every cycle against the reference: 3·poses × cycles, restricted to
   // the poses at positions `pose_subset` (all if empty).
   Eigen::MatrixXd DifferencesFromReference(const std::vector<int>& pose_subset = {}) const;
+  // Covariance of each difference (cycle c, pose k: C_c,k + C_ref,k), indexed [cycle][pose] over
+  // every pose — what IdentificationOptions::difference_covariance_mm2 takes. Empty without
+  // covariances.
+  std::vector<std::vector<Mat3>> DifferenceCovariances() const;
 };
 
 // Groups rows by cycle and checks the contract above. Cycles before the reference are dropped.

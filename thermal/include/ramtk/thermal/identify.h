@@ -32,6 +32,11 @@ struct IdentificationOptions {
   // Rank threshold (relative to the largest |R_ii|) of the column-pivoted QR that names the
   // parameters not identifiable given the others, and of the null-space report.
   double rank_rtol = 1e-8;
+  // Covariance of each difference Y (mm²), [column of Y (cycle)][pose position over every pose of
+  // the model] (CycleSeries::DifferenceCovariances). Given, each column is solved by generalised
+  // least squares (every 3-row block whitened by its covariance) instead of the plain eq. (3-10).
+  // Empty: unweighted.
+  std::vector<std::vector<Mat3>> difference_covariance_mm2;
   // Empty if valid, otherwise what is wrong.
   std::string Validate() const;
 };
@@ -59,6 +64,7 @@ struct IdentificationSummary {
   double rms_residual_mm = 0.0;    // per coordinate, over all cycles
   double worst_residual_mm = 0.0;  // largest |coordinate residual|
   int outliers = 0;                // not rejected: always 0 (plain least squares)
+  bool weighted = false;           // each difference weighted by its covariance
 
   std::string BriefReport() const;
 };

@@ -1,0 +1,84 @@
+#pragma once
+// The digital twin of a measurement campaign (`ramtk simulate campaign`): the thermal robot
+// simulator gives the joints and the true drifting parameters per cycle; for every cycle and ball
+// pose the fringe simulator renders what the fixed stereo sensor sees of the 38.1 mm ball (the
+// sensor frame is the left camera's; eq. 5-1 places it ~2 m from the base, eq. 5-2 the ball on
+// the flange) in small camera windows around the ball; the image sets, the controller log and the
+// truth are written. Then the user's chain runs from those files — scan batch → measure →
+// sensor-to-robot calibration on the cold cycle → thermal identification → compensation of the
+// monitoring points — and every stage is scored against truth (the error budget), beside the same
+// chain fed the true centres.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/progress.h"
+#include "ramtk/kinematics/robot_model.h"
+
+namespace ramtk::campaign {
+
+struct CampaignOptions {
+  int cycles = 4;                 // measurement cycles (thesis: 90)
+  int ball_poses = 8;             // ball poses per cycle (thesis: 20)
+  int monitoring_points = 8;      // tool-sensor monitoring points per cycle (thesis: 34)
+  double cycle_period_s = 1800;   // time between cycles, s (4 × 30 min spans the warm-up)
+  // Camera windows: the "small" fringe preset's 640×512 windows around the ball, scaled by this
+  // (0.25: 160×128 px, ~64 px across the ball; pixels grow, so the centre σ grows too).
+  double image_scale = 0.25;
+  int supersampling = 2;          // n×n rays per camera pixel
+  double repeatability_mm = 0.015;       // robot repeatability σ per axis (thermal simulator)
+  double tool_sensor_noise_mm = 0.005;   // monitoring-point sensor σ per axis
+  std::uint64_t seed = 1;         // thermal simulator (poses, drift, repeatability) and image noise
+  int jobs = 2;                   // sets rendered / scanned at once
+  // Parameters identified: empty = the simulator's drifting set (d4 d6 a1 a2 a3 α3 α4 β2).
+  std::vector<int> params;
+  ProgressCallback progress;      // "render" and "scan" stages, per set
+  std::string Validate() const;
+};
+
+// One stage's error against truth.
+struct StageError {
+  std::string stage;    // "centres", "calibration", "drift <param>", "monitoring"
+  std::string quantity; // what the number is, with its unit
+  double images = 0.0;  // chain fed the image-derived centres
+  double truth = 0.0;   // chain fed the true centres (0 for the centres stage itself)
+};
+
+struct CampaignSummary {
+  std::string out_dir;
+  int sets = 0, centres = 0;         // image sets rendered; centres found
+  std::vector<std::string> left_out; // sets without a centre
+  double render_s = 0, scan_s = 0, chain_s = 0;
+  double centre_rms_um = 0, centre_max_um = 0, centre_predicted_rms_um = 0;  // vs truth; from the scan covariance
+  double rotation_error_arcsec = 0, translation_error_um = 0, ball_error_um = 0;  // set-up calibration vs truth
+  // The calibration's own 1σ (|std vector|) from its covariance, image chain.
+  double rotation_sigma_arcsec = 0, translation_sigma_um = 0, ball_sigma_um = 0;
+  double rotation_error_truth_arcsec = 0, translation_error_truth_um = 0, ball_error_truth_um = 0;
+  std::vector<int> params;
+  std::vector<double> drift_rms_error, drift_rms_error_truth, drift_rms_true;  // per param, mm or deg, warm cycles
+  double monitoring_uncompensated_mm = 0;  // RMS over warm cycles and directions
+  double monitoring_compensated_mm = 0;    // with the image chain's drift and set-up
+  double monitoring_compensated_truth_mm = 0;  // with the true-centre chain
+  // Per warm cycle RMS over the monitoring directions (for the picture): uncompensated,
+  // compensated (images), compensated (true centres).
+  std::vector<double> cycle_time_s, monitoring_before_mm, monitoring_after_mm, monitoring_after_truth_mm;
+  std::string dominant_stage;  // the stage whose error contributes most to the monitoring residual
+  std::vector<StageError> budget;
+  std::string BriefReport() const;
+};
+
+// Simulates the campaign into out_dir (must not exist or be empty): sets/cCCC_pPP/ fringe sets
+// (manifests with capture_time_s), batch.txt, controller_log.csv, monitoring.csv, truth/
+// (setup.json, truth_params.csv, ball_truth.csv). Then runs the chain from those files into
+// out_dir/chain/ (scan/, ball.csv, calibration.json) and writes out_dir/budget.json and
+// budget.md. InputError on bad options.
+CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
+                                       const std::string& out_dir);
+
+// The error budget as Markdown and JSON text.
+std::string BudgetMarkdown(const CampaignSummary& summary);
+std::string BudgetJson(const CampaignSummary& summary);
+
+}  // namespace ramtk::campaign

@@ -1,0 +1,276 @@
+// The campaign twin's chain from files, scored against truth (campaign.h).
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "campaign_internal.h"
+#include "ramtk/calib/sensor_robot.h"
+#include "ramtk/calib/sensor_robot_io.h"
+#include "ramtk/campaign/controller_log.h"
+#include "ramtk/campaign/measure.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/units.h"
+#include "ramtk/diagnose/plot.h"
+#include "ramtk/thermal/identify.h"
+#include "ramtk/thermal/monitoring.h"
+#include "ramtk/vision/scan_batch.h"
+
+namespace ramtk::campaign {
+namespace fs = std::filesystem;
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct ChainResult {
+  calib::SensorRobotCalibration calibration;
+  calib::SensorRobotSummary calibration_summary;
+  std::vector<calib::BallObservation> cold;  // the cold cycle's observations
+  thermal::ThermalSetup setup;
+  Eigen::MatrixXd delta_x;  // 30 × ball cycles
+  Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
+};
+
+// Sensor-to-robot calibration on the cold cycle, then identification and compensation.
+ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
+                     const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
+                     const std::vector<int>& params, int reference_cycle) {
+  ChainResult r;
+  kinematics::RobotMeasurementSet cold = ball;
+  cold.rows.clear();
+  for (const auto& row : ball.rows) {
+    if (row.cycle == reference_cycle) cold.rows.push_back(row);
+  }
+  r.cold = calib::BallObservationsFromMeasurements(cold, ball_path);
+  r.calibration = calib::CalibrateSensorRobot(model, r.cold, {}, &r.calibration_summary);
+  r.setup.sensor_from_base = r.calibration.sensor_from_base;
+  r.setup.ball_in_flange = r.calibration.ball_in_flange;
+  // The tool-mounted sensor is calibrated separately (not part of this chain).
+  r.setup.flange_from_tool_sensor = truth.flange_from_tool_sensor;
+  r.setup.has_tool_sensor = true;
+  const thermal::CycleSeries series = thermal::GroupCycles(ball, ball_path);
+  thermal::IdentificationOptions id;
+  id.params = params;
+  id.difference_covariance_mm2 = series.DifferenceCovariances();
+  const thermal::ThermalExperiment ex = thermal::MakeExperiment(model, r.setup, series, monitoring);
+  const thermal::DriftModel dm(model, r.setup, series.taught);
+  r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
+  Eigen::MatrixXd x_mon(r.delta_x.rows(), static_cast<Eigen::Index>(ex.ball_column.size()));
+  for (std::size_t c = 0; c < ex.ball_column.size(); ++c) x_mon.col(c) = r.delta_x.col(ex.ball_column[c]);
+  const thermal::MonitoringModel mon(model, r.setup, monitoring);
+  r.before = mon.Uncompensated();
+  r.after = mon.Residuals(x_mon);
+  return r;
+}
+
+double WarmRms(const Eigen::MatrixXd& r) {
+  const Eigen::Index warm = r.cols() - 1;
+  return warm > 0 ? std::sqrt(r.rightCols(warm).squaredNorm() / static_cast<double>(r.rows() * warm)) : 0.0;
+}
+
+}  // namespace
+
+std::string CampaignSummary::BriefReport() const {
+  char buf[400];
+  std::snprintf(buf, sizeof(buf),
+                "campaign: %d sets, %d centres (RMS error %.2f um, predicted %.2f um); set-up %.2f arcsec / %.1f um; "
+                "monitoring RMS %.4f mm uncompensated -> %.4f mm compensated (true centres: %.4f mm); dominant: %s",
+                sets, centres, centre_rms_um, centre_predicted_rms_um, rotation_error_arcsec, translation_error_um,
+                monitoring_uncompensated_mm, monitoring_compensated_mm, monitoring_compensated_truth_mm,
+                dominant_stage.c_str());
+  return buf;
+}
+
+CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
+                                       const std::string& out_dir) {
+  const std::string bad = options.Validate();
+  if (!bad.empty()) throw InputError({"", 0, "CampaignOptions"}, bad);
+  CampaignSummary s;
+  s.out_dir = out_dir;
+  const internal::CampaignFiles files = internal::SimulateCampaignFiles(model, options, out_dir, &s.render_s);
+  const auto& sim = files.sim;
+  s.sets = static_cast<int>(sim.ball.rows.size());
+  const fs::path dir(out_dir);
+
+  // 1. Scan every set (as `ramtk scan --batch`), 2. join with the controller log (`ramtk measure`).
+  auto t0 = std::chrono::steady_clock::now();
+  const std::vector<std::string> sets = vision::ReadScanBatchList((dir / "batch.txt").string());
+  vision::ScanOptions so;
+  so.match.min_depth_mm = 400.0;
+  so.match.max_depth_mm = 1000.0;
+  ProgressCallback scan_progress;
+  if (options.progress) scan_progress = [&](const Progress& p) { return options.progress({"scan", p.done, p.total}); };
+  const auto rows = vision::RunScanBatch(sets, so, (dir / "chain" / "scan").string(), options.jobs, false, scan_progress);
+  WriteFileAtomically((dir / "chain" / "scan" / "results.csv").string(), vision::ScanBatchCsv(rows));
+  s.scan_s = Seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  const std::string ball_path = (dir / "chain" / "ball.csv").string();
+  MeasureSummary ms;
+  const kinematics::RobotMeasurementSet measured =
+      JoinCentresWithLog(ReadScanResults((dir / "chain" / "scan" / "results.csv").string()),
+                         ReadControllerLog((dir / "controller_log.csv").string()), {}, &ms);
+  kinematics::WriteRobotMeasurements(measured, ball_path);
+  for (const LeftOut& l : ms.left_out) s.left_out.push_back(l.set + ": " + l.reason);
+  const kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(ball_path);
+  s.centres = static_cast<int>(ball.rows.size());
+
+  // Centre errors against truth.
+  std::map<std::pair<int, int>, Vec3> truth_centre;
+  for (const auto& row : sim.ball.rows) truth_centre[{row.cycle, row.index}] = row.position_mm;
+  double sq = 0.0, pred = 0.0;
+  for (const auto& row : ball.rows) {
+    const double e = (row.position_mm - truth_centre.at({row.cycle, row.index})).norm() * 1000.0;
+    sq += e * e;
+    s.centre_max_um = std::max(s.centre_max_um, e);
+    pred += kinematics::CentreCovariance(row, ball_path).trace() * 1e6;
+  }
+  s.centre_rms_um = std::sqrt(sq / ball.rows.size());
+  s.centre_predicted_rms_um = std::sqrt(pred / ball.rows.size());
+
+  // 3.–5. The chain on the image centres and on the true centres.
+  const std::string mon_path = (dir / "monitoring.csv").string();
+  const thermal::CycleSeries monitoring =
+      thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
+  s.params = options.params.empty() ? sim.drifting_params : options.params;
+  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0);
+  const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
+  const ChainResult tru =
+      RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0);
+  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
+                                img.calibration_summary, img.cold);
+  // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
+  thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
+  s.chain_s = Seconds(t0);
+
+  auto setup_errors = [&](const ChainResult& r, double* rot, double* trans, double* ball_um) {
+    *rot = RotationAngleBetween(r.setup.sensor_from_base.linear(), sim.setup.sensor_from_base.linear()) * kArcsecPerRad;
+    *trans = (r.setup.sensor_from_base.translation() - sim.setup.sensor_from_base.translation()).norm() * 1000.0;
+    *ball_um = (r.setup.ball_in_flange - sim.setup.ball_in_flange).norm() * 1000.0;
+  };
+  setup_errors(img, &s.rotation_error_arcsec, &s.translation_error_um, &s.ball_error_um);
+  s.rotation_sigma_arcsec = img.calibration.RotationStdArcsec().norm();
+  s.translation_sigma_um = img.calibration.TranslationStdMm().norm() * 1000.0;
+  s.ball_sigma_um = img.calibration.BallStdMm().norm() * 1000.0;
+  setup_errors(tru, &s.rotation_error_truth_arcsec, &s.translation_error_truth_um, &s.ball_error_truth_um);
+  s.budget.push_back({"centres", "RMS 3-D centre error, um", s.centre_rms_um, 0.0});
+  s.budget.push_back({"calibration", "rotation error, arcsec", s.rotation_error_arcsec, s.rotation_error_truth_arcsec});
+  s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um});
+  s.budget.push_back({"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um});
+
+  // Drift per parameter against the true drift relative to the cold cycle, warm cycles.
+  const int cycles = static_cast<int>(img.delta_x.cols());
+  for (int p : s.params) {
+    double ei = 0.0, et = 0.0, tt = 0.0;
+    for (int c = 1; c < cycles; ++c) {
+      const double truth = thermal::ToFileUnits(p, sim.true_delta_x(p, c) - sim.true_delta_x(p, 0));
+      ei += std::pow(thermal::ToFileUnits(p, img.delta_x(p, c)) - truth, 2);
+      et += std::pow(thermal::ToFileUnits(p, tru.delta_x(p, c)) - truth, 2);
+      tt += truth * truth;
+    }
+    s.drift_rms_error.push_back(std::sqrt(ei / (cycles - 1)));
+    s.drift_rms_error_truth.push_back(std::sqrt(et / (cycles - 1)));
+    s.drift_rms_true.push_back(std::sqrt(tt / (cycles - 1)));
+    const std::string unit = kinematics::IsAngleParam(p) ? "deg" : "mm";
+    s.budget.push_back({"drift " + kinematics::ParamName(p), "RMS error over warm cycles, " + unit,
+                        s.drift_rms_error.back(), s.drift_rms_error_truth.back()});
+  }
+  s.monitoring_uncompensated_mm = WarmRms(img.before);
+  s.monitoring_compensated_mm = WarmRms(img.after);
+  s.monitoring_compensated_truth_mm = WarmRms(tru.after);
+  s.budget.push_back({"monitoring", "RMS residual after compensation, mm", s.monitoring_compensated_mm,
+                      s.monitoring_compensated_truth_mm});
+  for (int c = 1; c < monitoring.NumCycles(); ++c) {
+    s.cycle_time_s.push_back(monitoring.cycles[c].time_s);
+    const auto rms = [](const Eigen::MatrixXd& m, int col) { return std::sqrt(m.col(col).squaredNorm() / m.rows()); };
+    s.monitoring_before_mm.push_back(rms(img.before, c));
+    s.monitoring_after_mm.push_back(rms(img.after, c));
+    s.monitoring_after_truth_mm.push_back(rms(tru.after, c));
+  }
+  // What the vision stage adds to the monitoring residual, against what remains with perfect centres.
+  const double vision_part =
+      std::sqrt(std::max(0.0, std::pow(s.monitoring_compensated_mm, 2) - std::pow(s.monitoring_compensated_truth_mm, 2)));
+  s.dominant_stage = vision_part > s.monitoring_compensated_truth_mm
+                         ? "vision (image-derived centres)"
+                         : "robot repeatability, tool sensor and drift model (not the vision stage)";
+
+  WriteFileAtomically((dir / "budget.json").string(), BudgetJson(s));
+  WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s));
+  if (s.cycle_time_s.size() >= 1) {
+    std::vector<diagnose::PlotSeries> series(3);
+    for (auto& ps : series) ps.line = true;
+    for (std::size_t i = 0; i < s.cycle_time_s.size(); ++i) {
+      const double t = s.cycle_time_s[i] / 60.0;
+      series[0].x.push_back(t);
+      series[0].y.push_back(s.monitoring_before_mm[i]);
+      series[1].x.push_back(t);
+      series[1].y.push_back(s.monitoring_after_mm[i]);
+      series[2].x.push_back(t);
+      series[2].y.push_back(s.monitoring_after_truth_mm[i]);
+    }
+    series[0].label = "uncompensated";
+    series[1].label = "compensated (centres from images)";
+    series[2].label = "compensated (true centres)";
+    const unsigned char colours[3][3] = {{214, 39, 40}, {31, 119, 180}, {44, 160, 44}};
+    for (int k = 0; k < 3; ++k) std::copy(colours[k], colours[k] + 3, series[k].rgb);
+    diagnose::PlotOptions po;
+    po.title = "Monitoring points: RMS error per cycle";
+    po.x_label = "time, min";
+    po.y_label = "RMS over monitored directions, mm";
+    diagnose::WritePlot(series, po, (dir / "monitoring_error.png").string());
+  }
+  return s;
+}
+
+std::string BudgetJson(const CampaignSummary& s) {
+  nlohmann::json j;
+  j["sets"] = s.sets;
+  j["centres"] = s.centres;
+  j["left_out"] = s.left_out;
+  j["seconds"] = {{"render", s.render_s}, {"scan", s.scan_s}, {"chain", s.chain_s}};
+  j["centre_rms_error_um"] = s.centre_rms_um;
+  j["centre_max_error_um"] = s.centre_max_um;
+  j["centre_predicted_rms_um"] = s.centre_predicted_rms_um;
+  j["calibration_sigma"] = {{"rotation_arcsec", s.rotation_sigma_arcsec},
+                            {"translation_um", s.translation_sigma_um},
+                            {"ball_um", s.ball_sigma_um}};
+  j["dominant_stage"] = s.dominant_stage;
+  nlohmann::json b = nlohmann::json::array();
+  for (const StageError& e : s.budget) {
+    b.push_back({{"stage", e.stage}, {"quantity", e.quantity}, {"images", e.images}, {"true_centres", e.truth}});
+  }
+  j["budget"] = b;
+  j["monitoring"] = {{"uncompensated_rms_mm", s.monitoring_uncompensated_mm},
+                     {"compensated_rms_mm", s.monitoring_compensated_mm},
+                     {"compensated_true_centres_rms_mm", s.monitoring_compensated_truth_mm},
+                     {"cycle_time_s", s.cycle_time_s},
+                     {"per_cycle_uncompensated_mm", s.monitoring_before_mm},
+                     {"per_cycle_compensated_mm", s.monitoring_after_mm},
+                     {"per_cycle_compensated_true_centres_mm", s.monitoring_after_truth_mm}};
+  j["brief"] = s.BriefReport();
+  return j.dump(2) + "\n";
+}
+
+std::string BudgetMarkdown(const CampaignSummary& s) {
+  std::string md = "| stage | quantity | centres from images | true centres |\n|---|---|---|---|\n";
+  char buf[300];
+  for (const StageError& e : s.budget) {
+    char truth[32] = "—";
+    if (e.stage != "centres") std::snprintf(truth, sizeof(truth), "%.4g", e.truth);
+    std::snprintf(buf, sizeof(buf), "| %s | %s | %.4g | %s |\n", e.stage.c_str(), e.quantity.c_str(), e.images, truth);
+    md += buf;
+  }
+  std::snprintf(buf, sizeof(buf),
+                "\nMonitoring RMS over the warm cycles: %.4f mm uncompensated. Centres predicted by the scan "
+                "covariance: %.2f um RMS (observed %.2f um). Dominant: %s.\n",
+                s.monitoring_uncompensated_mm, s.centre_predicted_rms_um, s.centre_rms_um, s.dominant_stage.c_str());
+  md += buf;
+  return md;
+}
+
+}  // namespace ramtk::campaign

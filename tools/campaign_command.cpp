@@ -1,0 +1,66 @@
+// ramtk simulate campaign: the digital twin of a thermal measurement campaign, run end to end.
+#include <cstdio>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/campaign/campaign.h"
+#include "ramtk/core/error.h"
+#include "ramtk/kinematics/robot_io.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct CampaignCommandOptions {
+  std::string robot_path;
+  std::string out_dir;
+  campaign::CampaignOptions o;
+  bool quiet = false;
+};
+
+int RunCampaign(const CampaignCommandOptions& opt) {
+  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  campaign::CampaignOptions o = opt.o;
+  const std::string bad = o.Validate();
+  if (!bad.empty()) throw InputError({"", 0, "campaign options"}, bad);
+  if (!opt.quiet) {
+    o.progress = [](const Progress& p) {
+      std::fprintf(stderr, "\r%s %zu/%zu sets", p.stage.c_str(), p.done, p.total);
+      if (p.done == p.total) std::fprintf(stderr, "\n");
+      return true;
+    };
+  }
+  const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir);
+  std::printf("%s", campaign::BudgetMarkdown(s).c_str());
+  for (const std::string& l : s.left_out) std::printf("left out: %s\n", l.c_str());
+  std::printf("%s\ntimes: render %.1f s, scan %.1f s, chain %.1f s\nwrote %s/budget.json, budget.md, monitoring_error.png\n",
+              s.BriefReport().c_str(), s.render_s, s.scan_s, s.chain_s, opt.out_dir.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
+  auto opt = std::make_shared<CampaignCommandOptions>();
+  CLI::App* sub = SimulateCommand(app)->add_subcommand(
+      "campaign",
+      "Digital twin of a thermal campaign: render the ball's fringe sets per cycle and pose, write the controller "
+      "log and truth, then run scan -> measure -> calib sensor-robot (cold cycle) -> thermal identify -> compensate "
+      "and write the error budget (budget.json, budget.md, monitoring_error.png)");
+  sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
+  sub->add_option("--out", opt->out_dir, "Output folder (must not exist or be empty)")->required();
+  sub->add_option("--cycles", opt->o.cycles, "Measurement cycles")->capture_default_str();
+  sub->add_option("--poses", opt->o.ball_poses, "Ball poses per cycle")->capture_default_str();
+  sub->add_option("--points", opt->o.monitoring_points, "Monitoring points per cycle")->capture_default_str();
+  sub->add_option("--period", opt->o.cycle_period_s, "Time between cycles, s")->capture_default_str();
+  sub->add_option("--scale", opt->o.image_scale, "Camera window scale (1 = 640x512 around the ball)")
+      ->capture_default_str();
+  sub->add_option("--supersampling", opt->o.supersampling, "n x n rays per pixel")->capture_default_str();
+  sub->add_option("--repeatability", opt->o.repeatability_mm, "Robot repeatability sigma per axis, mm")
+      ->capture_default_str();
+  sub->add_option("--seed", opt->o.seed, "Random seed")->capture_default_str();
+  sub->add_option("--jobs", opt->o.jobs, "Sets rendered / scanned at once")->capture_default_str();
+  sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
+  sub->callback([opt, exit_code]() { *exit_code = RunCampaign(*opt); });
+}
+
+}  // namespace ramtk::tools
