@@ -217,7 +217,7 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   s->add_option("--sensor", sol->sensor, "Sensor frame JSON (ramtk tcf calibrate-sensor)")->required();
   s->add_option("--out", sol->out, "Write the result JSON here");
   s->add_option("--variant", sol->variant, "ramtk | no-self-calibration | thesis | thesis-uncorrected");
-  s->add_flag("--self-calibrate-beta", sol->self_calibrate_beta, "Take beta from the circle phases");
+  s->add_flag("--self-calibrate-beta", sol->self_calibrate_beta, "Take beta from the circle phases (without it the sensor file's beta is used, with a warning when the phases disagree by > 5 sigma and 0.1 deg)");
   s->add_option("--timing-sigma-ms", sol->timing_sigma_ms, "1-sigma event timing noise for the uncertainty (ms)");
   s->add_option("--repeatability", sol->repeatability_mm, "Robot repeatability, 1-sigma per axis (mm)");
   s->add_option("--max-tilt", sol->max_tilt_deg, "Device range: largest tool-axis tilt (deg)");
