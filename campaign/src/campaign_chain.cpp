@@ -40,7 +40,7 @@ struct ChainResult {
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
                      const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
-                     const std::vector<int>& params, int reference_cycle) {
+                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -48,7 +48,9 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
     if (row.cycle == reference_cycle) cold.rows.push_back(row);
   }
   r.cold = calib::BallObservationsFromMeasurements(cold, ball_path);
-  r.calibration = calib::CalibrateSensorRobot(model, r.cold, {}, &r.calibration_summary);
+  calib::SensorRobotOptions co;
+  co.robot_noise_mm = robot_noise_mm;
+  r.calibration = calib::CalibrateSensorRobot(model, r.cold, co, &r.calibration_summary);
   r.setup.sensor_from_base = r.calibration.sensor_from_base;
   r.setup.ball_in_flange = r.calibration.ball_in_flange;
   // The tool-mounted sensor is calibrated separately (not part of this chain).
@@ -57,7 +59,7 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   const thermal::CycleSeries series = thermal::GroupCycles(ball, ball_path);
   thermal::IdentificationOptions id;
   id.params = params;
-  id.difference_covariance_mm2 = series.DifferenceCovariances();
+  id.difference_covariance_mm2 = series.DifferenceCovariances(robot_noise_mm);
   const thermal::ThermalExperiment ex = thermal::MakeExperiment(model, r.setup, series, monitoring);
   const thermal::DriftModel dm(model, r.setup, series.taught);
   r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
@@ -138,10 +140,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const thermal::CycleSeries monitoring =
       thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
-  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0);
+  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru =
-      RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0);
+      RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
                                 img.calibration_summary, img.cold);
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
