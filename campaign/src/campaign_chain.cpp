@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <map>
 
 #include "campaign_internal.h"
@@ -119,8 +120,39 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                          ReadControllerLog((dir / "controller_log.csv").string()), {}, &ms);
   kinematics::WriteRobotMeasurements(measured, ball_path);
   for (const LeftOut& l : ms.left_out) s.left_out.push_back(l.set + ": " + l.reason);
-  const kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(ball_path);
+  kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(ball_path);
   s.centres = static_cast<int>(ball.rows.size());
+  // The drift is measured pose by pose against the cold cycle, so a pose that lost its centre in
+  // any cycle is dropped from both chains (and reported).
+  std::map<int, int> cycles_with_pose;
+  std::map<int, int> cycle_count;
+  for (const auto& row : ball.rows) {
+    ++cycles_with_pose[row.index];
+    cycle_count[row.cycle] = 1;
+  }
+  std::vector<int> dropped;
+  for (const auto& [pose, n] : cycles_with_pose) {
+    if (n < static_cast<int>(cycle_count.size())) dropped.push_back(pose);
+  }
+  for (const auto& row : sim.ball.rows) {
+    if (cycles_with_pose.count(row.index) == 0 && std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) {
+      dropped.push_back(row.index);
+    }
+  }
+  kinematics::RobotMeasurementSet truth_ball = kinematics::ReadRobotMeasurements((dir / "truth" / "ball_truth.csv").string());
+  if (!dropped.empty()) {
+    auto keep = [&](const kinematics::RobotMeasurementSet& in) {
+      kinematics::RobotMeasurementSet out = in;
+      out.rows.clear();
+      for (const auto& row : in.rows) {
+        if (std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) out.rows.push_back(row);
+      }
+      return out;
+    };
+    ball = keep(ball);
+    truth_ball = keep(truth_ball);
+    for (int p : dropped) s.dropped_poses.push_back(p);
+  }
 
   // Centre errors against truth.
   std::map<std::pair<int, int>, Vec3> truth_centre;
@@ -143,7 +175,7 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru =
-      RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
+      RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
                                 img.calibration_summary, img.cold);
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
@@ -234,6 +266,7 @@ std::string BudgetJson(const CampaignSummary& s) {
   j["sets"] = s.sets;
   j["centres"] = s.centres;
   j["left_out"] = s.left_out;
+  j["dropped_poses"] = s.dropped_poses;
   j["seconds"] = {{"render", s.render_s}, {"scan", s.scan_s}, {"chain", s.chain_s}};
   j["centre_rms_error_um"] = s.centre_rms_um;
   j["centre_max_error_um"] = s.centre_max_um;
@@ -272,6 +305,11 @@ std::string BudgetMarkdown(const CampaignSummary& s) {
                 "covariance: %.2f um RMS (observed %.2f um). Dominant: %s.\n",
                 s.monitoring_uncompensated_mm, s.centre_predicted_rms_um, s.centre_rms_um, s.dominant_stage.c_str());
   md += buf;
+  if (!s.dropped_poses.empty()) {
+    md += "\nPoses dropped from both chains (no centre in some cycle):";
+    for (int p : s.dropped_poses) md += " " + std::to_string(p);
+    md += "\n";
+  }
   return md;
 }
 
