@@ -31,6 +31,7 @@ struct SensorRobotCommandOptions {
   int min_poses = 5;
   int cycle = -1;           // only the rows of this cycle (-1: every row)
   bool unweighted = false;  // ignore the centre covariance columns
+  double robot_noise_mm = 0.0;  // robot repeatability σ per axis added to every centre's covariance
 };
 
 int RunSensorRobot(const SensorRobotCommandOptions& opt) {
@@ -63,6 +64,7 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
       o.loss_scale_mm = opt.loss_scale_mm;
       o.checks.min_poses = opt.min_poses;
       o.use_covariance = !opt.unweighted;
+      o.robot_noise_mm = opt.robot_noise_mm;
       result = calib::CalibrateSensorRobot(model, obs, o, &summary);
     }
   } catch (const InputError& e) {
@@ -308,6 +310,8 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_flag("--unweighted", opt->unweighted,
                   "Ignore the centre covariance columns cov_xx..cov_yz (default: the manifold method weights each "
                   "centre by its covariance when the file has them)");
+    sub->add_option("--robot-noise", opt->robot_noise_mm,
+                    "Robot repeatability sigma per axis (mm) added to every centre's covariance when weighting");
     sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
   }
   {

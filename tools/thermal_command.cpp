@@ -89,6 +89,7 @@ struct ExperimentInputs {
   std::string poses;    // pose positions, comma list
   int pose_budget = 0;  // choose this many poses D-optimally for `params`
   bool unweighted = false;  // ignore the ball file's centre covariance (cov_xx..cov_yz)
+  double robot_noise_mm = 0.0;  // robot repeatability σ per axis added to every centre's covariance
 };
 
 void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
@@ -104,6 +105,8 @@ void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
                   "Largest joint difference of a pose between cycles (deg, default 0.01)");
   sub->add_flag("--unweighted", in->unweighted,
                 "Ignore the ball file's centre covariance columns (default: weight each centre by its covariance)");
+  sub->add_option("--robot-noise", in->robot_noise_mm,
+                  "Robot repeatability sigma per axis (mm) added to every centre's covariance when weighting (default 0)");
 }
 
 struct LoadedExperiment {
@@ -131,7 +134,8 @@ LoadedExperiment Load(const ExperimentInputs& in) {
 
 // Weights from the ball file's centre covariance (when it has the columns and --unweighted is off).
 std::vector<std::vector<Mat3>> Weights(const ExperimentInputs& in, const LoadedExperiment& e) {
-  return in.unweighted ? std::vector<std::vector<Mat3>>{} : e.ball.DifferenceCovariances();
+  if (!(in.robot_noise_mm >= 0.0)) throw InputError({"", 0, "--robot-noise"}, "must be >= 0 mm");
+  return in.unweighted ? std::vector<std::vector<Mat3>>{} : e.ball.DifferenceCovariances(in.robot_noise_mm);
 }
 
 IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExperiment& e, const DriftModel& dm,

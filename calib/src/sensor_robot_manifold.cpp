@@ -36,16 +36,17 @@ struct BallResidual {
 
 // Per observation the whitening σ̄·L⁻¹ (C = L·Lᵀ, σ̄² the mean variance over all centres), or
 // empty when not every observation has a covariance.
-std::vector<Mat3> CentreWeights(const std::vector<BallObservation>& obs) {
+std::vector<Mat3> CentreWeights(const std::vector<BallObservation>& obs, double robot_noise_mm) {
+  const Mat3 robot = robot_noise_mm * robot_noise_mm * Mat3::Identity();
   double mean_variance = 0.0;
   for (const BallObservation& o : obs) {
     if (!o.has_covariance) return {};
-    mean_variance += o.covariance_mm2.trace() / 3.0;
+    mean_variance += (o.covariance_mm2 + robot).trace() / 3.0;
   }
   mean_variance /= static_cast<double>(obs.size());
   std::vector<Mat3> w;
   for (const BallObservation& o : obs) {
-    const Eigen::LLT<Mat3> llt(o.covariance_mm2);
+    const Eigen::LLT<Mat3> llt(o.covariance_mm2 + robot);
     if (llt.info() != Eigen::Success) {
       throw InputError({"", o.line, "cov_xx..cov_yz"}, "the centre covariance of pose " + std::to_string(o.pose) +
                                                             " is not positive definite");
@@ -61,6 +62,7 @@ std::vector<Mat3> CentreWeights(const std::vector<BallObservation>& obs) {
 std::string SensorRobotOptions::Validate() const {
   if (loss != RobustLoss::kNone && !(loss_scale_mm > 0.0)) return "loss_scale_mm must be positive";
   if (!(outlier_factor > 1.0)) return "outlier_factor must exceed 1";
+  if (!(robot_noise_mm >= 0.0)) return "robot_noise_mm must be >= 0";
   if (max_iterations < 1) return "max_iterations must be >= 1";
   if (!(function_tolerance > 0.0) || !(parameter_tolerance > 0.0) || !(gradient_tolerance > 0.0)) {
     return "tolerances must be positive";
@@ -87,7 +89,7 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
   Vec3 ball = start.ball_in_flange;
 
   std::vector<Mat3> weights;
-  if (options.use_covariance) weights = CentreWeights(obs);
+  if (options.use_covariance) weights = CentreWeights(obs, options.robot_noise_mm);
   s.weighted = !weights.empty();
   ceres::Problem problem;
   for (std::size_t i = 0; i < obs.size(); ++i) {

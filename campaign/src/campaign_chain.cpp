@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <map>
 
 #include "campaign_internal.h"
@@ -40,7 +41,7 @@ struct ChainResult {
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
                      const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
-                     const std::vector<int>& params, int reference_cycle) {
+                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -48,7 +49,9 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
     if (row.cycle == reference_cycle) cold.rows.push_back(row);
   }
   r.cold = calib::BallObservationsFromMeasurements(cold, ball_path);
-  r.calibration = calib::CalibrateSensorRobot(model, r.cold, {}, &r.calibration_summary);
+  calib::SensorRobotOptions co;
+  co.robot_noise_mm = robot_noise_mm;
+  r.calibration = calib::CalibrateSensorRobot(model, r.cold, co, &r.calibration_summary);
   r.setup.sensor_from_base = r.calibration.sensor_from_base;
   r.setup.ball_in_flange = r.calibration.ball_in_flange;
   // The tool-mounted sensor is calibrated separately (not part of this chain).
@@ -57,7 +60,7 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   const thermal::CycleSeries series = thermal::GroupCycles(ball, ball_path);
   thermal::IdentificationOptions id;
   id.params = params;
-  id.difference_covariance_mm2 = series.DifferenceCovariances();
+  id.difference_covariance_mm2 = series.DifferenceCovariances(robot_noise_mm);
   const thermal::ThermalExperiment ex = thermal::MakeExperiment(model, r.setup, series, monitoring);
   const thermal::DriftModel dm(model, r.setup, series.taught);
   r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
@@ -117,8 +120,39 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                          ReadControllerLog((dir / "controller_log.csv").string()), {}, &ms);
   kinematics::WriteRobotMeasurements(measured, ball_path);
   for (const LeftOut& l : ms.left_out) s.left_out.push_back(l.set + ": " + l.reason);
-  const kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(ball_path);
+  kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(ball_path);
   s.centres = static_cast<int>(ball.rows.size());
+  // The drift is measured pose by pose against the cold cycle, so a pose that lost its centre in
+  // any cycle is dropped from both chains (and reported).
+  std::map<int, int> cycles_with_pose;
+  std::map<int, int> cycle_count;
+  for (const auto& row : ball.rows) {
+    ++cycles_with_pose[row.index];
+    cycle_count[row.cycle] = 1;
+  }
+  std::vector<int> dropped;
+  for (const auto& [pose, n] : cycles_with_pose) {
+    if (n < static_cast<int>(cycle_count.size())) dropped.push_back(pose);
+  }
+  for (const auto& row : sim.ball.rows) {
+    if (cycles_with_pose.count(row.index) == 0 && std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) {
+      dropped.push_back(row.index);
+    }
+  }
+  kinematics::RobotMeasurementSet truth_ball = kinematics::ReadRobotMeasurements((dir / "truth" / "ball_truth.csv").string());
+  if (!dropped.empty()) {
+    auto keep = [&](const kinematics::RobotMeasurementSet& in) {
+      kinematics::RobotMeasurementSet out = in;
+      out.rows.clear();
+      for (const auto& row : in.rows) {
+        if (std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) out.rows.push_back(row);
+      }
+      return out;
+    };
+    ball = keep(ball);
+    truth_ball = keep(truth_ball);
+    for (int p : dropped) s.dropped_poses.push_back(p);
+  }
 
   // Centre errors against truth.
   std::map<std::pair<int, int>, Vec3> truth_centre;
@@ -138,10 +172,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const thermal::CycleSeries monitoring =
       thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
-  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0);
+  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru =
-      RunChain(model, kinematics::ReadRobotMeasurements(truth_path), truth_path, monitoring, sim.setup, s.params, 0);
+      RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
   calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
                                 img.calibration_summary, img.cold);
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
@@ -232,6 +266,7 @@ std::string BudgetJson(const CampaignSummary& s) {
   j["sets"] = s.sets;
   j["centres"] = s.centres;
   j["left_out"] = s.left_out;
+  j["dropped_poses"] = s.dropped_poses;
   j["seconds"] = {{"render", s.render_s}, {"scan", s.scan_s}, {"chain", s.chain_s}};
   j["centre_rms_error_um"] = s.centre_rms_um;
   j["centre_max_error_um"] = s.centre_max_um;
@@ -270,6 +305,11 @@ std::string BudgetMarkdown(const CampaignSummary& s) {
                 "covariance: %.2f um RMS (observed %.2f um). Dominant: %s.\n",
                 s.monitoring_uncompensated_mm, s.centre_predicted_rms_um, s.centre_rms_um, s.dominant_stage.c_str());
   md += buf;
+  if (!s.dropped_poses.empty()) {
+    md += "\nPoses dropped from both chains (no centre in some cycle):";
+    for (int p : s.dropped_poses) md += " " + std::to_string(p);
+    md += "\n";
+  }
   return md;
 }
 

@@ -34,12 +34,13 @@ Eigen::MatrixXd CycleSeries::DifferencesFromReference(const std::vector<int>& po
   return y;
 }
 
-std::vector<std::vector<Mat3>> CycleSeries::DifferenceCovariances() const {
+std::vector<std::vector<Mat3>> CycleSeries::DifferenceCovariances(double robot_noise_mm) const {
   std::vector<std::vector<Mat3>> out;
   if (!has_covariance || cycles.empty()) return out;
   for (const Cycle& c : cycles) {
     std::vector<Mat3> per_pose(c.covariance_mm2.size());
-    for (std::size_t k = 0; k < per_pose.size(); ++k) per_pose[k] = c.covariance_mm2[k] + cycles[0].covariance_mm2[k];
+    for (std::size_t k = 0; k < per_pose.size(); ++k) per_pose[k] = c.covariance_mm2[k] + cycles[0].covariance_mm2[k] +
+                    2.0 * robot_noise_mm * robot_noise_mm * Mat3::Identity();
     out.push_back(std::move(per_pose));
   }
   return out;

@@ -166,6 +166,9 @@ struct SensorRobotOptions {
   // one (generalised least squares). The weights are normalised by the mean variance so that
   // loss_scale_mm and the residuals keep their mm meaning.
   bool use_covariance = true;
+  // Robot repeatability σ per axis (mm), added as σ²·I to every centre's covariance when
+  // weighting: it moves the ball but is not in the scan's covariance.
+  double robot_noise_mm = 0.0;
   PoseSetCheckOptions checks;
 
   std::string Validate() const;

@@ -50,6 +50,7 @@ struct CampaignSummary {
   std::string out_dir;
   int sets = 0, centres = 0;         // image sets rendered; centres found
   std::vector<std::string> left_out; // sets without a centre
+  std::vector<int> dropped_poses;    // poses without a centre in some cycle, left out of both chains
   double render_s = 0, scan_s = 0, chain_s = 0;
   double centre_rms_um = 0, centre_max_um = 0, centre_predicted_rms_um = 0;  // vs truth; from the scan covariance
   double rotation_error_arcsec = 0, translation_error_um = 0, ball_error_um = 0;  // set-up calibration vs truth

@@ -51,10 +51,11 @@ struct CycleSeries {
   // Stacked Y (eq. 3-8) of every cycle against the reference: 3·poses × cycles, restricted to
   // the poses at positions `pose_subset` (all if empty).
   Eigen::MatrixXd DifferencesFromReference(const std::vector<int>& pose_subset = {}) const;
-  // Covariance of each difference (cycle c, pose k: C_c,k + C_ref,k), indexed [cycle][pose] over
-  // every pose — what IdentificationOptions::difference_covariance_mm2 takes. Empty without
-  // covariances.
-  std::vector<std::vector<Mat3>> DifferenceCovariances() const;
+  // Covariance of each difference (cycle c, pose k: C_c,k + C_ref,k + 2·robot_noise_mm²·I),
+  // indexed [cycle][pose] over every pose — what IdentificationOptions::difference_covariance_mm2
+  // takes. robot_noise_mm is the robot's repeatability σ per axis, which moves the ball but is not
+  // in the scan's covariance. Empty without covariances.
+  std::vector<std::vector<Mat3>> DifferenceCovariances(double robot_noise_mm = 0.0) const;
 };
 
 // Groups rows by cycle and checks the contract above. Cycles before the reference are dropped.
