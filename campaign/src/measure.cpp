@@ -27,6 +27,14 @@ std::string NormalPath(const std::string& p) {
   return (ec ? fs::path(p) : abs).lexically_normal().string();
 }
 
+// A path written by the scan batch: as given (absolute, or relative to where the batch ran) when
+// it exists, otherwise relative to the results file's folder.
+std::string ResolveBatchPath(const std::string& p, const fs::path& base) {
+  std::error_code ec;
+  if (fs::path(p).is_absolute() || fs::exists(p, ec)) return p;
+  return (base / p).string();
+}
+
 std::string SetId(const std::string& manifest) { return fs::path(manifest).parent_path().filename().string(); }
 
 // Splits one CSV line with RFC 4180 quotes (the scan batch quotes messages with commas).
@@ -154,7 +162,7 @@ std::vector<CaptureCentre> ReadScanResults(const std::string& path) {
     CaptureCentre c;
     c.line = line_no;
     const std::string& set = cell(cells, "set");
-    c.set = NormalPath(fs::path(set).is_absolute() ? set : (base / set).string());
+    c.set = NormalPath(ResolveBatchPath(set, base));
     c.id = SetId(c.set);
     c.status = cell(cells, "status");
     c.message = cell(cells, "message");
@@ -164,7 +172,7 @@ std::vector<CaptureCentre> ReadScanResults(const std::string& path) {
                          ParseDouble(cell(cells, "y_mm"), {path, line_no, "y_mm"}),
                          ParseDouble(cell(cells, "z_mm"), {path, line_no, "z_mm"}));
       std::string out_dir = cell(cells, "out_dir");
-      if (!out_dir.empty() && !fs::path(out_dir).is_absolute()) out_dir = (base / out_dir).string();
+      if (!out_dir.empty()) out_dir = ResolveBatchPath(out_dir, base);
       if (out_dir.empty() || !CovarianceFromSpheresJson((fs::path(out_dir) / "spheres.json").string(), &c.covariance_mm2)) {
         for (const char* s : {"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}) {
           if (col.count(s) == 0) throw InputError({path, line_no, s}, "missing column and no spheres.json in out_dir");

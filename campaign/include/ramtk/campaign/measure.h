@@ -35,7 +35,9 @@ struct CaptureCentre {
 // Centres of an in-memory batch (RunScanBatch); times from each manifest's capture_time_s.
 std::vector<CaptureCentre> CentresFromScanBatch(const std::vector<vision::ScanBatchRow>& rows);
 
-// Centres from a batch's results.csv (`ramtk scan --batch` output): the full covariance is read
+// Centres from a batch's results.csv (`ramtk scan --batch` output; relative `set` and `out_dir`
+// paths are taken as written when they exist, otherwise against results.csv's folder): the full
+// covariance is read
 // from each set's spheres.json in its out_dir (the CSV's sigma columns when that file is
 // missing, as a diagonal covariance — logged as a warning). InputError names results.csv, the line
 // and the field of anything malformed.
