@@ -25,6 +25,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev         # bench/
   liborocos-kdl-dev        # peer kinematics library for tests and benchmarks
+  python3                  # bench/diagnose_independent_sweep.py and its ctest smoke run
 )
 
 log() { printf '[setup] %s\n' "$*"; }
