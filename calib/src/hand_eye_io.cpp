@@ -11,12 +11,6 @@
 namespace ramtk::calib {
 namespace {
 
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
-
 nlohmann::json PoseJson(const Isometry3& t) {
   nlohmann::json j;
   nlohmann::json m = nlohmann::json::array();
@@ -53,10 +47,10 @@ std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>&
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     std::vector<std::string> row = {std::to_string(i + 1)};
-    for (int k = 0; k < kinematics::kNumJoints; ++k) row.push_back(Fixed(RadToDeg(obs[i].q_controller[k]), 9));
-    for (int k = 0; k < 3; ++k) row.push_back(Fixed(obs[i].camera_from_board.translation()[k], 6));
+    for (int k = 0; k < kinematics::kNumJoints; ++k) row.push_back(FormatFixed(RadToDeg(obs[i].q_controller[k]), 9));
+    for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(obs[i].camera_from_board.translation()[k], 6));
     const KukaAbc abc = KukaAbcFromRotation(obs[i].camera_from_board.linear());
-    for (double v : {abc.a, abc.b, abc.c}) row.push_back(Fixed(RadToDeg(v), 9));
+    for (double v : {abc.a, abc.b, abc.c}) row.push_back(FormatFixed(RadToDeg(v), 9));
     rows.push_back(row);
   }
   return FormatCsv(header, rows);

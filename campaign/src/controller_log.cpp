@@ -10,16 +10,6 @@
 #include "ramtk/core/units.h"
 
 namespace ramtk::campaign {
-namespace {
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
-
-}  // namespace
-
 ControllerLog ReadControllerLog(const std::string& path) {
   const CsvTable t = ReadCsv(path);
   ControllerLog log;
@@ -79,11 +69,11 @@ std::string FormatControllerLog(const ControllerLog& log) {
   for (const ControllerLogRow& r : log.rows) {
     std::vector<std::string> cells;
     if (log.has_set) cells.push_back(r.set);
-    cells.insert(cells.end(), {Fixed(r.time_s, 3), std::to_string(r.cycle), std::to_string(r.pose)});
-    for (int i = 0; i < kinematics::kNumJoints; ++i) cells.push_back(Fixed(RadToDeg(r.q_controller[i]), 9));
+    cells.insert(cells.end(), {FormatFixed(r.time_s, 3), std::to_string(r.cycle), std::to_string(r.pose)});
+    for (int i = 0; i < kinematics::kNumJoints; ++i) cells.push_back(FormatFixed(RadToDeg(r.q_controller[i]), 9));
     for (const std::string& name : log.extra_columns) {
       const auto it = r.extra.find(name);
-      cells.push_back(it == r.extra.end() ? "nan" : Fixed(it->second, 6));
+      cells.push_back(it == r.extra.end() ? "nan" : FormatFixed(it->second, 6));
     }
     rows.push_back(std::move(cells));
   }

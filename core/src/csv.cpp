@@ -1,6 +1,7 @@
 #include "ramtk/core/csv.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
@@ -101,6 +102,12 @@ std::string FormatCsv(const std::vector<std::string>& header, const std::vector<
   append_row(header);
   for (const auto& r : rows) append_row(r);
   return out;
+}
+
+std::string FormatFixed(double value, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, value);
+  return buf;
 }
 
 }  // namespace ramtk

@@ -14,12 +14,6 @@ namespace {
 
 const char* IndexColumn(MeasurementKind kind) { return kind == MeasurementKind::kBall ? "pose" : "point"; }
 
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
-
 }  // namespace
 
 RobotMeasurementSet ReadRobotMeasurements(const std::string& path) {
@@ -71,9 +65,9 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
   std::vector<std::vector<std::string>> rows;
   rows.reserve(set.rows.size());
   for (const RobotMeasurement& m : set.rows) {
-    std::vector<std::string> cells = {std::to_string(m.cycle), Fixed(m.time_s, 3), std::to_string(m.index)};
-    for (int i = 0; i < kNumJoints; ++i) cells.push_back(Fixed(RadToDeg(m.q_controller[i]), 9));
-    for (int i = 0; i < 3; ++i) cells.push_back(Fixed(m.position_mm[i], 6));
+    std::vector<std::string> cells = {std::to_string(m.cycle), FormatFixed(m.time_s, 3), std::to_string(m.index)};
+    for (int i = 0; i < kNumJoints; ++i) cells.push_back(FormatFixed(RadToDeg(m.q_controller[i]), 9));
+    for (int i = 0; i < 3; ++i) cells.push_back(FormatFixed(m.position_mm[i], 6));
     for (const std::string& name : set.extra_columns) {
       const auto it = m.extra.find(name);
       if (it == m.extra.end()) {

@@ -26,6 +26,8 @@ class CsvTable {
 
 CsvTable ParseCsv(const std::string& text, const std::string& path);
 CsvTable ReadCsv(const std::string& path);
+// A number with a fixed count of decimals ("%.*f"), for CSV cells.
+std::string FormatFixed(double value, int decimals);
 // Header and rows to CSV text (cells are written as given; no quoting).
 std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
 
