@@ -28,6 +28,7 @@ struct ScanCommandOptions {
   bool force = false;                         // replace existing outputs
   bool quiet = false;                         // no progress bar
   bool reference_decode = false;              // the reference (unfused) decode path
+  bool full_search = false;                   // match every pixel by the whole-range search
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -58,6 +59,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.match.min_depth_mm = opt.min_depth;
   options.match.max_depth_mm = opt.max_depth;
   options.decode.reference_path = opt.reference_decode;
+  options.match.full_search = opt.full_search;
   options.Validate();
 
   if (!opt.batch.empty()) {
@@ -126,6 +128,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--reference-decode", opt->reference_decode,
                 "Decode with the reference implementation (float copies, one pass per stage; same results within "
                 "float rounding, ~20x slower): for comparisons");
+  sub->add_flag("--full-search", opt->full_search,
+                "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
+                "match (the reference; nearly the same matches, slower): for comparisons");
   sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
 }
 

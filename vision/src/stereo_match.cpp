@@ -46,7 +46,7 @@ struct Pass {
   cv::Mat back_u, back_v;
   double lr_tolerance = 0;
   double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
-  bool full_search_only_without_warm_start = true;
+  bool full_search = false;  // StereoMatchOptions::full_search
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -373,13 +373,14 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           m.SetRange();
           Matcher::Root root;
           bool found = false, any = false;
-          if (std::isfinite(w_prev) && m.LocalSearch(w_prev, &root)) {
+          if (!p.full_search && std::isfinite(w_prev) && m.LocalSearch(w_prev, &root)) {
             any = true;
             found = m.Accept(root, p.src_modulation.at<float>(y, x), x, y);
-          } else {
+          }
+          if (!found) {
             ++full;
             m.FullSearch(&roots);
-            any = !roots.empty();
+            any = any || !roots.empty();
             // Several crossings (another surface lit by the same projector column on the same
             // epipolar curve): try first the one whose modulation agrees best with the source's.
             const double b_src = std::max(1e-6, static_cast<double>(p.src_modulation.at<float>(y, x)));
@@ -532,6 +533,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.max_sigma = options.max_sigma_periods * period;
     p.max_span = options.max_cell_span_periods * period;
     p.step_px = options.search_step_px;
+    p.full_search = options.full_search;
     p.max_log_modulation_ratio = std::log(options.max_modulation_ratio);
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
     // depth range is taken in its own frame, a close approximation for a rig whose cameras

@@ -43,6 +43,12 @@ struct StereoMatchOptions {
   // Sampling step along the epipolar curve in the full search, right-camera pixels (a
   // crossing is bracketed between samples and refined on the bilinear surface).
   double search_step_px = 2.0;
+  // Reference search: every pixel is searched over the whole depth range. false (the default):
+  // a pixel whose left neighbour matched walks from that neighbour's depth to the equal-coordinate
+  // crossing (the coordinate is monotone along the curve, so a few samples), and falls back to
+  // the whole-range search only if the walk finds no crossing or its crossing is rejected by the
+  // modulation or left-right check. Both give the same matches (ctest StereoWalk.*).
+  bool full_search = false;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
