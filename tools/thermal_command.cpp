@@ -2,6 +2,7 @@
 // kinematic parameters (thesis ch. 3 and §5.1). Options are parsed here; the work is in ramtk::thermal.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -218,7 +219,8 @@ int RunIdentify(const IdentifyOptions& opt) {
 // ---------------------------------------------------------------- thermal screen
 struct ScreenOptions {
   ExperimentInputs in;
-  int keep = 8;
+  std::string keep = "auto";
+  double heldout_z = 1.0;
   double threshold_mm = 0.1;
   std::string statistic = "rms";
   bool best_improvement = false;
@@ -242,11 +244,25 @@ LambdaOptions MakeLambda(double threshold_mm, const std::string& statistic) {
   return lo;
 }
 
+// --keep: "auto" (held-out error) or a positive count.
+int ParseKeep(const std::string& text) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (end == text.c_str() || *end != '\0' || v < 1 || v > kinematics::kNumParams) {
+    throw InputError({"", 0, "--keep"}, "expected auto or a count 1.." + std::to_string(kinematics::kNumParams) +
+                                            ", got '" + text + "'");
+  }
+  return static_cast<int>(v);
+}
+
 int RunScreen(const ScreenOptions& opt) {
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   ScreeningOptions so;
-  so.keep = opt.keep;
+  if (opt.keep != "auto") {
+    so.keep = ParseKeep(opt.keep);
+  }
+  so.heldout_z = opt.heldout_z;
   so.lambda = MakeLambda(opt.threshold_mm, opt.statistic);
   so.first_improvement = !opt.best_improvement;
   if (!opt.in.params.empty()) so.candidates = ParseParamList(opt.in.params, e.model, "--params");
@@ -282,13 +298,20 @@ int RunScreen(const ScreenOptions& opt) {
   nlohmann::json j;
   j["selected"] = ParamListToString(s.selected);
   j["weighted_by_centre_covariance"] = !so.identification.difference_covariance_mm2.empty();
+  j["kept_count_rule"] = s.count_from_heldout ? "held-out error" : "fixed";
+  if (s.count_from_heldout) {
+    j["heldout_z"] = so.heldout_z;
+    j["best_heldout_card"] = s.best_heldout_card;
+  }
   j["initial_lambda_percent"] = s.initial_lambda;
   j["final_lambda_percent"] = s.final_lambda;
   for (const ScreeningStep& st : s.steps) {
     j["steps"].push_back({{"card", st.card},
                           {"removed", st.removed < 0 ? "-" : kinematics::ParamName(st.removed)},
                           {"lambda_percent", st.lambda},
-                          {"steady", ParamListToString(st.steady)}});
+                          {"steady", ParamListToString(st.steady)},
+                          {"heldout_rms_mm", st.heldout_rms_mm},
+                          {"heldout_z", st.heldout_z}});
   }
   auto rows_json = [](const std::vector<ComparisonRow>& rs) {
     nlohmann::json a = nlohmann::json::array();
@@ -505,7 +528,14 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     CLI::App* sub = thermal->add_subcommand("screen", "Screen the drifting parameters (§3.2, Tables 5-1, 5-2)");
     AddInputs(sub, &opt->in, true);
     sub->add_option("--params", opt->in.params, "Candidate parameters (default all free)");
-    sub->add_option("--keep", opt->keep, "Parameters to keep (thesis: 8)");
+    sub->add_option("--keep", opt->keep,
+                    "Parameters to keep: auto (the smallest set on the elimination path whose leave-one-pose-out "
+                    "error is within --heldout-z standard errors of the best) or a count (thesis: 8)")
+        ->capture_default_str();
+    sub->add_option("--heldout-z", opt->heldout_z,
+                    "With --keep auto: standard errors of the paired per-pose held-out difference a smaller set may lose")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     sub->add_option("--threshold-mm", opt->threshold_mm, "λ threshold (mm, thesis 0.1)");
     sub->add_option("--statistic", opt->statistic, "Residual summary per direction: rms or max");
     sub->add_flag("--best-improvement", opt->best_improvement, "Take the best removal, not the first non-worse");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/robot_model.h"
@@ -17,7 +18,9 @@ std::string AcfOptions::Validate() const {
 }
 
 std::string ScreeningOptions::Validate() const {
-  if (keep < 1) return "keep must be >= 1";
+  if (keep < 0) return "keep must be >= 0 (0: chosen by held-out error)";
+  if (min_keep < 1) return "min_keep must be >= 1";
+  if (!(heldout_z >= 0.0 && std::isfinite(heldout_z))) return "heldout_z must be finite and >= 0";
   std::string p = acf.Validate();
   if (!p.empty()) return "acf: " + p;
   p = lambda.Validate();
@@ -86,13 +89,57 @@ struct Scorer {
   }
 };
 
+// Leave-one-pose-out errors of one parameter set, against an existing DriftModel.
+Eigen::VectorXd PoseErrors(const DriftModel& drift_model, const Eigen::MatrixXd& y_all, int num_params,
+                           const IdentificationOptions& options) {
+  std::vector<int> poses = options.poses;
+  if (poses.empty()) {
+    for (int i = 0; i < drift_model.NumPoses(); ++i) poses.push_back(i);
+  }
+  const Eigen::Index warm = y_all.cols() - 1;
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(poses.size()));
+  if (warm < 1) return out;
+  const bool enough = 3 * (static_cast<int>(poses.size()) - 1) >= num_params;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (!enough) {
+      out[static_cast<Eigen::Index>(k)] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    IdentificationOptions o = options;
+    o.poses.clear();
+    for (std::size_t j = 0; j < poses.size(); ++j) {
+      if (j != k) o.poses.push_back(poses[j]);
+    }
+    Eigen::MatrixXd y(3 * o.poses.size(), y_all.cols());
+    for (std::size_t j = 0; j < o.poses.size(); ++j) y.middleRows(3 * j, 3) = y_all.middleRows(3 * o.poses[j], 3);
+    const Eigen::MatrixXd x = drift_model.Solve(y, o);
+    const Eigen::MatrixXd err =
+        y_all.middleRows(3 * poses[k], 3) - drift_model.FullSensitivity().middleRows(3 * poses[k], 3) * x;
+    out[static_cast<Eigen::Index>(k)] = err.rightCols(warm).squaredNorm() / static_cast<double>(3 * warm);
+  }
+  return out;
+}
+
+int CountParams(const ThermalExperiment& e, const IdentificationOptions& o) {
+  return static_cast<int>(o.params.empty() ? e.model.FreeParams().size() : o.params.size());
+}
+
 }  // namespace
+
+Eigen::VectorXd HeldoutPoseErrors(const ThermalExperiment& experiment, const IdentificationOptions& options) {
+  const DriftModel drift_model(experiment.model, experiment.setup, experiment.ball.taught);
+  return PoseErrors(drift_model, experiment.ball.DifferencesFromReference({}), CountParams(experiment, options),
+                    options);
+}
 
 ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const ScreeningOptions& options) {
   const std::string problem = options.Validate();
   if (!problem.empty()) throw InputError({"", 0, "ScreeningOptions"}, problem);
   Scorer scorer(experiment, options.identification.poses);
   ScreeningSummary summary;
+  const bool from_heldout = options.keep == 0;
+  const int target = from_heldout ? options.min_keep : options.keep;
+  std::vector<std::vector<int>> path;  // the set of every row of the table
   std::vector<int> current = options.candidates.empty() ? experiment.model.FreeParams() : options.candidates;
   std::sort(current.begin(), current.end());
   IdentificationOptions id = options.identification;
@@ -111,15 +158,17 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     for (int p : current) {
       if (AutocorrelationTest(x_ball.row(p).transpose(), options.acf).steady) step.steady.push_back(p);
     }
-    const bool done = static_cast<int>(current.size()) <= options.keep;
+    const bool done = static_cast<int>(current.size()) <= target;
     std::vector<int> trial_set = step.steady;
     if (trial_set.empty() && !done) {
       trial_set = current;
       step.steady_fallback = true;
     }
     summary.steps.push_back(step);
+    path.push_back(current);
     if (done) break;
-    if (options.progress && !options.progress({"screening", summary.steps.size(), current.size() - options.keep})) {
+    if (options.progress && !options.progress({"screening", summary.steps.size(),
+                                               summary.steps.size() + current.size() - static_cast<std::size_t>(target)})) {
       summary.termination = "cancelled";
       break;
     }
@@ -155,7 +204,49 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     removed = best;
     ++summary.iterations;
   }
-  if (summary.termination != "cancelled") summary.termination = "kept " + std::to_string(current.size());
+  if (from_heldout && summary.termination != "cancelled") {
+    // Held-out error of every set on the path; keep the smallest one not worse than the best
+    // beyond heldout_z standard errors of the paired per-pose differences.
+    const Eigen::MatrixXd y_all = experiment.ball.DifferencesFromReference({});
+    std::vector<Eigen::VectorXd> errors;
+    int best = -1;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      IdentificationOptions o = options.identification;
+      o.params = path[i];
+      errors.push_back(PoseErrors(scorer.drift_model, y_all, static_cast<int>(path[i].size()), o));
+      const bool finite = errors.back().allFinite() && errors.back().size() > 0;
+      summary.steps[i].heldout_rms_mm = finite ? std::sqrt(errors.back().mean()) : 0.0;
+      if (finite && (best < 0 || errors.back().mean() < errors[best].mean())) best = static_cast<int>(i);
+    }
+    if (best < 0) {
+      throw InputError({"", 0, "poses"}, "screening by held-out error needs enough ball poses to leave one out (" +
+                                             std::to_string(errors.empty() ? 0 : errors[0].size()) + " given)");
+    }
+    int chosen = best;
+    const Eigen::VectorXd& e_best = errors[best];
+    const double n = static_cast<double>(e_best.size());
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      if (!errors[i].allFinite() || static_cast<int>(i) == best) continue;
+      const Eigen::VectorXd d = errors[i] - e_best;
+      const double mean = d.mean();
+      const double sd = n > 1 ? std::sqrt((d.array() - mean).square().sum() / (n - 1.0)) : 0.0;
+      const double se = sd / std::sqrt(n);
+      summary.steps[i].heldout_z = se > 0.0 ? mean / se : (mean > 0.0 ? INFINITY : 0.0);
+      if (summary.steps[i].heldout_z <= options.heldout_z && path[i].size() < path[chosen].size()) {
+        chosen = static_cast<int>(i);
+      }
+    }
+    summary.best_heldout_card = static_cast<int>(path[best].size());
+    summary.count_from_heldout = true;
+    current = path[chosen];
+    lambda = summary.steps[chosen].lambda;
+    IdentificationOptions o = options.identification;
+    o.params = current;
+    scorer.Score(o, options.lambda, &x_ball);
+  }
+  if (summary.termination != "cancelled") {
+    summary.termination = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "");
+  }
   summary.selected = current;
   summary.final_lambda = lambda;
   summary.lambda_evaluations = scorer.evaluations;
@@ -195,12 +286,19 @@ std::vector<ComparisonRow> CompareParameterSets(const ThermalExperiment& experim
 }
 
 std::string FormatEliminationTable(const ScreeningSummary& summary) {
-  std::string out = "card(dX0)  removed   lambda(%)  steady set S\n";
-  char buf[64];
+  const bool heldout = summary.count_from_heldout;
+  std::string out = heldout ? "card(dX0)  removed   lambda(%)  held-out(mm)  z vs best  steady set S\n"
+                            : "card(dX0)  removed   lambda(%)  steady set S\n";
+  char buf[96];
   for (const ScreeningStep& s : summary.steps) {
     std::snprintf(buf, sizeof(buf), "%9d  %-8s  %9.2f  ", s.card,
                   s.removed < 0 ? "-" : kinematics::ParamName(s.removed).c_str(), s.lambda);
     out += buf;
+    if (heldout) {
+      const char* mark = s.card == static_cast<int>(summary.selected.size()) ? "*" : " ";
+      std::snprintf(buf, sizeof(buf), "%11.5f%s  %9.2f  ", s.heldout_rms_mm, mark, s.heldout_z);
+      out += buf;
+    }
     out += s.steady.empty() ? "-" : ParamListToString(s.steady);
     if (s.steady_fallback) out += "  (S empty: every parameter tried)";
     out += "\n";
