@@ -1,5 +1,7 @@
 # Every third-party library ramtk uses, found once here. Packages come from Debian 12
 # (scripts/setup.sh installs exactly these).
+set(THREADS_PREFER_PTHREAD_FLAG ON)
+find_package(Threads REQUIRED)
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(yaml-cpp REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)

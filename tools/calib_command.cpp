@@ -13,6 +13,7 @@
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/calib/sensor_robot_sim.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/robot_io.h"
@@ -35,6 +36,7 @@ struct SensorRobotCommandOptions {
 };
 
 int RunSensorRobot(const SensorRobotCommandOptions& opt) {
+  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.measurements_path}, "--output");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   kinematics::RobotMeasurementSet set = kinematics::ReadRobotMeasurements(opt.measurements_path);
   if (opt.cycle >= 0) {

@@ -1,7 +1,9 @@
 #pragma once
 // Subcommands of the `ramtk` tool. Each Register* binds a CLI11 subcommand to an options struct
 // and sets the function that runs it. Commands return the process exit code:
-//   0 success, 1 bad input (file, field or value), 2 command-line usage, 3 no solution.
+//   0 success, 1 bad input (file, field or value), 2 command-line usage, 3 no solution,
+//   4 failure that is not the input's fault (out of memory, a library error, an internal error);
+//   128 + n when ended by signal n (130 SIGINT, 143 SIGTERM), after removing unfinished outputs.
 
 #include <CLI/CLI.hpp>
 #include <string>
@@ -12,6 +14,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitBadInput = 1;
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitNoSolution = 3;
+inline constexpr int kExitFailure = 4;
 
 // The `name` subcommand of `app` (a group such as `calib`), created by the first module that asks.
 CLI::App* GetOrAddSubcommand(CLI::App& app, const std::string& name, const std::string& description);

@@ -1,11 +1,39 @@
 // The ramtk command line: one binary, one thin subcommand per job (see `ramtk --help`).
+//
+// The error boundary of every command: whatever a command throws ends here as one line on
+// stderr and a documented exit code (commands.h), never as an abort.
+#include <filesystem>
 #include <iostream>
+#include <new>
+#include <opencv2/core.hpp>
 
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
+#include "ramtk/core/outputs.h"
+
+namespace {
+
+// One line: OpenCV's what() spans several lines and repeats the source location.
+std::string OneLine(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+int Fail(const std::string& message, int code) {
+  ramtk::RemoveRegisteredTemporaries();
+  std::cerr << "ramtk: error: " << OneLine(message) << '\n';
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  // Before any other thread exists: SIGINT/SIGTERM remove unfinished outputs, then exit 128+n.
+  ramtk::InstallInterruptCleanup("ramtk");
   CLI::App app{"ramtk — robot accuracy maintenance toolkit"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "ramtk 0.1.0");
@@ -28,14 +56,27 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterScanCommand(app, &exit_code);
   ramtk::tools::RegisterMeasureCommand(app, &exit_code);
   ramtk::tools::RegisterCampaignCommand(app, &exit_code);
+  using ramtk::tools::kExitBadInput;
+  using ramtk::tools::kExitFailure;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : ramtk::tools::kExitUsage;
   } catch (const ramtk::InputError& e) {
-    std::cerr << "ramtk: error: " << e.what() << '\n';
-    return ramtk::tools::kExitBadInput;
+    return Fail(e.what(), kExitBadInput);
+  } catch (const std::bad_alloc&) {
+    return Fail("out of memory (an input asks for more memory than this machine has; check image sizes and counts)",
+                kExitFailure);
+  } catch (const std::filesystem::filesystem_error& e) {
+    return Fail(e.what(), kExitBadInput);  // names the path(s)
+  } catch (const cv::Exception& e) {
+    if (e.code == cv::Error::StsNoMem) return Fail("out of memory (OpenCV: " + e.err + ")", kExitFailure);
+    return Fail("OpenCV " + e.func + ": " + e.err, kExitFailure);
+  } catch (const std::exception& e) {
+    return Fail(std::string("internal error: ") + e.what(), kExitFailure);
+  } catch (...) {
+    return Fail("internal error: unknown exception", kExitFailure);
   }
   return exit_code;
 }

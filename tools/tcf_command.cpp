@@ -1,6 +1,7 @@
 // ramtk tcf …: cross-laser TCF device (sensor-frame calibration, TCF solve, method comparison,
 // repeat scatter) and ramtk simulate tcf. Algorithms live in ramtk::tcf; this file parses options,
 // calls the library and writes the results.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
 #include "ramtk/tcf/device_io.h"
 #include "ramtk/tcf/evaluation.h"
@@ -56,6 +58,7 @@ struct CalibrateSensorOptions {
 };
 
 int RunCalibrateSensor(const CalibrateSensorOptions& o) {
+  CheckOutputAgainstInputs(o.out, {o.points}, "--out");
   SensorFrameOptions so;
   so.max_beam_gap_mm = o.max_gap_mm;
   const SensorFrame f = CalibrateSensorFrame(
@@ -102,6 +105,7 @@ int RunSolve(const SolveOptions& o) {
   } else if (o.variant != "ramtk") {
     throw InputError({"", 0, "--variant"}, "expected ramtk, no-self-calibration, thesis or thesis-uncorrected");
   }
+  CheckOutputAgainstInputs(o.out, {o.log, o.motion, o.sensor}, "--out");
   TcfSolverOptions so = SolverOptionsFor(m);
   so.self_calibrate_beta = o.self_calibrate_beta;
   so.timing_sigma_s = o.timing_sigma_ms * 1e-3;
@@ -187,10 +191,11 @@ int RunSimulate(const SimulateOptions& o) {
   const std::string log = FormatDeviceLog(sim.events), motion = ProgrammedMotionToJson(sim.motion),
                     sensor = SensorFrameToJson(sim.calibrated_sensor), truth = TcfTruthToJson(sim.truth, so.effects);
   const std::string d = o.out_dir + "/";
-  WriteFileAtomically(d + "laser_log.csv", log);
-  WriteFileAtomically(d + "motion.json", motion);
-  WriteFileAtomically(d + "sensor.json", sensor);
-  WriteFileAtomically(d + "truth.json", truth);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(o.out_dir, ec)) throw InputError({o.out_dir, 0, "--out-dir"}, "is not a folder");
+  // The four files as one unit: none of them is replaced unless all were written.
+  WriteFilesAtomically({{d + "laser_log.csv", log}, {d + "motion.json", motion}, {d + "sensor.json", sensor},
+                        {d + "truth.json", truth}});
   std::cout << "wrote " << sim.events.size() << " events to " << d
             << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
   return kExitOk;

@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/robot_io.h"
@@ -39,6 +40,7 @@ struct SimulateThermalOptions {
   double sensor_noise_mm = -1.0;   // < 0: the preset's (both sensors)
   double repeatability_mm = -1.0;  // < 0: the preset's
   std::string out_dir;
+  bool force = false;  // replace an existing output folder
 };
 
 int RunSimulateThermal(const SimulateThermalOptions& opt) {
@@ -48,9 +50,11 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   if (opt.cycles > 0) o.cycles = opt.cycles;
   if (opt.sensor_noise_mm >= 0.0) o.sensor_noise_mm = o.tool_sensor_noise_mm = opt.sensor_noise_mm;
   if (opt.repeatability_mm >= 0.0) o.repeatability_mm = opt.repeatability_mm;
+  CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const ThermalSimResult r = SimulateThermal(model, o);
-  std::filesystem::create_directories(opt.out_dir);
-  const std::string dir = opt.out_dir + "/";
+  // Every file into a staged folder, moved into place when complete (core/outputs.h).
+  StagedFolder staged(opt.out_dir, opt.force, "--out");
+  const std::string dir = staged.path().string() + "/";
   kinematics::WriteRobotMeasurements(r.ball, dir + "ball.csv");
   kinematics::WriteRobotMeasurements(r.monitoring, dir + "monitoring.csv");
   WriteThermalSetup(r.setup, dir + "setup.json");
@@ -66,6 +70,7 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   j["repeatability_mm"] = o.repeatability_mm;
   for (const Vec3& p : r.monitoring_points_in_base) j["monitoring_points_in_base_mm"].push_back({p.x(), p.y(), p.z()});
   WriteFileAtomically(dir + "truth.json", j.dump(2) + "\n");
+  staged.Commit();
   double max_drift = 0.0;
   for (const auto& row : r.ball.rows) {
     const Vec3 d = row.position_mm - r.ball.rows[row.index].position_mm;
@@ -108,6 +113,15 @@ void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
                 "Ignore the ball file's centre covariance columns (default: weight each centre by its covariance)");
   sub->add_option("--robot-noise", in->robot_noise_mm,
                   "Robot repeatability sigma per axis (mm) added to every centre's covariance when weighting (default 0)");
+}
+
+// The named outputs may not be an input of the experiment or each other (core/outputs.h).
+void CheckOutputs(const ExperimentInputs& in, const std::vector<std::pair<std::string, std::string>>& outputs,
+                  const std::vector<std::string>& more_inputs = {}) {
+  std::vector<std::string> inputs = {in.robot_path, in.setup_path, in.ball_path, in.monitoring_path};
+  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+  for (const auto& [field, path] : outputs) CheckOutputAgainstInputs(path, inputs, field);
+  CheckOutputsDistinct(outputs);
 }
 
 struct LoadedExperiment {
@@ -178,6 +192,7 @@ struct IdentifyOptions {
 };
 
 int RunIdentify(const IdentifyOptions& opt) {
+  CheckOutputs(opt.in, {{"--out", opt.out_path}});
   const LoadedExperiment e = Load(opt.in);
   const std::vector<int> params = ParseParamList(opt.in.params, e.model, "--params");
   const DriftModel dm(e.model, e.setup, e.ball.taught);
@@ -256,6 +271,7 @@ int ParseKeep(const std::string& text) {
 }
 
 int RunScreen(const ScreenOptions& opt) {
+  CheckOutputs(opt.in, {{"--json", opt.out_json}, {"--series", opt.out_series}});
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   ScreeningOptions so;
@@ -358,6 +374,7 @@ struct CompensateOptions {
 };
 
 int RunCompensate(const CompensateOptions& opt) {
+  CheckOutputs(opt.in, {{"--out", opt.out_path}});
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   const std::vector<int> params = ParseParamList(opt.in.params, e.model, "--params");
@@ -510,6 +527,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
                     "σ per axis of the robot's repeatability (preset 0.015)")
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--out", opt->out_dir, "Output folder")->required();
+    sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateThermal(*opt); });
   }
   CLI::App* thermal = GetOrAddSubcommand(app, "thermal", "Thermal drift: identify, screen parameters, compensate, predict");

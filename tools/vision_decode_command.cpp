@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/manifest.h"
 
@@ -17,6 +18,7 @@ struct DecodeCommandOptions {
   double sigma_intensity = 0;    // DN; 0 = estimate
   bool no_nonlinearity = false;  // skip the gamma ripple correction
   std::string format = "tiff";   // float image format: tiff or exr
+  bool force = false;            // replace an existing output folder
 };
 
 int RunDecode(const DecodeCommandOptions& opt) {
@@ -32,6 +34,7 @@ int RunDecode(const DecodeCommandOptions& opt) {
   options.correct_nonlinearity = !opt.no_nonlinearity;
   options.Validate();
   const FringeManifest m = ReadFringeManifest(opt.manifest);
+  CheckOutputAgainstInputs(opt.out, m.InputFiles(), "--out");
   std::vector<std::string> cameras;
   if (opt.camera == "all") {
     for (const auto& [name, files] : m.cameras) cameras.push_back(name);
@@ -41,10 +44,13 @@ int RunDecode(const DecodeCommandOptions& opt) {
   // Decode everything first: bad input anywhere leaves no output at all.
   std::vector<DecodedCamera> decoded;
   for (const std::string& c : cameras) decoded.push_back(DecodeCamera(m, c, options));
+  // All cameras into one staged folder, moved into place when complete.
+  StagedFolder staged(opt.out, opt.force, "--out");
   for (std::size_t i = 0; i < cameras.size(); ++i) {
-    WriteDecodedCamera(opt.out, cameras[i], decoded[i], opt.format);
-    std::cout << decoded[i].summary.BriefReport() << "\n";
+    WriteDecodedCamera(staged.path().string(), cameras[i], decoded[i], opt.format);
   }
+  staged.Commit();
+  for (const DecodedCamera& d : decoded) std::cout << d.summary.BriefReport() << "\n";
   std::cout << "wrote " << opt.out << "\n";
   return kExitOk;
 }
@@ -64,6 +70,7 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--format", opt->format, "Float image format: tiff or exr")->capture_default_str();
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity");
+  sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
   sub->callback([opt, exit_code]() { *exit_code = RunDecode(*opt); });
 }
 

@@ -23,6 +23,7 @@ struct PatternsCommandOptions {
   double phase_at_origin_deg = -180;               // phase at projector pixel 0
   int bits = 8;                                    // PNG bit depth
   std::string out;                                 // output folder
+  bool force = false;                              // replace an existing output folder
 };
 
 int RunPatterns(const PatternsCommandOptions& opt) {
@@ -70,7 +71,7 @@ int RunPatterns(const PatternsCommandOptions& opt) {
   m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
   m.cameras["projector"].resize(m.ImageCount());
   m.Validate();
-  WritePatternSet(opt.out, m, opt.bits);
+  WritePatternSet(opt.out, m, opt.bits, opt.force);
   std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out
             << "\n";
   return kExitOk;
@@ -95,6 +96,7 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
+  sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new set is complete)");
   sub->callback([opt, exit_code]() { *exit_code = RunPatterns(*opt); });
 }
 

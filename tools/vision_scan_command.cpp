@@ -7,7 +7,9 @@
 
 #include "commands.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/scan_batch.h"
 
@@ -62,8 +64,21 @@ int RunScan(const ScanCommandOptions& opt) {
   options.match.full_search = opt.full_search;
   options.Validate();
 
+  // The outputs may not be or contain any input (the manifests, their images, the calibration).
+  std::vector<std::string> inputs = {opt.batch, opt.calib, opt.truth};
+  auto add_set = [&inputs](const std::string& manifest) {
+    for (const std::string& f : ReadFringeManifest(manifest).InputFiles()) inputs.push_back(f);
+  };
   if (!opt.batch.empty()) {
     const std::vector<std::string> sets = ReadScanBatchList(opt.batch);
+    for (const std::string& set : sets) {
+      try {
+        add_set(set);
+      } catch (const InputError&) {
+        inputs.push_back(set);  // unreadable: the batch reports it on its row; still never overwritten
+      }
+    }
+    CheckOutputAgainstInputs(opt.out, inputs, "--out");
     ProgressCallback progress;
     if (!opt.quiet)
       progress = [](const Progress& p) {
@@ -84,6 +99,8 @@ int RunScan(const ScanCommandOptions& opt) {
     return bad ? kExitBadInput : none ? kExitNoSolution : kExitOk;
   }
 
+  add_set(opt.set);
+  CheckOutputAgainstInputs(opt.out, inputs, "--out");
   const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
   const ScanResult result = ScanFringeSet(opt.set, options);
   WriteScanOutputs(opt.out, result, opt.force);

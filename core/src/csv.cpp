@@ -59,7 +59,9 @@ long long CsvTable::Integer(std::size_t row, int column) const {
 CsvTable ParseCsv(const std::string& text, const std::string& path) {
   CsvTable table;
   table.path = path;
-  std::stringstream ss(text);
+  // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first column's name.
+  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  std::stringstream ss(bom ? text.substr(3) : text);
   std::string line;
   int line_number = 0;
   while (std::getline(ss, line)) {

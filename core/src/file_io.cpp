@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 
 namespace ramtk {
 
@@ -21,6 +22,11 @@ std::string ReadTextFile(const std::string& path) {
 
 void WriteFileAtomically(const std::string& path, const std::string& contents) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  RegisterTemporary(tmp);
+  struct Unregister {
+    const std::string& p;
+    ~Unregister() { UnregisterTemporary(p); }
+  } unregister{tmp};
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw InputError({path, 0, ""}, "cannot write file");
@@ -35,6 +41,41 @@ void WriteFileAtomically(const std::string& path, const std::string& contents) {
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     std::remove(tmp.c_str());
     throw InputError({path, 0, ""}, "cannot move the written file into place");
+  }
+}
+
+void WriteFilesAtomically(const std::vector<std::pair<std::string, std::string>>& path_and_contents) {
+  std::vector<std::pair<std::string, std::string>> outputs;
+  for (const auto& [path, contents] : path_and_contents) outputs.emplace_back(path, path);
+  CheckOutputsDistinct(outputs);
+  std::vector<std::string> temporaries;
+  auto remove_all = [&temporaries] {
+    for (const std::string& t : temporaries) {
+      std::remove(t.c_str());
+      UnregisterTemporary(t);
+    }
+  };
+  try {
+    for (const auto& [path, contents] : path_and_contents) {
+      const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+      RegisterTemporary(tmp);
+      temporaries.push_back(tmp);
+      std::ofstream out(tmp, std::ios::binary);
+      if (!out) throw InputError({path, 0, ""}, "cannot write file");
+      out << contents;
+      out.flush();
+      if (!out) throw InputError({path, 0, ""}, "write failed");
+    }
+  } catch (...) {
+    remove_all();
+    throw;
+  }
+  for (std::size_t i = 0; i < path_and_contents.size(); ++i) {
+    if (std::rename(temporaries[i].c_str(), path_and_contents[i].first.c_str()) != 0) {
+      remove_all();
+      throw InputError({path_and_contents[i].first, 0, ""}, "cannot move the written file into place");
+    }
+    UnregisterTemporary(temporaries[i]);
   }
 }
 

@@ -43,13 +43,27 @@ RobotMeasurementSet ReadRobotMeasurements(const std::string& path) {
     }
   }
   set.rows.reserve(t.size());
+  // Plausibility limits (measurements_io.h): a value beyond them is a corrupt file, and would
+  // otherwise reach the solvers (which abort on non-finite steps) as if it were a measurement.
+  auto bounded = [&](std::size_t r, int col, double limit, const char* limit_name) {
+    const double v = t.Number(r, col);
+    if (!(std::abs(v) <= limit)) {
+      throw InputError({path, t.line_numbers[r], t.header[col]},
+                       "value " + t.rows[r][col] + " is beyond the plausible range +-" + FormatFixed(limit, 0) + " (" +
+                           limit_name + ")");
+    }
+    return v;
+  };
   for (std::size_t r = 0; r < t.size(); ++r) {
     RobotMeasurement m;
     m.cycle = static_cast<int>(t.Integer(r, cycle_col));
-    m.time_s = t.Number(r, time_col);
+    m.time_s = bounded(r, time_col, kMaxAbsTimeS, "kMaxAbsTimeS");
     m.index = static_cast<int>(t.Integer(r, index_col));
-    for (int i = 0; i < kNumJoints; ++i) m.q_controller[i] = DegToRad(t.Number(r, q_col[i]));
-    m.position_mm = Vec3(t.Number(r, x_col), t.Number(r, y_col), t.Number(r, z_col));
+    for (int i = 0; i < kNumJoints; ++i) m.q_controller[i] = DegToRad(bounded(r, q_col[i], kMaxAbsJointDeg, "kMaxAbsJointDeg"));
+    const double x = bounded(r, x_col, kMaxAbsPositionMm, "kMaxAbsPositionMm");  // in column order
+    const double y = bounded(r, y_col, kMaxAbsPositionMm, "kMaxAbsPositionMm");
+    const double z = bounded(r, z_col, kMaxAbsPositionMm, "kMaxAbsPositionMm");
+    m.position_mm = Vec3(x, y, z);
     for (int c : extra_cols) m.extra[t.header[c]] = t.Number(r, c);
     m.line = t.line_numbers[r];
     set.rows.push_back(std::move(m));

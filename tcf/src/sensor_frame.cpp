@@ -122,13 +122,22 @@ std::string SensorFrameToJson(const SensorFrame& f) {
   j["beam_gap_mm"] = f.beam_gap_mm;
   j["x_beam_z_mm"] = f.x_beam_z_mm;
   j["y_beam_z_mm"] = f.y_beam_z_mm;
-  j["points_in_base_mm"] = {{"A", VecToJson(f.a_in_base)}, {"B", VecToJson(f.b_in_base)}, {"C", VecToJson(f.c_in_base)},
-                            {"D", VecToJson(f.d_in_base)}, {"P", VecToJson(f.p_in_base)}, {"Q", VecToJson(f.q_in_base)},
-                            {"M", VecToJson(f.m_in_base)}};
-  j["unit_vectors"] = {{"n_x_axis", VecToJson(f.n)},
-                       {"m_y_beam", VecToJson(f.m)},
-                       {"o_y_prime_axis", VecToJson(f.o)},
-                       {"p_z_axis", VecToJson(f.p)}};
+  // Only the intermediate results that were computed (a simulated frame has no beam points).
+  nlohmann::json points = nlohmann::json::object(), units = nlohmann::json::object();
+  const std::pair<const char*, const Vec3*> named_points[] = {{"A", &f.a_in_base}, {"B", &f.b_in_base},
+                                                              {"C", &f.c_in_base}, {"D", &f.d_in_base},
+                                                              {"P", &f.p_in_base}, {"Q", &f.q_in_base},
+                                                              {"M", &f.m_in_base}};
+  for (const auto& [name, v] : named_points) {
+    if (v->allFinite()) points[name] = VecToJson(*v);
+  }
+  const std::pair<const char*, const Vec3*> named_units[] = {
+      {"n_x_axis", &f.n}, {"m_y_beam", &f.m}, {"o_y_prime_axis", &f.o}, {"p_z_axis", &f.p}};
+  for (const auto& [name, v] : named_units) {
+    if (v->allFinite()) units[name] = VecToJson(*v);
+  }
+  j["points_in_base_mm"] = points;
+  j["unit_vectors"] = units;
   return j.dump(2) + "\n";
 }
 

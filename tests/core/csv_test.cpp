@@ -39,6 +39,13 @@ TEST(Csv, ErrorsNameFileLineAndColumn) {
   EXPECT_EQ(Message([] { ParseCsv("\n# only\n", "e.csv"); }), "e.csv: empty file: expected a header row");
 }
 
+TEST(Csv, Utf8ByteOrderMarkIsNotPartOfTheFirstColumn) {
+  const CsvTable t = ParseCsv("\xEF\xBB\xBF" "cycle,x\n1,2\n", "bom.csv");
+  EXPECT_EQ(t.header[0], "cycle");
+  EXPECT_EQ(t.Column("cycle"), 0);
+  EXPECT_EQ(t.line_numbers[0], 2);
+}
+
 TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemporary) {
   const std::string path = ::testing::TempDir() + "/atomic.txt";
   WriteFileAtomically(path, "one");

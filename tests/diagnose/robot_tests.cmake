@@ -7,7 +7,7 @@ target_compile_definitions(diagnose_robot_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="$
 set(_diag_thesis ${CMAKE_CURRENT_BINARY_DIR}/robot_thesis_seed1)
 ramtk_cli_test(diagnose_robot_simulate_thesis 0
   ARGS simulate thermal --robot ${RAMTK_DATASETS_DIR}/robots/kuka_kr150_r3100.yaml --preset thesis --seed 1
-       --out ${_diag_thesis}
+       --out ${_diag_thesis} --force
   FIXTURE_SETUP diagnose_robot_thesis)
 ramtk_cli_test(diagnose_robot_thesis_traditional 0
   ARGS diagnose ${_diag_thesis}/ball.csv --model kr150 --with ${_diag_thesis}/setup.json

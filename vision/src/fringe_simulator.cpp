@@ -14,6 +14,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::vision {
@@ -316,17 +317,10 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
                                           bool overwrite, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   config.Validate();
+  // Written into a sibling temporary folder, moved into place when complete (core/outputs.h).
+  StagedFolder staged(out_dir, overwrite, "--out");
+  const fs::path tmp = staged.path();
   std::error_code ec;
-  // "DIR/" and "DIR" name the same folder; the temporary folder must be its sibling.
-  fs::path target = fs::path(out_dir).lexically_normal();
-  if (target.filename().empty()) target = target.parent_path();
-  if (out_dir.empty()) throw InputError({"", 0, "--out"}, "output folder is empty");
-  if (fs::exists(target, ec) && !overwrite && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)))
-    throw InputError({out_dir, 0, "--out"}, "output exists and is not an empty folder (pass --force to replace it)");
-  if (target.has_parent_path() && !target.parent_path().empty() && !fs::is_directory(target.parent_path(), ec))
-    throw InputError({out_dir, 0, "--out"}, "parent folder does not exist");
-  const fs::path tmp = fs::path(target.string() + ".partial-" + std::to_string(::getpid()));
-  fs::remove_all(tmp, ec);
   if (!fs::create_directories(tmp / "left", ec) || !fs::create_directories(tmp / "right", ec) ||
       !fs::create_directories(tmp / "truth", ec))
     throw InputError({tmp.string(), 0, "--out"}, "cannot create folder: " + ec.message());
@@ -347,7 +341,6 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         };
       SimulatedCamera sim = SimulateCamera(config, cam, cam_progress);
       if (sim.truth.cancelled) {
-        fs::remove_all(tmp, ec);
         summary.cancelled = true;
         return summary;
       }
@@ -447,21 +440,9 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
          "lit_fraction = share of the pixel's rays lit on the same object, object_id"}};
     WriteFileAtomically((tmp / "truth" / "truth.json").string(), truth.dump(2) + "\n");
 
-    // Move into place.
-    if (fs::exists(target, ec)) {
-      const fs::path old = fs::path(target.string() + ".old-" + std::to_string(::getpid()));
-      fs::rename(target, old);
-      fs::rename(tmp, target);
-      fs::remove_all(old, ec);
-    } else {
-      fs::rename(tmp, target);
-    }
+    staged.Commit();
   } catch (const fs::filesystem_error& e) {
-    fs::remove_all(tmp, ec);
     throw InputError({out_dir, 0, "--out"}, std::string("cannot write the output: ") + e.what());
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;

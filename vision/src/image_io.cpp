@@ -3,11 +3,13 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/error.h"
 
 namespace ramtk::vision {
@@ -15,6 +17,19 @@ namespace {
 
 [[noreturn]] void Fail(const std::string& file, const std::string& message) {
   throw InputError({file, 0, ""}, message);
+}
+
+// Dimensions from the header, checked before anything is allocated: a corrupt or hostile header
+// must give an error naming the file, not an allocation failure.
+void CheckDimensions(const std::string& path, const OIIO::ImageSpec& spec) {
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) Fail(path, "image has no pixels");
+  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
+      static_cast<std::int64_t>(spec.width) * spec.height > kMaxImagePixels || spec.nchannels > 4) {
+    Fail(path, "image header claims " + std::to_string(spec.width) + " x " + std::to_string(spec.height) + " x " +
+                   std::to_string(spec.nchannels) + " samples; the limits are " + std::to_string(kMaxImageSide) +
+                   " px per side, " + std::to_string(kMaxImagePixels) + " pixels and 4 channels (kMaxImageSide, "
+                   "kMaxImagePixels)");
+  }
 }
 
 }  // namespace
@@ -32,8 +47,8 @@ cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
   } else {
     Fail(path, std::string("unsupported pixel type ") + spec.format.c_str() + " (expected 8- or 16-bit)");
   }
+  CheckDimensions(path, spec);
   const int w = spec.width, h = spec.height, nc = spec.nchannels;
-  if (w <= 0 || h <= 0 || nc <= 0) Fail(path, "image has no pixels");
   std::vector<float> buf(static_cast<std::size_t>(w) * h * nc);
   if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, buf.data()))
     Fail(path, "cannot read pixels: " + in->geterror());
@@ -60,6 +75,7 @@ cv::Mat LoadImageNative(const std::string& path, int* bits_per_sample) {
   if (!in) Fail(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec spec = in->spec();
   in->close();
+  CheckDimensions(path, spec);
   if (spec.nchannels != 1 || (spec.format != OIIO::TypeDesc::UINT8 && spec.format != OIIO::TypeDesc::UINT16))
     return LoadImageDn(path, bits_per_sample);  // colour or unsupported: the converting loader (its errors)
   const bool eight = spec.format == OIIO::TypeDesc::UINT8;
@@ -130,6 +146,11 @@ void WriteImage(const std::string& path, const cv::Mat& image) {
   const std::filesystem::path target(path);
   const std::filesystem::path tmp =
       target.parent_path() / (target.stem().string() + ".tmp" + target.extension().string());
+  RegisterTemporary(tmp);  // removed if interrupted (core/outputs.h)
+  struct Unregister {
+    const std::filesystem::path& p;
+    ~Unregister() { UnregisterTemporary(p); }
+  } unregister{tmp};
   {
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) throw InputError({path, 0, ""}, "no image writer for this extension: " + OIIO::geterror());

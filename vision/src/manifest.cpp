@@ -69,9 +69,13 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
       if (has_period) x = extent / x;  // period in px -> cycles across the projector
     }
     block.cycles = values;
-    if (b.contains("phase_at_origin_deg"))
-      block.phase_at_origin_rad =
-          GetNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg") * kPi / 180.0;
+    if (b.contains("phase_at_origin_deg")) {
+      const double deg = GetNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg");
+      // One turn either way covers every convention; beyond it is a corrupt value (1e308 would
+      // decode to "valid" pixels without one finite coordinate).
+      if (!(std::abs(deg) <= 360.0)) Fail(file, where + "phase_at_origin_deg", "must be within [-360, 360] degrees");
+      block.phase_at_origin_rad = deg * kPi / 180.0;
+    }
   } else if (type == "gray_code") {
     block.type = BlockType::kGrayCode;
     block.bits = GetInt(Require(b, "bits", file, where), file, where + "bits");
@@ -128,8 +132,23 @@ std::string FringeManifest::Resolve(const std::string& file) const {
   return (std::filesystem::path(path).parent_path() / p).lexically_normal().string();
 }
 
+std::vector<std::string> FringeManifest::InputFiles() const {
+  std::vector<std::string> out;
+  if (!path.empty()) out.push_back(path);
+  for (const auto& [name, files] : cameras) {
+    for (const std::string& f : files) out.push_back(Resolve(f));
+  }
+  if (!calibration.empty()) out.push_back(Resolve(calibration));
+  return out;
+}
+
 void FringeManifest::Validate() const {
   if (projector_width <= 0 || projector_height <= 0) Fail(path, "projector", "width and height must be positive");
+  if (projector_width > kMaxProjectorSide || projector_height > kMaxProjectorSide) {
+    Fail(path, "projector",
+         "width and height must be at most " + std::to_string(kMaxProjectorSide) + " px (kMaxProjectorSide), got " +
+             std::to_string(projector_width) + " x " + std::to_string(projector_height));
+  }
   if (sequence.empty()) Fail(path, "sequence", "is empty");
   int n_ps = 0, n_gc = 0, n_het = 0;
   const SequenceBlock* ps = nullptr;

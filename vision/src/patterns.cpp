@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/image_io.h"
 
@@ -77,7 +78,7 @@ std::vector<cv::Mat> QuantisePatterns(const std::vector<cv::Mat>& patterns, int 
   return out;
 }
 
-void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits) {
+void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite) {
   manifest.cameras.clear();
   std::vector<std::string> names;
   for (int i = 0; i < manifest.ImageCount(); ++i) {
@@ -89,12 +90,10 @@ void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bi
   manifest.path.clear();
   manifest.Validate();
   const std::vector<cv::Mat> images = QuantisePatterns(GeneratePatterns(manifest), bits);
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw InputError({out_dir, 0, "--out"}, "cannot create the output folder: " + ec.message());
-  for (std::size_t i = 0; i < images.size(); ++i)
-    WriteImage((std::filesystem::path(out_dir) / names[i]).string(), images[i]);
-  WriteFringeManifest((std::filesystem::path(out_dir) / "manifest.json").string(), manifest);
+  StagedFolder staged(out_dir, overwrite, "--out");
+  for (std::size_t i = 0; i < images.size(); ++i) WriteImage((staged.path() / names[i]).string(), images[i]);
+  WriteFringeManifest((staged.path() / "manifest.json").string(), manifest);
+  staged.Commit();
 }
 
 }  // namespace ramtk::vision

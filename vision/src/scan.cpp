@@ -12,6 +12,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
@@ -269,34 +270,15 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
 }
 
 void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite) {
-  if (out_dir.empty()) throw InputError({"", 0, "--out"}, "output folder is empty");
-  std::error_code ec;
-  fs::path target = fs::path(out_dir).lexically_normal();
-  if (target.filename().empty()) target = target.parent_path();
-  if (fs::exists(target, ec) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec)) && !overwrite)
-    throw InputError({out_dir, 0, "--out"}, "output exists and is not an empty folder (pass --force to replace it)");
-  const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) throw InputError({out_dir, 0, "--out"}, "parent folder does not exist");
-  const fs::path tmp = fs::path(target.string() + ".partial-" + std::to_string(::getpid()));
-  fs::remove_all(tmp, ec);
-  if (!fs::create_directories(tmp, ec)) throw InputError({tmp.string(), 0, "--out"}, "cannot create folder");
-  try {
-    std::ostringstream comment;
-    comment << "frame " << kScanFrame << "; set " << result.summary.set;
-    WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str());
-    WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-    if (!result.depth.empty()) WriteImage((tmp / "depth.png").string(), DepthPreview(result.depth));
-    WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
-  }
-  if (fs::exists(target, ec)) fs::remove_all(target, ec);
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove_all(tmp, ec);
-    throw InputError({out_dir, 0, "--out"}, "cannot move the outputs into place");
-  }
+  StagedFolder staged(out_dir, overwrite, "--out");
+  const fs::path& tmp = staged.path();
+  std::ostringstream comment;
+  comment << "frame " << kScanFrame << "; set " << result.summary.set;
+  WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str());
+  WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
+  if (!result.depth.empty()) WriteImage((tmp / "depth.png").string(), DepthPreview(result.depth));
+  WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
+  staged.Commit();
 }
 
 std::vector<Sphere> ReadTruthSpheres(const std::string& path) {

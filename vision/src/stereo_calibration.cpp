@@ -173,6 +173,12 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
                      "expected a 3-vector translation (mm), got " + std::to_string(rows) + "x" + std::to_string(cols));
   calib.right_from_left.linear() = rotation;
   calib.right_from_left.translation() = Vec3(t[0], t[1], t[2]);
+  // A stereo pair triangulates along its baseline: zero (or a corrupt huge value) cannot be a rig.
+  const double baseline = calib.right_from_left.translation().norm();
+  if (!(baseline >= 1e-3 && baseline <= 1e5)) {
+    throw InputError({path, 0, key}, "stereo baseline |T| = " + FormatDouble(baseline) +
+                                         " mm is not a stereo rig (expected 0.001 .. 100000 mm)");
+  }
 
   std::vector<double> v;
   if (ReadNumbers(fs["rms_px"], path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];

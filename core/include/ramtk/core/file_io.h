@@ -3,6 +3,8 @@
 // place, so a failure never leaves a half-written output.
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ramtk {
 
@@ -10,5 +12,9 @@ namespace ramtk {
 std::string ReadTextFile(const std::string& path);
 // Writes `contents` to `path` atomically (temporary file + rename); InputError on failure.
 void WriteFileAtomically(const std::string& path, const std::string& contents);
+// Writes several files as one unit: every temporary is written first and the renames happen
+// only when all of them succeeded, so a failure (or an interruption, which removes the
+// registered temporaries) leaves none of the new files. The paths must be distinct.
+void WriteFilesAtomically(const std::vector<std::pair<std::string, std::string>>& path_and_contents);
 
 }  // namespace ramtk

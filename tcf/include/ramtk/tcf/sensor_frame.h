@@ -15,6 +15,7 @@
 // a right angle. In the sensor frame the y beam's direction is (cos β, sin β, 0).
 
 #include <array>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -35,15 +36,18 @@ struct SensorFrameOptions {
 
 // The calibrated device frame and the beam geometry in it.
 struct SensorFrame {
+  static Vec3 Unset() { return Vec3::Constant(std::numeric_limits<double>::quiet_NaN()); }
   Isometry3 base_from_lasersensor = Isometry3::Identity();  // eq. (4-27)
   double beta_rad = 0.0;     // angle X_s -> Y_s about Z_s, in (0, pi); see the header comment
   double beam_gap_mm = 0.0;  // |PQ|, shortest distance between the beam lines
   double x_beam_z_mm = 0.0;  // z of the x beam line (through P) in the sensor frame
   double y_beam_z_mm = 0.0;  // z of the y beam line (through Q) in the sensor frame
   // Intermediate results (base frame, mm) for reporting: A, B, C, D (eq. 4-16), P, Q, M (4-22),
-  // and the unit vectors n = X_s, m = Y_s (the y beam), o = Y'_s, p = Z_s.
-  Vec3 a_in_base, b_in_base, c_in_base, d_in_base, p_in_base, q_in_base, m_in_base;
-  Vec3 n, m, o, p;
+  // and the unit vectors n = X_s, m = Y_s (the y beam), o = Y'_s, p = Z_s. NaN when not
+  // computed (a frame not calibrated from beam points, e.g. a simulator's); not written then.
+  Vec3 a_in_base = Unset(), b_in_base = Unset(), c_in_base = Unset(), d_in_base = Unset(), p_in_base = Unset(),
+       q_in_base = Unset(), m_in_base = Unset();
+  Vec3 n = Unset(), m = Unset(), o = Unset(), p = Unset();
 
   // Direction of the y beam in the sensor frame: (cos β, sin β, 0).
   Vec3 YBeamDirection() const;

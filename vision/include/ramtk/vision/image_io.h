@@ -9,6 +9,11 @@
 
 namespace ramtk::vision {
 
+// Limits checked against an image header before any pixel is allocated (InputError naming the
+// file beyond them): 4× the side of the largest machine-vision sensors, 268 Mpx.
+inline constexpr int kMaxImageSide = 32768;
+inline constexpr long long kMaxImagePixels = 1LL << 28;
+
 // An ordered stack of camera frames of one size and one bit depth.
 struct ImageStack {
   std::vector<cv::Mat> frames;     // CV_32FC1, DN (native loading: CV_8UC1 / CV_16UC1 for grey files)

@@ -63,10 +63,17 @@ struct FringeManifest {
   int Extent() const;
   // `file` resolved against the manifest's folder (absolute paths are kept).
   std::string Resolve(const std::string& file) const;
+  // Every file this set is read from: the manifest itself, each camera's images and the
+  // calibration file (resolved), so that commands can refuse outputs that would overwrite them.
+  std::vector<std::string> InputFiles() const;
   // Throws InputError (file = path, field = the offending key) if the manifest is inconsistent:
   // bad counts, unsupported block combination, image count != sequence length.
   void Validate() const;
 };
+
+// Largest projector side accepted (pixels): well above any real projector (4K is 3840), small
+// enough that a typo cannot ask for terabytes of patterns.
+inline constexpr int kMaxProjectorSide = 16384;
 
 // Reads and validates a manifest. InputError names the file and the field.
 FringeManifest ReadFringeManifest(const std::string& path);

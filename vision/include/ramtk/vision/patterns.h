@@ -25,7 +25,9 @@ double PatternPhase(double u, double cycles, int extent, double phase_at_origin_
 int GrayCodeCell(double u, int bits, int extent);
 
 // Writes pattern_00.png ... and manifest.json (camera "projector" lists the pattern files) into
-// `out_dir` (created if missing). Nothing is written if generation fails.
-void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits);
+// the folder `out_dir`, as a unit (core/outputs.h StagedFolder): an existing non-empty folder is
+// replaced only with `overwrite`, and only once the new set is complete. Nothing is written if
+// generation fails.
+void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite = false);
 
 }  // namespace ramtk::vision

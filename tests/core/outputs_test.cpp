@@ -1,0 +1,131 @@
+// Output safety (core/outputs.h, core/file_io.h): outputs never overwrite inputs, staged folders
+// replace an old result only when the new one is complete, multi-file writes are all-or-nothing.
+#include "ramtk/core/outputs.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+
+namespace fs = std::filesystem;
+
+namespace ramtk {
+namespace {
+
+fs::path Fresh(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("ramtk_outputs_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+void Touch(const fs::path& p, const std::string& text = "x") { std::ofstream(p) << text; }
+std::string Read(const fs::path& p) { return ReadTextFile(p.string()); }
+
+TEST(OutputSafety, AnOutputMayNotBeOrContainAnInput) {
+  const fs::path d = Fresh("inputs");
+  Touch(d / "in.csv");
+  fs::create_directories(d / "set");
+  Touch(d / "set" / "manifest.json");
+  // The same file, spelled differently.
+  EXPECT_THROW(CheckOutputAgainstInputs((d / "." / "in.csv").string(), {(d / "in.csv").string()}, "--out"), InputError);
+  // A folder output that contains an input (scan SET/manifest.json --out SET).
+  EXPECT_THROW(CheckOutputAgainstInputs((d / "set/").string(), {(d / "set" / "manifest.json").string()}, "--out"),
+               InputError);
+  // Beside the inputs, or a sibling folder whose name starts the same: fine.
+  EXPECT_NO_THROW(CheckOutputAgainstInputs((d / "out.json").string(), {(d / "in.csv").string()}, "--out"));
+  EXPECT_NO_THROW(CheckOutputAgainstInputs((d / "se").string(), {(d / "set" / "manifest.json").string()}, "--out"));
+  EXPECT_NO_THROW(CheckOutputAgainstInputs("", {(d / "in.csv").string()}, "--out"));
+  try {
+    CheckOutputAgainstInputs((d / "in.csv").string(), {(d / "in.csv").string()}, "--output");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "--output");
+    EXPECT_NE(std::string(e.what()).find("input"), std::string::npos);
+  }
+}
+
+TEST(OutputSafety, TwoOutputsMayNotShareAPath) {
+  const fs::path d = Fresh("distinct");
+  EXPECT_THROW(CheckOutputsDistinct({{"--json", (d / "a").string()}, {"--series", (d / "b/../a").string()}}),
+               InputError);
+  EXPECT_THROW(CheckOutputsDistinct({{"--out", d.string()}, {"--json", (d / "x.json").string()}}), InputError);
+  EXPECT_NO_THROW(CheckOutputsDistinct({{"--json", (d / "a").string()}, {"--series", (d / "b").string()}, {"--x", ""}}));
+}
+
+TEST(OutputSafety, StagedFolderReplacesOnlyWhenComplete) {
+  const fs::path d = Fresh("staged");
+  const fs::path target = d / "result";
+  {
+    StagedFolder s(target.string(), false);
+    Touch(s.path() / "a.txt", "first");
+    EXPECT_FALSE(fs::exists(target));  // nothing visible before Commit
+    s.Commit();
+  }
+  EXPECT_EQ(Read(target / "a.txt"), "first");
+  // Non-empty target without overwrite: refused, old result untouched.
+  EXPECT_THROW(StagedFolder(target.string(), false), InputError);
+  // An error before Commit: the temporary disappears, the old result stays.
+  fs::path tmp;
+  try {
+    StagedFolder s(target.string(), true);
+    tmp = s.path();
+    Touch(s.path() / "a.txt", "second, unfinished");
+    throw std::runtime_error("failure while writing");
+  } catch (const std::runtime_error&) {
+  }
+  EXPECT_FALSE(fs::exists(tmp));
+  EXPECT_EQ(Read(target / "a.txt"), "first");
+  // Overwrite and commit: replaced, no sibling left behind.
+  {
+    StagedFolder s((target.string() + "/"), true);
+    Touch(s.path() / "b.txt", "second");
+    s.Commit();
+  }
+  EXPECT_FALSE(fs::exists(target / "a.txt"));
+  EXPECT_EQ(Read(target / "b.txt"), "second");
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(d)) entries += e.path() != target ? 1 : 0;
+  EXPECT_EQ(entries, 0);
+  // A file in the way, or a missing parent: refused.
+  Touch(d / "file");
+  EXPECT_THROW(StagedFolder((d / "file").string(), true), InputError);
+  EXPECT_THROW(StagedFolder((d / "no" / "such" / "parent").string(), false), InputError);
+}
+
+TEST(OutputSafety, RegisteredTemporariesAreRemovedOnRequest) {
+  const fs::path d = Fresh("registry");
+  Touch(d / "t.tmp");
+  fs::create_directories(d / "folder.partial");
+  Touch(d / "folder.partial" / "x");
+  RegisterTemporary(d / "t.tmp");
+  RegisterTemporary(d / "folder.partial");
+  RegisterTemporary(d / "never-created");
+  EXPECT_EQ(RemoveRegisteredTemporaries(), 2);
+  EXPECT_FALSE(fs::exists(d / "t.tmp"));
+  EXPECT_FALSE(fs::exists(d / "folder.partial"));
+  EXPECT_EQ(RemoveRegisteredTemporaries(), 0);  // the registry was emptied
+}
+
+TEST(OutputSafety, SeveralFilesAreWrittenAllOrNothing) {
+  const fs::path d = Fresh("multi");
+  Touch(d / "a.txt", "old a");
+  WriteFilesAtomically({{(d / "a.txt").string(), "new a"}, {(d / "b.txt").string(), "new b"}});
+  EXPECT_EQ(Read(d / "a.txt"), "new a");
+  EXPECT_EQ(Read(d / "b.txt"), "new b");
+  // The second file cannot be written (its folder does not exist): the first keeps its old text.
+  EXPECT_THROW(WriteFilesAtomically({{(d / "a.txt").string(), "newer a"}, {(d / "missing" / "c.txt").string(), "c"}}),
+               InputError);
+  EXPECT_EQ(Read(d / "a.txt"), "new a");
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(d)) entries += 1 + 0 * e.path().empty();
+  EXPECT_EQ(entries, 2);  // no temporary left
+  // The same path twice is a caller error.
+  EXPECT_THROW(WriteFilesAtomically({{(d / "a.txt").string(), "1"}, {(d / "a.txt").string(), "2"}}), InputError);
+}
+
+}  // namespace
+}  // namespace ramtk
