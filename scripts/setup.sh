@@ -26,6 +26,8 @@ PACKAGES=(
   libbenchmark-dev         # bench/
   liborocos-kdl-dev        # peer kinematics library for tests and benchmarks
   python3                  # bench/diagnose_independent_sweep.py and its ctest smoke run
+  pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
+  python3-numpy python3-pytest  # its arrays and its tests
 )
 
 log() { printf '[setup] %s\n' "$*"; }
@@ -59,4 +61,16 @@ log "configuring ${BUILD_DIR} (Release)"
 cmake -S . -B "${BUILD_DIR}" -G Ninja -DCMAKE_BUILD_TYPE=Release ${RAMTK_CMAKE_ARGS:-} >/dev/null
 log "building with ${JOBS} jobs"
 cmake --build "${BUILD_DIR}" -j "${JOBS}"
+# `import ramtk` from Debian's python3 without setting PYTHONPATH: a .pth file naming the build's
+# python/ folder in the interpreter's site-packages (docs/python.md).
+if [ -d "${BUILD_DIR}/python" ] && [ -x /usr/bin/python3 ]; then
+  site=$(/usr/bin/python3 -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+  SUDO=""
+  if [ "$(id -u)" != "0" ]; then SUDO="sudo"; fi
+  if $SUDO mkdir -p "${site}" && echo "$(cd "${BUILD_DIR}/python" && pwd)" | $SUDO tee "${site}/ramtk-build.pth" >/dev/null; then
+    log "python: import ramtk works from /usr/bin/python3 (${site}/ramtk-build.pth)"
+  else
+    log "python: could not write ${site}/ramtk-build.pth; use PYTHONPATH=${BUILD_DIR}/python"
+  fi
+fi
 log "done: ${BUILD_DIR}/tools/ramtk"

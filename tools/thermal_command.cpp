@@ -52,30 +52,8 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   if (opt.repeatability_mm >= 0.0) o.repeatability_mm = opt.repeatability_mm;
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const ThermalSimResult r = SimulateThermal(model, o);
-  // Every file into a staged folder, moved into place when complete (core/outputs.h).
-  StagedFolder staged(opt.out_dir, opt.force, "--out");
-  const std::string dir = staged.path().string() + "/";
-  kinematics::WriteRobotMeasurements(r.ball, dir + "ball.csv");
-  kinematics::WriteRobotMeasurements(r.monitoring, dir + "monitoring.csv");
-  WriteThermalSetup(r.setup, dir + "setup.json");
-  WriteFileAtomically(dir + "truth_params.csv", TruthTrajectoriesCsv(r));
-  nlohmann::json j;
-  j["preset"] = opt.preset;
-  j["seed"] = opt.seed;
-  j["cycles"] = o.cycles;
-  j["cycle_period_s"] = o.cycle_period_s;
-  j["drifting_params"] = ParamListToString(r.drifting_params);
-  j["sensor_noise_mm"] = o.sensor_noise_mm;
-  j["tool_sensor_noise_mm"] = o.tool_sensor_noise_mm;
-  j["repeatability_mm"] = o.repeatability_mm;
-  for (const Vec3& p : r.monitoring_points_in_base) j["monitoring_points_in_base_mm"].push_back({p.x(), p.y(), p.z()});
-  WriteFileAtomically(dir + "truth.json", j.dump(2) + "\n");
-  staged.Commit();
-  double max_drift = 0.0;
-  for (const auto& row : r.ball.rows) {
-    const Vec3 d = row.position_mm - r.ball.rows[row.index].position_mm;
-    max_drift = std::max(max_drift, d.norm());
-  }
+  WriteThermalSimulation(r, o, opt.preset, opt.out_dir, opt.force);
+  const double max_drift = LargestBallDriftMm(r);
   std::cout << "simulated " << o.cycles << " cycles (" << o.ball_poses << " ball poses, " << o.monitoring_points
             << " monitoring points) into " << opt.out_dir << "\n"
             << "drifting parameters (truth): " << ParamListToString(r.drifting_params) << "\n"

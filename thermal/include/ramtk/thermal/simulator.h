@@ -105,6 +105,14 @@ kinematics::ParamVector TrueDriftAt(const ThermalSimOptions& options, double tim
 Vec3 ToolSensorReading(const kinematics::RobotModel& warm_model, const ThermalSetup& setup,
                        const kinematics::JointVector& q, const Vec3& point_in_base);
 
+// Writes the simulation as `ramtk simulate thermal` does: ball.csv, monitoring.csv, setup.json,
+// truth_params.csv and truth.json into the folder `out_dir`, as a unit (core/outputs.h
+// StagedFolder; an existing non-empty folder is replaced only with `overwrite`).
+void WriteThermalSimulation(const ThermalSimResult& result, const ThermalSimOptions& options,
+                            const std::string& preset, const std::string& out_dir, bool overwrite);
+// The largest distance of a ball centre from its cold-cycle position (mm).
+double LargestBallDriftMm(const ThermalSimResult& result);
+
 // Truth trajectories as CSV: cycle,time_s,temp_j1..temp_j6,<param>... for every parameter
 // (mm / deg), plus a comment line naming the drifting set.
 std::string TruthTrajectoriesCsv(const ThermalSimResult& result);

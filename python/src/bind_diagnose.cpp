@@ -1,0 +1,58 @@
+// `ramtk diagnose` from Python: the diagnosis as a dict (diagnosis.json) plus the report paths.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "numpy_convert.h"
+#include "ramtk/diagnose/diagnose.h"
+#include "ramtk/diagnose/fringe.h"
+#include "ramtk/diagnose/laser.h"
+#include "ramtk/diagnose/report.h"
+#include "ramtk/diagnose/robot.h"
+
+namespace ramtk::python {
+
+void BindDiagnose(py::module_& m) {
+  m.def(
+      "diagnose",
+      [](const std::string& data, const std::string& model, const std::vector<std::string>& with, const std::string& out,
+         int folds, double noise, double alpha, std::uint64_t seed) {
+        diagnose::DiagnoseOptions o;
+        o.data = data;
+        o.model = model;
+        o.with = with;
+        o.output_folder = out;
+        o.folds = folds;
+        o.noise = noise;
+        o.alpha = alpha;
+        o.seed = seed;
+        o.Validate();
+        diagnose::Diagnosis result;
+        {
+          py::gil_scoped_release release;
+          switch (diagnose::DetectKind(data)) {
+            case diagnose::DataKind::kRobot:
+              result = diagnose::DiagnoseRobot(o);
+              break;
+            case diagnose::DataKind::kFringe:
+              result = diagnose::DiagnoseFringe(o);
+              break;
+            case diagnose::DataKind::kLaser:
+              result = diagnose::DiagnoseLaser(o);
+              break;
+          }
+          if (!out.empty()) diagnose::WriteDiagnosis(result, out);
+        }
+        py::dict d = JsonToPython(diagnose::DiagnosisJson(result));
+        if (!out.empty()) {
+          d["report_md"] = out + "/report.md";
+          d["diagnosis_json"] = out + "/diagnosis.json";
+        }
+        d["one_line"] = diagnose::OneLine(result);
+        return d;
+      },
+      py::arg("data"), py::arg("model") = "", py::arg("with_") = std::vector<std::string>{}, py::arg("out") = "",
+      py::arg("folds") = 5, py::arg("noise") = 0.0, py::arg("alpha") = 1e-3, py::arg("seed") = 1,
+      "What the simulation gets wrong on measured data (fringe manifest, robot CSV, laser log): the diagnosis dict");
+}
+
+}  // namespace ramtk::python

@@ -1,0 +1,208 @@
+// Fringe decoding, the scan pipeline, sphere fitting, stereo calibration files and the fringe
+// simulator. Images come back as numpy arrays that share the C++ buffers (no copy); options are
+// keyword arguments with the C++ defaults; long calls release the GIL.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "numpy_convert.h"
+#include "ramtk/core/error.h"
+#include "ramtk/vision/decode.h"
+#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/scan.h"
+#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/stereo_calibration.h"
+
+namespace ramtk::python {
+namespace {
+
+py::list SpheresToPython(const vision::SphereFitSummary& s) {
+  py::list out;
+  for (const vision::SphereResult& r : s.spheres) {
+    py::dict d;
+    d["centre_mm"] = ToArray(r.centre_mm).attr("ravel")();
+    d["radius_mm"] = r.radius_mm;
+    d["radius_sigma_mm"] = r.radius_sigma_mm;
+    d["centre_covariance_mm2"] = ToArray(r.centre_covariance_mm2);
+    d["rms_mm"] = r.rms_mm;
+    d["num_points"] = r.num_points;
+    d["num_outliers"] = r.num_outliers;
+    d["variance_factor"] = r.variance_factor;
+    out.append(d);
+  }
+  return out;
+}
+
+py::dict DecodedToPython(const vision::DecodedCamera& d) {
+  py::dict out;
+  out["coordinate"] = MatToArray(d.coordinate);
+  out["wrapped"] = MatToArray(d.wrapped);
+  out["background"] = MatToArray(d.background);
+  out["modulation"] = MatToArray(d.modulation);
+  out["mask"] = MatToArray(d.mask);
+  out["sigma_phase"] = MatToArray(d.sigma_phase);
+  out["sigma_coordinate"] = MatToArray(d.sigma_coordinate);
+  out["summary"] = JsonToPython(vision::DecodeSummaryToJson(d.summary));
+  return out;
+}
+
+}  // namespace
+
+void BindVision(py::module_& m) {
+  m.def(
+      "decode",
+      [](const std::string& manifest, const std::string& camera, double min_modulation, double sigma_intensity,
+         bool correct_nonlinearity) {
+        vision::DecodeOptions o;
+        o.min_modulation_fraction = min_modulation;
+        o.intensity_sigma_dn = sigma_intensity;
+        o.correct_nonlinearity = correct_nonlinearity;
+        o.Validate();
+        vision::DecodedCamera d;
+        {
+          py::gil_scoped_release release;
+          d = vision::DecodeCamera(vision::ReadFringeManifest(manifest), camera, o);
+        }
+        return DecodedToPython(d);
+      },
+      py::arg("manifest"), py::arg("camera") = "left", py::arg("min_modulation") = 0.02,
+      py::arg("sigma_intensity") = 0.0, py::arg("correct_nonlinearity") = true,
+      "Decodes one camera of a fringe set: dict of numpy arrays (coordinate in projector px, NaN invalid; wrapped, "
+      "background, modulation in DN; mask 0/255; sigma_phase rad; sigma_coordinate px) and 'summary'");
+
+  m.def(
+      "scan",
+      [](const std::string& manifest, const std::string& calibration, double radius, bool fix_radius, int spheres,
+         double min_depth, double max_depth) {
+        vision::ScanOptions o;
+        o.calibration_path = calibration;
+        o.sphere.radius_mm = radius;
+        o.sphere.fix_radius = fix_radius;
+        o.sphere.max_spheres = spheres;
+        o.match.min_depth_mm = min_depth;
+        o.match.max_depth_mm = max_depth;
+        o.Validate();
+        vision::ScanResult r;
+        {
+          py::gil_scoped_release release;
+          r = vision::ScanFringeSet(manifest, o);
+        }
+        const vision::PointCloud& c = r.cloud;
+        py::array_t<double> points({static_cast<py::ssize_t>(c.size()), py::ssize_t{5}});
+        auto p = points.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < c.size(); ++i) {
+          for (int k = 0; k < 3; ++k) p(i, k) = c.points_in_left[i][k];
+          p(i, 3) = c.sigma_mm.empty() ? std::nan("") : c.sigma_mm[i];
+          p(i, 4) = c.quality.empty() ? std::nan("") : c.quality[i];
+        }
+        py::dict out;
+        out["points"] = points;
+        out["depth"] = MatToArray(r.depth);
+        out["spheres"] = SpheresToPython(r.summary.spheres);
+        out["summary"] = JsonToPython(vision::ScanSummaryToJson(r.summary));
+        return out;
+      },
+      py::arg("manifest"), py::arg("calibration") = "", py::arg("radius") = 19.05, py::arg("fix_radius") = false,
+      py::arg("spheres") = 1, py::arg("min_depth") = 100.0, py::arg("max_depth") = 10000.0,
+      "Scans a stereo fringe set: 'points' N×5 (x, y, z mm in the left-camera frame, sigma mm, quality), 'depth' "
+      "(z per left pixel, NaN none), 'spheres' (centre, radius, centre covariance), 'summary'");
+
+  m.def(
+      "fit_sphere",
+      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, py::object sigma, double radius,
+         bool fix_radius, int spheres, std::uint64_t seed, int min_points) {
+        if (points.ndim() != 2 || points.shape(1) != 3) throw InputError({"", 0, "points"}, "expected an N×3 array");
+        std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
+        auto p = points.unchecked<2>();
+        for (py::ssize_t i = 0; i < points.shape(0); ++i) pts[i] = Eigen::Vector3f(p(i, 0), p(i, 1), p(i, 2));
+        std::vector<float> sig;
+        if (!sigma.is_none()) {
+          const auto s = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(sigma);
+          if (!s || s.ndim() != 1 || s.shape(0) != points.shape(0))
+            throw InputError({"", 0, "sigma"}, "expected one sigma per point");
+          for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
+        }
+        vision::SphereFitOptions o;
+        o.radius_mm = radius;
+        o.fix_radius = fix_radius;
+        o.max_spheres = spheres;
+        o.seed = seed;
+        o.min_points = min_points;
+        o.Validate();
+        vision::SphereFitSummary s;
+        {
+          py::gil_scoped_release release;
+          s = vision::FindSpheres(pts, sig, o);
+        }
+        return SpheresToPython(s);
+      },
+      py::arg("points"), py::arg("sigma") = py::none(), py::arg("radius") = 0.0, py::arg("fix_radius") = false,
+      py::arg("spheres") = 1, py::arg("seed") = 1, py::arg("min_points") = 200,
+      "Finds up to `spheres` spheres in an N×3 cloud (mm): list of dicts with centre_mm, radius_mm, "
+      "centre_covariance_mm2, rms_mm, num_points");
+
+  m.def(
+      "read_stereo_calibration",
+      [](const std::string& path) {
+        const vision::StereoCalibration c = vision::ReadStereoCalibration(path);
+        auto camera = [](const vision::CameraIntrinsics& k) {
+          py::dict d;
+          d["K"] = ToArray(k.K());
+          d["width"] = k.width;
+          d["height"] = k.height;
+          return d;
+        };
+        py::dict out;
+        out["left"] = camera(c.left);
+        out["right"] = camera(c.right);
+        out["right_from_left"] = ToArray(c.right_from_left.matrix());
+        out["rms_px"] = c.rms_px;
+        out["parameter_std"] = c.parameter_std;
+        return out;
+      },
+      py::arg("path"), "Reads a stereo calibration (YAML/JSON): K, image size, right_from_left (mm), RMS");
+
+  m.def(
+      "simulate_fringe",
+      [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise, int supersampling,
+         bool force) {
+        vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
+        config.seed = seed;
+        config.sensor.noise = noise;
+        config.supersampling = supersampling;
+        vision::FringeSimulationSummary s;
+        {
+          py::gil_scoped_release release;
+          s = vision::SimulateFringeSet(config, out, force, {});
+        }
+        py::dict d;
+        d["out_dir"] = s.out_dir;
+        d["frames"] = s.frames;
+        d["width"] = s.width;
+        d["height"] = s.height;
+        d["manifest"] = out + "/manifest.json";
+        d["truth"] = out + "/truth/truth.json";
+        return d;
+      },
+      py::arg("out"), py::arg("preset") = "small", py::arg("seed") = 1, py::arg("noise") = true,
+      py::arg("supersampling") = 4, py::arg("force") = false,
+      "Renders a stereo fringe set of the ball (ramtk simulate fringe) into `out`");
+
+  m.def(
+      "read_truth_spheres",
+      [](const std::string& path) {
+        py::list out;
+        for (const vision::Sphere& s : vision::ReadTruthSpheres(path)) {
+          py::dict d;
+          d["name"] = s.name;
+          d["centre_mm"] = ToArray(s.centre_in_left).attr("ravel")();
+          d["radius_mm"] = s.radius;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("path"), "The true spheres of a simulated set (truth/truth.json)");
+}
+
+}  // namespace ramtk::python

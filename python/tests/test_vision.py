@@ -1,0 +1,88 @@
+"""Decode, scan and sphere fitting against the ramtk command on the same set, the simulator's
+truth and closed forms; numpy arrays share the C++ buffers."""
+import json
+
+import numpy as np
+import pytest
+
+import ramtk
+
+
+@pytest.fixture(scope="module")
+def default_set(datasets):
+    return datasets / "scan_default" / "manifest.json"
+
+
+def test_decode_matches_the_command_and_shares_memory(cli, default_set, scratch):
+    out = scratch / "decode_cli"
+    cli("decode", default_set, "--camera", "left", "--out", out, "--force")
+    expected = json.loads((out / "left_summary.json").read_text())
+    d = ramtk.decode(str(default_set), "left")
+    for key in ("valid_fraction", "median_modulation_dn", "median_sigma_phase_rad", "fit_residual_rms_dn"):
+        assert d["summary"][key] == pytest.approx(expected[key], rel=1e-12), key
+    c = d["coordinate"]
+    assert c.dtype == np.float32 and c.shape == (512, 640)
+    # Zero copy: the array does not own its data; it views the C++ matrix.
+    assert not c.flags["OWNDATA"] and c.base is not None
+    valid = d["mask"] == 255
+    assert np.isfinite(c[valid]).all() and np.isnan(c[~valid]).all()
+    assert valid.mean() == pytest.approx(expected["valid_fraction"], abs=1e-12)
+
+
+def test_scan_matches_the_command_and_the_truth(cli, default_set, scratch, datasets):
+    out = scratch / "scan_cli"
+    cli("scan", default_set, "--out", out, "--force")
+    expected = json.loads((out / "spheres.json").read_text())
+    r = ramtk.scan(str(default_set))
+    assert r["points"].shape[1] == 5
+    assert r["points"].shape[0] == r["summary"]["points"]
+    s = r["spheres"][0]
+    centre_cli = expected["spheres"][0]["centre_mm"]
+    np.testing.assert_allclose(s["centre_mm"], centre_cli, atol=1e-9)
+    # Against the simulator's truth: within 5 predicted standard deviations per axis.
+    truth = ramtk.read_truth_spheres(str(datasets / "scan_default" / "truth" / "truth.json"))[0]
+    sigma = np.sqrt(np.diag(s["centre_covariance_mm2"]))
+    assert (np.abs(s["centre_mm"] - truth["centre_mm"]) < 5 * sigma + 1e-4).all()
+
+
+def test_fit_sphere_recovers_a_noisy_sphere():
+    rng = np.random.default_rng(7)
+    centre, radius, noise = np.array([10.0, -20.0, 700.0]), 19.05, 0.005
+    # A cap seen from the origin (the front half), as a camera sees a ball.
+    v = rng.normal(size=(6000, 3))
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    v = v[v[:, 2] < 0]
+    points = centre + radius * v + rng.normal(scale=noise, size=v.shape)
+    fits = ramtk.fit_sphere(points, radius=radius)
+    assert len(fits) == 1
+    f = fits[0]
+    sigma = np.sqrt(np.diag(f["centre_covariance_mm2"]))
+    # Closed-form scale of the centre sigma for N points on a hemisphere: ~ noise * sqrt(3/N) per axis.
+    assert (sigma < 10 * noise * np.sqrt(3 / len(points))).all()
+    assert (np.abs(f["centre_mm"] - centre) < 5 * sigma).all()
+    assert f["radius_mm"] == pytest.approx(radius, abs=5 * f["radius_sigma_mm"] + 1e-6)
+    assert f["rms_mm"] == pytest.approx(noise, rel=0.1)
+
+
+def test_fit_sphere_rejects_bad_shapes():
+    with pytest.raises(ramtk.InputError) as e:
+        ramtk.fit_sphere(np.zeros((10, 2)))
+    assert e.value.field == "points"
+    with pytest.raises(ramtk.InputError):
+        ramtk.fit_sphere(np.zeros((10, 3)), sigma=np.ones(3))
+
+
+def test_stereo_calibration_reader(datasets):
+    c = ramtk.read_stereo_calibration(str(datasets / "scan_default" / "calibration.yml"))
+    assert c["left"]["K"][0, 0] == pytest.approx(4700.0)
+    assert c["left"]["width"] == 640
+    r = c["right_from_left"][:3, :3]
+    np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-9)
+
+
+def test_bad_manifest_names_the_file(scratch):
+    bad = scratch / "bad_manifest.json"
+    bad.write_text('{"projector": {"width": 0, "height": 10}}')
+    with pytest.raises(ramtk.InputError) as e:
+        ramtk.decode(str(bad))
+    assert e.value.file == str(bad)
