@@ -28,6 +28,7 @@ PACKAGES=(
   python3                  # bench/diagnose_independent_sweep.py and its ctest smoke run
   pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
   python3-numpy python3-pytest  # its arrays and its tests
+  parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
 )
 
 log() { printf '[setup] %s\n' "$*"; }

@@ -32,7 +32,8 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code);
 void RegisterDecodeCommand(CLI::App& app, int* exit_code);
 void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code);
 void RegisterDiagnoseCommand(CLI::App& app, int* exit_code);  // diagnose DATA
-void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch LIST
+void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch LIST [--shard K/N]
+void RegisterMergeCommand(CLI::App& app, int* exit_code);  // merge --batch LIST --out DIR
 void RegisterMeasureCommand(CLI::App& app, int* exit_code);  // measure --scans --log
 void RegisterCampaignCommand(CLI::App& app, int* exit_code);  // simulate campaign
 

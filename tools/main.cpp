@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterSimulateFringeCommand(app, &exit_code);
   ramtk::tools::RegisterDiagnoseCommand(app, &exit_code);
   ramtk::tools::RegisterScanCommand(app, &exit_code);
+  ramtk::tools::RegisterMergeCommand(app, &exit_code);
   ramtk::tools::RegisterMeasureCommand(app, &exit_code);
   ramtk::tools::RegisterCampaignCommand(app, &exit_code);
   using ramtk::tools::kExitBadInput;

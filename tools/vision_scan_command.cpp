@@ -2,6 +2,8 @@
 #include <malloc.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <iostream>
 #include <memory>
 
@@ -31,6 +33,7 @@ struct ScanCommandOptions {
   bool quiet = false;                         // no progress bar
   bool reference_decode = false;              // the reference (unfused) decode path
   bool full_search = false;                   // match every pixel by the whole-range search
+  std::string shard;                          // "K/N": scan only shard K of N of the batch
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -85,9 +88,22 @@ int RunScan(const ScanCommandOptions& opt) {
         ProgressBar(p.done, p.total);
         return true;
       };
-    const std::vector<ScanBatchRow> rows = RunScanBatch(sets, options, opt.out, opt.jobs, opt.force, progress);
+    // A shard scans every N-th set into the same folders a single run would, and writes its rows
+    // to results.shard-K-of-N.csv; `ramtk merge` joins the shards (docs/cluster.md).
+    std::vector<std::size_t> positions;
+    std::string results_name = "results.csv";
+    if (!opt.shard.empty()) {
+      const ScanShard shard = ParseScanShard(opt.shard);
+      positions = ShardPositions(sets.size(), shard);
+      results_name = ShardResultsName(shard);
+      if (positions.empty()) {
+        std::cout << "shard " << opt.shard << ": no set (the list has " << sets.size() << ")\n";
+      }
+    }
+    const std::vector<ScanBatchRow> rows =
+        RunScanBatch(sets, options, opt.out, opt.jobs, opt.force, progress, positions);
     const std::string csv = ScanBatchCsv(rows);
-    WriteFileAtomically(opt.out + "/results.csv", csv);
+    WriteFileAtomically(opt.out + "/" + results_name, csv);
     std::cout << csv;
     int bad = 0, none = 0;
     for (const ScanBatchRow& r : rows) {
@@ -95,7 +111,7 @@ int RunScan(const ScanCommandOptions& opt) {
       if (r.status == "no sphere found") ++none;
     }
     std::cout << "scanned " << rows.size() << " sets: " << rows.size() - bad - none << " ok, " << none
-              << " without a sphere, " << bad << " with errors; wrote " << opt.out << "/results.csv\n";
+              << " without a sphere, " << bad << " with errors; wrote " << opt.out << "/" << results_name << "\n";
     return bad ? kExitBadInput : none ? kExitNoSolution : kExitOk;
   }
 
@@ -148,7 +164,66 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--full-search", opt->full_search,
                 "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
                 "match (the reference; nearly the same matches, slower): for comparisons");
+  sub->add_option("--shard", opt->shard,
+                  "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
+                  "join the shards with `ramtk merge` (docs/cluster.md)");
   sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
+}
+
+namespace {
+
+struct MergeCommandOptions {
+  std::string batch;  // the batch list the shards ran
+  std::string out;    // the batch folder holding results.shard-K-of-N.csv
+  bool force = false;
+};
+
+int RunMerge(const MergeCommandOptions& opt) {
+  using namespace vision;
+  namespace fs = std::filesystem;
+  const std::vector<std::string> sets = ReadScanBatchList(opt.batch);
+  // Every results.shard-K-of-N.csv in the folder; they must be 1..N of one N.
+  std::map<int, std::string> files;
+  int count = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(opt.out, ec)) {
+    const std::string name = entry.path().filename().string();
+    int k = 0, n = 0;
+    char tail[8] = {0};
+    if (std::sscanf(name.c_str(), "results.shard-%d-of-%d.%7s", &k, &n, tail) != 3 || std::string(tail) != "csv") continue;
+    if (count != 0 && n != count)
+      throw InputError({entry.path().string(), 0, "--out"}, "shards of " + std::to_string(count) + " and of " +
+                                                               std::to_string(n) + " in one folder");
+    count = n;
+    files[k] = entry.path().string();
+  }
+  if (ec) throw InputError({opt.out, 0, "--out"}, "cannot list the folder: " + ec.message());
+  if (count == 0) throw InputError({opt.out, 0, "--out"}, "no results.shard-K-of-N.csv in the folder");
+  std::vector<std::string> ordered;
+  for (int k = 1; k <= count; ++k) {
+    if (!files.count(k))
+      throw InputError({opt.out + "/" + ShardResultsName({k, count}), 0, "--out"},
+                       "shard " + std::to_string(k) + " of " + std::to_string(count) + " has no results");
+    ordered.push_back(files[k]);
+  }
+  const std::string target = opt.out + "/results.csv";
+  if (fs::exists(target, ec) && !opt.force)
+    throw InputError({target, 0, "--out"}, "exists (pass --force to replace it)");
+  WriteFileAtomically(target, MergeScanShards(sets, ordered));
+  std::cout << "merged " << count << " shards, " << sets.size() << " sets, into " << target << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterMergeCommand(CLI::App& app, int* exit_code) {
+  auto opt = std::make_shared<MergeCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "merge", "Join the results of `ramtk scan --batch LIST --shard K/N` runs into one results.csv");
+  sub->add_option("--batch", opt->batch, "The batch list the shards ran")->required();
+  sub->add_option("--out", opt->out, "The batch folder with results.shard-K-of-N.csv")->required();
+  sub->add_flag("--force", opt->force, "Replace an existing results.csv");
+  sub->callback([opt, exit_code]() { *exit_code = RunMerge(*opt); });
 }
 
 }  // namespace ramtk::tools

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ramtk/campaign/controller_log.h"
+#include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
@@ -36,32 +37,6 @@ std::string ResolveBatchPath(const std::string& p, const fs::path& base) {
 }
 
 std::string SetId(const std::string& manifest) { return fs::path(manifest).parent_path().filename().string(); }
-
-// Splits one CSV line with RFC 4180 quotes (the scan batch quotes messages with commas).
-std::vector<std::string> SplitQuoted(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cells.back() += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c != '\r') {
-      cells.back() += c;
-    }
-  }
-  return cells;
-}
 
 bool CovarianceFromSpheresJson(const std::string& path, Mat3* cov) {
   std::error_code ec;
@@ -146,7 +121,7 @@ std::vector<CaptureCentre> ReadScanResults(const std::string& path) {
   while (std::getline(in, line)) {
     ++line_no;
     if (line.empty() || line == "\r" || line[0] == '#') continue;
-    const std::vector<std::string> cells = SplitQuoted(line);
+    const std::vector<std::string> cells = SplitCsvLine(line);
     if (header.empty()) {
       header = cells;
       for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = static_cast<int>(i);

@@ -9,7 +9,8 @@ ramtk_add_gtest(vision_scan_tests
   scan_ply_test.cpp
   scan_pipeline_test.cpp
   decode_fast_test.cpp
-  stereo_walk_test.cpp)
+  stereo_walk_test.cpp
+  scan_shard_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
 target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")

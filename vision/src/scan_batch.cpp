@@ -5,27 +5,19 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <sstream>
 
+#include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 
 namespace ramtk::vision {
 namespace fs = std::filesystem;
-namespace {
-
-std::string CsvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-  return q + "\"";
-}
-
-}  // namespace
-
 std::vector<std::string> ReadScanBatchList(const std::string& path) {
   std::istringstream in(ReadTextFile(path));
   std::vector<std::string> sets;
@@ -41,9 +33,53 @@ std::vector<std::string> ReadScanBatchList(const std::string& path) {
   return sets;
 }
 
-std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& sets, const ScanOptions& options,
+std::vector<std::size_t> ShardPositions(std::size_t num_sets, const ScanShard& shard) {
+  if (shard.count < 1 || shard.index < 1 || shard.index > shard.count) {
+    throw InputError({"", 0, "--shard"}, "expected K/N with 1 <= K <= N, got " + std::to_string(shard.index) + "/" +
+                                             std::to_string(shard.count));
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t i = static_cast<std::size_t>(shard.index - 1); i < num_sets; i += static_cast<std::size_t>(shard.count))
+    out.push_back(i);
+  return out;
+}
+
+ScanShard ParseScanShard(const std::string& text) {
+  ScanShard s;
+  const std::size_t slash = text.find('/');
+  char* end = nullptr;
+  bool ok = slash != std::string::npos;
+  if (ok) {
+    s.index = static_cast<int>(std::strtol(text.c_str(), &end, 10));
+    ok = end == text.c_str() + slash;
+  }
+  if (ok) {
+    s.count = static_cast<int>(std::strtol(text.c_str() + slash + 1, &end, 10));
+    ok = *end == '\0' && slash + 1 < text.size();
+  }
+  if (!ok || s.count < 1 || s.index < 1 || s.index > s.count)
+    throw InputError({"", 0, "--shard"}, "expected K/N with 1 <= K <= N (e.g. 2/4), got '" + text + "'");
+  return s;
+}
+
+std::string ShardResultsName(const ScanShard& shard) {
+  return "results.shard-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".csv";
+}
+
+std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& all_sets, const ScanOptions& options,
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
-                                       const ProgressCallback& progress) {
+                                       const ProgressCallback& progress, const std::vector<std::size_t>& positions) {
+  // The sets of this run and their positions in the full list (the folder prefix NNN_ is the
+  // position, so every shard writes the folder a single run would).
+  std::vector<std::size_t> position = positions;
+  if (position.empty()) {
+    for (std::size_t i = 0; i < all_sets.size(); ++i) position.push_back(i);
+  }
+  std::vector<std::string> sets;
+  for (std::size_t p : position) {
+    if (p >= all_sets.size()) throw InputError({"", 0, "positions"}, "set position beyond the list");
+    sets.push_back(all_sets[p]);
+  }
   options.Validate();
   if (parallel_sets < 1) throw InputError({"", 0, "--jobs"}, "must be >= 1");
   std::error_code ec;
@@ -59,7 +95,7 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& sets, con
       ScanBatchRow& row = rows[i];
       row.set = sets[i];
       char prefix[16];
-      std::snprintf(prefix, sizeof prefix, "%03zu_", i);
+      std::snprintf(prefix, sizeof prefix, "%03zu_", position[i]);
       const std::string name = fs::path(sets[i]).parent_path().filename().string();
       const std::string dir = (fs::path(out_dir) / (prefix + (name.empty() ? std::string("set") : name))).string();
       try {
@@ -95,7 +131,7 @@ std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows) {
   s << "set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,rms_mm,num_points,"
        "num_outliers,seconds,out_dir,message\n";
   for (const ScanBatchRow& r : rows) {
-    s << CsvField(r.set) << "," << r.status << "," << r.points << ",";
+    s << CsvQuote(r.set) << "," << r.status << "," << r.points << ",";
     if (r.has_sphere) {
       const Eigen::Vector3d sig = r.sphere.CentreSigma();
       s << r.sphere.centre_mm.x() << "," << r.sphere.centre_mm.y() << "," << r.sphere.centre_mm.z() << ","
@@ -104,9 +140,53 @@ std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows) {
     } else {
       s << ",,,,,,,,,,";
     }
-    s << r.seconds << "," << CsvField(r.out_dir) << "," << CsvField(r.message) << "\n";
+    s << r.seconds << "," << CsvQuote(r.out_dir) << "," << CsvQuote(r.message) << "\n";
   }
   return s.str();
+}
+
+std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files) {
+  if (shard_files.empty()) throw InputError({"", 0, "shards"}, "no shard results given");
+  std::string header;
+  // Rows of every shard, by set path; a set listed twice appears twice (taken in order).
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> rows;  // set -> (line, file)
+  for (const std::string& file : shard_files) {
+    std::istringstream in(ReadTextFile(file));
+    std::string line;
+    int line_no = 0;
+    while (std::getline(in, line)) {
+      ++line_no;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line.empty()) continue;
+      if (line_no == 1) {
+        if (header.empty()) header = line;
+        if (line != header) throw InputError({file, 1, ""}, "header differs from " + shard_files.front() + "'s");
+        continue;
+      }
+      rows[SplitCsvLine(line).front()].push_back({line, file + ":" + std::to_string(line_no)});
+    }
+    if (line_no == 0) throw InputError({file, 0, ""}, "empty shard results");
+  }
+  std::string out = header + "\n";
+  std::map<std::string, std::size_t> used;
+  for (const std::string& set : sets) {
+    auto it = rows.find(set);
+    std::size_t& k = used[set];
+    if (it == rows.end() || k >= it->second.size()) {
+      throw InputError({set, 0, "set"}, "missing from the shard results (" + std::to_string(shard_files.size()) +
+                                            " files): a shard did not run or did not finish");
+    }
+    out += it->second[k++].first + "\n";
+  }
+  for (const auto& [set, lines] : rows) {
+    const std::size_t listed = used.count(set) ? used[set] : 0;
+    if (lines.size() > listed) {
+      throw InputError({lines[listed].second, 0, "set"},
+                       listed == 0 ? "set '" + set + "' is not in the batch list"
+                                   : "set '" + set + "' appears more often than in the batch list (duplicated shard?)");
+    }
+  }
+  return out;
 }
 
 }  // namespace ramtk::vision

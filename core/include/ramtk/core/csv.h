@@ -26,6 +26,11 @@ class CsvTable {
 
 CsvTable ParseCsv(const std::string& text, const std::string& path);
 CsvTable ReadCsv(const std::string& path);
+// One CSV line split with RFC 4180 quotes ("a,""b""" is one cell a,"b); a trailing CR is dropped.
+std::vector<std::string> SplitCsvLine(const std::string& line);
+// A cell quoted when it holds a comma, a quote or a newline (quotes doubled, newlines as spaces).
+std::string CsvQuote(const std::string& cell);
+
 // A number with a fixed count of decimals ("%.*f"), for CSV cells.
 std::string FormatFixed(double value, int decimals);
 // Header and rows to CSV text (cells are written as given; no quoting).

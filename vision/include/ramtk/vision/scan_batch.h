@@ -26,12 +26,32 @@ struct ScanBatchRow {
 // empty or unreadable.
 std::vector<std::string> ReadScanBatchList(const std::string& path);
 
-// Scans every set, at most `parallel_sets` at a time, writing each into out_dir/NNN_<name>/
-// (name = the manifest's folder name). Bad input in one set is recorded in its row; the others
-// go on. `progress` is called (serialised) after each set with done/total sets.
+// Scans the sets, at most `parallel_sets` at a time, writing each into out_dir/NNN_<name>/ (NNN
+// = the set's position in `sets`, name = the manifest's folder name). `positions` (0-based, into
+// `sets`) restricts the run to those sets (a shard); empty: all. Bad input in one set is recorded
+// in its row; the others go on. `progress` is called (serialised) after each set.
 std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& sets, const ScanOptions& options,
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
-                                       const ProgressCallback& progress = {});
+                                       const ProgressCallback& progress = {},
+                                       const std::vector<std::size_t>& positions = {});
+
+// Shard K of N of a batch (`ramtk scan --batch LIST --shard K/N`, docs/cluster.md): 1-based.
+struct ScanShard {
+  int index = 1;  // K
+  int count = 1;  // N
+};
+// "K/N" -> ScanShard; InputError (field --shard) unless 1 <= K <= N.
+ScanShard ParseScanShard(const std::string& text);
+// The positions shard K of N scans: K-1, K-1+N, K-1+2N, ... (round robin, so sets of similar size
+// that are listed together spread over the shards). Deterministic; the shards cover every
+// position exactly once.
+std::vector<std::size_t> ShardPositions(std::size_t num_sets, const ScanShard& shard);
+// The shard's results file name in the batch folder: results.shard-K-of-N.csv.
+std::string ShardResultsName(const ScanShard& shard);
+// Joins shard results (ScanBatchCsv files) into the single-run results.csv text, rows in list
+// order. InputError naming the file when a header differs, a set of the list is missing, a set
+// appears more often than listed (a shard run twice) or is not in the list.
+std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files);
 
 // CSV text: header `set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,
 // rms_mm,num_points,num_outliers,seconds,out_dir,message` and one row per set.

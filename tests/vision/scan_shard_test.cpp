@@ -1,0 +1,67 @@
+// Shards of a scan batch (docs/cluster.md): every set in exactly one shard; merge refuses
+// missing, duplicated and foreign rows.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "ramtk/core/error.h"
+#include "ramtk/vision/scan_batch.h"
+
+namespace ramtk::vision {
+namespace {
+
+TEST(ScanShard, ShardsCoverEveryPositionExactlyOnce) {
+  for (std::size_t n_sets : {0u, 1u, 7u, 12u, 1800u}) {
+    for (int n : {1, 2, 3, 4, 7, 32}) {
+      std::multiset<std::size_t> seen;
+      std::size_t largest = 0, smallest = n_sets;
+      for (int k = 1; k <= n; ++k) {
+        const auto p = ShardPositions(n_sets, {k, n});
+        seen.insert(p.begin(), p.end());
+        largest = std::max(largest, p.size());
+        smallest = std::min(smallest, p.size());
+      }
+      ASSERT_EQ(seen.size(), n_sets);
+      for (std::size_t i = 0; i < n_sets; ++i) EXPECT_EQ(seen.count(i), 1u);
+      EXPECT_LE(largest - smallest, 1u);  // balanced within one set
+    }
+  }
+  EXPECT_EQ(ShardPositions(10, {2, 4}), (std::vector<std::size_t>{1, 5, 9}));
+}
+
+TEST(ScanShard, ParsesKOverN) {
+  const ScanShard s = ParseScanShard("3/8");
+  EXPECT_EQ(s.index, 3);
+  EXPECT_EQ(s.count, 8);
+  for (const char* bad : {"0/4", "5/4", "3", "a/b", "2/", "/2", "2/4x", "-1/4"}) {
+    EXPECT_THROW(ParseScanShard(bad), InputError) << bad;
+  }
+  EXPECT_EQ(ShardResultsName({2, 4}), "results.shard-2-of-4.csv");
+}
+
+TEST(ScanShard, MergeOrdersRowsAndRefusesGapsAndDuplicates) {
+  const std::filesystem::path d = std::filesystem::path(RAMTK_TEST_OUTPUT_DIR) / "shard_merge";
+  std::filesystem::create_directories(d);
+  const std::string header = "set,status,message";
+  auto write = [&](const std::string& name, const std::string& body) {
+    std::ofstream((d / name).string()) << header << "\n" << body;
+    return (d / name).string();
+  };
+  const std::string a = write("a.csv", "s0,ok,\ns2,ok,\n");
+  const std::string b = write("b.csv", "s1,error,\"bad, quoted\"\n");
+  const std::vector<std::string> sets = {"s0", "s1", "s2"};
+  EXPECT_EQ(MergeScanShards(sets, {a, b}), header + "\ns0,ok,\ns1,error,\"bad, quoted\"\ns2,ok,\n");
+  // A set listed twice needs two rows.
+  EXPECT_THROW(MergeScanShards({"s0", "s1", "s2", "s2"}, {a, b}), InputError);
+  // A shard missing, run twice, or a row of another batch.
+  EXPECT_THROW(MergeScanShards(sets, {a}), InputError);
+  EXPECT_THROW(MergeScanShards(sets, {a, b, b}), InputError);
+  EXPECT_THROW(MergeScanShards({"s0", "s2"}, {a, b}), InputError);
+  std::ofstream((d / "c.csv").string()) << "set,status\ns1,ok\n";
+  EXPECT_THROW(MergeScanShards(sets, {a, (d / "c.csv").string()}), InputError);  // header differs
+}
+
+}  // namespace
+}  // namespace ramtk::vision
