@@ -41,7 +41,7 @@ assert (np.abs(error_um) < 5 * sigma_um + 0.1).all(), "centre outside 5 sigma of
 
 # 3. The same cloud, the sphere fitted again from numpy (e.g. after your own filtering).
 near = points[np.linalg.norm(points[:, :3] - ball["centre_mm"], axis=1) < 30]
-refit = ramtk.fit_sphere(near[:, :3], sigma=near[:, 3], radius=19.05)[0]
+refit = ramtk.fit_sphere(near[:, :3], sigma=near[:, 3], radius_mm=19.05)[0]
 print(f"refit on {len(near)} points near the ball: radius {refit['radius_mm']:.4f} mm")
 assert abs(refit["radius_mm"] - truth["radius_mm"]) < 0.05
 

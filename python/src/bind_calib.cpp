@@ -13,12 +13,12 @@ namespace ramtk::python {
 void BindCalib(py::module_& m) {
   m.def(
       "calibrate_sensor_robot",
-      [](const std::string& robot, const std::string& measurements, bool weighted, double robot_noise_mm) {
+      [](const std::string& robot, const std::string& measurements, bool use_covariance, double robot_noise_mm) {
         const kinematics::RobotModel model = kinematics::ReadRobotModel(robot);
         const kinematics::RobotMeasurementSet set = kinematics::ReadRobotMeasurements(measurements);
         const std::vector<calib::BallObservation> obs = calib::BallObservationsFromMeasurements(set, measurements);
         calib::SensorRobotOptions o;
-        o.use_covariance = weighted;
+        o.use_covariance = use_covariance;
         o.robot_noise_mm = robot_noise_mm;
         calib::SensorRobotSummary summary;
         calib::SensorRobotCalibration r;
@@ -39,7 +39,8 @@ void BindCalib(py::module_& m) {
         d["report"] = summary.BriefReport();
         return d;
       },
-      py::arg("robot"), py::arg("measurements"), py::arg("weighted") = true, py::arg("robot_noise_mm") = 0.0,
+      py::arg("robot"), py::arg("measurements"), py::arg("use_covariance") = calib::SensorRobotOptions{}.use_covariance,
+      py::arg("robot_noise_mm") = calib::SensorRobotOptions{}.robot_noise_mm,
       "sensor_from_base (4×4, mm) and ball_in_flange (mm) with covariance from a ball measurement CSV");
 }
 

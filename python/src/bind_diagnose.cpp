@@ -51,7 +51,8 @@ void BindDiagnose(py::module_& m) {
         return d;
       },
       py::arg("data"), py::arg("model") = "", py::arg("with_") = std::vector<std::string>{}, py::arg("out") = "",
-      py::arg("folds") = 5, py::arg("noise") = 0.0, py::arg("alpha") = 1e-3, py::arg("seed") = 1,
+      py::arg("folds") = diagnose::DiagnoseOptions{}.folds, py::arg("noise") = diagnose::DiagnoseOptions{}.noise,
+      py::arg("alpha") = diagnose::DiagnoseOptions{}.alpha, py::arg("seed") = diagnose::DiagnoseOptions{}.seed,
       "What the simulation gets wrong on measured data (fringe manifest, robot CSV, laser log): the diagnosis dict");
 }
 

@@ -111,8 +111,8 @@ void BindThermal(py::module_& m) {
         d["table"] = FormatEliminationTable(s);
         return d;
       },
-      py::arg("robot"), py::arg("setup"), py::arg("ball"), py::arg("monitoring"), py::arg("keep") = 0,
-      py::arg("heldout_z") = 1.0,
+      py::arg("robot"), py::arg("setup"), py::arg("ball"), py::arg("monitoring"),
+      py::arg("keep") = ScreeningOptions{}.keep, py::arg("heldout_z") = ScreeningOptions{}.heldout_z,
       "Screens the drifting parameters (thesis §3.2; keep=0 chooses the count by held-out error)");
 }
 

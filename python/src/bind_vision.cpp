@@ -52,11 +52,11 @@ py::dict DecodedToPython(const vision::DecodedCamera& d) {
 void BindVision(py::module_& m) {
   m.def(
       "decode",
-      [](const std::string& manifest, const std::string& camera, double min_modulation, double sigma_intensity,
-         bool correct_nonlinearity) {
+      [](const std::string& manifest, const std::string& camera, double min_modulation_fraction,
+         double intensity_sigma_dn, bool correct_nonlinearity) {
         vision::DecodeOptions o;
-        o.min_modulation_fraction = min_modulation;
-        o.intensity_sigma_dn = sigma_intensity;
+        o.min_modulation_fraction = min_modulation_fraction;
+        o.intensity_sigma_dn = intensity_sigma_dn;
         o.correct_nonlinearity = correct_nonlinearity;
         o.Validate();
         vision::DecodedCamera d;
@@ -66,22 +66,24 @@ void BindVision(py::module_& m) {
         }
         return DecodedToPython(d);
       },
-      py::arg("manifest"), py::arg("camera") = "left", py::arg("min_modulation") = 0.02,
-      py::arg("sigma_intensity") = 0.0, py::arg("correct_nonlinearity") = true,
+      py::arg("manifest"), py::arg("camera") = "left",
+      py::arg("min_modulation_fraction") = vision::DecodeOptions{}.min_modulation_fraction,
+      py::arg("intensity_sigma_dn") = vision::DecodeOptions{}.intensity_sigma_dn,
+      py::arg("correct_nonlinearity") = vision::DecodeOptions{}.correct_nonlinearity,
       "Decodes one camera of a fringe set: dict of numpy arrays (coordinate in projector px, NaN invalid; wrapped, "
       "background, modulation in DN; mask 0/255; sigma_phase rad; sigma_coordinate px) and 'summary'");
 
   m.def(
       "scan",
-      [](const std::string& manifest, const std::string& calibration, double radius, bool fix_radius, int spheres,
-         double min_depth, double max_depth) {
+      [](const std::string& manifest, const std::string& calibration_path, double radius_mm, bool fix_radius,
+         int max_spheres, double min_depth_mm, double max_depth_mm) {
         vision::ScanOptions o;
-        o.calibration_path = calibration;
-        o.sphere.radius_mm = radius;
+        o.calibration_path = calibration_path;
+        o.sphere.radius_mm = radius_mm;
         o.sphere.fix_radius = fix_radius;
-        o.sphere.max_spheres = spheres;
-        o.match.min_depth_mm = min_depth;
-        o.match.max_depth_mm = max_depth;
+        o.sphere.max_spheres = max_spheres;
+        o.match.min_depth_mm = min_depth_mm;
+        o.match.max_depth_mm = max_depth_mm;
         o.Validate();
         vision::ScanResult r;
         {
@@ -103,15 +105,19 @@ void BindVision(py::module_& m) {
         out["summary"] = JsonToPython(vision::ScanSummaryToJson(r.summary));
         return out;
       },
-      py::arg("manifest"), py::arg("calibration") = "", py::arg("radius") = 19.05, py::arg("fix_radius") = false,
-      py::arg("spheres") = 1, py::arg("min_depth") = 100.0, py::arg("max_depth") = 10000.0,
+      py::arg("manifest"), py::arg("calibration_path") = vision::ScanOptions{}.calibration_path,
+      py::arg("radius_mm") = vision::ScanOptions{}.sphere.radius_mm,
+      py::arg("fix_radius") = vision::ScanOptions{}.sphere.fix_radius,
+      py::arg("max_spheres") = vision::ScanOptions{}.sphere.max_spheres,
+      py::arg("min_depth_mm") = vision::ScanOptions{}.match.min_depth_mm,
+      py::arg("max_depth_mm") = vision::ScanOptions{}.match.max_depth_mm,
       "Scans a stereo fringe set: 'points' N×5 (x, y, z mm in the left-camera frame, sigma mm, quality), 'depth' "
       "(z per left pixel, NaN none), 'spheres' (centre, radius, centre covariance), 'summary'");
 
   m.def(
       "fit_sphere",
-      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, py::object sigma, double radius,
-         bool fix_radius, int spheres, std::uint64_t seed, int min_points) {
+      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, py::object sigma,
+         double radius_mm, bool fix_radius, int max_spheres, std::uint64_t seed, int min_points) {
         if (points.ndim() != 2 || points.shape(1) != 3) throw InputError({"", 0, "points"}, "expected an N×3 array");
         std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
         auto p = points.unchecked<2>();
@@ -124,9 +130,9 @@ void BindVision(py::module_& m) {
           for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
         }
         vision::SphereFitOptions o;
-        o.radius_mm = radius;
+        o.radius_mm = radius_mm;
         o.fix_radius = fix_radius;
-        o.max_spheres = spheres;
+        o.max_spheres = max_spheres;
         o.seed = seed;
         o.min_points = min_points;
         o.Validate();
@@ -137,31 +143,27 @@ void BindVision(py::module_& m) {
         }
         return SpheresToPython(s);
       },
-      py::arg("points"), py::arg("sigma") = py::none(), py::arg("radius") = 0.0, py::arg("fix_radius") = false,
-      py::arg("spheres") = 1, py::arg("seed") = 1, py::arg("min_points") = 200,
-      "Finds up to `spheres` spheres in an N×3 cloud (mm): list of dicts with centre_mm, radius_mm, "
+      py::arg("points"), py::arg("sigma") = py::none(), py::arg("radius_mm") = vision::SphereFitOptions{}.radius_mm,
+      py::arg("fix_radius") = vision::SphereFitOptions{}.fix_radius,
+      py::arg("max_spheres") = vision::SphereFitOptions{}.max_spheres,
+      py::arg("seed") = vision::SphereFitOptions{}.seed, py::arg("min_points") = vision::SphereFitOptions{}.min_points,
+      "Finds up to `max_spheres` spheres in an N×3 cloud (mm): list of dicts with centre_mm, radius_mm, "
       "centre_covariance_mm2, rms_mm, num_points");
 
-  m.def(
-      "read_stereo_calibration",
-      [](const std::string& path) {
-        const vision::StereoCalibration c = vision::ReadStereoCalibration(path);
-        auto camera = [](const vision::CameraIntrinsics& k) {
-          py::dict d;
-          d["K"] = ToArray(k.K());
-          d["width"] = k.width;
-          d["height"] = k.height;
-          return d;
-        };
-        py::dict out;
-        out["left"] = camera(c.left);
-        out["right"] = camera(c.right);
-        out["right_from_left"] = ToArray(c.right_from_left.matrix());
-        out["rms_px"] = c.rms_px;
-        out["parameter_std"] = c.parameter_std;
-        return out;
-      },
-      py::arg("path"), "Reads a stereo calibration (YAML/JSON): K, image size, right_from_left (mm), RMS");
+  py::class_<vision::StereoCalibration>(m, "StereoCalibration",
+                                        "A stereo calibration (the file of `ramtk calib cameras`, OpenCV YAML / JSON)")
+      .def_static("read", &vision::ReadStereoCalibration, py::arg("path"))
+      .def("write", [](const vision::StereoCalibration& c, const std::string& path) { vision::WriteStereoCalibration(path, c); },
+           py::arg("path"), "Writes YAML, or JSON when the path ends in .json (atomically)")
+      .def_property_readonly("left_K", [](const vision::StereoCalibration& c) { return ToArray(c.left.K()); })
+      .def_property_readonly("right_K", [](const vision::StereoCalibration& c) { return ToArray(c.right.K()); })
+      .def_property_readonly("image_size",
+                             [](const vision::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
+      .def_property_readonly("right_from_left",
+                             [](const vision::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
+                             "4×4, translation in mm")
+      .def_readonly("rms_px", &vision::StereoCalibration::rms_px)
+      .def_readonly("parameter_std", &vision::StereoCalibration::parameter_std);
 
   m.def(
       "simulate_fringe",

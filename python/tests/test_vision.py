@@ -53,7 +53,7 @@ def test_fit_sphere_recovers_a_noisy_sphere():
     v /= np.linalg.norm(v, axis=1, keepdims=True)
     v = v[v[:, 2] < 0]
     points = centre + radius * v + rng.normal(scale=noise, size=v.shape)
-    fits = ramtk.fit_sphere(points, radius=radius)
+    fits = ramtk.fit_sphere(points, radius_mm=radius)
     assert len(fits) == 1
     f = fits[0]
     sigma = np.sqrt(np.diag(f["centre_covariance_mm2"]))
@@ -72,12 +72,25 @@ def test_fit_sphere_rejects_bad_shapes():
         ramtk.fit_sphere(np.zeros((10, 3)), sigma=np.ones(3))
 
 
-def test_stereo_calibration_reader(datasets):
-    c = ramtk.read_stereo_calibration(str(datasets / "scan_default" / "calibration.yml"))
-    assert c["left"]["K"][0, 0] == pytest.approx(4700.0)
-    assert c["left"]["width"] == 640
-    r = c["right_from_left"][:3, :3]
+def test_stereo_calibration_round_trip(datasets, scratch):
+    c = ramtk.StereoCalibration.read(str(datasets / "scan_default" / "calibration.yml"))
+    assert c.left_K[0, 0] == pytest.approx(4700.0)  # the file's value
+    assert c.image_size == (640, 512)
+    r = c.right_from_left[:3, :3]
     np.testing.assert_allclose(r @ r.T, np.eye(3), atol=1e-9)
+    for name in ("copy.yml", "copy.json"):
+        c.write(str(scratch / name))
+        d = ramtk.StereoCalibration.read(str(scratch / name))
+        np.testing.assert_allclose(d.left_K, c.left_K, rtol=1e-12)
+        np.testing.assert_allclose(d.right_from_left, c.right_from_left, rtol=1e-12, atol=1e-12)
+
+
+def test_keyword_defaults_are_the_cpp_defaults():
+    import inspect
+
+    doc = ramtk.scan.__doc__
+    assert "radius_mm: float = 19.05" in doc and "min_depth_mm: float = 100.0" in doc
+    assert "min_modulation_fraction: float = 0.02" in ramtk.decode.__doc__
 
 
 def test_bad_manifest_names_the_file(scratch):
