@@ -51,6 +51,22 @@ py::dict DecodedToPython(const vision::DecodedCamera& d) {
 
 void BindVision(py::module_& m) {
   m.def(
+      "read_manifest",
+      [](const std::string& path) {
+        const vision::FringeManifest mf = vision::ReadFringeManifest(path);
+        py::dict d = JsonToPython(vision::FringeManifestToJson(mf));
+        py::dict resolved;
+        for (const auto& [camera, files] : mf.cameras) {
+          std::vector<std::string> paths;
+          for (const std::string& f : files) paths.push_back(mf.Resolve(f));
+          resolved[py::str(camera)] = paths;
+        }
+        d["resolved_images"] = resolved;
+        return d;
+      },
+      py::arg("path"), "A fringe-set manifest as a dict (validated), plus each camera's image paths resolved");
+
+  m.def(
       "decode",
       [](const std::string& manifest, const std::string& camera, double min_modulation_fraction,
          double intensity_sigma_dn, bool correct_nonlinearity) {

@@ -1,6 +1,7 @@
 """Decode, scan and sphere fitting against the ramtk command on the same set, the simulator's
 truth and closed forms; numpy arrays share the C++ buffers."""
 import json
+import pathlib
 
 import numpy as np
 import pytest
@@ -91,6 +92,13 @@ def test_keyword_defaults_are_the_cpp_defaults():
     doc = ramtk.scan.__doc__
     assert "radius_mm: float = 19.05" in doc and "min_depth_mm: float = 100.0" in doc
     assert "min_modulation_fraction: float = 0.02" in ramtk.decode.__doc__
+
+
+def test_manifest_reader(default_set):
+    m = ramtk.read_manifest(str(default_set))
+    assert len(m["resolved_images"]["left"]) == 19
+    assert all(pathlib.Path(p).exists() for p in m["resolved_images"]["right"])
+    assert m["sequence"][0]["type"] == "phase_shift"
 
 
 def test_bad_manifest_names_the_file(scratch):
