@@ -33,6 +33,7 @@ struct ScanCommandOptions {
   bool quiet = false;                         // no progress bar
   bool reference_decode = false;              // the reference (unfused) decode path
   bool full_search = false;                   // match every pixel by the whole-range search
+  bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
   std::string shard;                          // "K/N": scan only shard K of N of the batch
 };
 
@@ -64,6 +65,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.match.min_depth_mm = opt.min_depth;
   options.match.max_depth_mm = opt.max_depth;
   options.decode.reference_path = opt.reference_decode;
+  options.decode.correct_nonlinearity = !opt.no_nonlinearity;
   options.match.full_search = opt.full_search;
   options.Validate();
 
@@ -164,6 +166,7 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--full-search", opt->full_search,
                 "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
                 "match (the reference; nearly the same matches, slower): for comparisons");
+  sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity (as decode)");
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");

@@ -1,10 +1,13 @@
 // ramtk simulate fringe: render a stereo fringe image set with its calibration and ground truth.
+#include <cmath>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
 #include "commands.h"
 #include "ramtk/core/parse.h"
+#include "ramtk/core/units.h"
 #include "ramtk/vision/fringe_simulator.h"
 
 namespace ramtk::tools {
@@ -24,6 +27,7 @@ struct SimulateFringeOptions {
   std::string direction = "vertical";  // fringe direction
   std::string calibration;             // cameras from a stereo calibration file instead of the preset
   std::string sequence;                // pattern sequence spec ("" = the preset's)
+  double phase_at_origin_deg = std::numeric_limits<double>::quiet_NaN();  // phase at projector pixel 0 of every phase block (NaN: keep)
   bool no_noise = false;               // noiseless images
   bool force = false;                  // replace an existing output folder
   bool quiet = false;                  // no progress on stderr
@@ -76,6 +80,11 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
                               : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
   if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
+  if (std::isfinite(opt.phase_at_origin_deg)) {
+    if (!(std::abs(opt.phase_at_origin_deg) <= 360.0))
+      throw InputError({"", 0, "--phase-at-origin"}, "must be within [-360, 360] degrees");
+    for (auto& b : config.sequence) b.phase_at_origin_rad = DegToRad(opt.phase_at_origin_deg);
+  }
   config.sensor.bits = opt.bits;
   config.sensor.noise = !opt.no_noise;
   config.supersampling = opt.supersampling;
@@ -142,6 +151,8 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "Pattern sequence, e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
                   "het:4:70/64/59 (ps = phase shift STEPS:CYCLES, gc/cgc = (complementary) Gray code BITS, "
                   "het = heterodyne STEPS:CYCLES/...)");
+  sub->add_option("--phase-at-origin", opt->phase_at_origin_deg,
+                  "Phase at projector pixel 0 of every phase-shift block, degrees (default: the sequence's, -180)");
   sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");
   sub->add_flag("--no-backdrop", opt->no_backdrop, "Remove the backdrop plane");
   sub->add_option("--direction", opt->direction, "Fringe direction: vertical (codes projector x) or horizontal")

@@ -5,6 +5,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "numpy_convert.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode.h"
@@ -50,6 +52,18 @@ py::dict DecodedToPython(const vision::DecodedCamera& d) {
 }  // namespace
 
 void BindVision(py::module_& m) {
+  m.def(
+      "read_image",
+      [](const std::string& path) {
+        // Any single-channel image OpenCV reads as stored: 8/16-bit camera frames, the float TIFF
+        // / EXR maps of `ramtk decode` and of the simulator's truth.
+        cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
+        if (img.empty()) throw InputError({path, 0, ""}, "cannot read the image");
+        if (img.channels() != 1) throw InputError({path, 0, ""}, "expected a single-channel image");
+        return MatToArray(img);
+      },
+      py::arg("path"), "A single-channel image as stored (uint8, uint16 or float32 array)");
+
   m.def(
       "read_manifest",
       [](const std::string& path) {
