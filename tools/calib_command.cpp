@@ -104,6 +104,9 @@ struct SimulateSensorRobotOptions {
 };
 
 int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
+  CheckOutputsDistinct({{"--output", opt.csv_path}, {"--truth", opt.truth_path}});
+  CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
+  CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path}, "--truth");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   calib::SensorRobotSimOptions o;
   o.num_poses = opt.poses;
@@ -230,6 +233,7 @@ struct HandEyeCommandOptions {
 };
 
 int RunHandEye(const HandEyeCommandOptions& opt) {
+  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   const std::vector<calib::BoardPoseObservation> obs = calib::ReadBoardPoseObservations(opt.poses_path);
   calib::HandEyeOptions o;

@@ -117,9 +117,17 @@ LoadedExperiment Load(const ExperimentInputs& in) {
   CycleOptions co;
   co.reference_cycle = in.reference_cycle;
   co.joint_tolerance_deg = in.joint_tolerance_deg;
-  e.ball = GroupCycles(kinematics::ReadRobotMeasurements(in.ball_path), in.ball_path, co);
+  const kinematics::RobotMeasurementSet ball = kinematics::ReadRobotMeasurements(in.ball_path);
+  if (ball.kind != kinematics::MeasurementKind::kBall)
+    throw InputError({in.ball_path, 1, "pose"}, "not a ball file: expected a 'pose' column (this one has 'point': "
+                                                "a monitoring file?)");
+  e.ball = GroupCycles(ball, in.ball_path, co);
   if (!in.monitoring_path.empty()) {
-    e.monitoring = GroupCycles(kinematics::ReadRobotMeasurements(in.monitoring_path), in.monitoring_path, co);
+    const kinematics::RobotMeasurementSet mon = kinematics::ReadRobotMeasurements(in.monitoring_path);
+    if (mon.kind != kinematics::MeasurementKind::kMonitoring)
+      throw InputError({in.monitoring_path, 1, "point"}, "not a monitoring file: expected a 'point' column (this one "
+                                                          "has 'pose': a ball file?)");
+    e.monitoring = GroupCycles(mon, in.monitoring_path, co);
     e.has_monitoring = true;
   }
   return e;

@@ -1,5 +1,7 @@
 #include "ramtk/calib/hand_eye.h"
 
+#include <Eigen/Geometry>
+
 #include <ceres/ceres.h>
 
 #include <cmath>
@@ -98,6 +100,26 @@ HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const 
     t_world2cam.push_back(ToCvT(o.camera_from_board.translation()));
     r_base2gripper.push_back(ToCvR(flange.back().linear()));
     t_base2gripper.push_back(ToCvT(flange.back().translation()));
+  }
+  // The rotation part is observable only from rotations about at least two different axes; with
+  // fewer, OpenCV's closed forms divide by zero (a "determinant is null" exception).
+  {
+    std::vector<Vec3> axes;
+    double largest_deg = 0.0;
+    for (std::size_t i = 1; i < flange.size(); ++i) {
+      const Eigen::AngleAxisd rel(flange[0].linear().transpose() * flange[i].linear());
+      largest_deg = std::max(largest_deg, RadToDeg(rel.angle()));
+      if (RadToDeg(rel.angle()) > 1.0) axes.push_back(rel.axis());
+    }
+    bool two_axes = false;
+    for (std::size_t i = 0; i < axes.size() && !two_axes; ++i)
+      for (std::size_t j = i + 1; j < axes.size() && !two_axes; ++j)
+        two_axes = std::abs(axes[i].dot(axes[j])) < std::cos(DegToRad(5.0));
+    if (!two_axes) {
+      throw InputError({"", 0, "poses"}, "the flange orientations do not vary enough (largest rotation from the first "
+                                         "pose " + std::to_string(largest_deg) + " deg): hand-eye needs rotations "
+                                         "of more than 1 deg about at least two axes 5 deg apart");
+    }
   }
   cv::Mat r_board_from_flange, t_board_from_flange, r_cam_from_base, t_cam_from_base;
   cv::calibrateRobotWorldHandEye(

@@ -17,7 +17,11 @@ const char* IndexColumn(MeasurementKind kind) { return kind == MeasurementKind::
 }  // namespace
 
 RobotMeasurementSet ReadRobotMeasurements(const std::string& path) {
-  const CsvTable t = ReadCsv(path);
+  return ParseRobotMeasurements(ReadTextFile(path), path);
+}
+
+RobotMeasurementSet ParseRobotMeasurements(const std::string& text, const std::string& path) {
+  const CsvTable t = ParseCsv(text, path);
   RobotMeasurementSet set;
   const int pose_col = t.Column("pose", false);
   const int point_col = t.Column("point", false);

@@ -204,8 +204,9 @@ void FringeManifest::Validate() const {
   }
 }
 
-FringeManifest ReadFringeManifest(const std::string& path) {
-  const std::string text = ReadTextFile(path);
+FringeManifest ReadFringeManifest(const std::string& path) { return ParseFringeManifest(ReadTextFile(path), path); }
+
+FringeManifest ParseFringeManifest(const std::string& text, const std::string& path) {
   json j;
   try {
     j = json::parse(text);

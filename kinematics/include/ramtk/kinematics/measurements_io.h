@@ -36,6 +36,8 @@ struct RobotMeasurementSet {
 // Reads either kind (decided by the presence of a `pose` or `point` column). InputError names
 // the file, line and column of anything malformed.
 RobotMeasurementSet ReadRobotMeasurements(const std::string& path);
+// The same from the file's text (`path` names it in errors).
+RobotMeasurementSet ParseRobotMeasurements(const std::string& text, const std::string& path);
 
 // Plausibility limits of ReadRobotMeasurements: a value beyond them is an InputError naming the
 // file, line, column and the limit (a corrupt file must not reach the solvers).

@@ -77,6 +77,8 @@ inline constexpr int kMaxProjectorSide = 16384;
 
 // Reads and validates a manifest. InputError names the file and the field.
 FringeManifest ReadFringeManifest(const std::string& path);
+// The same from the file's text; `path` names the file in errors and anchors relative paths.
+FringeManifest ParseFringeManifest(const std::string& text, const std::string& path);
 // JSON text of a manifest (the inverse of ReadFringeManifest).
 std::string FringeManifestToJson(const FringeManifest& manifest);
 // Writes the manifest atomically.
