@@ -10,6 +10,8 @@
 #include "ramtk/core/parse.h"
 
 namespace ramtk {
+std::vector<std::string> SplitCsvLine(const std::string& line);
+
 namespace {
 
 std::string Trim(const std::string& s) {
@@ -19,12 +21,10 @@ std::string Trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+// Cells with RFC 4180 quotes (a quoted cell may hold commas), each trimmed.
 std::vector<std::string> SplitCells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::stringstream ss(line);
-  while (std::getline(ss, cell, ',')) cells.push_back(Trim(cell));
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  std::vector<std::string> cells = SplitCsvLine(line);
+  for (std::string& c : cells) c = Trim(c);
   return cells;
 }
 

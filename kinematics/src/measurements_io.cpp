@@ -68,7 +68,19 @@ RobotMeasurementSet ParseRobotMeasurements(const std::string& text, const std::s
     const double y = bounded(r, y_col, kMaxAbsPositionMm, "kMaxAbsPositionMm");
     const double z = bounded(r, z_col, kMaxAbsPositionMm, "kMaxAbsPositionMm");
     m.position_mm = Vec3(x, y, z);
-    for (int c : extra_cols) m.extra[t.header[c]] = t.Number(r, c);
+    for (int c : extra_cols) {
+      const std::string& name = t.header[c];
+      const bool must_be_number = name.rfind("cov_", 0) == 0 || name.rfind("temp_", 0) == 0;
+      if (must_be_number) {
+        m.extra[name] = t.Number(r, c);
+      } else {
+        try {
+          m.extra[name] = t.Number(r, c);
+        } catch (const InputError&) {
+          m.extra_text[name] = t.Text(r, c);
+        }
+      }
+    }
     m.line = t.line_numbers[r];
     set.rows.push_back(std::move(m));
   }
@@ -88,7 +100,10 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
     for (int i = 0; i < 3; ++i) cells.push_back(FormatFixed(m.position_mm[i], 6));
     for (const std::string& name : set.extra_columns) {
       const auto it = m.extra.find(name);
-      if (it == m.extra.end()) {
+      const auto text = m.extra_text.find(name);
+      if (text != m.extra_text.end()) {
+        cells.push_back(CsvQuote(text->second));
+      } else if (it == m.extra.end()) {
         cells.push_back("nan");
       } else {
         char buf[64];

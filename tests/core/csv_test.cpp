@@ -46,6 +46,14 @@ TEST(Csv, Utf8ByteOrderMarkIsNotPartOfTheFirstColumn) {
   EXPECT_EQ(t.line_numbers[0], 2);
 }
 
+TEST(Csv, QuotedCellsMayHoldCommasAndQuotes) {
+  const CsvTable t = ParseCsv("set,note\na,\"x, \"\"y\"\"\"\n", "q.csv");
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_EQ(t.Text(0, 1), "x, \"y\"");
+  EXPECT_EQ(CsvQuote("x, \"y\""), "\"x, \"\"y\"\"\"");
+  EXPECT_EQ(SplitCsvLine(CsvQuote("a,b") + ",c"), (std::vector<std::string>{"a,b", "c"}));
+}
+
 TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemporary) {
   const std::string path = ::testing::TempDir() + "/atomic.txt";
   WriteFileAtomically(path, "one");

@@ -54,5 +54,32 @@ TEST(MeasurementsIo, MalformedNamesLineAndColumn) {
   std::remove(path.c_str());
 }
 
+TEST(MeasurementsIo, TextColumnsAreCarriedThroughAndLimitsNamed) {
+  // docs/formats.md: extra columns are carried through; a note or an operator name is text.
+  const std::string text =
+      "cycle,time_s,pose,q1,q2,q3,q4,q5,q6,x,y,z,operator,note\n"
+      "0,0,1,0,0,0,0,0,0,1,2,3,alice,\"warm-up, 2nd try\"\n"
+      "0,1,2,0,0,0,0,0,0,1,2,3,bob,\n";
+  const RobotMeasurementSet set = ParseRobotMeasurements(text, "notes.csv");
+  ASSERT_EQ(set.rows.size(), 2u);
+  EXPECT_EQ(set.rows[0].extra_text.at("operator"), "alice");
+  EXPECT_EQ(set.rows[0].extra_text.at("note"), "warm-up, 2nd try");
+  const RobotMeasurementSet again = ParseRobotMeasurements(FormatRobotMeasurements(set), "again.csv");
+  EXPECT_EQ(again.rows[0].extra_text.at("note"), "warm-up, 2nd try");
+  EXPECT_EQ(again.rows[1].extra_text.at("operator"), "bob");
+  // The columns ramtk reads stay numeric, and values beyond the plausible range are named.
+  EXPECT_THROW(ParseRobotMeasurements("cycle,time_s,pose,q1,q2,q3,q4,q5,q6,x,y,z,temp_j1\n0,0,1,0,0,0,0,0,0,1,2,3,hot\n",
+                                      "t.csv"),
+               InputError);
+  try {
+    ParseRobotMeasurements("cycle,time_s,pose,q1,q2,q3,q4,q5,q6,x,y,z\n0,0,1,0,0,0,0,0,0,1,2,1e6\n", "far.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_EQ(e.where().field, "z");
+    EXPECT_NE(std::string(e.what()).find("kMaxAbsPositionMm"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace ramtk::kinematics

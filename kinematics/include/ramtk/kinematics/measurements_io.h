@@ -22,6 +22,9 @@ struct RobotMeasurement {
   JointVector q_controller = JointVector::Zero();  // rad
   Vec3 position_mm = Vec3::Zero();        // ball_in_sensor, or the monitored point in the tool sensor
   std::map<std::string, double> extra;    // extra numeric columns by name
+  // Extra cells that are not numbers (an operator's name, a note), carried through as text. The
+  // columns ramtk reads (cov_*, temp_j*) must be numbers.
+  std::map<std::string, std::string> extra_text;
   int line = 0;                           // 1-based line in the file it came from (0 if none)
 };
 
