@@ -88,7 +88,13 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
   }
   for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("wrote %s\n", opt.output_path.c_str());
-  return summary.termination == calib::SensorRobotTermination::kFailed ? kExitNoSolution : kExitOk;
+  if (summary.termination != calib::SensorRobotTermination::kConverged) {
+    // The result file is written for diagnosis, but it is not a solution: say so, exit 3.
+    std::fprintf(stderr, "ramtk: error: the calibration did not converge (%s); %s holds the last iterate\n",
+                 calib::TerminationName(summary.termination), opt.output_path.c_str());
+    return kExitNoSolution;
+  }
+  return kExitOk;
 }
 
 struct SimulateSensorRobotOptions {

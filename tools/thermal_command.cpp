@@ -214,6 +214,14 @@ int RunIdentify(const IdentifyOptions& opt) {
   for (int p : params) std::cout << " " << kinematics::ParamName(p) << Fmt("=%.5f", ToFileUnits(p, x(p, last)));
   std::cout << "\n";
   if (!opt.out_path.empty()) std::cout << "wrote " << opt.out_path << "\n";
+  if (s.rank < static_cast<int>(params.size())) {
+    // Not a unique solution: the values written are the minimum-norm one of many. Say so and
+    // exit with "no solution" (3), as every command does for a non-success result.
+    std::cerr << "ramtk: error: rank deficient (" << s.rank << " of " << params.size()
+              << " parameters identifiable with these poses): the drift is not unique; drop the parameters named above "
+                 "or add poses\n";
+    return kExitNoSolution;
+  }
   return kExitOk;
 }
 
