@@ -339,12 +339,21 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   out->sigma = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->tu = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->tv = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-  const int chunk = 64;
+  // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
+  // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
+  // start as good as the left neighbour's). The blocks do not depend on the thread count, so
+  // the result is deterministic.
+  const int chunk = 64, kBlock = 16;
   for (int r0 = 0; r0 < H; r0 += chunk) {
     const int r1 = std::min(H, r0 + chunk);
-    tbb::parallel_for(tbb::blocked_range<int>(r0, r1), [&](const tbb::blocked_range<int>& range) {
+    const int blocks = (r1 - r0 + kBlock - 1) / kBlock;
+    tbb::parallel_for(0, blocks, [&](int b) {
       std::vector<Matcher::Root> roots;
-      for (int y = range.begin(); y < range.end(); ++y) {
+      std::vector<double> w_up(W, kNaN), w_row(W, kNaN);
+      const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
+      for (int y = yb; y < ye; ++y) {
+        std::swap(w_up, w_row);
+        std::fill(w_row.begin(), w_row.end(), kNaN);
         Matcher m{p};
         double w_prev = std::numeric_limits<double>::quiet_NaN();
         Vec2 ideal_prev(kNaN, kNaN);
@@ -373,9 +382,13 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           m.SetRange();
           Matcher::Root root;
           bool found = false, any = false;
-          if (!p.full_search && std::isfinite(w_prev) && m.LocalSearch(w_prev, &root)) {
-            any = true;
-            found = m.Accept(root, p.src_modulation.at<float>(y, x), x, y);
+          if (!p.full_search) {
+            // Start from the left neighbour's match; at a run start from the row above's.
+            const double w_seed = std::isfinite(w_prev) ? w_prev : w_up[x];
+            if (std::isfinite(w_seed) && m.LocalSearch(w_seed, &root)) {
+              any = true;
+              found = m.Accept(root, p.src_modulation.at<float>(y, x), x, y);
+            }
           }
           if (!found) {
             ++full;
@@ -403,6 +416,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           }
           ++matched;
           w_prev = root.w;
+          w_row[x] = root.w;
           // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
           const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
           const double h = 1e-3 / std::max(1e-12, m.Speed(root.w));

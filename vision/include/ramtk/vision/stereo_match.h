@@ -45,7 +45,8 @@ struct StereoMatchOptions {
   double search_step_px = 2.0;
   // Reference search: every pixel is searched over the whole depth range. false (the default):
   // a pixel whose left neighbour matched walks from that neighbour's depth to the equal-coordinate
-  // crossing (the coordinate is monotone along the curve, so a few samples), and falls back to
+  // crossing (the coordinate is monotone along the curve, so a few samples); a run start walks
+  // from the match of the pixel above (rows run in fixed blocks of 16, each in order); it falls back to
   // the whole-range search only if the walk finds no crossing or its crossing is rejected by the
   // modulation or left-right check. Both give the same matches (ctest StereoWalk.*).
   bool full_search = false;
