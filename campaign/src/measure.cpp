@@ -44,7 +44,7 @@ bool CovarianceFromSpheresJson(const std::string& path, Mat3* cov) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(ReadTextFile(path));
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
   }
   const nlohmann::json* c = nullptr;
@@ -74,7 +74,7 @@ bool ReadCaptureTime(const std::string& manifest_path, double* time_s) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(ReadTextFile(manifest_path));
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError({manifest_path, 0, ""}, std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object() || !j.contains("capture_time_s")) return false;

@@ -60,7 +60,7 @@ inline Isometry3 PoseFrom(const nlohmann::json& j, const std::string& key, const
 inline nlohmann::json ParseJson(const std::string& text, const std::string& path) {
   try {
     return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError({path, 0, ""}, std::string("invalid JSON: ") + e.what());
   }
 }

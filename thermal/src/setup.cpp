@@ -69,7 +69,7 @@ ThermalSetup ReadThermalSetup(const std::string& path) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
   }
   ThermalSetup s;

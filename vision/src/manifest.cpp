@@ -210,7 +210,7 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for 1e999
     Fail(path, "", std::string("not valid JSON: ") + e.what());
   }
   FringeManifest m;

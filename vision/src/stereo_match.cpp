@@ -37,6 +37,11 @@ struct Pass {
   static constexpr int kTile = 8;
   int tiles_x = 0, tiles_y = 0;
   std::vector<float> tile_min, tile_max;
+  // The same bounds over the (2 kDilate + 1)^2 tiles around each tile: they hold every cell
+  // within kDilate * kTile pixels of any point of the centre tile. The full search's coarse pass
+  // (FullSearch) uses them to prove that a stretch of the curve holds no crossing.
+  static constexpr int kDilate = 2;
+  std::vector<float> near_min, near_max;
   double period = 1;
   double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
   double max_sigma = 0;       // projector px
@@ -63,6 +68,7 @@ struct Matcher {
   Vec3 a = Vec3::Zero();  // R * ideal ray of the source pixel (z = 1 in the source frame)
   double c_src = 0;
   double w_lo = 0, w_hi = 0;  // this pixel's search range: the pass's, clipped to the image
+  double speed_k = 0, step_per_k = 0;  // Speed(w) = speed_k / q_z(w)^2; step_px / speed_k (SetRange)
 
   // Narrows [lo, hi] to where g(w) = (ac + tc w) / (az + tz w) lies in [b0, b1]; g is monotonic
   // (a Moebius function) while az + tz w > 0.
@@ -81,6 +87,10 @@ struct Matcher {
   }
   // The inverse-depth range whose points project inside the destination image.
   void SetRange() {
+    const double sx = p.dst->fx * (p.T.x() * a.z() - a.x() * p.T.z());
+    const double sy = p.dst->fy * (p.T.y() * a.z() - a.y() * p.T.z());
+    speed_k = std::sqrt(sx * sx + sy * sy);
+    step_per_k = speed_k > 0 ? p.step_px / speed_k : 0;
     w_lo = p.w_lo;
     w_hi = p.w_hi;
     // In front of the destination camera: az + tz w > 1e-9.
@@ -103,13 +113,18 @@ struct Matcher {
     return true;
   }
   // Speed of the (undistorted) destination image point per unit w, pixels.
+  // The undistorted image point x(w) = (a_x + T_x w) / (a_z + T_z w) moves with
+  // dx/dw = (T_x a_z - a_x T_z) / q_z^2 (the numerator does not depend on w), so the speed is
+  // speed_k / q_z(w)^2 with speed_k fixed per source pixel (SetRange): no division chain or
+  // square root in the full search's stepping loop, whose steps depend on each other.
   double Speed(double w) const {
-    const Vec3 q = a + p.T * w;
-    const double iz = 1.0 / q.z();
-    const double dx = (p.T.x() * q.z() - q.x() * p.T.z()) * iz * iz;
-    const double dy = (p.T.y() * q.z() - q.y() * p.T.z()) * iz * iz;
-    const double sx = p.dst->fx * dx, sy = p.dst->fy * dy;
-    return std::sqrt(sx * sx + sy * sy);  // no overflow at these magnitudes: hypot's care is not needed
+    const double qz = a.z() + p.T.z() * w;
+    return speed_k / (qz * qz);
+  }
+  // w + step_px / Speed(w), without the division.
+  double Step(double w) const {
+    const double qz = a.z() + p.T.z() * w;
+    return w + step_per_k * qz * qz;
   }
   Sample Eval(double w) const {
     Sample s;
@@ -128,6 +143,26 @@ struct Matcher {
     const float lo = p.tile_min[t], hi = p.tile_max[t];
     if (!(lo <= hi)) return 2;
     const double margin = 1e-3;  // projector px, far above the rounding of a bilinear sum
+    if (c_src < lo - margin) return +1;
+    if (c_src > hi + margin) return -1;
+    return 0;
+  }
+  // TileSign over the dilated bounds: what every sample within kDilate * kTile pixels of `pix`
+  // can be. A pixel up to kDilate tiles outside the image takes the nearest tile's bounds
+  // (whose neighbourhood is a superset of the part inside the image).
+  int NearSign(bool in_front, const Vec2& pix) const {
+    if (!in_front) return 0;  // unknown: the fine search decides
+    const double u = pix.x(), v = pix.y();
+    if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
+    const int tx = static_cast<int>(std::floor(std::floor(u) / Pass::kTile));
+    const int ty = static_cast<int>(std::floor(std::floor(v) / Pass::kTile));
+    if (tx < -Pass::kDilate || ty < -Pass::kDilate || tx >= p.tiles_x + Pass::kDilate || ty >= p.tiles_y + Pass::kDilate)
+      return 2;
+    const int cx = std::clamp(tx, 0, p.tiles_x - 1), cy = std::clamp(ty, 0, p.tiles_y - 1);
+    const std::size_t t = static_cast<std::size_t>(cy) * p.tiles_x + cx;
+    const float lo = p.near_min[t], hi = p.near_max[t];
+    if (!(lo <= hi)) return 2;
+    const double margin = 1e-3;
     if (c_src < lo - margin) return +1;
     if (c_src > hi + margin) return -1;
     return 0;
@@ -244,48 +279,65 @@ struct Matcher {
       for (int r = r0; r <= r1; ++r) lo = std::min(lo, p.row_min[r]), hi = std::max(hi, p.row_max[r]);
       if (!(c_src >= lo && c_src <= hi)) return;
     }
-    // Samples every step_px along the curve; a crossing lies between two consecutive valid
-    // samples of opposite sign. A sample whose tile fixes its sign (or makes it invalid), with
-    // neighbours of the same sign or invalid, cannot be one end of such a pair: it is not
-    // evaluated (the curve is still followed with the same steps, so the samples and the
-    // crossings found are those of evaluating every sample).
-    struct Point {
-      double w = 0, speed = 0;
-      Vec2 pix = Vec2::Zero();
-      int sign = 0;
-    };
-    auto make = [&](double w, Point* pt) {
-      pt->w = w;
-      pt->speed = Speed(w);
-      if (!(pt->speed > 1e-9)) return false;
-      pt->sign = TileSign(Pixel(w, &pt->pix), pt->pix);
-      return true;
-    };
-    auto compatible = [](int a, int b) { return a == b || a == 2 || b == 2; };
-    Point cur, nxt;
-    bool have_cur = w_lo <= w_hi && make(w_lo, &cur);
-    int sign_prev = 2;
+    // The samples lie every step_px along the curve (w_{n+1} = w_n + step_px / speed(w_n)); a
+    // crossing lies between two consecutive valid samples of opposite sign. The samples are taken
+    // in stretches of kStretch: a stretch whose two end samples fix, through the dilated tile
+    // bounds (NearSign), the same sign (or no valid cell) for every sample within reach, holds
+    // no pair of opposite sign, so its samples are not evaluated, only stepped over (Speed is a
+    // few flops, Pixel and EvalAt the cost). The samples and crossings are exactly those of
+    // evaluating every sample; the pixels with no crossing at all (rejected pixels) cost about
+    // kStretch times less.
+    const int kStretch = std::max(1, static_cast<int>(24.0 / p.step_px));
+    constexpr double kMaxChordPx = 2.0 * Pass::kDilate * Pass::kTile - 4.0;  // ends within reach of each sample
+    auto compatible = [](int s1, int s2) { return s1 == s2 || s1 == 2 || s2 == 2; };
+    thread_local std::vector<double> ws;  // one stretch of sample positions
     Sample prev;
     double w_prev = w_lo;
-    while (have_cur) {
-      const double w_next = cur.w + p.step_px / cur.speed;
-      const bool have_next = w_next <= w_hi && make(w_next, &nxt);
-      const bool skip = cur.sign == 2 || (cur.sign != 0 && compatible(sign_prev, cur.sign) &&
-                                          (!have_next || compatible(nxt.sign, cur.sign)));
-      if (skip) {
-        prev = Sample{};  // no crossing with it, either side
-      } else {
-        const Sample s = cur.sign == 2 ? Sample{} : EvalAt(cur.pix);
-        if (s.ok && prev.ok && ((s.f > 0) != (prev.f > 0) || s.f == 0)) {
-          Root r;
-          if (Refine(w_prev, prev, cur.w, s, &r)) roots->push_back(r);
+    // The speed is smallest at an end of the range (q_z is linear in w and positive there).
+    if (!(std::min(Speed(w_lo), Speed(w_hi)) > 1e-9)) return;
+    double w = w_lo;
+    Vec2 pix_a = Vec2::Zero();
+    int sign_a = NearSign(Pixel(w, &pix_a), pix_a);
+    bool prev_fine = false;  // the previous stretch was evaluated (its last sample is prev)
+    bool more = true;
+    while (more) {
+      ws.clear();
+      ws.push_back(w);
+      for (int k = 0; k < kStretch; ++k) {
+        const double w_next = Step(w);
+        if (!(w_next <= w_hi)) {
+          more = false;
+          break;
         }
-        prev = s;
+        w = w_next;
+        ws.push_back(w);
       }
-      w_prev = cur.w;
-      sign_prev = cur.sign;
-      cur = nxt;
-      have_cur = have_next;
+      if (ws.size() < 2) break;
+      Vec2 pix_b = Vec2::Zero();
+      const int sign_b = NearSign(Pixel(ws.back(), &pix_b), pix_b);
+      const bool clear = sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) &&
+                         (pix_b - pix_a).norm() <= kMaxChordPx;
+      if (!clear) {
+        std::size_t k0 = 1;
+        if (!prev_fine) {
+          prev = Sample{};
+          k0 = 0;
+        }
+        for (std::size_t k = k0; k < ws.size(); ++k) {
+          Vec2 pix;
+          const bool front = Pixel(ws[k], &pix);
+          const Sample sk = TileSign(front, pix) == 2 ? Sample{} : EvalAt(pix);
+          if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
+            Root r;
+            if (Refine(w_prev, prev, ws[k], sk, &r)) roots->push_back(r);
+          }
+          prev = sk;
+          w_prev = ws[k];
+        }
+      }
+      prev_fine = !clear;
+      sign_a = sign_b;
+      pix_a = pix_b;
     }
   }
 
@@ -518,6 +570,19 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
           p.tile_min[ty * p.tiles_x + tx] = lo;
           p.tile_max[ty * p.tiles_x + tx] = hi;
         }
+      }
+    p.near_min.assign(p.tile_min.size(), std::numeric_limits<float>::infinity());
+    p.near_max.assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
+    for (int ty = 0; ty < p.tiles_y; ++ty)
+      for (int tx = 0; tx < p.tiles_x; ++tx) {
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        for (int y = std::max(0, ty - Pass::kDilate); y <= std::min(p.tiles_y - 1, ty + Pass::kDilate); ++y)
+          for (int x = std::max(0, tx - Pass::kDilate); x <= std::min(p.tiles_x - 1, tx + Pass::kDilate); ++x) {
+            lo = std::min(lo, p.tile_min[y * p.tiles_x + x]);
+            hi = std::max(hi, p.tile_max[y * p.tiles_x + x]);
+          }
+        p.near_min[ty * p.tiles_x + tx] = lo;
+        p.near_max[ty * p.tiles_x + tx] = hi;
       }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;

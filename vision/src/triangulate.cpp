@@ -10,14 +10,11 @@
 
 namespace ramtk::vision {
 
-Vec3 TriangulateMidpoint(const StereoCalibration& calibration, const Vec2& left_pixel, const Vec2& right_pixel,
-                         double* gap_mm) {
-  // Left ray: origin 0, direction dl. Right ray in the left frame: origin c = -R^T T, direction R^T dr.
-  const Mat3 R = calibration.right_from_left.linear();
-  const Vec3 T = calibration.right_from_left.translation();
-  const Vec3 dl = PixelRay(calibration.left, left_pixel);
-  const Vec3 dr = R.transpose() * PixelRay(calibration.right, right_pixel);
-  const Vec3 c = -R.transpose() * T;
+namespace {
+
+// Midpoint of the shortest segment between the left ray (origin 0, direction dl) and the right
+// ray (origin c, direction dr, both in the left frame).
+Vec3 MidpointOfRays(const Vec3& dl, const Vec3& dr, const Vec3& c, double* gap_mm) {
   // Minimise |t dl - (c + s dr)|^2.
   const double a = dl.dot(dl), b = dl.dot(dr), e = dr.dot(dr);
   const double d1 = dl.dot(c), d2 = dr.dot(c);
@@ -31,6 +28,22 @@ Vec3 TriangulateMidpoint(const StereoCalibration& calibration, const Vec2& left_
   const Vec3 pl = t * dl, pr = c + s * dr;
   if (gap_mm) *gap_mm = (pl - pr).norm();
   return 0.5 * (pl + pr);
+}
+
+Vec2 Normalized(const CameraIntrinsics& c, const Vec2& pixel) {
+  return {(pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy};
+}
+
+}  // namespace
+
+Vec3 TriangulateMidpoint(const StereoCalibration& calibration, const Vec2& left_pixel, const Vec2& right_pixel,
+                         double* gap_mm) {
+  // Left ray: origin 0, direction dl. Right ray in the left frame: origin c = -R^T T, direction R^T dr.
+  const Mat3 R = calibration.right_from_left.linear();
+  const Vec3 T = calibration.right_from_left.translation();
+  const Vec3 dl = PixelRay(calibration.left, left_pixel);
+  const Vec3 dr = R.transpose() * PixelRay(calibration.right, right_pixel);
+  return MidpointOfRays(dl, dr, -R.transpose() * T, gap_mm);
 }
 
 void TriangulationOptions::Validate() const {
@@ -54,14 +67,29 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   cv::Mat px(H, W, CV_32F, cv::Scalar(nan)), py = px.clone(), pz = px.clone(), ps = px.clone();
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
   cv::Mat gap_rejected(H, 1, CV_32S, cv::Scalar(0));
+  const Mat3 Rt = calibration.right_from_left.linear().transpose();
+  const Vec3 c = -Rt * calibration.right_from_left.translation();
+  const CameraIntrinsics& lc = calibration.left;
+  const CameraIntrinsics& rc = calibration.right;
   cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
+      // Undistortion warm-started from the neighbour (left) and from the point itself (the
+      // right ray's +-h offsets): the same rays to 1e-15 in fewer Gauss-Newton steps.
+      Vec2 left_ideal_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       for (int x = 0; x < W; ++x) {
         const float u = match.right_u.at<float>(y, x), v = match.right_v.at<float>(y, x);
         if (!std::isfinite(u)) continue;
-        double gap = 0;
         const Vec2 lp(x, y), rp(u, v);
-        const Vec3 X = TriangulateMidpoint(calibration, lp, rp, &gap);
+        const Vec2 ln = Normalized(lc, lp);
+        const Vec2 left_ideal = UndistortNormalized(lc.distortion, ln,
+                                                    std::isfinite(left_ideal_prev.x()) ? left_ideal_prev : ln);
+        left_ideal_prev = left_ideal;
+        const Vec3 dl = Vec3(left_ideal.x(), left_ideal.y(), 1.0).normalized();
+        const Vec2 rn = Normalized(rc, rp);
+        const Vec2 right_ideal = UndistortNormalized(rc.distortion, rn);
+        const Vec3 dr = Rt * Vec3(right_ideal.x(), right_ideal.y(), 1.0).normalized();
+        double gap = 0;
+        const Vec3 X = MidpointOfRays(dl, dr, c, &gap);
         if (!(gap <= options.max_ray_gap_mm) || !X.allFinite()) {
           ++gap_rejected.at<int>(y);
           continue;
@@ -69,8 +97,10 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
         // Triangulation Jacobian along the epipolar tangent (central difference, 1e-3 px).
         const Vec2 t(match.tangent_u.at<float>(y, x), match.tangent_v.at<float>(y, x));
         const double h = 1e-3;
-        const Vec3 Xa = TriangulateMidpoint(calibration, lp, rp - h * t);
-        const Vec3 Xb = TriangulateMidpoint(calibration, lp, rp + h * t);
+        const Vec3 dra = Rt * PixelRay(rc, rp - h * t, right_ideal);
+        const Vec3 drb = Rt * PixelRay(rc, rp + h * t, right_ideal);
+        const Vec3 Xa = MidpointOfRays(dl, dra, c, nullptr);
+        const Vec3 Xb = MidpointOfRays(dl, drb, c, nullptr);
         const double dXds = ((Xb - Xa) / (2 * h)).norm();
         px.at<float>(y, x) = static_cast<float>(X.x());
         py.at<float>(y, x) = static_cast<float>(X.y());
