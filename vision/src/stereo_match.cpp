@@ -47,6 +47,12 @@ struct Pass {
   double max_sigma = 0;       // projector px
   double max_span = 0;        // projector px
   double step_px = 0.8;
+  // The full search's stretches: `stretch` samples (~24 px), and the end of a stretch in one
+  // jump. With u = q_z and x = (step_px / speed_k) T_z u, one step maps x to x + x^2; `stretch`
+  // steps map it to x + sum_j c_j x^j, and w moves by (step_px / speed_k) u^2 sum_j c_j x^(j-2)
+  // (j = 2..8; truncation below 1e-15 relative for |x| stretch < 0.02). jump[i] = c_(i+2).
+  int stretch = 1;
+  std::vector<double> jump;
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
   cv::Mat back_u, back_v;
   double lr_tolerance = 0;
@@ -287,7 +293,7 @@ struct Matcher {
     // few flops, Pixel and EvalAt the cost). The samples and crossings are exactly those of
     // evaluating every sample; the pixels with no crossing at all (rejected pixels) cost about
     // kStretch times less.
-    const int kStretch = std::max(1, static_cast<int>(24.0 / p.step_px));
+    const int kStretch = p.stretch;
     constexpr double kMaxChordPx = 2.0 * Pass::kDilate * Pass::kTile - 4.0;  // ends within reach of each sample
     auto compatible = [](int s1, int s2) { return s1 == s2 || s1 == 2 || s2 == 2; };
     thread_local std::vector<double> ws;  // one stretch of sample positions
@@ -301,6 +307,27 @@ struct Matcher {
     bool prev_fine = false;  // the previous stretch was evaluated (its last sample is prev)
     bool more = true;
     while (more) {
+      // A clear stretch is only stepped over: its end in one jump (Pass::jump), no samples.
+      {
+        const double u = a.z() + p.T.z() * w;
+        const double x = step_per_k * p.T.z() * u;
+        if (std::abs(x) * kStretch < 0.02) {
+          double poly = 0;
+          for (auto it = p.jump.rbegin(); it != p.jump.rend(); ++it) poly = poly * x + *it;
+          const double w_end = w + step_per_k * u * u * poly;
+          if (w_end <= w_hi) {
+            Vec2 pix_b = Vec2::Zero();
+            const int sign_b = NearSign(Pixel(w_end, &pix_b), pix_b);
+            if (sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) && (pix_b - pix_a).norm() <= kMaxChordPx) {
+              w = w_end;
+              sign_a = sign_b;
+              pix_a = pix_b;
+              prev_fine = false;
+              continue;
+            }
+          }
+        }
+      }
       ws.clear();
       ws.push_back(w);
       for (int k = 0; k < kStretch; ++k) {
@@ -612,6 +639,19 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.max_sigma = options.max_sigma_periods * period;
     p.max_span = options.max_cell_span_periods * period;
     p.step_px = options.search_step_px;
+    p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
+    {
+      constexpr int kDegree = 8;
+      std::vector<double> g(kDegree + 1, 0.0);  // g = identity, then composed with x + x^2
+      g[1] = 1;
+      for (int k = 0; k < p.stretch; ++k) {
+        std::vector<double> sq(kDegree + 1, 0.0);
+        for (int i = 0; i <= kDegree; ++i)
+          for (int j = 0; i + j <= kDegree; ++j) sq[i + j] += g[i] * g[j];
+        for (int i = 0; i <= kDegree; ++i) g[i] += sq[i];
+      }
+      p.jump.assign(g.begin() + 2, g.end());
+    }
     p.full_search = options.full_search;
     p.max_log_modulation_ratio = std::log(options.max_modulation_ratio);
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
