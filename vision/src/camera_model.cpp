@@ -10,14 +10,6 @@ Mat3 CameraIntrinsics::K() const {
   return k;
 }
 
-Vec2 DistortNormalized(const Distortion& d, const Vec2& p) {
-  const double x = p.x(), y = p.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
-  return {x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x),
-          y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y};
-}
-
 namespace {
 
 // Jacobian of DistortNormalized with respect to (x', y').

@@ -43,8 +43,15 @@ struct CameraIntrinsics {
   Mat3 K() const;
 };
 
-// Applies the distortion to ideal normalised coordinates (x', y') → (x'', y'').
-Vec2 DistortNormalized(const Distortion& d, const Vec2& undistorted);
+// Applies the distortion to ideal normalised coordinates (x', y') → (x'', y''). Inline: the
+// stereo matcher calls it for every sample along every epipolar curve.
+inline Vec2 DistortNormalized(const Distortion& d, const Vec2& undistorted) {
+  const double x = undistorted.x(), y = undistorted.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  return {x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x),
+          y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y};
+}
 // Inverts DistortNormalized: the ideal (x', y') whose distorted image is `distorted`. Gauss-Newton
 // from the distorted point; converges to ~1e-15 for any lens OpenCV calibrates (|r| < ~1.5).
 Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted);
