@@ -55,8 +55,13 @@ std::string DecodeSummary::BriefReport() const {
     << ", N=" << steps << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels
     << " px; masked: " << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, "
     << unwrap_rejected << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS "
-    << fit_residual_rms_dn << " DN (phase " << phase_residual_rms_rad << " rad), median B " << median_modulation_dn
-    << " DN, median sigma_phi " << median_sigma_phase_rad << " rad; ";
+    << fit_residual_rms_dn << " DN (phase " << phase_residual_rms_rad << " rad), ";
+  if (sigma_intensity_random_dn > 0)
+    s << "of it random " << sigma_intensity_random_dn << " DN and systematic " << sigma_intensity_systematic_dn
+      << " DN, ";
+  s << "sigma_I " << sigma_intensity_dn << " DN, ";
+  if (phase_ripple_rad > 0) s << "phase ripple " << phase_ripple_rad << " rad, ";
+  s << "median B " << median_modulation_dn << " DN, median sigma_phi " << median_sigma_phase_rad << " rad; ";
   if (!harmonic_ratios.empty()) {
     s << "harmonics B_h/B_1 (h=2..):";
     for (double r : harmonic_ratios) s << " " << r;
@@ -201,13 +206,10 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     sum.phase_residual_rms_rad = std::sqrt(phase_ss / count);
   }
   sum.median_modulation_dn = MedianOf(bs);
-  if (options.intensity_sigma_dn > 0) {
-    sum.sigma_intensity_dn = options.intensity_sigma_dn;
-  } else if (n > 3 && count > 0) {
-    sum.sigma_intensity_dn = sum.fit_residual_rms_dn;
-  } else {
-    sum.sigma_intensity_dn = 1.0 / std::sqrt(12.0);
-    RAMTK_LOG(kWarning) << "3-step set and no intensity noise given: sigma_phi uses quantisation noise only";
+  {
+    std::vector<const cv::Mat*> finest;
+    for (const cv::Mat& f : ps_frames[0]) finest.push_back(&f);
+    detail::ChooseIntensitySigma(options, finest, mask, n, count, &sum);
   }
   out.sigma_phase = PhaseSigma(fine.modulation, n, sum.sigma_intensity_dn);
   sum.harmonic_ratios = MeasureHarmonicRatios(ps_frames[0], mask);
@@ -232,6 +234,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     return out;
   }
 
+  const double ripple = detail::PhaseRipple(options, coord, mask, n, sum.period_px);
+  sum.phase_ripple_rad = ripple;
   std::vector<float> sig;
   out.sigma_coordinate.create(mask.size(), CV_32F);
   for (int y = 0; y < mask.rows; ++y) {
@@ -241,7 +245,9 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
         out.sigma_phase.at<float>(y, x) = kNaN;
         out.sigma_coordinate.at<float>(y, x) = kNaN;
       } else {
-        sig.push_back(out.sigma_phase.at<float>(y, x));
+        float& sp = out.sigma_phase.at<float>(y, x);
+        sp = static_cast<float>(std::sqrt(static_cast<double>(sp) * sp + ripple * ripple));
+        sig.push_back(sp);
         out.sigma_coordinate.at<float>(y, x) =
             static_cast<float>(out.sigma_phase.at<float>(y, x) * sum.period_px / (2 * CV_PI));
       }
@@ -320,6 +326,9 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
   j["edge_corrections"] = s.edge_corrections;
   j["sigma_intensity_dn"] = s.sigma_intensity_dn;
   j["fit_residual_rms_dn"] = s.fit_residual_rms_dn;
+  j["sigma_intensity_random_dn"] = s.sigma_intensity_random_dn;
+  j["sigma_intensity_systematic_dn"] = s.sigma_intensity_systematic_dn;
+  j["phase_ripple_rad"] = s.phase_ripple_rad;
   j["worst_residual_dn"] = s.worst_residual_dn;
   j["phase_residual_rms_rad"] = s.phase_residual_rms_rad;
   j["median_modulation_dn"] = s.median_modulation_dn;

@@ -392,14 +392,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     for (int x = 0; x < mask.cols; ++x)
       if (mk[x]) bs.push_back(b[x]);
   }
-  if (options.intensity_sigma_dn > 0) {
-    sum.sigma_intensity_dn = options.intensity_sigma_dn;
-  } else if (n > 3 && count > 0) {
-    sum.sigma_intensity_dn = sum.fit_residual_rms_dn;
-  } else {
-    sum.sigma_intensity_dn = 1.0 / std::sqrt(12.0);
-    RAMTK_LOG(kWarning) << "3-step set and no intensity noise given: sigma_phi uses quantisation noise only";
-  }
+  ChooseIntensitySigma(options, in.ps_frames[0], mask, n, count, &sum);
   const double k_sigma = std::sqrt(2.0 / n) * sum.sigma_intensity_dn;
   if (!bs.empty()) {
     // sigma_phi = k / B falls with B: the reference's median sigma element is k over the
@@ -436,6 +429,9 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     return out;
   }
 
+  const double ripple = PhaseRipple(options, coord, mask, n, sum.period_px);
+  sum.phase_ripple_rad = ripple;
+  sum.median_sigma_phase_rad = std::sqrt(sum.median_sigma_phase_rad * sum.median_sigma_phase_rad + ripple * ripple);
   out.sigma_phase.create(mask.size(), CV_32F);
   out.sigma_coordinate.create(mask.size(), CV_32F);
   const double to_px = sum.period_px / (2 * CV_PI);
@@ -451,7 +447,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
           c[x] = sp[x] = sc[x] = kNaN;
           continue;
         }
-        sp[x] = b[x] > 0 ? static_cast<float>(k_sigma / b[x]) : std::numeric_limits<float>::infinity();
+        sp[x] = b[x] > 0 ? static_cast<float>(std::hypot(k_sigma / b[x], ripple)) : std::numeric_limits<float>::infinity();
         sc[x] = static_cast<float>(sp[x] * to_px);
       }
     }

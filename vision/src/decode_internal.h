@@ -49,4 +49,34 @@ void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCou
 std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
                                               int stride);
 
+// The intensity noise split into its random part and the total fit residual. The random part
+// comes from the second difference r(-1) - 2 r(0) + r(+1) of the fit residual vectors of three
+// neighbouring pixels along the fringe (the row or column whose phase changes least): noise that
+// is independent from pixel to pixel adds up (6 sigma^2 per degree of freedom), while the
+// phase-dependent residual (projector harmonics, gamma) and slow gain changes cancel to second
+// order. Every `stride`-th pixel in x and y; N >= 4 equally spaced steps over 2 pi; frames
+// CV_8U, CV_16U or CV_32F. Noise correlated between pixels (demosaicing, compression) would be
+// under-estimated.
+struct IntensityNoise {
+  double random_dn = 0;  // sigma of the pixel-independent part, DN
+  double total_dn = 0;   // RMS fit residual per degree of freedom over the same pixels, DN
+  long pairs = 0;        // pixel triples used
+};
+IntensityNoise EstimateIntensityNoise(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask, int stride);
+
+// RMS phase ripple (rad) that varies across the fringes but not along them: the excess of the
+// decoded phase's second differences across the fringes over those along them (robust MAD
+// variances), divided by the white-noise gain 6. The pixel-scale error a phase-dependent
+// residual (projector harmonics not removed by the nonlinearity correction) leaves in the
+// points; 0 if too few pixels. Every `stride`-th pixel.
+double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride);
+
+// EstimatePhaseRipple when DecodeOptions::noise_from_neighbours and N > 3, else 0.
+double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n, double period_px);
+
+// Sets sum->sigma_intensity_dn (and the random/systematic split) from the options, the fit
+// residual RMS already in `sum`, and the finest phase-shift frames (both decode paths).
+void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                          int n, long valid, DecodeSummary* sum);
+
 }  // namespace ramtk::vision::detail

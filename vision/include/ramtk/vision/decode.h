@@ -24,6 +24,15 @@ struct DecodeOptions {
   // Intensity noise sigma_I (DN) for sigma_phi = sqrt(2/N) sigma_I / B. <= 0: estimated from the
   // sinusoid-fit residuals of the valid pixels (N > 3), or quantisation noise 1/sqrt(12) for N = 3.
   double intensity_sigma_dn = 0;
+  // With intensity_sigma_dn <= 0 and N > 3: sigma_I is the random part of the fit residual,
+  // measured from second differences of neighbouring pixels' residuals along the fringe (the
+  // projector's harmonics and slow gain changes are smooth, systematic errors, not noise; on the
+  // real SLMaster set they are ~99 % of the residual's power), and the phase ripple they leave
+  // at the pixel scale is measured on the decoded phase and added to sigma_phi
+  // (DecodeSummary::phase_ripple_rad). false: sigma_I = the whole residual RMS and no ripple
+  // term, as before 2026-11-24 (sigma was then 7x too large on SLMaster).
+  bool noise_from_neighbours = true;
+  int noise_stride = 2;  // every noise_stride-th pixel in x and y for that estimate
   // Estimate the projector nonlinearity from the phase-shift frames and remove its ripple.
   bool correct_nonlinearity = true;
   NonlinearityOptions nonlinearity;  // used when correct_nonlinearity
@@ -61,6 +70,14 @@ struct DecodeSummary {
   long edge_corrections = 0;          // pixels whose period order was corrected at a code edge
   double sigma_intensity_dn = 0;      // sigma_I used for sigma_phi
   double fit_residual_rms_dn = 0;     // RMS intensity residual of the sinusoid fit (valid px, N > 3)
+  // The residual split (DecodeOptions::noise_from_neighbours; 0 when not estimated): its random
+  // (pixel-independent) part and the rest, sqrt(total^2 - random^2), both DN per degree of freedom.
+  double sigma_intensity_random_dn = 0;
+  double sigma_intensity_systematic_dn = 0;
+  // RMS phase ripple that varies across the fringes only (rad; 0 if not estimated): the
+  // projector harmonics' pixel-scale error left after the nonlinearity correction, added in
+  // quadrature to every pixel's sigma_phi = sqrt((sqrt(2/N) sigma_I / B)^2 + ripple^2).
+  double phase_ripple_rad = 0;
   double worst_residual_dn = 0;       // largest per-pixel residual RMS (valid px)
   double phase_residual_rms_rad = 0;  // RMS over valid px of sqrt(2/N) * residual_rms / B
   double median_modulation_dn = 0;    // median B of valid pixels

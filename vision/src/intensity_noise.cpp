@@ -1,0 +1,165 @@
+// Random part of the intensity noise from neighbouring pixels' fit residuals (decode_internal.h).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "decode_internal.h"
+#include "ramtk/core/log.h"
+
+namespace ramtk::vision::detail {
+namespace {
+
+// Residual vector of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N), and the phase.
+template <typename T>
+void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
+              int y, int x, double* r, double* phase) {
+  const int n = static_cast<int>(frames.size());
+  double sum = 0, sc = 0, ss = 0;
+  for (int k = 0; k < n; ++k) {
+    const double v = frames[k]->ptr<T>(y)[x];
+    r[k] = v;
+    sum += v;
+    sc += v * c[k];
+    ss += v * s[k];
+  }
+  const double a0 = sum / n, a = 2 * sc / n, b = 2 * ss / n;
+  for (int k = 0; k < n; ++k) r[k] -= a0 + a * c[k] + b * s[k];
+  *phase = std::atan2(b, a);
+}
+
+template <typename T>
+IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask, int stride) {
+  const int n = static_cast<int>(frames.size());
+  std::vector<double> c(n), s(n);
+  for (int k = 0; k < n; ++k) c[k] = std::cos(2 * CV_PI * k / n), s[k] = std::sin(2 * CV_PI * k / n);
+  std::vector<double> r0(n), ra(n), rb(n), rc(n), rd(n);
+  double diff_ss = 0, total_ss = 0;
+  long triples = 0;
+  auto wrap = [](double d) { return std::abs(std::remainder(d, 2 * CV_PI)); };
+  for (int y = 1; y + 1 < mask.rows; y += stride) {
+    const uchar* mu = mask.ptr<uchar>(y - 1);
+    const uchar* m0 = mask.ptr<uchar>(y);
+    const uchar* md = mask.ptr<uchar>(y + 1);
+    for (int x = 1; x + 1 < mask.cols; x += stride) {
+      if (!m0[x]) continue;
+      const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
+      if (!horizontal && !vertical) continue;
+      double p0 = 0, pa = 0, pb = 0, pc = 0, pd = 0;
+      Residual<T>(frames, c, s, y, x, r0.data(), &p0);
+      if (horizontal) Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
+      if (vertical) Residual<T>(frames, c, s, y - 1, x, rc.data(), &pc), Residual<T>(frames, c, s, y + 1, x, rd.data(), &pd);
+      // The direction along the fringe (smaller phase change): there the phase-dependent
+      // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and the
+      // second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
+      const bool use_h = horizontal && (!vertical || wrap(pb - pa) <= wrap(pd - pc));
+      const std::vector<double>& q1 = use_h ? ra : rc;
+      const std::vector<double>& q2 = use_h ? rb : rd;
+      for (int k = 0; k < n; ++k) {
+        const double dd = q1[k] - 2 * r0[k] + q2[k];
+        diff_ss += dd * dd;
+        total_ss += r0[k] * r0[k];
+      }
+      ++triples;
+    }
+  }
+  IntensityNoise out;
+  out.pairs = triples;
+  if (triples > 0 && n > 3) {
+    // A residual vector spans N - 3 degrees of freedom: E|r|^2 = (N - 3) sigma^2, and for three
+    // pixels with independent noise E|r_a - 2 r_0 + r_b|^2 = (1 + 4 + 1) (N - 3) sigma^2.
+    out.random_dn = std::sqrt(diff_ss / (6.0 * triples * (n - 3)));
+    out.total_dn = std::sqrt(total_ss / (static_cast<double>(triples) * (n - 3)));
+  }
+  return out;
+}
+
+}  // namespace
+
+IntensityNoise EstimateIntensityNoise(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask, int stride) {
+  if (frames.size() < 4 || frames[0]->empty()) return {};
+  stride = std::max(1, stride);
+  switch (frames[0]->depth()) {
+    case CV_8U:
+      return Estimate<uchar>(frames, mask, stride);
+    case CV_16U:
+      return Estimate<ushort>(frames, mask, stride);
+    default:
+      return Estimate<float>(frames, mask, stride);
+  }
+}
+
+void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                          int n, long valid, DecodeSummary* sum) {
+  if (options.intensity_sigma_dn > 0) {
+    sum->sigma_intensity_dn = options.intensity_sigma_dn;
+    return;
+  }
+  if (n <= 3 || valid <= 0) {
+    sum->sigma_intensity_dn = 1.0 / std::sqrt(12.0);
+    RAMTK_LOG(kWarning) << "3-step set and no intensity noise given: sigma_phi uses quantisation noise only";
+    return;
+  }
+  sum->sigma_intensity_dn = sum->fit_residual_rms_dn;
+  if (!options.noise_from_neighbours) return;
+  const IntensityNoise noise = EstimateIntensityNoise(frames, mask, options.noise_stride);
+  constexpr long kMinPairs = 200;  // the estimate's relative error is ~1 / sqrt(2 pairs (N - 3))
+  if (noise.pairs < kMinPairs || !(noise.random_dn > 0)) {
+    RAMTK_LOG(kInfo) << "intensity noise: " << noise.pairs
+                     << " neighbour pairs, too few for the random part; sigma_I = the whole fit residual";
+    return;
+  }
+  // The random part cannot exceed the residual; quantisation alone is a floor.
+  const double random = std::clamp(noise.random_dn, 1.0 / std::sqrt(12.0), std::max(noise.total_dn, 1.0 / std::sqrt(12.0)));
+  sum->sigma_intensity_random_dn = random;
+  sum->sigma_intensity_systematic_dn = std::sqrt(std::max(0.0, noise.total_dn * noise.total_dn - random * random));
+  sum->sigma_intensity_dn = random;
+}
+
+double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n, double period_px) {
+  if (!options.noise_from_neighbours || options.intensity_sigma_dn > 0 || n <= 3) return 0;
+  return EstimatePhaseRipple(coordinate, mask, period_px, options.noise_stride);
+}
+
+double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride) {
+  // Second differences of the phase (rad) along rows and along columns, 3 valid pixels each.
+  const double to_rad = 2 * CV_PI / period_px;
+  std::vector<float> along_x, along_y;
+  double grad_x = 0, grad_y = 0;
+  stride = std::max(1, stride);
+  for (int y = 1; y + 1 < mask.rows; y += stride) {
+    const uchar* mu = mask.ptr<uchar>(y - 1);
+    const uchar* m0 = mask.ptr<uchar>(y);
+    const uchar* md = mask.ptr<uchar>(y + 1);
+    const float* cu = coordinate.ptr<float>(y - 1);
+    const float* c0 = coordinate.ptr<float>(y);
+    const float* cd = coordinate.ptr<float>(y + 1);
+    for (int x = 1; x + 1 < mask.cols; x += stride) {
+      if (!m0[x]) continue;
+      if (m0[x - 1] && m0[x + 1]) {
+        along_x.push_back(static_cast<float>(to_rad * (c0[x - 1] - 2.0 * c0[x] + c0[x + 1])));
+        grad_x += std::abs(c0[x + 1] - c0[x - 1]);
+      }
+      if (mu[x] && md[x]) {
+        along_y.push_back(static_cast<float>(to_rad * (cu[x] - 2.0 * c0[x] + cd[x])));
+        grad_y += std::abs(cd[x] - cu[x]);
+      }
+    }
+  }
+  if (along_x.size() < 200 || along_y.size() < 200) return 0;
+  // Robust variances (MAD): occlusion edges and code-edge errors are outliers.
+  auto robust_var = [](std::vector<float>& v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end(),
+                     [](float a, float b) { return std::abs(a) < std::abs(b); });
+    const double mad = 1.4826 * std::abs(v[v.size() / 2]);
+    return mad * mad;
+  };
+  const bool fringes_vertical = grad_x / along_x.size() >= grad_y / along_y.size();  // phase changes along x
+  const double across = robust_var(fringes_vertical ? along_x : along_y);
+  const double along = robust_var(fringes_vertical ? along_y : along_x);
+  // Pixel-independent noise gives both directions 6 sigma^2; a phase-dependent ripple (the
+  // projector's harmonics left after the nonlinearity correction) varies across the fringes
+  // only. Its excess, with the same white-noise gain 6, is the ripple's variance.
+  return std::sqrt(std::max(0.0, across - along) / 6.0);
+}
+
+}  // namespace ramtk::vision::detail
