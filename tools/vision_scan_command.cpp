@@ -34,6 +34,8 @@ struct ScanCommandOptions {
   bool reference_decode = false;              // the reference (unfused) decode path
   bool full_search = false;                   // match every pixel by the whole-range search
   bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
+  bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
+  double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
   std::string shard;                          // "K/N": scan only shard K of N of the batch
 };
 
@@ -67,6 +69,8 @@ int RunScan(const ScanCommandOptions& opt) {
   options.decode.reference_path = opt.reference_decode;
   options.decode.correct_nonlinearity = !opt.no_nonlinearity;
   options.match.full_search = opt.full_search;
+  options.match.lr_sigma_factor = opt.lr_sigma_factor;
+  options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
   options.Validate();
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
@@ -167,6 +171,11 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                 "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
                 "match (the reference; nearly the same matches, slower): for comparisons");
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity (as decode)");
+  sub->add_flag("--whole-residual-sigma", opt->whole_residual_sigma,
+                "sigma_I = the whole sinusoid-fit residual (harmonics included), as before 2026-11-24");
+  sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
+                  "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
+      ->capture_default_str();
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");

@@ -54,8 +54,9 @@ struct Pass {
   int stretch = 1;
   std::vector<double> jump;
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
-  cv::Mat back_u, back_v;
+  cv::Mat back_u, back_v, back_sigma;
   double lr_tolerance = 0;
+  double lr_sigma_factor = 0;
   double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
   bool full_search = false;  // StereoMatchOptions::full_search
 };
@@ -383,10 +384,15 @@ struct Matcher {
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.back_u.cols || v0 + 1 >= p.back_u.rows) return false;
     double bu[4], bv[4];
     bool all = true;
+    double tolerance = p.lr_tolerance;
     for (int k = 0; k < 4; ++k) {
       bu[k] = p.back_u.at<float>(v0 + k / 2, u0 + k % 2);
       bv[k] = p.back_v.at<float>(v0 + k / 2, u0 + k % 2);
       all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
+      if (p.lr_sigma_factor > 0 && !p.back_sigma.empty()) {
+        const double sk = p.back_sigma.at<float>(v0 + k / 2, u0 + k % 2);
+        if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
+      }
     }
     const double fu = u - u0, fv = v - v0;
     if (all) {
@@ -397,11 +403,11 @@ struct Matcher {
         mv += wts[k] * bv[k];
         spread = std::max(spread, std::hypot(bu[k] - bu[0], bv[k] - bv[0]));
       }
-      if (spread < 4.0) return std::hypot(mu - su, mv - sv) <= p.lr_tolerance;
+      if (spread < 4.0) return std::hypot(mu - su, mv - sv) <= tolerance;
     }
     const int k = (fu < 0.5 ? 0 : 1) + (fv < 0.5 ? 0 : 2);
     if (!std::isfinite(bu[k])) return false;
-    return std::hypot(bu[k] - su, bv[k] - sv) <= p.lr_tolerance + 1.0;
+    return std::hypot(bu[k] - su, bv[k] - sv) <= tolerance + 1.0;
   }
 };
 
@@ -538,6 +544,8 @@ void StereoMatchOptions::Validate() const {
   if (!(min_depth_mm > 0)) throw InputError({"", 0, "min_depth_mm"}, "must be > 0");
   if (!(max_depth_mm > min_depth_mm)) throw InputError({"", 0, "max_depth_mm"}, "must be > min_depth_mm");
   if (!std::isfinite(lr_tolerance_px)) throw InputError({"", 0, "lr_tolerance_px"}, "must be finite");
+  if (!(lr_sigma_factor >= 0 && std::isfinite(lr_sigma_factor)))
+    throw InputError({"", 0, "lr_sigma_factor"}, "must be >= 0 and finite");
   if (!(max_sigma_periods > 0)) throw InputError({"", 0, "max_sigma_periods"}, "must be > 0");
   if (!(max_cell_span_periods > 0 && max_cell_span_periods <= 1))
     throw InputError({"", 0, "max_cell_span_periods"}, "must be in (0, 1]");
@@ -678,7 +686,9 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   if (lr) {
     lrp.back_u = back.u;
     lrp.back_v = back.v;
+    lrp.back_sigma = back.sigma;
     lrp.lr_tolerance = options.lr_tolerance_px;
+    lrp.lr_sigma_factor = options.lr_sigma_factor;
   }
   PassResult fwd;
   if (!RunPass(lrp, &fwd, options, "match left->right")) {

@@ -31,6 +31,10 @@ struct StereoMatchOptions {
   // Left-right consistency: the right match's own match back into the left image must lie
   // within this distance of the left pixel, pixels. <= 0 disables the check.
   double lr_tolerance_px = 0.5;
+  // ... or within this many of the back match's own sigma (px along its epipolar curve), if
+  // larger: on low-modulation data a pixel is rejected because its sigma says the two matches
+  // disagree, not by the fixed distance alone. 0: the fixed tolerance only (before 2026-11-24).
+  double lr_sigma_factor = 3.0;
   // Pixels whose coordinate sigma exceeds this fraction of a fringe period are not matched.
   double max_sigma_periods = 0.02;
   // An interpolation cell whose four coordinates span more than this fraction of a period
