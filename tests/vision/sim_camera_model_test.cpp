@@ -28,6 +28,28 @@ std::vector<Distortion> TestDistortions() {
           Distortion{0.2, -0.3, -1.5e-3, 8e-4, 0.5}};
 }
 
+// The analytic Jacobian of the lens model (used for the matcher's epipolar tangent and sigma)
+// against central differences: step 1e-6 in normalised coordinates, truncation ~1e-12, rounding
+// ~1e-10 relative, so 1e-7 is far above both and far below any error in a term.
+TEST(SimCameraModel, DistortionJacobianMatchesFiniteDifferences) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> xy(-0.6, 0.6);
+  for (const Distortion& d : TestDistortions()) {
+    for (int i = 0; i < 50; ++i) {
+      const Vec2 p(xy(rng), xy(rng));
+      const Eigen::Matrix2d j = DistortNormalizedJacobian(d, p);
+      const double h = 1e-6;
+      for (int c = 0; c < 2; ++c) {
+        Vec2 e = Vec2::Zero();
+        e[c] = h;
+        const Vec2 fd = (DistortNormalized(d, p + e) - DistortNormalized(d, p - e)) / (2 * h);
+        EXPECT_NEAR(j(0, c), fd.x(), 1e-7);
+        EXPECT_NEAR(j(1, c), fd.y(), 1e-7);
+      }
+    }
+  }
+}
+
 TEST(SimCameraModel, ProjectionMatchesCvProjectPoints) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> xy(-250.0, 250.0), z(500.0, 900.0);

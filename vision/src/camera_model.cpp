@@ -10,23 +10,6 @@ Mat3 CameraIntrinsics::K() const {
   return k;
 }
 
-namespace {
-
-// Jacobian of DistortNormalized with respect to (x', y').
-Eigen::Matrix2d DistortJacobian(const Distortion& d, const Vec2& p) {
-  const double x = p.x(), y = p.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
-  const double dradial_dr2 = d.k1 + r2 * (2.0 * d.k2 + 3.0 * r2 * d.k3);
-  Eigen::Matrix2d j;
-  j(0, 0) = radial + x * dradial_dr2 * 2.0 * x + 2.0 * d.p1 * y + d.p2 * 6.0 * x;
-  j(0, 1) = x * dradial_dr2 * 2.0 * y + 2.0 * d.p1 * x + d.p2 * 2.0 * y;
-  j(1, 0) = y * dradial_dr2 * 2.0 * x + d.p1 * 2.0 * x + 2.0 * d.p2 * y;
-  j(1, 1) = radial + y * dradial_dr2 * 2.0 * y + d.p1 * 6.0 * y + 2.0 * d.p2 * x;
-  return j;
-}
-
-}  // namespace
 
 Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2& initial) {
   if (d.IsZero()) return distorted;
@@ -34,7 +17,7 @@ Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2&
   for (int iter = 0; iter < 30; ++iter) {
     const Vec2 residual = DistortNormalized(d, p) - distorted;
     if (residual.lpNorm<Eigen::Infinity>() < 1e-15) break;
-    const Eigen::Matrix2d j = DistortJacobian(d, p);
+    const Eigen::Matrix2d j = DistortNormalizedJacobian(d, p);
     const double det = j(0, 0) * j(1, 1) - j(0, 1) * j(1, 0);
     p.x() -= (j(1, 1) * residual.x() - j(0, 1) * residual.y()) / det;
     p.y() -= (j(0, 0) * residual.y() - j(1, 0) * residual.x()) / det;

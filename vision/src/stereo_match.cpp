@@ -119,6 +119,16 @@ struct Matcher {
     *pix = Vec2(p.dst->fx * d.x() + p.dst->cx, p.dst->fy * d.y() + p.dst->cy);
     return true;
   }
+  // Velocity of the destination pixel (distorted image) per unit w, in closed form: the ideal
+  // point moves with d x / dw = (T_xy a_z - a_xy T_z) / q_z^2, the lens maps it through its Jacobian.
+  Vec2 PixelVelocity(double w) const {
+    const Vec3 q = a + p.T * w;
+    const double iz = 1.0 / q.z();
+    const Vec2 ideal(q.x() * iz, q.y() * iz);
+    const Vec2 dideal((p.T.x() * a.z() - a.x() * p.T.z()) * iz * iz, (p.T.y() * a.z() - a.y() * p.T.z()) * iz * iz);
+    const Vec2 dd = DistortNormalizedJacobian(p.dst->distortion, ideal) * dideal;
+    return {p.dst->fx * dd.x(), p.dst->fy * dd.y()};
+  }
   // Speed of the (undistorted) destination image point per unit w, pixels.
   // The undistorted image point x(w) = (a_x + T_x w) / (a_z + T_z w) moves with
   // dx/dw = (T_x a_z - a_x T_z) / q_z^2 (the numerator does not depend on w), so the speed is
@@ -504,11 +514,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           w_row[x] = root.w;
           // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
           const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
-          const double h = 1e-3 / std::max(1e-12, m.Speed(root.w));
-          Vec2 pa, pb;
-          m.Pixel(root.w - h, &pa);
-          m.Pixel(root.w + h, &pb);
-          const Vec2 d = (pb - pa) / (2 * h);
+          const Vec2 d = m.PixelVelocity(root.w);
           const double speed = d.norm();
           out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
           out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());

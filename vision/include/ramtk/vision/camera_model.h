@@ -52,6 +52,19 @@ inline Vec2 DistortNormalized(const Distortion& d, const Vec2& undistorted) {
   return {x * radial + 2.0 * d.p1 * x * y + d.p2 * (r2 + 2.0 * x * x),
           y * radial + d.p1 * (r2 + 2.0 * y * y) + 2.0 * d.p2 * x * y};
 }
+// Jacobian of DistortNormalized with respect to the ideal (x', y').
+inline Eigen::Matrix2d DistortNormalizedJacobian(const Distortion& d, const Vec2& undistorted) {
+  const double x = undistorted.x(), y = undistorted.y();
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + r2 * (d.k1 + r2 * (d.k2 + r2 * d.k3));
+  const double dradial_dr2 = d.k1 + r2 * (2.0 * d.k2 + 3.0 * r2 * d.k3);
+  Eigen::Matrix2d j;
+  j(0, 0) = radial + x * dradial_dr2 * 2.0 * x + 2.0 * d.p1 * y + d.p2 * 6.0 * x;
+  j(0, 1) = x * dradial_dr2 * 2.0 * y + 2.0 * d.p1 * x + d.p2 * 2.0 * y;
+  j(1, 0) = y * dradial_dr2 * 2.0 * x + d.p1 * 2.0 * x + 2.0 * d.p2 * y;
+  j(1, 1) = radial + y * dradial_dr2 * 2.0 * y + d.p1 * 6.0 * y + 2.0 * d.p2 * x;
+  return j;
+}
 // Inverts DistortNormalized: the ideal (x', y') whose distorted image is `distorted`. Gauss-Newton
 // from the distorted point; converges to ~1e-15 for any lens OpenCV calibrates (|r| < ~1.5).
 Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted);
