@@ -65,8 +65,8 @@ struct Pass {
 struct Sample {
   bool ok = false;
   double f = 0;           // c_dst - c_src, projector px
-  double var = 0;         // variance of the interpolated c_dst, projector px^2
-  double modulation = 0;  // interpolated destination modulation B, DN
+  double var = 0;         // variance of the interpolated c_dst, projector px^2 (Complete)
+  double modulation = 0;  // interpolated destination modulation B, DN (Complete)
   Vec2 pix = Vec2::Zero();
 };
 
@@ -199,6 +199,18 @@ struct Matcher {
     const double fu = u - u0, fv = v - v0;
     const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
     s.f = w00 * c00 + w10 * c10 + w01 * c01 + w11 * c11 - c_src;
+    s.ok = true;
+    return s;
+  }
+  // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
+  // crossing's own sample needs them).
+  void Complete(Sample* sample) const {
+    Sample& s = *sample;
+    if (!s.ok) return;
+    const double u = s.pix.x(), v = s.pix.y();
+    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    const double fu = u - u0, fv = v - v0;
+    const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
     const float* s0 = p.dst_sigma.ptr<float>(v0);
     const float* s1 = p.dst_sigma.ptr<float>(v0 + 1);
     const double q00 = s0[u0], q10 = s0[u0 + 1], q01 = s1[u0], q11 = s1[u0 + 1];
@@ -207,8 +219,6 @@ struct Matcher {
     const float* b0 = p.dst_modulation.ptr<float>(v0);
     const float* b1 = p.dst_modulation.ptr<float>(v0 + 1);
     s.modulation = w00 * b0[u0] + w10 * b0[u0 + 1] + w01 * b1[u0] + w11 * b1[u0 + 1];
-    s.ok = true;
-    return s;
   }
 
   struct Root {
@@ -243,6 +253,7 @@ struct Matcher {
     root->w = w;
     root->slope = slope;
     root->at = s;
+    Complete(&root->at);
     return true;
   }
 
