@@ -83,11 +83,12 @@ void BindVision(py::module_& m) {
   m.def(
       "decode",
       [](const std::string& manifest, const std::string& camera, double min_modulation_fraction,
-         double intensity_sigma_dn, bool correct_nonlinearity) {
+         double intensity_sigma_dn, bool correct_nonlinearity, bool noise_from_neighbours) {
         vision::DecodeOptions o;
         o.min_modulation_fraction = min_modulation_fraction;
         o.intensity_sigma_dn = intensity_sigma_dn;
         o.correct_nonlinearity = correct_nonlinearity;
+        o.noise_from_neighbours = noise_from_neighbours;
         o.Validate();
         vision::DecodedCamera d;
         {
@@ -100,6 +101,7 @@ void BindVision(py::module_& m) {
       py::arg("min_modulation_fraction") = vision::DecodeOptions{}.min_modulation_fraction,
       py::arg("intensity_sigma_dn") = vision::DecodeOptions{}.intensity_sigma_dn,
       py::arg("correct_nonlinearity") = vision::DecodeOptions{}.correct_nonlinearity,
+      py::arg("noise_from_neighbours") = vision::DecodeOptions{}.noise_from_neighbours,
       "Decodes one camera of a fringe set: dict of numpy arrays (coordinate in projector px, NaN invalid; wrapped, "
       "background, modulation in DN; mask 0/255; sigma_phase rad; sigma_coordinate px) and 'summary'");
 

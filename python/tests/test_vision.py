@@ -30,6 +30,18 @@ def test_decode_matches_the_command_and_shares_memory(cli, default_set, scratch)
     assert valid.mean() == pytest.approx(expected["valid_fraction"], abs=1e-12)
 
 
+def test_decode_noise_split_and_the_old_rule(default_set):
+    # The default set is rendered without projector harmonics: the random part of the residual is
+    # the whole residual (to the estimate's own ~1 % error), and noise_from_neighbours=False gives
+    # the whole residual by definition.
+    d = ramtk.decode(str(default_set), "left")["summary"]
+    assert d["sigma_intensity_random_dn"] == pytest.approx(d["fit_residual_rms_dn"], rel=0.03)
+    assert d["sigma_intensity_dn"] == d["sigma_intensity_random_dn"]
+    old = ramtk.decode(str(default_set), "left", noise_from_neighbours=False)["summary"]
+    assert old["sigma_intensity_dn"] == old["fit_residual_rms_dn"]
+    assert old["phase_ripple_rad"] == 0
+
+
 def test_scan_matches_the_command_and_the_truth(cli, default_set, scratch, datasets):
     out = scratch / "scan_cli"
     cli("scan", default_set, "--out", out, "--force")
