@@ -46,6 +46,7 @@ void DecodeOptions::Validate() const {
     throw InputError({"", 0, "max_order_residual"}, "expected a value in (0, 0.5)");
   if (correct_nonlinearity) nonlinearity.Validate();
   if (harmonic_stride < 1) throw InputError({"", 0, "harmonic_stride"}, "must be >= 1");
+  if (noise_stride < 1) throw InputError({"", 0, "noise_stride"}, "must be >= 1");
 }
 
 std::string DecodeSummary::BriefReport() const {

@@ -32,7 +32,7 @@ struct DecodeOptions {
   // (DecodeSummary::phase_ripple_rad). false: sigma_I = the whole residual RMS and no ripple
   // term, as before 2026-11-24 (sigma was then 7x too large on SLMaster).
   bool noise_from_neighbours = true;
-  int noise_stride = 2;  // every noise_stride-th pixel in x and y for that estimate
+  int noise_stride = 4;  // every noise_stride-th pixel in x and y for those estimates (1/16 of them)
   // Estimate the projector nonlinearity from the phase-shift frames and remove its ripple.
   bool correct_nonlinearity = true;
   NonlinearityOptions nonlinearity;  // used when correct_nonlinearity
