@@ -29,6 +29,7 @@ PACKAGES=(
   pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
   python3-numpy python3-pytest  # its arrays and its tests
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
+  opencv-doc               # its real stereo chessboard images: ctest RealBoard.* (calib on real boards)
 )
 
 log() { printf '[setup] %s\n' "$*"; }
