@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "ramtk/calib/camera_calibration.h"
 #include "ramtk/calib/hand_eye.h"
+#include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/calib/sensor_robot_sim.h"
@@ -263,6 +264,29 @@ int RunHandEye(const HandEyeCommandOptions& opt) {
   return kExitOk;
 }
 
+struct HandEyeFlangeCommandOptions {
+  std::string poses_path;   // flange-camera CSV
+  std::string output_path;  // result JSON
+  std::string flange_units = "mm";
+  std::string method = "park";
+};
+
+int RunHandEyeFlange(const HandEyeFlangeCommandOptions& opt) {
+  CheckOutputAgainstInputs(opt.output_path, {opt.poses_path}, "--output");
+  const calib::EyeInHandMethod method = calib::ParseEyeInHandMethod(opt.method, {"", 0, "--method"});
+  const auto obs = calib::ReadFlangeCameraObservations(opt.poses_path, opt.flange_units);
+  calib::EyeInHandResult r;
+  try {
+    r = calib::CalibrateCameraOnFlange(obs, method);
+  } catch (const InputError& e) {
+    if (!e.where().file.empty()) throw;
+    throw InputError({opt.poses_path, 0, e.where().field}, e.message());
+  }
+  WriteFileAtomically(opt.output_path, calib::EyeInHandResultJson(r, method));
+  std::printf("%s\nwrote %s\n", calib::EyeInHandBriefReport(r, method).c_str(), opt.output_path.c_str());
+  return kExitOk;
+}
+
 struct SimulateHandEyeOptions {
   std::string robot_path;
   std::string csv_path;
@@ -356,6 +380,24 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--method", opt->method, "shah or li")->check(CLI::IsMember({"shah", "li"}));
     sub->add_flag("--no-refine", opt->no_refine, "Keep OpenCV's closed form (no Ceres refinement)");
     sub->callback([opt, exit_code]() { *exit_code = RunHandEye(*opt); });
+  }
+  {
+    auto opt = std::make_shared<HandEyeFlangeCommandOptions>();
+    CLI::App* sub = calib->add_subcommand(
+        "hand-eye-flange", "Camera on the flange, board fixed: flange_from_camera from flange poses (OpenCV "
+                           "calibrateHandEye, AX = XB)");
+    sub->add_option("--poses", opt->poses_path,
+                    "CSV: x,y,z,a,b,c (camera_from_board, mm, KUKA deg) and the flange pose as "
+                    "flange_x..flange_c (KUKA deg), flange_x..z + flange_qw..qz, or flange_m00..flange_m23")
+        ->required();
+    sub->add_option("--flange-units", opt->flange_units, "Units of the flange translation: mm or m")
+        ->check(CLI::IsMember({"mm", "m"}))
+        ->capture_default_str();
+    sub->add_option("--output", opt->output_path, "Result JSON")->required();
+    sub->add_option("--method", opt->method, "tsai, park, horaud, andreff or daniilidis")
+        ->check(CLI::IsMember({"tsai", "park", "horaud", "andreff", "daniilidis"}))
+        ->capture_default_str();
+    sub->callback([opt, exit_code]() { *exit_code = RunHandEyeFlange(*opt); });
   }
   CLI::App* simulate = SimulateCommand(app);
   {

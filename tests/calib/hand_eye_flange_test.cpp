@@ -5,10 +5,15 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <random>
 
 #include "ramtk/calib/hand_eye_flange.h"
+#include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/rotation.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::calib {
@@ -88,6 +93,84 @@ TEST(HandEyeFlange, TooFewPosesAndUnknownMethodAreInputErrors) {
   EXPECT_THROW(CalibrateCameraOnFlange(obs, EyeInHandMethod::kPark), InputError);
   EXPECT_THROW(ParseEyeInHandMethod("shah", {"cli", 0, "--method"}), InputError);
   EXPECT_EQ(ParseEyeInHandMethod("daniilidis", {"cli", 0, "--method"}), EyeInHandMethod::kDaniilidis);
+}
+
+std::string WriteTemp(const std::string& name, const std::string& text) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ramtk_hand_eye_flange_test";
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// The same observations written in each pose form (and in metres) read back to the same solution.
+TEST(HandEyeFlange, EveryPoseFileFormReadsBackToTheSameSolution) {
+  const auto obs = SimulateFlangeCameraPoses(FlangePoses(12, 5), kFlangeFromCamera, kBaseFromBoard, 0.02, 0.05, 9);
+  const EyeInHandResult direct = CalibrateCameraOnFlange(obs, EyeInHandMethod::kPark);
+  // KUKA A,B,C in mm (the writer's form).
+  std::vector<std::string> paths = {WriteTemp("abc.csv", FormatFlangeCameraObservations(obs))};
+  // Quaternion in metres, and the 4x4 rows in mm, written here from the same poses.
+  std::ostringstream quat, mat;
+  quat << "# flange in metres\nflange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz,x,y,z,a,b,c\n";
+  mat << "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,flange_m20,flange_m21,"
+         "flange_m22,flange_m23,x,y,z,a,b,c\n";
+  quat.precision(12);
+  mat.precision(12);
+  for (const auto& o : obs) {
+    const Eigen::Quaterniond q(o.base_from_flange.linear());
+    const Vec3 t = o.base_from_flange.translation();
+    const KukaAbc abc = KukaAbcFromRotation(o.camera_from_board.linear());
+    const Vec3 c = o.camera_from_board.translation();
+    std::ostringstream cam;
+    cam.precision(12);
+    cam << c.x() << "," << c.y() << "," << c.z() << "," << RadToDeg(abc.a) << "," << RadToDeg(abc.b) << ","
+        << RadToDeg(abc.c) << "\n";
+    quat << t.x() / 1000 << "," << t.y() / 1000 << "," << t.z() / 1000 << "," << q.w() << "," << q.x() << "," << q.y()
+         << "," << q.z() << "," << cam.str();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 4; ++j) mat << o.base_from_flange.matrix()(i, j) << ",";
+    mat << cam.str();
+  }
+  const std::string quat_path = WriteTemp("quat_m.csv", quat.str()), mat_path = WriteTemp("matrix.csv", mat.str());
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {paths[0], "mm"}, {quat_path, "m"}, {mat_path, "mm"}};
+  for (const auto& [path, units] : files) {
+    const EyeInHandResult r = CalibrateCameraOnFlange(ReadFlangeCameraObservations(path, units), EyeInHandMethod::kPark);
+    // The files hold 6-12 significant decimals: the solutions agree far below the noise (0.02 deg).
+    EXPECT_LT(RotationErrorDeg(r.flange_from_camera, direct.flange_from_camera), 1e-5) << path;
+    EXPECT_LT((r.flange_from_camera.translation() - direct.flange_from_camera.translation()).norm(), 1e-4) << path;
+  }
+}
+
+// Bad pose files: the error names the file, the line and the column.
+TEST(HandEyeFlange, BadPoseFilesNameTheLine) {
+  auto message = [](const std::string& path, const std::string& units = "mm") {
+    try {
+      ReadFlangeCameraObservations(path, units);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string head = "flange_x,flange_y,flange_z,flange_a,flange_b,flange_c,x,y,z,a,b,c\n";
+  const std::string good = "1000,0,800,0,180,0,0,0,800,0,0,0\n";
+  const std::string not_number = WriteTemp("bad_number.csv", head + good + "1000,0,8x0,0,180,0,0,0,800,0,0,0\n");
+  EXPECT_NE(message(not_number).find(":3"), std::string::npos) << message(not_number);
+  EXPECT_NE(message(not_number).find("flange_z"), std::string::npos) << message(not_number);
+  const std::string missing = WriteTemp("missing.csv", "flange_x,flange_y,flange_z,flange_a,flange_b,x,y,z,a,b,c\n");
+  EXPECT_NE(message(missing).find("flange_c"), std::string::npos) << message(missing);
+  const std::string quat = WriteTemp(
+      "bad_quat.csv", "flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz,x,y,z,a,b,c\n"
+                      "1,0,0.8,1,0,0,0,0,0,800,0,0,0\n1,0,0.8,0.9,0,0,0,0,0,800,0,0,0\n");
+  EXPECT_NE(message(quat, "m").find(":3"), std::string::npos) << message(quat, "m");
+  EXPECT_NE(message(quat, "m").find("norm"), std::string::npos) << message(quat, "m");
+  std::string mat = "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,"
+                    "flange_m20,flange_m21,flange_m22,flange_m23,x,y,z,a,b,c\n";
+  mat += "1,0,0,1000,0,1,0,0,0,0,1,800,0,0,800,0,0,0\n2,0,0,1000,0,1,0,0,0,0,1,800,0,0,800,0,0,0\n";
+  const std::string bad_mat = WriteTemp("bad_matrix.csv", mat);
+  EXPECT_NE(message(bad_mat).find(":3"), std::string::npos) << message(bad_mat);
+  EXPECT_NE(message(bad_mat).find("not a rotation"), std::string::npos) << message(bad_mat);
+  EXPECT_NE(message(WriteTemp("units.csv", head + good), "inch").find("flange_units"), std::string::npos);
 }
 
 }  // namespace

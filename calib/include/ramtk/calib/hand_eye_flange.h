@@ -41,6 +41,26 @@ struct EyeInHandResult {
 // about one axis: the problem is then degenerate).
 EyeInHandResult CalibrateCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, EyeInHandMethod method);
 
+// Flange-camera observation files (CSV with a header, any column order): the camera's
+// camera_from_board as `x,y,z` (mm) and `a,b,c` (KUKA A,B,C, deg), and the controller's flange
+// pose in one of three forms:
+//   flange_x,flange_y,flange_z,flange_a,flange_b,flange_c      (KUKA A,B,C, deg)
+//   flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz   (unit quaternion)
+//   flange_m00 ... flange_m23     (the top 3 rows of the 4x4 base_from_flange, row-major)
+// The flange translation is in `flange_units` ("mm" or "m"). InputError names the file, line
+// and column: a missing column, a non-number, a quaternion far from unit norm, a matrix whose
+// rotation part is not a rotation (|R^T R - I| > 1e-6 or det < 0).
+std::vector<FlangeCameraObservation> ReadFlangeCameraObservations(const std::string& path,
+                                                                  const std::string& flange_units = "mm");
+// Writes the first form (mm, KUKA A,B,C) with a `pose` column.
+std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObservation>& obs);
+
+// The result as JSON text: flange_from_camera and base_from_board (4x4, mm, KUKA A,B,C deg),
+// per-pose residuals, their RMS and the method.
+std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method);
+// One line: method, poses, residual RMS, flange_from_camera.
+std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod method);
+
 // Simulated observations of a board at base_from_board by a camera at flange_from_camera, at
 // the given flange poses; noise as SimulateBoardPoses: a rotation of sigma_deg·|w| about a
 // random axis (w ~ N(0, I)) and sigma_mm per axis of translation, from `seed`.
