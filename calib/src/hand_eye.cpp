@@ -83,24 +83,15 @@ std::string HandEyeSummary::BriefReport() const {
 
 HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const std::vector<BoardPoseObservation>& obs,
                                      const HandEyeOptions& options, HandEyeSummary* summary) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "HandEyeOptions"}, bad);
-  if (static_cast<int>(obs.size()) < options.min_poses) {
-    throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least " +
-                                           std::to_string(options.min_poses) + " are needed");
-  }
-  std::vector<cv::Mat> r_world2cam, t_world2cam, r_base2gripper, t_base2gripper;
-  std::vector<Isometry3> flange;
+  std::vector<StandCameraObservation> flange_obs;
   for (const BoardPoseObservation& o : obs) {
-    if (!o.q_controller.allFinite() || !o.camera_from_board.matrix().allFinite()) {
-      throw InputError({"", 0, "poses"}, "non-finite joint angle or board pose");
-    }
-    flange.push_back(kinematics::BaseFromFlange(model, o.q_controller));
-    r_world2cam.push_back(ToCvR(o.camera_from_board.linear()));
-    t_world2cam.push_back(ToCvT(o.camera_from_board.translation()));
-    r_base2gripper.push_back(ToCvR(flange.back().linear()));
-    t_base2gripper.push_back(ToCvT(flange.back().translation()));
+    if (!o.q_controller.allFinite()) throw InputError({"", 0, "poses"}, "non-finite joint angle");
+    flange_obs.push_back({kinematics::BaseFromFlange(model, o.q_controller), o.camera_from_board});
   }
+  return CalibrateStandCamera(flange_obs, options, summary);
+}
+
+void CheckRotationsExciteTwoAxes(const std::vector<Isometry3>& flange) {
   // The rotation part is observable only from rotations about at least two different axes; with
   // fewer, OpenCV's closed forms divide by zero (a "determinant is null" exception).
   {
@@ -121,6 +112,29 @@ HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const 
                                          "of more than 1 deg about at least two axes 5 deg apart");
     }
   }
+}
+
+HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeOptions& options,
+                                   HandEyeSummary* summary) {
+  const std::string bad = options.Validate();
+  if (!bad.empty()) throw InputError({"", 0, "HandEyeOptions"}, bad);
+  if (static_cast<int>(obs.size()) < options.min_poses) {
+    throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least " +
+                                           std::to_string(options.min_poses) + " are needed");
+  }
+  std::vector<cv::Mat> r_world2cam, t_world2cam, r_base2gripper, t_base2gripper;
+  std::vector<Isometry3> flange;
+  for (const StandCameraObservation& o : obs) {
+    if (!o.base_from_flange.matrix().allFinite() || !o.camera_from_board.matrix().allFinite()) {
+      throw InputError({"", 0, "poses"}, "non-finite flange or board pose");
+    }
+    flange.push_back(o.base_from_flange);
+    r_world2cam.push_back(ToCvR(o.camera_from_board.linear()));
+    t_world2cam.push_back(ToCvT(o.camera_from_board.translation()));
+    r_base2gripper.push_back(ToCvR(flange.back().linear()));
+    t_base2gripper.push_back(ToCvT(flange.back().translation()));
+  }
+  CheckRotationsExciteTwoAxes(flange);
   cv::Mat r_board_from_flange, t_board_from_flange, r_cam_from_base, t_cam_from_base;
   cv::calibrateRobotWorldHandEye(
       r_world2cam, t_world2cam, r_base2gripper, t_base2gripper, r_board_from_flange, t_board_from_flange,

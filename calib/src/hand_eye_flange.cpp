@@ -1,4 +1,5 @@
 #include "ramtk/calib/hand_eye_flange.h"
+#include "ramtk/calib/hand_eye.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -78,6 +79,13 @@ EyeInHandMethod ParseEyeInHandMethod(const std::string& text, const InputLocatio
 EyeInHandResult CalibrateCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, EyeInHandMethod method) {
   if (obs.size() < 3)
     throw InputError({"", 0, "poses"}, "hand-eye needs at least 3 poses, got " + std::to_string(obs.size()));
+  std::vector<Isometry3> flange;
+  for (const FlangeCameraObservation& o : obs) {
+    if (!o.base_from_flange.matrix().allFinite() || !o.camera_from_board.matrix().allFinite())
+      throw InputError({"", 0, "poses"}, "non-finite flange or board pose");
+    flange.push_back(o.base_from_flange);
+  }
+  CheckRotationsExciteTwoAxes(flange);
   std::vector<cv::Mat> r_g2b, t_g2b, r_t2c, t_t2c;
   for (const FlangeCameraObservation& o : obs) {
     r_g2b.push_back(CvR(o.base_from_flange.linear()));

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <random>
 
+#include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
@@ -93,6 +94,32 @@ TEST(HandEyeFlange, TooFewPosesAndUnknownMethodAreInputErrors) {
   EXPECT_THROW(CalibrateCameraOnFlange(obs, EyeInHandMethod::kPark), InputError);
   EXPECT_THROW(ParseEyeInHandMethod("shah", {"cli", 0, "--method"}), InputError);
   EXPECT_EQ(ParseEyeInHandMethod("daniilidis", {"cli", 0, "--method"}), EyeInHandMethod::kDaniilidis);
+}
+
+TEST(HandEyeFlange, RotationsAboutOneAxisAreRejectedAsDegenerate) {
+  std::vector<Isometry3> flange;
+  for (int i = 0; i < 8; ++i) flange.push_back(Pose(Vec3(1500 + 20 * i, 10 * i, 800), Vec3::UnitZ(), 10.0 * i));
+  const auto obs = SimulateFlangeCameraPoses(flange, kFlangeFromCamera, kBaseFromBoard, 0, 0, 1);
+  try {
+    CalibrateCameraOnFlange(obs, EyeInHandMethod::kTsai);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("two axes"), std::string::npos) << e.what();
+  }
+}
+
+// Camera on a stand (AX = ZB) from flange poses given directly: exact on noise-free poses.
+TEST(HandEyeFlange, StandCameraFromFlangePosesIsExact) {
+  const Isometry3 camera_from_base = Pose(Vec3(-1800.0, 250.0, 1900.0), Vec3(0.3, -1.0, 0.2), 120.0);
+  const Isometry3 flange_from_board = Pose(Vec3(10.0, -5.0, 60.0), Vec3(1.0, 0.1, 0.0), 8.0);
+  std::vector<StandCameraObservation> obs;
+  for (const Isometry3& bf : FlangePoses(12, 21)) obs.push_back({bf, camera_from_base * bf * flange_from_board});
+  HandEyeSummary summary;
+  const HandEyeResult r = CalibrateStandCamera(obs, {}, &summary);
+  EXPECT_LT(RotationErrorDeg(r.camera_from_base, camera_from_base), 1e-6);
+  EXPECT_LT((r.camera_from_base.translation() - camera_from_base.translation()).norm(), 1e-5);
+  EXPECT_LT((r.flange_from_board.translation() - flange_from_board.translation()).norm(), 1e-5);
+  EXPECT_LT(summary.rms_translation_mm, 1e-5);
 }
 
 std::string WriteTemp(const std::string& name, const std::string& text) {

@@ -66,6 +66,18 @@ struct HandEyeSummary {
 bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
                      const std::vector<double>& distortion, Isometry3* camera_from_board);
 
+// The same from flange poses given directly (the controller's base_from_flange, no robot model).
+struct StandCameraObservation {
+  Isometry3 base_from_flange = Isometry3::Identity();   // mm
+  Isometry3 camera_from_board = Isometry3::Identity();  // mm
+};
+HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeOptions& options = {},
+                                   HandEyeSummary* summary = nullptr);
+
+// InputError (field "poses") if the flange rotations relative to the first pose do not span two
+// axes (more than 1 deg, axes more than 5 deg apart): hand-eye is then degenerate.
+void CheckRotationsExciteTwoAxes(const std::vector<Isometry3>& base_from_flange);
+
 // InputError (field "poses") for fewer than min_poses poses.
 HandEyeResult CalibrateCameraToRobot(const kinematics::RobotModel& model, const std::vector<BoardPoseObservation>& obs,
                                      const HandEyeOptions& options = {}, HandEyeSummary* summary = nullptr);
