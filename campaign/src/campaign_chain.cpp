@@ -124,33 +124,11 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   s.centres = static_cast<int>(ball.rows.size());
   // The drift is measured pose by pose against the cold cycle, so a pose that lost its centre in
   // any cycle is dropped from both chains (and reported).
-  std::map<int, int> cycles_with_pose;
-  std::map<int, int> cycle_count;
-  for (const auto& row : ball.rows) {
-    ++cycles_with_pose[row.index];
-    cycle_count[row.cycle] = 1;
-  }
-  std::vector<int> dropped;
-  for (const auto& [pose, n] : cycles_with_pose) {
-    if (n < static_cast<int>(cycle_count.size())) dropped.push_back(pose);
-  }
-  for (const auto& row : sim.ball.rows) {
-    if (cycles_with_pose.count(row.index) == 0 && std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) {
-      dropped.push_back(row.index);
-    }
-  }
   kinematics::RobotMeasurementSet truth_ball = kinematics::ReadRobotMeasurements((dir / "truth" / "ball_truth.csv").string());
+  const std::vector<int> dropped = PosesMissingInSomeCycle(ball, sim.ball);
   if (!dropped.empty()) {
-    auto keep = [&](const kinematics::RobotMeasurementSet& in) {
-      kinematics::RobotMeasurementSet out = in;
-      out.rows.clear();
-      for (const auto& row : in.rows) {
-        if (std::find(dropped.begin(), dropped.end(), row.index) == dropped.end()) out.rows.push_back(row);
-      }
-      return out;
-    };
-    ball = keep(ball);
-    truth_ball = keep(truth_ball);
+    ball = DropPoses(ball, dropped);
+    truth_ball = DropPoses(truth_ball, dropped);
     for (int p : dropped) s.dropped_poses.push_back(p);
   }
 

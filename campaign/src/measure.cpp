@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "ramtk/campaign/controller_log.h"
@@ -319,6 +320,30 @@ kinematics::RobotMeasurementSet JoinCentresWithLog(const std::vector<CaptureCent
     return a.cycle != b.cycle ? a.cycle < b.cycle : a.index < b.index;
   });
   s.written = static_cast<int>(out.rows.size());
+  return out;
+}
+
+std::vector<int> PosesMissingInSomeCycle(const kinematics::RobotMeasurementSet& measured,
+                                         const kinematics::RobotMeasurementSet& expected) {
+  std::map<int, std::set<int>> cycles_of_pose;
+  std::set<int> cycles;
+  for (const auto& row : measured.rows) {
+    cycles_of_pose[row.index].insert(row.cycle);
+    cycles.insert(row.cycle);
+  }
+  std::set<int> missing;
+  for (const auto& [pose, c] : cycles_of_pose)
+    if (c.size() < cycles.size()) missing.insert(pose);
+  for (const auto& row : expected.rows)
+    if (cycles_of_pose.count(row.index) == 0) missing.insert(row.index);
+  return {missing.begin(), missing.end()};
+}
+
+kinematics::RobotMeasurementSet DropPoses(const kinematics::RobotMeasurementSet& set, const std::vector<int>& poses) {
+  kinematics::RobotMeasurementSet out = set;
+  out.rows.clear();
+  for (const auto& row : set.rows)
+    if (std::find(poses.begin(), poses.end(), row.index) == poses.end()) out.rows.push_back(row);
   return out;
 }
 

@@ -154,3 +154,41 @@ TEST_F(MeasureTest, ErrorsNameFileLineAndField) {
 
 }  // namespace
 }  // namespace ramtk::campaign
+
+namespace ramtk::campaign {
+namespace {
+
+kinematics::RobotMeasurementSet Rows(const std::vector<std::pair<int, int>>& cycle_pose) {
+  kinematics::RobotMeasurementSet s;
+  for (const auto& [cycle, pose] : cycle_pose) {
+    kinematics::RobotMeasurement r;
+    r.cycle = cycle;
+    r.index = pose;
+    s.rows.push_back(r);
+  }
+  return s;
+}
+
+// The twin drops a pose that lost its centre in any cycle from both chains (the drift is
+// measured pose by pose against the cold cycle): hand-made sets with the answer known.
+TEST(DropPoses, APoseMissingInAnyCycleOrNeverMeasuredIsDropped) {
+  // Planned: poses 1..4 in cycles 0..2. Pose 2 lost its centre in cycle 1; pose 4 never had one.
+  std::vector<std::pair<int, int>> planned, measured;
+  for (int c = 0; c < 3; ++c)
+    for (int p = 1; p <= 4; ++p) {
+      planned.push_back({c, p});
+      if (p != 4 && !(p == 2 && c == 1)) measured.push_back({c, p});
+    }
+  const auto expected = Rows(planned), got = Rows(measured);
+  const std::vector<int> missing = PosesMissingInSomeCycle(got, expected);
+  EXPECT_EQ(missing, (std::vector<int>{2, 4}));
+  const auto kept = DropPoses(got, missing);
+  EXPECT_EQ(kept.rows.size(), 6u);  // poses 1 and 3 in three cycles
+  for (const auto& r : kept.rows) EXPECT_TRUE(r.index == 1 || r.index == 3);
+  // Nothing missing: nothing dropped, the set unchanged.
+  EXPECT_TRUE(PosesMissingInSomeCycle(expected, expected).empty());
+  EXPECT_EQ(DropPoses(expected, {}).rows.size(), expected.rows.size());
+}
+
+}  // namespace
+}  // namespace ramtk::campaign

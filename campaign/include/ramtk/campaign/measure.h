@@ -82,4 +82,12 @@ struct ControllerLog;  // controller_log.h
 kinematics::RobotMeasurementSet JoinCentresWithLog(const std::vector<CaptureCentre>& captures, const ControllerLog& log,
                                                    const MeasureOptions& options, MeasureSummary* summary = nullptr);
 
+// Drift is measured pose by pose against the cold cycle, so a pose must have a centre in every
+// cycle. The poses of `measured` missing from some cycle that has rows, and the poses of
+// `expected` (e.g. the planned poses) absent from `measured` altogether, ascending.
+std::vector<int> PosesMissingInSomeCycle(const kinematics::RobotMeasurementSet& measured,
+                                         const kinematics::RobotMeasurementSet& expected);
+// `set` without the rows of the given poses (the other fields unchanged).
+kinematics::RobotMeasurementSet DropPoses(const kinematics::RobotMeasurementSet& set, const std::vector<int>& poses);
+
 }  // namespace ramtk::campaign
