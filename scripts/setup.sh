@@ -30,6 +30,9 @@ PACKAGES=(
   python3-numpy python3-pytest  # its arrays and its tests
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
   opencv-doc               # its real stereo chessboard images: ctest RealBoard.* (calib on real boards)
+  gnuplot-nox              # PNG figures (report/gnuplot.h)
+  python3-plotly uglifyjs  # Plotly.js, minified at build time and inlined into HTML reports
+  chromium                 # the browser test of the HTML reports (ctest report.browser_*)
 )
 
 log() { printf '[setup] %s\n' "$*"; }

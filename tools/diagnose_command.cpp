@@ -15,8 +15,9 @@
 namespace ramtk::tools {
 namespace {
 
-int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kind_override) {
+int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kind_override, bool html) {
   options.Validate();
+  if (html && options.output_folder.empty()) throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
   diagnose::DataKind kind = diagnose::DetectKind(options.data);
   if (kind_override == "fringe") kind = diagnose::DataKind::kFringe;
   if (kind_override == "robot") kind = diagnose::DataKind::kRobot;
@@ -34,8 +35,10 @@ int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kin
       break;
   }
   if (!options.output_folder.empty()) diagnose::WriteDiagnosis(result, options.output_folder);
+  if (html) diagnose::WriteDiagnosisHtml(result, options.output_folder);
   std::cout << diagnose::OneLine(result) << '\n';
   if (!options.output_folder.empty()) std::cout << "wrote " << options.output_folder << "/report.md\n";
+  if (html) std::cout << "wrote " << options.output_folder << "/report.html\n";
   return kExitOk;
 }
 
@@ -44,6 +47,7 @@ int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kin
 void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   auto options = std::make_shared<diagnose::DiagnoseOptions>();
   auto kind = std::make_shared<std::string>();
+  auto html = std::make_shared<bool>(false);
   CLI::App* sub = app.add_subcommand(
       "diagnose", "What the simulation gets wrong on measured data: residual structure, named cause, held-out gain");
   sub->add_option("data", options->data,
@@ -57,19 +61,22 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
                   "Further input, repeatable. robot: set-up JSON, monitoring CSV, thermal=traditional|none|<params>; "
                   "laser log: motion JSON; fringe: camera=NAME (default left)");
   sub->add_option("--out", options->output_folder, "Folder for report.md, diagnosis.json and pictures");
+  sub->add_flag("--report", *html,
+                "Also write report.html into --out: one self-contained page with the summary, tables and "
+                "interactive figures");
   sub->add_option("--folds", options->folds, "Cross-validation folds")->capture_default_str();
   sub->add_option("--noise", options->noise,
                   "Expected noise sigma of one residual in the data's unit (0 = kind's default)");
   sub->add_option("--alpha", options->alpha, "Significance level of the structure tests")->capture_default_str();
   sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
   sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
-  sub->callback([options, kind, exit_code]() {
+  sub->callback([options, kind, html, exit_code]() {
     options->progress = [](const Progress& p) {
       std::cerr << "\r" << p.stage << " " << p.done << "/" << p.total << std::flush;
       if (p.total > 0 && p.done == p.total) std::cerr << '\n';
       return true;
     };
-    *exit_code = RunDiagnose(*options, *kind);
+    *exit_code = RunDiagnose(*options, *kind, *html);
   });
 }
 

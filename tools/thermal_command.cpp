@@ -18,6 +18,7 @@
 #include "ramtk/thermal/compensation.h"
 #include "ramtk/thermal/predictor.h"
 #include "ramtk/thermal/screening.h"
+#include "ramtk/thermal/thermal_report.h"
 #include "ramtk/thermal/simulator.h"
 
 namespace ramtk::tools {
@@ -236,6 +237,7 @@ struct ScreenOptions {
   int budget = 6;
   std::string out_json;
   std::string out_series;
+  std::string out_report;  // report.html
 };
 
 LambdaOptions MakeLambda(double threshold_mm, const std::string& statistic) {
@@ -265,7 +267,7 @@ int ParseKeep(const std::string& text) {
 }
 
 int RunScreen(const ScreenOptions& opt) {
-  CheckOutputs(opt.in, {{"--json", opt.out_json}, {"--series", opt.out_series}});
+  CheckOutputs(opt.in, {{"--json", opt.out_json}, {"--series", opt.out_series}, {"--report", opt.out_report}});
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   ScreeningOptions so;
@@ -336,6 +338,7 @@ int RunScreen(const ScreenOptions& opt) {
     return a;
   };
   j["comparison_all_poses"] = rows_json(rows);
+  std::vector<ComparisonRow> last_budget_rows;
   if (opt.budget > 0 && opt.budget < e.ball.NumPoses()) {
     // Production budget: each set on its own D-optimal poses.
     const DriftModel dm(e.model, e.setup, e.ball.taught);
@@ -351,10 +354,15 @@ int RunScreen(const ScreenOptions& opt) {
     std::cout << "\nProduction budget: " << opt.budget << " D-optimal poses per set:\n"
               << FormatComparisonTable(budget_rows);
     j["comparison_budget"] = rows_json(budget_rows);
+    last_budget_rows = budget_rows;
   }
   if (!opt.out_json.empty()) {
     WriteFileAtomically(opt.out_json, j.dump(2) + "\n");
     std::cout << "wrote " << opt.out_json << "\n";
+  }
+  if (!opt.out_report.empty()) {
+    ScreeningReport(ex, s, rows, last_budget_rows, opt.threshold_mm).Write(opt.out_report);
+    std::cout << "wrote " << opt.out_report << "\n";
   }
   return kExitOk;
 }
@@ -365,10 +373,11 @@ struct CompensateOptions {
   int cycle = -1;  // -1: the last cycle
   double threshold_mm = 0.1;
   std::string out_path;
+  std::string out_report;  // report.html
 };
 
 int RunCompensate(const CompensateOptions& opt) {
-  CheckOutputs(opt.in, {{"--out", opt.out_path}});
+  CheckOutputs(opt.in, {{"--out", opt.out_path}, {"--report", opt.out_report}});
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   const std::vector<int> params = ParseParamList(opt.in.params, e.model, "--params");
@@ -408,6 +417,22 @@ int RunCompensate(const CompensateOptions& opt) {
             << "corrected joints for the taught monitoring poses at cycle " << e.monitoring.cycles[col].cycle << ": "
             << cs.BriefReport() << "\n";
   if (!opt.out_path.empty()) std::cout << "wrote " << opt.out_path << "\n";
+  if (!opt.out_report.empty()) {
+    CompensationReportInput in;
+    in.experiment = &ex;
+    in.params = params;
+    in.before = before, in.after = after, in.delta_x = x_mon;
+    in.threshold_mm = opt.threshold_mm;
+    in.cycle_column = col;
+    for (int k = 0; k < e.monitoring.NumPoses(); ++k) {
+      std::vector<double> q(6), t(6);
+      for (int j = 0; j < 6; ++j) q[j] = RadToDeg(corrected[k][j]), t[j] = RadToDeg(e.monitoring.taught[k][j]);
+      in.corrected_deg.push_back(q), in.taught_deg.push_back(t);
+    }
+    in.identification = is.BriefReport();
+    CompensationReport(in).Write(opt.out_report);
+    std::cout << "wrote " << opt.out_report << "\n";
+  }
   return cs.converged == cs.poses ? kExitOk : kExitNoSolution;
 }
 
@@ -554,6 +579,8 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--pose-budget", opt->budget, "Also compare the sets on this many D-optimal poses (0: skip)");
     sub->add_option("--json", opt->out_json, "Write the tables as JSON");
     sub->add_option("--series", opt->out_series, "Write every candidate's identified series per cycle (CSV, mm/deg)");
+    sub->add_option("--report", opt->out_report,
+                    "Write one self-contained HTML page: the tables, the elimination and the selected drift");
     sub->callback([opt, exit_code]() { *exit_code = RunScreen(*opt); });
   }
   {
@@ -567,6 +594,8 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--cycle", opt->cycle, "Cycle whose drift corrects the taught poses (default: last)");
     sub->add_option("--threshold-mm", opt->threshold_mm, "λ threshold (mm)");
     sub->add_option("--out", opt->out_path, "Corrected joints CSV (deg)");
+    sub->add_option("--report", opt->out_report,
+                    "Write one self-contained HTML page: monitoring error per cycle, identified drift, corrected joints");
     sub->callback([opt, exit_code]() { *exit_code = RunCompensate(*opt); });
   }
   {

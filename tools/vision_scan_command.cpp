@@ -14,6 +14,7 @@
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan_report.h"
 
 namespace ramtk::tools {
 namespace {
@@ -37,6 +38,7 @@ struct ScanCommandOptions {
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
   std::string shard;                          // "K/N": scan only shard K of N of the batch
+  bool report = false;                        // also write report.html
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -111,6 +113,13 @@ int RunScan(const ScanCommandOptions& opt) {
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(opt.out + "/" + results_name, csv);
     std::cout << csv;
+    if (opt.report) {
+      const std::string page = results_name.substr(0, results_name.size() - 4) == "results"
+                                   ? std::string("report.html")
+                                   : "report" + results_name.substr(7, results_name.size() - 11) + ".html";
+      ScanBatchReport(rows, opt.out).Write(opt.out + "/" + page);
+      std::cout << "wrote " << opt.out << "/" << page << "\n";
+    }
     int bad = 0, none = 0;
     for (const ScanBatchRow& r : rows) {
       if (r.status == "error") ++bad;
@@ -125,7 +134,7 @@ int RunScan(const ScanCommandOptions& opt) {
   CheckOutputAgainstInputs(opt.out, inputs, "--out");
   const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
   const ScanResult result = ScanFringeSet(opt.set, options);
-  WriteScanOutputs(opt.out, result, opt.force);
+  WriteScanOutputs(opt.out, result, opt.force, opt.report);
   std::cout << result.summary.BriefReport() << "\n";
   if (!truth.empty()) {
     const std::vector<int> match = MatchTruthSpheres(result.summary.spheres, truth);
@@ -141,7 +150,8 @@ int RunScan(const ScanCommandOptions& opt) {
           1000 * (r.radius_mm - t.radius));
     }
   }
-  std::cout << "wrote " << opt.out << " (cloud.ply, spheres.json, depth.png, summary.json)\n";
+  std::cout << "wrote " << opt.out << " (cloud.ply, spheres.json, depth.png, summary.json"
+            << (opt.report ? ", report.html" : "") << ")\n";
   return result.summary.spheres.spheres.empty() ? kExitNoSolution : kExitOk;
 }
 
@@ -176,6 +186,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
       ->capture_default_str();
+  sub->add_flag("--report", opt->report,
+                "Also write report.html: one self-contained page (summary, sphere table, 3D view of the points "
+                "around the sphere with its fit, residual and depth pictures). With --batch: one page for the batch");
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");

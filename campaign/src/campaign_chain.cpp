@@ -214,8 +214,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   WriteFileAtomically((dir / "budget.json").string(), BudgetJson(s));
   WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s));
   if (s.cycle_time_s.size() >= 1) {
-    std::vector<diagnose::PlotSeries> series(3);
-    for (auto& ps : series) ps.line = true;
+    std::vector<report::Series> series(3);
+    for (auto& ps : series) ps.style = report::SeriesStyle::kLinesPoints;
     for (std::size_t i = 0; i < s.cycle_time_s.size(); ++i) {
       const double t = s.cycle_time_s[i] / 60.0;
       series[0].x.push_back(t);
@@ -228,13 +228,11 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
     series[0].label = "uncompensated";
     series[1].label = "compensated (centres from images)";
     series[2].label = "compensated (true centres)";
-    const unsigned char colours[3][3] = {{214, 39, 40}, {31, 119, 180}, {44, 160, 44}};
-    for (int k = 0; k < 3; ++k) std::copy(colours[k], colours[k] + 3, series[k].rgb);
-    diagnose::PlotOptions po;
-    po.title = "Monitoring points: RMS error per cycle";
-    po.x_label = "time, min";
-    po.y_label = "RMS over monitored directions, mm";
-    diagnose::WritePlot(series, po, (dir / "monitoring_error.png").string());
+    std::vector<diagnose::Picture> pictures;
+    diagnose::AddFigure(diagnose::OnePanel("monitoring_error", "RMS error of the monitoring points per cycle.",
+                                           "Monitoring points: RMS error per cycle", "time (min)",
+                                           "RMS over monitored directions (mm)", series),
+                        dir.string(), &pictures);
   }
   return s;
 }

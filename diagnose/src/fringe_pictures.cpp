@@ -17,18 +17,17 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Mean of y in `bins` equal bins of x over [lo, hi].
-PlotSeries Binned(const std::vector<double>& x, const std::vector<double>& y, double lo, double hi, int bins,
-                  const std::string& label, unsigned char r, unsigned char g, unsigned char b) {
+report::Series Binned(const std::vector<double>& x, const std::vector<double>& y, double lo, double hi, int bins,
+                      const std::string& label) {
   std::vector<double> sum(bins, 0.0);
   std::vector<long> n(bins, 0);
   for (size_t i = 0; i < x.size(); ++i) {
     const int k = std::clamp(static_cast<int>((x[i] - lo) / (hi - lo) * bins), 0, bins - 1);
     sum[k] += y[i], ++n[k];
   }
-  PlotSeries s;
+  report::Series s;
   s.label = label;
-  s.line = true;
-  s.rgb[0] = r, s.rgb[1] = g, s.rgb[2] = b;
+  s.style = report::SeriesStyle::kLines;
   for (int k = 0; k < bins; ++k)
     if (n[k] >= 20) s.x.push_back(lo + (k + 0.5) * (hi - lo) / bins), s.y.push_back(sum[k] / n[k]);
   return s;
@@ -47,7 +46,7 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
   // Residual against the fringe phase θ_k = φ + δ_k (phase-shift frames).
   {
     std::vector<double> th, r;
-    PlotSeries dots;
+    report::Series dots;
     dots.label = "sampled residuals";
     for (size_t i = 0; i < fit.pixels.size(); ++i)
       for (int k = 0; k < fit.steps; ++k) {
@@ -60,23 +59,19 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
       const size_t k = any(rng);
       dots.x.push_back(th[k]), dots.y.push_back(r[k]);
     }
-    PlotOptions o;
-    o.title = "Residual of the ideal model vs fringe phase (phase-shift frames)";
-    o.x_label = "fringe phase theta = phi + delta_k (deg)";
-    o.y_label = "measured - model (DN)";
-    o.band = floor;
-    WritePlot({dots, Binned(th, r, -180, 180, 72, "mean per 5 deg", 214, 39, 40)}, o,
-              folder + "/residual_vs_phase.png");
-    out.push_back({"residual_vs_phase.png",
-                   "Residual of the phase-shift frames against the fringe phase; a periodic mean is projector "
-                   "response (harmonics) or phase-step error; the band is +- the noise floor."});
+    AddFigure(OnePanel("residual_vs_phase",
+                       "Residual of the phase-shift frames against the fringe phase; a periodic mean is projector "
+                       "response (harmonics) or phase-step error; the grey band is ± the noise floor.",
+                       "Residual of the ideal model vs fringe phase (phase-shift frames)",
+                       "fringe phase θ = φ + δk (deg)", "measured − model (DN)",
+                       {dots, Binned(th, r, -180, 180, 72, "mean per 5°")}, floor),
+              folder, &out);
   }
   // Residual per frame.
   {
-    PlotSeries rms, mean;
+    report::Series rms, mean;
     rms.label = "RMS", mean.label = "mean";
-    rms.line = mean.line = true;
-    mean.rgb[0] = 214, mean.rgb[1] = 39, mean.rgb[2] = 40;
+    rms.style = mean.style = report::SeriesStyle::kLinesPoints;
     for (int f = 0; f < nf; ++f) {
       double s = 0, s2 = 0;
       long m = 0;
@@ -88,15 +83,12 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
       rms.x.push_back(f), rms.y.push_back(std::sqrt(s2 / m));
       mean.x.push_back(f), mean.y.push_back(s / m);
     }
-    PlotOptions o;
-    o.title = "Residual per frame (0.." + std::to_string(fit.steps - 1) + " phase shift, then Gray code)";
-    o.x_label = "frame index";
-    o.y_label = "DN";
-    o.band = floor;
-    WritePlot({rms, mean}, o, folder + "/residual_vs_frame.png");
-    out.push_back({"residual_vs_frame.png",
-                   "RMS and mean residual per frame: a trend is intensity drift, a step between blocks a level "
-                   "mismatch of the Gray-code frames."});
+    AddFigure(OnePanel("residual_vs_frame",
+                       "RMS and mean residual per frame: a trend is intensity drift, a step between blocks a level "
+                       "mismatch of the Gray-code frames.",
+                       "Residual per frame (0.." + std::to_string(fit.steps - 1) + " phase shift, then Gray code)",
+                       "frame index", "residual (DN)", {rms, mean}, floor),
+              folder, &out);
   }
   // Residual against the ideal intensity level.
   {
@@ -110,18 +102,14 @@ std::vector<Picture> WriteFringePictures(const FringeFit& fit, double floor, con
       (phase ? lp : lg).push_back(level);
       (phase ? rp : rg).push_back(fit.residual[i * nf + f]);
     }
-    PlotOptions o;
-    o.title = "Mean residual vs ideal intensity level";
-    o.x_label = "ideal model intensity (DN)";
-    o.y_label = "mean residual (DN)";
-    o.band = floor;
     const double hi = std::max(fit.full_scale * 1.1, 1.0);
-    WritePlot({Binned(lp, rp, 0, hi, 60, "phase-shift frames", 31, 119, 180),
-               Binned(lg, rg, 0, hi, 60, "Gray-code frames", 214, 39, 40)},
-              o, folder + "/residual_vs_level.png");
-    out.push_back({"residual_vs_level.png",
-                   "Mean residual against the ideal intensity: a fall at the top is saturation, a curve over the "
-                   "range a nonlinear response, an offset between the frame kinds a level mismatch."});
+    AddFigure(OnePanel("residual_vs_level",
+                       "Mean residual against the ideal intensity: a fall at the top is saturation, a curve over the "
+                       "range a nonlinear response, an offset between the frame kinds a level mismatch.",
+                       "Mean residual vs ideal intensity level", "ideal model intensity (DN)", "mean residual (DN)",
+                       {Binned(lp, rp, 0, hi, 60, "phase-shift frames"), Binned(lg, rg, 0, hi, 60, "Gray-code frames")},
+                       floor),
+              folder, &out);
   }
   // Map of the per-pixel residual RMS.
   {

@@ -271,17 +271,15 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
     std::filesystem::create_directories(options.output_folder);
     const Eigen::VectorXd before = outcomes[0].heldout_resid, after = final_outcome.heldout_resid;
     const Eigen::VectorXd fitted_tool = outcomes[0].full.params;
-    auto series = [](const char* label, unsigned char r, unsigned char g, unsigned char b) {
-      PlotSeries s;
+    auto series = [](const char* label) {
+      report::Series s;
       s.label = label;
-      s.rgb[0] = r, s.rgb[1] = g, s.rgb[2] = b;
       return s;
     };
-    PlotSeries ccw = series("ccw circles", 31, 119, 180), cw = series("cw circles", 214, 39, 40),
-               fixed = series("after the extension", 150, 150, 150);
-    PlotSeries xs = series("x beam", 31, 119, 180), ys = series("y beam", 255, 127, 14);
-    PlotSeries circ = series("circles", 31, 119, 180), lines = series("straight moves", 44, 160, 44);
-    PlotSeries blocked = series("blocked", 148, 103, 189), clear = series("clear", 140, 86, 75);
+    report::Series ccw = series("ccw circles"), cw = series("cw circles"), fixed = series("after the extension");
+    report::Series xs = series("x beam"), ys = series("y beam");
+    report::Series circ = series("circles"), lines = series("straight moves");
+    report::Series blocked = series("blocked"), clear = series("clear");
     for (int i = 0; i < n; ++i) {
       const UsedEvent& u = lm.used[i];
       const double y = before(i);
@@ -294,7 +292,7 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
         fixed.x.push_back(ang);
         fixed.y.push_back(after(i));
       }
-      PlotSeries& by_beam = u.event.beam == tcf::Beam::kX ? xs : ys;
+      report::Series& by_beam = u.event.beam == tcf::Beam::kX ? xs : ys;
       by_beam.x.push_back(u.segment + 1 +
                           0.6 * (u.event.time_s - u.start) /
                               (u.circle ? motion.circles[u.segment].duration_s
@@ -308,28 +306,27 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
       (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).x.push_back(u.event.time_s - u.start);
       (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).y.push_back(y);
     }
-    PlotOptions po;
-    po.band = sigma;
-    po.y_label = "clearance at the logged instant (mm), held out";
-    po.title = "Residual vs crossing angle, ccw vs cw (grey: " + d.cause + ")";
-    po.x_label = "programmed circle angle at the event (deg)";
-    WritePlot({fixed, ccw, cw}, po, options.output_folder + "/residual_vs_angle.png");
-    d.pictures.push_back({"residual_vs_angle.png",
-                          "Held-out residual of the circle events against the crossing angle, ccw and cw circles, "
-                          "and after the chosen extension"});
-    po.title = "Residual by segment (circles first, then straight moves)";
-    po.x_label = "segment number (+ fraction of the segment elapsed)";
-    WritePlot({xs, ys}, po, options.output_folder + "/residual_by_circle.png");
-    d.pictures.push_back({"residual_by_circle.png", "Held-out residual per circle and straight move, by beam"});
-    po.title = "Residual vs height of the fitted tip below the beam plane";
-    po.x_label = "tip height below the beam plane (mm; circles at their programmed heights)";
-    WritePlot({circ, lines}, po, options.output_folder + "/residual_vs_height.png");
-    d.pictures.push_back({"residual_vs_height.png", "Held-out residual against the height of the tool in the beams"});
-    po.title = "Residual vs time in the segment, blocked vs clear events";
-    po.x_label = "time since the segment started (s)";
-    WritePlot({blocked, clear}, po, options.output_folder + "/residual_vs_time.png");
-    d.pictures.push_back({"residual_vs_time.png",
-                          "Held-out residual against the time within its segment, blocking and clearing events"});
+    const std::string y_label = "clearance at the logged instant, held out (mm)";
+    const std::string& folder = options.output_folder;
+    AddFigure(OnePanel("residual_vs_angle",
+                       "Held-out residual of the circle events against the crossing angle, ccw and cw circles, "
+                       "and after the chosen extension",
+                       "Residual vs crossing angle, ccw vs cw (and after " + d.cause + ")",
+                       "programmed circle angle at the event (deg)", y_label, {ccw, cw, fixed}, sigma),
+              folder, &d.pictures);
+    AddFigure(OnePanel("residual_by_circle", "Held-out residual per circle and straight move, by beam",
+                       "Residual by segment (circles first, then straight moves)",
+                       "segment number + fraction of the segment elapsed", y_label, {xs, ys}, sigma),
+              folder, &d.pictures);
+    AddFigure(OnePanel("residual_vs_height", "Held-out residual against the height of the tool in the beams",
+                       "Residual vs height of the fitted tip below the beam plane",
+                       "tip height below the beam plane (mm)", y_label, {circ, lines}, sigma),
+              folder, &d.pictures);
+    AddFigure(OnePanel("residual_vs_time",
+                       "Held-out residual against the time within its segment, blocking and clearing events",
+                       "Residual vs time in the segment, blocked vs clear events", "time since the segment started (s)",
+                       y_label, {blocked, clear}, sigma),
+              folder, &d.pictures);
   }
   return d;
 }

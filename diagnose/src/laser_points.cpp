@@ -156,24 +156,22 @@ Diagnosis DiagnoseSensorPoints(const std::map<std::string, Vec3>& flange_in_base
 
   if (!options.output_folder.empty()) {
     std::filesystem::create_directories(options.output_folder);
-    PlotSeries before, after;
+    report::Series before, after;
     before.label = "ideal device (held out)";
     after.label = "extended model (held out)";
-    after.rgb[0] = 214, after.rgb[1] = 39, after.rgb[2] = 40;
+    before.style = after.style = report::SeriesStyle::kLinesPoints;
     for (size_t i = 0; i < obs.size(); ++i) {
       before.x.push_back(static_cast<double>(i + 1));
       before.y.push_back(outcomes[0].heldout_resid(i));
       after.x.push_back(static_cast<double>(i + 1));
       after.y.push_back(final_resid(i));
     }
-    PlotOptions po;
-    po.title = "Calibration points: leave-one-out residual (A1..A4, B1..B4, C1..C4, D1..D4)";
-    po.x_label = "observation: A1-A4, B1-B4 (x beam), C1-C4, D1-D4 (y beam)";
-    po.y_label = "residual (mm)";
-    po.band = sigma;
-    WritePlot({before, after}, po, options.output_folder + "/residual_by_point.png");
-    d.pictures.push_back(
-        {"residual_by_point.png", "Leave-one-out residual of each flange coordinate, ideal device and extended model"});
+    AddFigure(OnePanel("residual_by_point",
+                       "Leave-one-out residual of each flange coordinate, ideal device and extended model",
+                       "Calibration points: leave-one-out residual",
+                       "observation: A1–A4, B1–B4 (x beam), C1–C4, D1–D4 (y beam)", "residual (mm)",
+                       {before, after}, sigma),
+              options.output_folder, &d.pictures);
   }
   return d;
 }

@@ -127,9 +127,71 @@ std::string DiagnosisMarkdown(const Diagnosis& d) {
   }
   if (!d.pictures.empty()) {
     md << "\n## Pictures\n\n";
-    for (const Picture& p : d.pictures) md << "![" << p.caption << "](" << p.file << ")\n\n" << p.caption << "\n\n";
+    for (const Picture& p : d.pictures) {
+      if (p.file.empty()) {
+        md << "- (" << p.caption << ": not drawn, gnuplot missing; see report.html)\n\n";
+        continue;
+      }
+      md << "![" << p.caption << "](" << p.file << ")\n\n" << p.caption << "\n\n";
+    }
   }
   return md.str();
+}
+
+report::HtmlReport DiagnosisHtml(const Diagnosis& d, const std::string& folder) {
+  report::HtmlReport html("Diagnosis: " + std::string(DataKindName(d.kind)) + " data");
+  html.KeyValues({{"data", d.data}, {"model", d.model}, {"residuals", std::to_string(d.num_residuals) + " (" + d.unit + ")"}});
+  html.Paragraph(OneLine(d));
+  html.Section("Residual of the current model");
+  html.KeyValues({{"residual RMS (" + d.unit + ")", Fixed(d.residual_rms, 4)},
+                  {"noise floor RMS (" + d.unit + ")", Fixed(d.noise_floor_rms, 4)},
+                  {"structure", d.structure_found ? "yes" : "no (consistent with the noise)"},
+                  {"smallest corrected p-value", Fixed(d.structure_p_value, 3)}});
+  if (!d.findings.empty()) {
+    std::vector<std::vector<std::string>> rows;
+    for (const std::string& f : d.findings) rows.push_back({f});
+    html.Table({"finding"}, rows);
+  }
+  html.Section("Candidate extensions (cross-validated)");
+  std::vector<std::vector<std::string>> rows;
+  for (const CandidateFit& c : d.candidates) {
+    std::string est;
+    for (const auto& [k, v] : c.parameters) {
+      est += (est.empty() ? "" : ", ") + k + " = " + Fixed(v, 4);
+      const auto sg = c.sigmas.find(k);
+      if (sg != c.sigmas.end()) est += " ± " + Fixed(sg->second, 2);
+    }
+    rows.push_back({c.effect, std::to_string(c.num_parameters), Fixed(c.train_rms, 4), Fixed(c.heldout_rms, 4),
+                    Fixed(c.score, 6), Fixed(c.weight, 3), est});
+  }
+  html.Table({"effect", "extra parameters", "train RMS (" + d.unit + ")", "held-out RMS (" + d.unit + ")", "score",
+              "weight", "estimates"},
+             rows);
+  if (!d.pictures.empty()) {
+    html.Section("Pictures");
+    int k = 0;
+    for (const Picture& p : d.pictures) {
+      if (p.figure) {
+        html.AddFigure(*p.figure);
+      } else if (!p.file.empty()) {
+        const std::string stem = std::filesystem::path(p.file).stem().string();
+        html.AddImage("image-" + std::to_string(k) + "-" + stem, (std::filesystem::path(folder) / p.file).string(),
+                      p.caption);
+      }
+      ++k;
+    }
+  }
+  html.Section("Files");
+  std::vector<std::pair<std::string, std::string>> links = {{"diagnosis (JSON)", "diagnosis.json"},
+                                                            {"report (Markdown)", "report.md"}};
+  for (const Picture& p : d.pictures)
+    if (!p.file.empty()) links.push_back({p.caption.substr(0, 60) + (p.caption.size() > 60 ? "…" : ""), p.file});
+  html.Links(links);
+  return html;
+}
+
+void WriteDiagnosisHtml(const Diagnosis& diagnosis, const std::string& folder) {
+  DiagnosisHtml(diagnosis, folder).Write((std::filesystem::path(folder) / "report.html").string());
 }
 
 void WriteDiagnosis(const Diagnosis& diagnosis, const std::string& folder) {

@@ -9,6 +9,7 @@
 
 #include "ramtk/diagnose/catalogue.h"
 #include "ramtk/diagnose/plot.h"
+#include "ramtk/report/gnuplot.h"
 
 namespace ramtk::diagnose {
 namespace {
@@ -52,23 +53,23 @@ TEST(Report, WritesJsonReportAndAReadablePlot) {
   const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/report";
   std::filesystem::remove_all(dir);
   Diagnosis d;
-  PlotSeries s;
+  report::Series s;
   for (int i = 0; i < 50; ++i) s.x.push_back(i), s.y.push_back(std::sin(i * 0.3));
   s.label = "residual";
-  PlotOptions o;
-  o.title = "residual against time";
-  o.band = 0.5;
-  std::filesystem::create_directories(dir);
-  WritePlot({s}, o, dir + "/residual.png");
-  d.pictures.push_back({"residual.png", "residual against time"});
+  AddFigure(OnePanel("residual", "residual against time", "residual against time", "time (h)", "residual (mm)", {s},
+                     0.5),
+            dir, &d.pictures);
+  ASSERT_EQ(d.pictures.size(), 1u);
+  ASSERT_EQ(d.pictures[0].file, "residual.png");
+  ASSERT_TRUE(d.pictures[0].figure.has_value());
   WriteDiagnosis(d, dir);
   EXPECT_TRUE(std::filesystem::exists(dir + "/diagnosis.json"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/report.md"));
   const cv::Mat img = cv::imread(dir + "/residual.png");
   ASSERT_FALSE(img.empty());
-  EXPECT_EQ(img.cols, o.width);
-  EXPECT_EQ(img.rows, o.height);
-  EXPECT_THROW(WritePlot({}, o, dir + "/empty.png"), std::invalid_argument);
+  EXPECT_EQ(img.cols, report::PngOptions().width);
+  EXPECT_EQ(img.rows, report::PngOptions().panel_height);
+  EXPECT_THROW(AddFigure(OnePanel("empty", "", "", "", "", {}), dir, &d.pictures), std::invalid_argument);
 }
 
 }  // namespace

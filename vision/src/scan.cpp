@@ -1,6 +1,9 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
+#include "ramtk/report/gnuplot.h"
+#include "ramtk/vision/scan_report.h"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -269,7 +272,7 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   return j.dump(2) + "\n";
 }
 
-void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite) {
+void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite, bool html_report) {
   StagedFolder staged(out_dir, overwrite, "--out");
   const fs::path& tmp = staged.path();
   std::ostringstream comment;
@@ -278,6 +281,13 @@ void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool
   WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
   if (!result.depth.empty()) WriteImage((tmp / "depth.png").string(), DepthPreview(result.depth));
   WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
+  if (html_report) {
+    for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {
+      const report::Figure f = SphereResidualFigure(result, static_cast<int>(k));
+      if (!report::FindGnuplot().empty()) report::WritePng(f, (tmp / (f.id + ".png")).string());
+    }
+    ScanReport(result, result.depth.empty() ? "" : (tmp / "depth.png").string()).Write((tmp / "report.html").string());
+  }
   staged.Commit();
 }
 

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "ramtk/report/figure.h"
 
 namespace ramtk::diagnose {
 
@@ -39,8 +42,9 @@ struct CandidateFit {
 
 // A picture written next to the report.
 struct Picture {
-  std::string file;     // path relative to the report's folder
+  std::string file;     // path relative to the report's folder (empty: no PNG was drawn)
   std::string caption;  // what it shows, one sentence
+  std::optional<report::Figure> figure;  // the plotted data (none for images such as a residual map)
 };
 
 struct Diagnosis {

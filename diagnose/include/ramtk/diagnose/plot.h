@@ -1,27 +1,23 @@
-// Residual pictures: scatter plots of a residual against an explaining variable, written as PNG
-// (OpenCV drawing; no plotting library needed on the machine).
+// Pictures of a diagnosis. Each is a report::Figure: written as `<id>.png` through gnuplot
+// (report/gnuplot.h) and kept in the Diagnosis, so the HTML report draws it interactively.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "ramtk/diagnose/diagnosis.h"
+#include "ramtk/report/figure.h"
+
 namespace ramtk::diagnose {
 
-struct PlotSeries {
-  std::vector<double> x, y;
-  std::string label;  // legend text (empty: no legend entry)
-  unsigned char rgb[3] = {31, 119, 180};
-  bool line = false;  // connect the points (sorted by x) instead of dots
-};
+// Writes `<folder>/<figure.id>.png` and appends the picture (file, figure.caption, figure). When
+// gnuplot is missing the PNG is skipped with one logged warning and the picture keeps only the
+// figure (file empty): the HTML report still draws it.
+void AddFigure(const report::Figure& figure, const std::string& folder, std::vector<Picture>* pictures);
 
-struct PlotOptions {
-  std::string title, x_label, y_label;
-  int width = 900, height = 520;  // pixels
-  // Horizontal band ±band drawn around zero (e.g. the expected noise, 0 = none).
-  double band = 0.0;
-};
-
-// Writes a PNG scatter/line plot atomically. Throws on an empty plot or a failed write.
-void WritePlot(const std::vector<PlotSeries>& series, const PlotOptions& options, const std::string& png_path);
+// A one-panel figure: the common case.
+report::Figure OnePanel(const std::string& id, const std::string& caption, const std::string& title,
+                        const std::string& x_label, const std::string& y_label, std::vector<report::Series> series,
+                        double zero_band = 0.0);
 
 }  // namespace ramtk::diagnose

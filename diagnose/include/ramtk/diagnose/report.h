@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ramtk/diagnose/diagnosis.h"
+#include "ramtk/report/html_report.h"
 
 namespace ramtk::diagnose {
 
@@ -16,6 +17,11 @@ std::string DiagnosisMarkdown(const Diagnosis& diagnosis);
 
 // Writes `diagnosis.json` and `report.md` into `folder` (created), each atomically.
 void WriteDiagnosis(const Diagnosis& diagnosis, const std::string& folder);
+
+// The HTML report of a diagnosis (summary, tests, candidate table, interactive figures, pictures
+// inlined from `folder`, links to the files), and writing it as `<folder>/report.html`.
+report::HtmlReport DiagnosisHtml(const Diagnosis& diagnosis, const std::string& folder);
+void WriteDiagnosisHtml(const Diagnosis& diagnosis, const std::string& folder);
 
 // One line: "cause 'x' (confidence 0.93): held-out RMS 0.21 -> 0.05 mm, 94% of the excess removed".
 std::string OneLine(const Diagnosis& diagnosis);

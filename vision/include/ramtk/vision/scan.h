@@ -88,8 +88,10 @@ std::string ScanSummaryToJson(const ScanSummary& summary);
 
 // Writes cloud.ply, spheres.json, depth.png and summary.json into `out_dir`: all into a
 // temporary sibling folder first, then renamed into place, so a failure leaves nothing. An
-// existing non-empty `out_dir` is an InputError unless `overwrite`.
-void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false);
+// existing non-empty `out_dir` is an InputError unless `overwrite`. With `html_report`, also
+// report.html (scan_report.h) and sphere<k>_residual.png (when gnuplot is installed).
+void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false,
+                      bool html_report = false);
 
 // The true spheres of a simulated set (`truth/truth.json` of `ramtk simulate fringe`: name,
 // centre_in_left_mm, radius_mm). InputError naming the file and field otherwise.
