@@ -15,6 +15,7 @@ struct CampaignCommandOptions {
   std::string out_dir;
   campaign::CampaignOptions o;
   bool quiet = false;
+  bool report = false;
 };
 
 int RunCampaign(const CampaignCommandOptions& opt) {
@@ -34,6 +35,10 @@ int RunCampaign(const CampaignCommandOptions& opt) {
   for (const std::string& l : s.left_out) std::printf("left out: %s\n", l.c_str());
   std::printf("%s\ntimes: render %.1f s, scan %.1f s, chain %.1f s\nwrote %s/budget.json, budget.md, monitoring_error.png\n",
               s.BriefReport().c_str(), s.render_s, s.scan_s, s.chain_s, opt.out_dir.c_str());
+  if (opt.report) {
+    campaign::CampaignReport(s).Write(opt.out_dir + "/report.html");
+    std::printf("wrote %s/report.html\n", opt.out_dir.c_str());
+  }
   return kExitOk;
 }
 
@@ -60,6 +65,8 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--seed", opt->o.seed, "Random seed")->capture_default_str();
   sub->add_option("--jobs", opt->o.jobs, "Sets rendered / scanned at once")->capture_default_str();
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
+  sub->add_flag("--report", opt->report, "Also write report.html: the budget, calibration errors and the monitoring "
+                                         "figure on one self-contained page");
   sub->callback([opt, exit_code]() { *exit_code = RunCampaign(*opt); });
 }
 

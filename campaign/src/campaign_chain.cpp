@@ -214,25 +214,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   WriteFileAtomically((dir / "budget.json").string(), BudgetJson(s));
   WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s));
   if (s.cycle_time_s.size() >= 1) {
-    std::vector<report::Series> series(3);
-    for (auto& ps : series) ps.style = report::SeriesStyle::kLinesPoints;
-    for (std::size_t i = 0; i < s.cycle_time_s.size(); ++i) {
-      const double t = s.cycle_time_s[i] / 60.0;
-      series[0].x.push_back(t);
-      series[0].y.push_back(s.monitoring_before_mm[i]);
-      series[1].x.push_back(t);
-      series[1].y.push_back(s.monitoring_after_mm[i]);
-      series[2].x.push_back(t);
-      series[2].y.push_back(s.monitoring_after_truth_mm[i]);
-    }
-    series[0].label = "uncompensated";
-    series[1].label = "compensated (centres from images)";
-    series[2].label = "compensated (true centres)";
     std::vector<diagnose::Picture> pictures;
-    diagnose::AddFigure(diagnose::OnePanel("monitoring_error", "RMS error of the monitoring points per cycle.",
-                                           "Monitoring points: RMS error per cycle", "time (min)",
-                                           "RMS over monitored directions (mm)", series),
-                        dir.string(), &pictures);
+    diagnose::AddFigure(MonitoringFigure(s), dir.string(), &pictures);
   }
   return s;
 }
@@ -265,6 +248,73 @@ std::string BudgetJson(const CampaignSummary& s) {
                      {"per_cycle_compensated_true_centres_mm", s.monitoring_after_truth_mm}};
   j["brief"] = s.BriefReport();
   return j.dump(2) + "\n";
+}
+
+report::Figure MonitoringFigure(const CampaignSummary& s) {
+  std::vector<report::Series> series(3);
+  for (auto& ps : series) ps.style = report::SeriesStyle::kLinesPoints;
+  for (std::size_t i = 0; i < s.cycle_time_s.size(); ++i) {
+    const double t = s.cycle_time_s[i] / 60.0;
+    series[0].x.push_back(t);
+    series[0].y.push_back(s.monitoring_before_mm[i]);
+    series[1].x.push_back(t);
+    series[1].y.push_back(s.monitoring_after_mm[i]);
+    series[2].x.push_back(t);
+    series[2].y.push_back(s.monitoring_after_truth_mm[i]);
+  }
+  series[0].label = "uncompensated";
+  series[1].label = "compensated (centres from images)";
+  series[2].label = "compensated (true centres)";
+  return diagnose::OnePanel("monitoring_error",
+                            "RMS error of the monitoring points per warm cycle: uncompensated, compensated with the "
+                            "chain fed by image-derived centres, and with the chain fed by the true centres.",
+                            "Monitoring points: RMS error per cycle", "time (min)",
+                            "RMS over monitored directions (mm)", series);
+}
+
+report::HtmlReport CampaignReport(const CampaignSummary& s) {
+  char buf[64];
+  auto f = [&buf](double v, const char* fmt = "%.4g") {
+    std::snprintf(buf, sizeof(buf), fmt, v);
+    return std::string(buf);
+  };
+  report::HtmlReport html("Campaign: images to compensated joints");
+  html.Paragraph(s.BriefReport());
+  html.KeyValues({{"image sets", std::to_string(s.sets)},
+                  {"centres found", std::to_string(s.centres)},
+                  {"sets left out", std::to_string(s.left_out.size())},
+                  {"dominant stage", s.dominant_stage},
+                  {"render / scan / chain (s)", f(s.render_s, "%.1f") + " / " + f(s.scan_s, "%.1f") + " / " +
+                                                    f(s.chain_s, "%.1f")}});
+  html.Section("Error budget, stage by stage");
+  std::vector<std::vector<std::string>> rows;
+  for (const StageError& e : s.budget)
+    rows.push_back({e.stage, e.quantity, f(e.images), e.stage == "centres" ? "—" : f(e.truth)});
+  html.Table({"stage", "quantity", "centres from images", "true centres"}, rows);
+  html.Section("Centres and set-up calibration against the truth");
+  html.Table({"quantity", "error", "predicted σ"},
+             {{"centre RMS (µm)", f(s.centre_rms_um), f(s.centre_predicted_rms_um)},
+              {"sensor_from_base rotation (arcsec)", f(s.rotation_error_arcsec), f(s.rotation_sigma_arcsec)},
+              {"sensor_from_base translation (µm)", f(s.translation_error_um), f(s.translation_sigma_um)},
+              {"ball_in_flange (µm)", f(s.ball_error_um), f(s.ball_sigma_um)}});
+  if (!s.cycle_time_s.empty()) {
+    html.Section("Monitoring points");
+    html.AddFigure(MonitoringFigure(s));
+  }
+  if (!s.left_out.empty()) {
+    std::vector<std::vector<std::string>> lo;
+    for (const std::string& l : s.left_out) lo.push_back({l});
+    html.Section("Sets left out (no centre)");
+    html.Table({"set"}, lo);
+  }
+  html.Section("Files");
+  html.Links({{"error budget (Markdown)", "budget.md"},
+              {"error budget (JSON)", "budget.json"},
+              {"monitoring picture (PNG)", "monitoring_error.png"},
+              {"controller log", "controller_log.csv"},
+              {"scan batch results", "chain/scan/results.csv"},
+              {"ball centres joined with the log", "chain/ball.csv"}});
+  return html;
 }
 
 std::string BudgetMarkdown(const CampaignSummary& s) {

@@ -143,7 +143,10 @@ std::string PlotlyCloudJson(const Cloud3d& cloud) {
   layout["scene"] = {{"aspectmode", "data"},
                      {"xaxis", {{"title", {{"text", "x (mm)"}}}}},
                      {"yaxis", {{"title", {{"text", "y (mm)"}}}}},
-                     {"zaxis", {{"title", {{"text", "z (mm)"}}}}}};
+                     {"zaxis", {{"title", {{"text", "z (mm)"}}}}},
+                     // Seen from the camera's side (cloud in a camera frame: z along the line of
+                     // sight, y down), a little oblique so the depth reads.
+                     {"camera", {{"eye", {{"x", 1.1}, {"y", -0.9}, {"z", -1.5}}}, {"up", {{"x", 0}, {"y", -1}, {"z", 0}}}}}};
   return json{{"data", data}, {"layout", layout}}.dump();
 }
 

@@ -16,6 +16,7 @@
 
 #include "ramtk/core/progress.h"
 #include "ramtk/kinematics/robot_model.h"
+#include "ramtk/report/html_report.h"
 
 namespace ramtk::campaign {
 
@@ -77,6 +78,12 @@ struct CampaignSummary {
 // budget.md. InputError on bad options.
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
                                        const std::string& out_dir);
+
+// The monitoring error per cycle (the PNG monitoring_error.png and the report's figure).
+report::Figure MonitoringFigure(const CampaignSummary& summary);
+// One self-contained HTML page: summary, the error budget, calibration errors against their σ,
+// the monitoring figure, links to the files (`ramtk simulate campaign --report`).
+report::HtmlReport CampaignReport(const CampaignSummary& summary);
 
 // The error budget as Markdown and JSON text.
 std::string BudgetMarkdown(const CampaignSummary& summary);
