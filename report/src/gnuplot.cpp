@@ -83,7 +83,14 @@ std::string GnuplotScript(const Figure& figure, const std::string& png_path, con
   g << "set border lc rgb '#555555'\n";
   g << "set key outside right top vertical Left reverse samplen 2 spacing 1.2\n";
   g << "set format x '%g'\nset format y '%g'\n";
-  g << "set rmargin 22\n";  // room for the legend outside the data, equal in every panel
+  // Room for the legend outside the data, the same in every panel: the longest label plus the
+  // sample line (in character widths).
+  size_t longest = 8;
+  for (const Panel& p : figure.panels) {
+    if (p.zero_band > 0) longest = std::max(longest, p.zero_band_label.size());
+    for (const Series& s : p.series) longest = std::max(longest, s.label.size());
+  }
+  g << "set rmargin " << std::min<size_t>(longest + 8, 60) << "\n";
   if (n > 1 || !figure.title.empty()) {
     g << "set multiplot layout " << n << ",1";
     if (!figure.title.empty()) g << " title " << Quote(figure.title) << " font ',13'";
