@@ -192,8 +192,6 @@ int RunSimulate(const SimulateOptions& o) {
                     sensor = SensorFrameToJson(sim.calibrated_sensor), truth = TcfTruthToJson(sim.truth, so.effects);
   const std::string d = o.out_dir + "/";
   std::error_code ec;
-  // A missing folder is created (as docs/diagnose_laser.md's commands expect); a file is refused.
-  if (!std::filesystem::exists(o.out_dir, ec)) std::filesystem::create_directories(o.out_dir, ec);
   if (!std::filesystem::is_directory(o.out_dir, ec)) throw InputError({o.out_dir, 0, "--out-dir"}, "is not a folder");
   // The four files as one unit: none of them is replaced unless all were written.
   WriteFilesAtomically({{d + "laser_log.csv", log}, {d + "motion.json", motion}, {d + "sensor.json", sensor},

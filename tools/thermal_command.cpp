@@ -429,7 +429,9 @@ int RunCompensate(const CompensateOptions& opt) {
       for (int j = 0; j < 6; ++j) q[j] = RadToDeg(corrected[k][j]), t[j] = RadToDeg(e.monitoring.taught[k][j]);
       in.corrected_deg.push_back(q), in.taught_deg.push_back(t);
     }
-    in.identification = is.BriefReport();
+    in.drift_model = &dm;
+    in.identification_options = id;
+    in.identification = is;
     CompensationReport(in).Write(opt.out_report);
     std::cout << "wrote " << opt.out_report << "\n";
   }

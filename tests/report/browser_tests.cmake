@@ -52,6 +52,15 @@ report_browse(diagnose_fringe FIXTURE report_diagnose_fringe ARGS ${REPORT_DIR}/
   --expect residual_vs_phase --expect residual_vs_frame --expect residual_vs_level --expect image-3-residual_map
   --png ${REPORT_DIR}/diagnose_fringe/residual_vs_phase.png:1000x380)
 
+# The real SLMaster set (../shared): the fringe diagnosis worked example of docs/diagnose_fringe.md.
+if(EXISTS ${RAMTK_SHARED_DIR}/data/slmaster-binocular/caliInfo.yml)
+  report_write(diagnose_slmaster FIXTURE report_diagnose_slmaster COMMAND $<TARGET_FILE:ramtk> diagnose
+    ${RAMTK_DATASETS_DIR}/vision/slmaster_binocular.json --out ${REPORT_DIR}/diagnose_slmaster --report)
+  report_browse(diagnose_slmaster FIXTURE report_diagnose_slmaster ARGS ${REPORT_DIR}/diagnose_slmaster/report.html
+    --expect residual_vs_phase --expect residual_vs_level --expect image-3-residual_map
+    --png ${REPORT_DIR}/diagnose_slmaster/residual_vs_level.png:1000x380)
+endif()
+
 # The thesis thermal case: simulated once, then diagnosed, screened and compensated.
 report_write(simulate_thermal FIXTURE report_thermal_data COMMAND
   $<TARGET_FILE:ramtk> simulate thermal --robot ${R} --preset thesis --seed 1 --out ${TH} --force)

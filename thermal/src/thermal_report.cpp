@@ -31,7 +31,7 @@ std::vector<std::vector<std::string>> ComparisonRows(const std::vector<Compariso
 }  // namespace
 
 report::Figure DriftFigure(const std::string& id, const std::string& caption, const Eigen::MatrixXd& delta_x,
-                           const CycleSeries& cycles, const std::vector<int>& params) {
+                           const CycleSeries& cycles, const std::vector<int>& params, const Eigen::VectorXd& sigma) {
   report::Panel lengths, angles;
   lengths.title = "lengths", angles.title = "angles";
   lengths.x_label = angles.x_label = "time (h)";
@@ -41,9 +41,12 @@ report::Figure DriftFigure(const std::string& id, const std::string& caption, co
     s.label = kinematics::ParamName(p);
     s.style = report::SeriesStyle::kLinesPoints;
     const bool angle = kinematics::IsAngleParam(p);
+    const auto unit = [angle](double v) { return angle ? RadToDeg(v) * 1000.0 : v; };
+    const bool band = sigma.size() > p && std::isfinite(sigma(p)) && sigma(p) > 0;
     for (int c = 0; c < delta_x.cols() && c < cycles.NumCycles(); ++c) {
       s.x.push_back(cycles.cycles[c].time_s / 3600.0);
-      s.y.push_back(angle ? RadToDeg(delta_x(p, c)) * 1000.0 : delta_x(p, c));
+      s.y.push_back(unit(delta_x(p, c)));
+      if (band) s.y_low.push_back(unit(delta_x(p, c) - sigma(p))), s.y_high.push_back(unit(delta_x(p, c) + sigma(p)));
     }
     (angle ? angles : lengths).series.push_back(std::move(s));
   }
@@ -116,7 +119,7 @@ report::HtmlReport ScreeningReport(const ThermalExperiment& e, const ScreeningSu
 report::HtmlReport CompensationReport(const CompensationReportInput& in) {
   const ThermalExperiment& e = *in.experiment;
   report::HtmlReport html("Thermal drift: compensation");
-  html.Paragraph(in.identification);
+  html.Paragraph(in.identification.BriefReport());
   report::Series rms_before, rms_after, worst_before, worst_after, threshold;
   rms_before.label = "uncompensated", rms_after.label = "compensated";
   worst_before.label = "uncompensated", worst_after.label = "compensated";
@@ -159,9 +162,26 @@ report::HtmlReport CompensationReport(const CompensationReportInput& in) {
   b.series = {worst_before, worst_after, threshold};
   f.panels = {a, b};
   html.AddFigure(f);
-  if (in.delta_x.cols() > 0)
-    html.AddFigure(DriftFigure("identified_drift", "Identified drift per monitoring cycle of the compensated parameters.",
-                               in.delta_x, e.monitoring, in.params));
+  if (in.delta_x.cols() > 0) {
+    Eigen::VectorXd sigma;
+    std::string band;
+    if (in.drift_model != nullptr) {
+      const IdentificationSummary& is = in.identification;
+      const double dof = is.num_equations - static_cast<double>(in.params.size());
+      const double sigma_y = dof > 0 ? is.rms_residual_mm * std::sqrt(is.num_equations / dof) : is.rms_residual_mm;
+      const Eigen::MatrixXd cov = in.drift_model->Covariance(in.identification_options, sigma_y);
+      const std::vector<int>& order = in.identification_options.params;
+      if (cov.rows() == static_cast<Eigen::Index>(order.size())) {
+        sigma = Eigen::VectorXd::Zero(kinematics::kNumParams);
+        for (size_t c = 0; c < order.size(); ++c) sigma(order[c]) = std::sqrt(std::max(0.0, cov(c, c)));
+        band = " Shaded: ±1σ from the identification's residual (σ_Y " + Fixed(sigma_y * 1000.0, 1) +
+               " µm per coordinate) through (AᵀA)⁻¹.";
+      }
+    }
+    html.AddFigure(DriftFigure("identified_drift",
+                               "Identified drift per monitoring cycle of the compensated parameters." + band,
+                               in.delta_x, e.monitoring, in.params, sigma));
+  }
   html.Section("Corrected joints, cycle " + std::to_string(e.monitoring.cycles[in.cycle_column].cycle) + " (deg)");
   std::vector<std::vector<std::string>> rows;
   for (size_t k = 0; k < in.corrected_deg.size(); ++k) {

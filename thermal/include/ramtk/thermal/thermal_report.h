@@ -7,15 +7,18 @@
 #include <vector>
 
 #include "ramtk/report/html_report.h"
+#include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/monitoring.h"
 #include "ramtk/thermal/screening.h"
 
 namespace ramtk::thermal {
 
 // Per-cycle drift of the given parameters (rows of a 30 × cycles ΔX, SI units inside), lengths in
-// mm and angles in mdeg on separate panels, against the cycles' times (h).
+// mm and angles in mdeg on separate panels, against the cycles' times (h). With `sigma` (30
+// standard deviations, SI, the same for every cycle) each series gets a ±1σ band.
 report::Figure DriftFigure(const std::string& id, const std::string& caption, const Eigen::MatrixXd& delta_x,
-                           const CycleSeries& cycles, const std::vector<int>& params);
+                           const CycleSeries& cycles, const std::vector<int>& params,
+                           const Eigen::VectorXd& sigma = Eigen::VectorXd());
 
 // The screening page. `all_poses` and `budget` are the Table 5-2 comparisons (budget may be empty).
 report::HtmlReport ScreeningReport(const ThermalExperiment& experiment, const ScreeningSummary& summary,
@@ -32,7 +35,12 @@ struct CompensationReportInput {
   double threshold_mm = 0.1;
   int cycle_column = 0;           // the monitoring cycle whose joints were corrected
   std::vector<std::vector<double>> corrected_deg, taught_deg;  // per monitoring pose, q1..q6
-  std::string identification;     // IdentificationSummary::BriefReport()
+  // The identification behind delta_x: the ±1σ band of the drift is σ_Y²(AᵀA)⁻¹ with σ_Y the
+  // identification's residual per coordinate (degrees-of-freedom corrected). drift_model may be
+  // null (no band).
+  const DriftModel* drift_model = nullptr;
+  IdentificationOptions identification_options;
+  IdentificationSummary identification;
 };
 report::HtmlReport CompensationReport(const CompensationReportInput& input);
 
