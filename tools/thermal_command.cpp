@@ -500,8 +500,7 @@ int RunPredict(const PredictOptions& opt) {
     // Window covariance from the identification residual (σ per coordinate, dof-corrected).
     IdentificationSummary is;
     dm.Solve(e.ball.DifferencesFromReference(id.poses), id, &is);
-    const double dof = is.num_equations - static_cast<double>(params.size());
-    const double sigma_y = dof > 0 ? is.rms_residual_mm * std::sqrt(is.num_equations / dof) : is.rms_residual_mm;
+    const double sigma_y = ResidualSigmaY(is);
     KalmanDriftOptions ko;
     ko.window_every = opt.window_every;
     ko.process_ratio_per_hour = opt.kalman_ratio;

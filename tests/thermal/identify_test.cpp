@@ -115,6 +115,23 @@ void CheckAgainstNoiseBound(int budget) {
 }
 
 TEST(ThermalIdentify, ErrorWithinNoiseBoundTwentyPoses) { CheckAgainstNoiseBound(20); }
+
+// The σ_Y the reports use for the drift's ±1σ band (estimated from the residual, dof-corrected)
+// against the simulated noise: sqrt(2(σ_sensor² + σ_repeatability²)) per coordinate. With 89 warm
+// cycles × (18 − 8) degrees of freedom the estimate's relative standard error is ~2.4 %.
+TEST(ThermalIdentify, ResidualSigmaMatchesTheSimulatedNoise) {
+  const auto& e = Thesis(1);
+  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+  IdentificationOptions id;
+  id.params = e.sim.drifting_params;
+  id.poses = SelectPoses(dm, id.params, 6);
+  IdentificationSummary s;
+  dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id, &s);
+  const double truth =
+      std::sqrt(2 * (std::pow(e.options.sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
+  EXPECT_NEAR(ResidualSigmaY(s), truth, 4 * 0.024 * truth) << "estimated " << ResidualSigmaY(s) << " mm";
+  ::testing::Test::RecordProperty("sigma_y_estimated_over_true", std::to_string(ResidualSigmaY(s) / truth));
+}
 TEST(ThermalIdentify, ErrorWithinNoiseBoundSixPoseBudget) { CheckAgainstNoiseBound(6); }
 
 // With all 24 free parameters the KR150 ball data cannot see one combination (θ6 with α6 and a6):

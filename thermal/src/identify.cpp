@@ -195,6 +195,11 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
   return x;
 }
 
+double ResidualSigmaY(const IdentificationSummary& s) {
+  const double dof = s.num_equations - static_cast<double>(s.params.size());
+  return dof > 0 ? s.rms_residual_mm * std::sqrt(s.num_equations / dof) : s.rms_residual_mm;
+}
+
 Eigen::MatrixXd DriftModel::Covariance(const IdentificationOptions& options, double sigma_y_mm) const {
   const std::vector<int> params = options.params.empty() ? model_.FreeParams() : options.params;
   std::vector<int> poses = options.poses;

@@ -166,9 +166,7 @@ report::HtmlReport CompensationReport(const CompensationReportInput& in) {
     Eigen::VectorXd sigma;
     std::string band;
     if (in.drift_model != nullptr) {
-      const IdentificationSummary& is = in.identification;
-      const double dof = is.num_equations - static_cast<double>(in.params.size());
-      const double sigma_y = dof > 0 ? is.rms_residual_mm * std::sqrt(is.num_equations / dof) : is.rms_residual_mm;
+      const double sigma_y = ResidualSigmaY(in.identification);
       const Eigen::MatrixXd cov = in.drift_model->Covariance(in.identification_options, sigma_y);
       const std::vector<int>& order = in.identification_options.params;
       if (cov.rows() == static_cast<Eigen::Index>(order.size())) {

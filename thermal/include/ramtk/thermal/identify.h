@@ -102,6 +102,11 @@ Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setu
 
 // Greedy D-optimal pose selection: `count` pose positions out of the model's poses that maximise
 // log det(AᵀA) of the equilibrated columns `params` (for the 6-pose production budget).
+// σ_Y per coordinate estimated from an identification's residual: its RMS corrected for the
+// identified parameters' degrees of freedom, rms·sqrt(n / (n − p)) with n the equations per cycle.
+// What DriftModel::Covariance needs when the noise is not known beforehand.
+double ResidualSigmaY(const IdentificationSummary& summary);
+
 std::vector<int> SelectPoses(const DriftModel& drift_model, const std::vector<int>& params, int count);
 
 // Parameter names ("d4", "alpha3") from a comma list, or "traditional" / "all" / "free".
