@@ -48,13 +48,13 @@ def parse_seeds(text):
 
 def diagnose_command(ramtk, kind, data_dir, out_dir, robot_args):
     if kind == "fringe":
-        return [ramtk, "diagnose", os.path.join(data_dir, "manifest.json"), "--out", out_dir]
+        return [ramtk, "diagnose", os.path.join(data_dir, "manifest.json"), "--out", out_dir, "--force"]
     if kind == "robot":
         return ([ramtk, "diagnose", os.path.join(data_dir, "ball.csv"), "--model", "kr150",
-                 "--with", os.path.join(data_dir, "setup.json")] + robot_args + ["--out", out_dir])
+                 "--with", os.path.join(data_dir, "setup.json")] + robot_args + ["--out", out_dir, "--force"])
     cmd = [ramtk, "diagnose", os.path.join(data_dir, "laser_log.csv"), "--with",
            os.path.join(data_dir, "motion.json"), "--model", os.path.join(data_dir, "sensor.json"),
-           "--out", out_dir]
+           "--out", out_dir, "--force"]
     return cmd
 
 

@@ -1,11 +1,13 @@
 // `ramtk diagnose DATA`: hold measured data against the simulation, name the cause of what the
 // model gets wrong, extend it and measure the held-out gain. The analysis is in ramtk::diagnose;
 // this file only detects the kind, calls it and writes the report.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "commands.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/diagnose/diagnose.h"
 #include "ramtk/diagnose/fringe.h"
 #include "ramtk/diagnose/laser.h"
@@ -15,9 +17,25 @@
 namespace ramtk::tools {
 namespace {
 
-int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kind_override, bool html) {
-  options.Validate();
-  if (html && options.output_folder.empty()) throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
+int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_override, bool html, bool force) {
+  given.Validate();
+  if (html && given.output_folder.empty()) throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
+  // The output folder is written as a unit (issue 17): everything goes into a temporary sibling
+  // that replaces --out only when the report is complete; an error or an interruption leaves the
+  // old folder as it was.
+  std::unique_ptr<StagedFolder> staged;
+  diagnose::DiagnoseOptions options = given;
+  if (!given.output_folder.empty()) {
+    std::vector<std::string> inputs = {given.data, given.model};
+    for (const std::string& w : given.with)
+      if (w.find('=') == std::string::npos) inputs.push_back(w);
+    CheckOutputAgainstInputs(given.output_folder, inputs, "--out");
+    // As before staging: missing parent folders are created.
+    const std::filesystem::path parent = std::filesystem::path(given.output_folder).lexically_normal().parent_path();
+    if (!parent.empty()) std::filesystem::create_directories(parent);
+    staged = std::make_unique<StagedFolder>(given.output_folder, force, "--out");
+    options.output_folder = staged->path().string();
+  }
   diagnose::DataKind kind = diagnose::DetectKind(options.data);
   if (kind_override == "fringe") kind = diagnose::DataKind::kFringe;
   if (kind_override == "robot") kind = diagnose::DataKind::kRobot;
@@ -34,11 +52,14 @@ int RunDiagnose(const diagnose::DiagnoseOptions& options, const std::string& kin
       result = diagnose::DiagnoseLaser(options);
       break;
   }
-  if (!options.output_folder.empty()) diagnose::WriteDiagnosis(result, options.output_folder);
-  if (html) diagnose::WriteDiagnosisHtml(result, options.output_folder);
+  if (staged) {
+    diagnose::WriteDiagnosis(result, options.output_folder);
+    if (html) diagnose::WriteDiagnosisHtml(result, options.output_folder);
+    staged->Commit();
+  }
   std::cout << diagnose::OneLine(result) << '\n';
-  if (!options.output_folder.empty()) std::cout << "wrote " << options.output_folder << "/report.md\n";
-  if (html) std::cout << "wrote " << options.output_folder << "/report.html\n";
+  if (staged) std::cout << "wrote " << given.output_folder << "/report.md\n";
+  if (html) std::cout << "wrote " << given.output_folder << "/report.html\n";
   return kExitOk;
 }
 
@@ -48,6 +69,7 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   auto options = std::make_shared<diagnose::DiagnoseOptions>();
   auto kind = std::make_shared<std::string>();
   auto html = std::make_shared<bool>(false);
+  auto force = std::make_shared<bool>(false);
   CLI::App* sub = app.add_subcommand(
       "diagnose", "What the simulation gets wrong on measured data: residual structure, named cause, held-out gain");
   sub->add_option("data", options->data,
@@ -64,19 +86,20 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--report", *html,
                 "Also write report.html into --out: one self-contained page with the summary, tables and "
                 "interactive figures");
+  sub->add_flag("--force", *force, "Replace an existing non-empty --out folder (once the new one is complete)");
   sub->add_option("--folds", options->folds, "Cross-validation folds")->capture_default_str();
   sub->add_option("--noise", options->noise,
                   "Expected noise sigma of one residual in the data's unit (0 = kind's default)");
   sub->add_option("--alpha", options->alpha, "Significance level of the structure tests")->capture_default_str();
   sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
   sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
-  sub->callback([options, kind, html, exit_code]() {
+  sub->callback([options, kind, html, force, exit_code]() {
     options->progress = [](const Progress& p) {
       std::cerr << "\r" << p.stage << " " << p.done << "/" << p.total << std::flush;
       if (p.total > 0 && p.done == p.total) std::cerr << '\n';
       return true;
     };
-    *exit_code = RunDiagnose(*options, *kind, *html);
+    *exit_code = RunDiagnose(*options, *kind, *html, *force);
   });
 }
 

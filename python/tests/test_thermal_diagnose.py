@@ -64,6 +64,6 @@ def test_diagnose_matches_the_command(thermal, cli, scratch):
     d = ramtk.diagnose(str(out / "ball.csv"), model="kr150", with_=[str(out / "setup.json")],
                        out=str(scratch / "diag_py"))
     line = cli("diagnose", out / "ball.csv", "--model", "kr150", "--with", out / "setup.json", "--out",
-               scratch / "diag_cli").splitlines()[0]
+               scratch / "diag_cli", "--force").splitlines()[0]
     assert d["one_line"] == line
     assert json.loads((scratch / "diag_py" / "diagnosis.json").read_text())["cause"] == d["cause"]

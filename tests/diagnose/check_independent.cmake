@@ -29,7 +29,7 @@ elseif(KIND STREQUAL "robot")
 else()
   set(diag_args ${data}/laser_log.csv --with ${data}/motion.json --model ${data}/sensor.json)
 endif()
-execute_process(COMMAND ${RAMTK} diagnose ${diag_args} --out ${out} RESULT_VARIABLE rc OUTPUT_VARIABLE line
+execute_process(COMMAND ${RAMTK} diagnose ${diag_args} --out ${out} --force RESULT_VARIABLE rc OUTPUT_VARIABLE line
                 ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "ramtk diagnose failed (${rc}): ${err}")

@@ -11,7 +11,7 @@ ramtk_cli_test(diagnose_robot_simulate_thesis 0
   FIXTURE_SETUP diagnose_robot_thesis)
 ramtk_cli_test(diagnose_robot_thesis_traditional 0
   ARGS diagnose ${_diag_thesis}/ball.csv --model kr150 --with ${_diag_thesis}/setup.json
-       --with ${_diag_thesis}/monitoring.csv --with thermal=traditional --out ${_diag_thesis}/diagnosis
+       --with ${_diag_thesis}/monitoring.csv --with thermal=traditional --out ${_diag_thesis}/diagnosis --force
   STDOUT "cause 'thermal_angle_drift' \\(confidence 1\\): held-out RMS 0\\.0[45][0-9]* -> 0\\.02[0-9]* mm, (8[0-9]|9[0-9])\\.?[0-9]*% of the excess"
   FIXTURE_REQUIRED diagnose_robot_thesis)
 ramtk_cli_test(diagnose_robot_bad_with 1

@@ -42,12 +42,12 @@ report_browse(scan_batch FIXTURE report_scan_batch ARGS ${REPORT_DIR}/batch/repo
   --expect batch_centres --expect batch_work)
 
 report_write(diagnose_laser FIXTURE report_diagnose_laser COMMAND $<TARGET_FILE:ramtk> diagnose
-  ${RAMTK_DATASETS_DIR}/tcf/thesis_table_5_3_sensor_calibration.csv --out ${REPORT_DIR}/diagnose_5_3 --report)
+  ${RAMTK_DATASETS_DIR}/tcf/thesis_table_5_3_sensor_calibration.csv --out ${REPORT_DIR}/diagnose_5_3 --report --force)
 report_browse(diagnose_laser FIXTURE report_diagnose_laser ARGS ${REPORT_DIR}/diagnose_5_3/report.html
   --expect residual_by_point --png ${REPORT_DIR}/diagnose_5_3/residual_by_point.png:1000x380)
 
 report_write(diagnose_fringe FIXTURE report_diagnose_fringe COMMAND $<TARGET_FILE:ramtk> diagnose
-  ${RAMTK_DATASETS_DIR}/scan_default/manifest.json --out ${REPORT_DIR}/diagnose_fringe --report)
+  ${RAMTK_DATASETS_DIR}/scan_default/manifest.json --out ${REPORT_DIR}/diagnose_fringe --report --force)
 report_browse(diagnose_fringe FIXTURE report_diagnose_fringe ARGS ${REPORT_DIR}/diagnose_fringe/report.html
   --expect residual_vs_phase --expect residual_vs_frame --expect residual_vs_level --expect image-3-residual_map
   --png ${REPORT_DIR}/diagnose_fringe/residual_vs_phase.png:1000x380)
@@ -55,7 +55,7 @@ report_browse(diagnose_fringe FIXTURE report_diagnose_fringe ARGS ${REPORT_DIR}/
 # The real SLMaster set (../shared): the fringe diagnosis worked example of docs/diagnose_fringe.md.
 if(EXISTS ${RAMTK_SHARED_DIR}/data/slmaster-binocular/caliInfo.yml)
   report_write(diagnose_slmaster FIXTURE report_diagnose_slmaster COMMAND $<TARGET_FILE:ramtk> diagnose
-    ${RAMTK_DATASETS_DIR}/vision/slmaster_binocular.json --out ${REPORT_DIR}/diagnose_slmaster --report)
+    ${RAMTK_DATASETS_DIR}/vision/slmaster_binocular.json --out ${REPORT_DIR}/diagnose_slmaster --report --force)
   report_browse(diagnose_slmaster FIXTURE report_diagnose_slmaster ARGS ${REPORT_DIR}/diagnose_slmaster/report.html
     --expect residual_vs_phase --expect residual_vs_level --expect image-3-residual_map
     --png ${REPORT_DIR}/diagnose_slmaster/residual_vs_level.png:1000x380)
@@ -66,7 +66,7 @@ report_write(simulate_thermal FIXTURE report_thermal_data COMMAND
   $<TARGET_FILE:ramtk> simulate thermal --robot ${R} --preset thesis --seed 1 --out ${TH} --force)
 report_write(diagnose_robot FIXTURE report_diagnose_robot REQUIRES report_thermal_data COMMAND
   $<TARGET_FILE:ramtk> diagnose ${TH}/ball.csv --model kr150 --with ${TH}/setup.json --with ${TH}/monitoring.csv
-  --with thermal=traditional --out ${REPORT_DIR}/diagnose_robot --report)
+  --with thermal=traditional --out ${REPORT_DIR}/diagnose_robot --report --force)
 report_browse(diagnose_robot FIXTURE report_diagnose_robot ARGS ${REPORT_DIR}/diagnose_robot/report.html
   --expect residual_vs_time --expect heldout_before_after --expect drift_parameters
   --png ${REPORT_DIR}/diagnose_robot/drift_parameters.png:1000x420
