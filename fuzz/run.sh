@@ -18,11 +18,17 @@ seed fuzz_csv fuzz/seeds/*.csv tests/thermal/data/*.csv datasets/tcf/*.csv datas
 seed fuzz_measurements fuzz/seeds/*.csv tests/thermal/data/*.csv
 seed fuzz_robot_yaml datasets/robots/*.yaml
 seed fuzz_manifest datasets/scan_default/manifest.json datasets/vision/*.json
-for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_manifest; do
+seed fuzz_laser_log fuzz/seeds/laser_log.csv
+seed fuzz_tcf_json fuzz/seeds/tcf_*.json
+seed fuzz_ply fuzz/seeds/*.ply
+for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply; do
+  # The motion JSON seed is ~4.5 KiB: room for it; the others fit in 1 KiB.
+  len=1024
+  [ "$t" = fuzz_tcf_json ] && len=6144
   echo "== $t: $RUNS runs"
   # Inputs up to 1 KiB: every format's structure fits, and runs stay fast (~5000/s for the CSV
   # parser under ASan + UBSan on one core).
-  build-fuzz/$t -runs="$RUNS" -max_len=1024 -timeout=10 -artifact_prefix=fuzz/crashes/$t- \
+  build-fuzz/$t -runs="$RUNS" -max_len=$len -timeout=10 -artifact_prefix=fuzz/crashes/$t- \
     -print_final_stats=1 build-fuzz/corpus/$t >build-fuzz/$t.log 2>&1 || echo "$t: FINDING, see build-fuzz/$t.log"
   grep -E "^(#[0-9]+ +DONE|stat::number_of_executed_units|stat::peak_rss|==.*ERROR|SUMMARY)" build-fuzz/$t.log || true
 done

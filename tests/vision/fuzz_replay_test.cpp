@@ -12,7 +12,10 @@
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/kinematics/robot_io.h"
+#include "ramtk/tcf/device_io.h"
+#include "ramtk/tcf/sensor_frame.h"
 #include "ramtk/vision/manifest.h"
+#include "ramtk/vision/point_cloud.h"
 
 namespace fs = std::filesystem;
 
@@ -37,6 +40,20 @@ bool Replay(const std::string& name, const std::string& text) {
       (void)ramtk::kinematics::ParseRobotMeasurements(text, "fuzz.csv");
     } else if (name.rfind("fuzz_robot_yaml-", 0) == 0) {
       (void)ramtk::kinematics::ParseRobotModel(text, "fuzz.yaml");
+    } else if (name.rfind("fuzz_laser_log-", 0) == 0) {
+      (void)ramtk::tcf::ParseDeviceLog(text, "fuzz.csv");
+    } else if (name.rfind("fuzz_tcf_json-", 0) == 0) {
+      // First byte: odd = motion JSON, even = sensor JSON (fuzz/fuzz_tcf_json.cpp).
+      if (text.empty()) return true;
+      if (text[0] & 1)
+        (void)ramtk::tcf::ProgrammedMotionFromJson(text.substr(1), "motion.json");
+      else
+        (void)ramtk::tcf::SensorFrameFromJson(text.substr(1), "sensor.json");
+    } else if (name.rfind("fuzz_ply-", 0) == 0) {
+      const fs::path path = fs::path(RAMTK_TEST_OUTPUT_DIR) / "fuzz_replay.ply";
+      fs::create_directories(path.parent_path());
+      std::ofstream(path, std::ios::binary) << text;
+      ramtk::vision::ReadPly(path.string()).Validate(path.string());
     } else {
       return false;
     }
