@@ -230,3 +230,91 @@ TEST(DecodeProgress, CallbackSeesStagesAndCanCancel) {
 
 }  // namespace
 }  // namespace ramtk::vision
+
+namespace ramtk::vision {
+namespace {
+
+// Image loading: PNG and BMP through OpenCV's fast path, TIFF through the OpenImageIO backend
+// module (loaded on first use); every path gives the pixel values that were written.
+class ImageLoading : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::path(RAMTK_TEST_OUTPUT_DIR) / "image_loading";
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    grey8_.create(37, 53, CV_8UC1);
+    grey16_.create(37, 53, CV_16UC1);
+    colour8_.create(37, 53, CV_8UC3);
+    for (int y = 0; y < 37; ++y)
+      for (int x = 0; x < 53; ++x) {
+        grey8_.at<uchar>(y, x) = static_cast<uchar>((7 * x + 13 * y) % 256);
+        grey16_.at<std::uint16_t>(y, x) = static_cast<std::uint16_t>((977 * x + 3001 * y) % 65536);
+        colour8_.at<cv::Vec3b>(y, x) = cv::Vec3b(x % 256, y % 256, (x + y) % 256);
+      }
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+  cv::Mat grey8_, grey16_, colour8_;
+};
+
+double MaxDiff(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat fa, fb;
+  a.convertTo(fa, CV_64F);
+  b.convertTo(fb, CV_64F);
+  return cv::norm(fa, fb, cv::NORM_INF);
+}
+
+TEST_F(ImageLoading, EveryFormatGivesTheWrittenValues) {
+  for (const std::string ext : {".png", ".bmp", ".tif"}) {
+    SCOPED_TRACE(ext);
+    WriteImage(Path("g8" + ext), grey8_);
+    int bits = 0;
+    const cv::Mat native = LoadImageNative(Path("g8" + ext), &bits);
+    EXPECT_EQ(bits, 8);
+    EXPECT_EQ(native.type(), CV_8UC1);
+    EXPECT_EQ(MaxDiff(native, grey8_), 0.0);
+    const cv::Mat dn = LoadImageDn(Path("g8" + ext), &bits);
+    EXPECT_EQ(dn.type(), CV_32FC1);
+    EXPECT_EQ(MaxDiff(dn, grey8_), 0.0);
+  }
+  for (const std::string ext : {".png", ".tif"}) {  // BMP has no 16-bit grey
+    SCOPED_TRACE(ext);
+    WriteImage(Path("g16" + ext), grey16_);
+    int bits = 0;
+    EXPECT_EQ(MaxDiff(LoadImageNative(Path("g16" + ext), &bits), grey16_), 0.0);
+    EXPECT_EQ(bits, 16);
+    EXPECT_EQ(MaxDiff(LoadImageDn(Path("g16" + ext), &bits), grey16_), 0.0);
+  }
+  // Colour: the mean of the three channels, in DN (the order of the channels does not matter).
+  cv::Mat mean(colour8_.rows, colour8_.cols, CV_64F);
+  for (int y = 0; y < colour8_.rows; ++y)
+    for (int x = 0; x < colour8_.cols; ++x) {
+      const cv::Vec3b v = colour8_.at<cv::Vec3b>(y, x);
+      mean.at<double>(y, x) = (v[0] + v[1] + v[2]) / 3.0;
+    }
+  for (const std::string ext : {".png", ".tif"}) {
+    SCOPED_TRACE(ext);
+    WriteImage(Path("c8" + ext), colour8_);
+    int bits = 0;
+    EXPECT_LE(MaxDiff(LoadImageDn(Path("c8" + ext), &bits), mean), 1.0 / 32);  // rounded to 1/16 DN
+    EXPECT_LE(MaxDiff(LoadImageNative(Path("c8" + ext), &bits), mean), 1.0 / 32);
+  }
+}
+
+TEST_F(ImageLoading, HostileHeaderIsRefusedBeforeAllocation) {
+  // A 33-byte PNG whose header claims 1 000 000 x 1 000 000 pixels.
+  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                               0x00, 0x0f, 0x42, 0x40, 0x00, 0x0f, 0x42, 0x40, 8, 0, 0, 0, 0, 0, 0, 0, 0};
+  std::ofstream(Path("huge.png"), std::ios::binary).write(reinterpret_cast<const char*>(png), sizeof(png));
+  try {
+    int bits = 0;
+    LoadImageNative(Path("huge.png"), &bits);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1000000 x 1000000"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().file, Path("huge.png"));
+  }
+}
+
+}  // namespace
+}  // namespace ramtk::vision

@@ -1,6 +1,5 @@
 #include "ramtk/vision/fringe_simulator.h"
 
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -16,6 +15,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
+#include "ramtk/vision/image_io.h"
 
 namespace ramtk::vision {
 namespace {
@@ -81,14 +81,11 @@ json SequenceJson(const std::vector<PatternBlock>& blocks) {
   return seq;
 }
 
+// Float truth maps (projector coordinate, lit fraction) as 32-bit float TIFF (image_io.h).
 void WriteFloatTiff(const std::string& path, const cv::Mat& image) {
   cv::Mat f;
   image.convertTo(f, CV_32F);
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw InputError({path, 0, ""}, "cannot create a TIFF writer: " + OIIO::geterror());
-  const OIIO::ImageSpec spec(f.cols, f.rows, 1, OIIO::TypeDesc::FLOAT);
-  if (!out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, f.ptr<float>()) || !out->close())
-    throw InputError({path, 0, ""}, "cannot write: " + out->geterror());
+  WriteImage(path, f);
 }
 
 // Writes an 8-bit image as is; a 10/12/16-bit one as 16-bit PNG scaled to 16-bit full scale
