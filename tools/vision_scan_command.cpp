@@ -1,6 +1,7 @@
 // ramtk scan: fringe set + stereo calibration -> point cloud (PLY), sphere JSON, depth preview.
 #include <malloc.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -136,6 +137,9 @@ int RunScan(const ScanCommandOptions& opt) {
   const ScanResult result = ScanFringeSet(opt.set, options);
   WriteScanOutputs(opt.out, result, opt.force, opt.report);
   std::cout << result.summary.BriefReport() << "\n";
+  if (std::isfinite(result.summary.calibration_rms_px))
+    std::cout << "calibration: session RMS " << result.summary.calibration_rms_px << " px, "
+              << result.summary.calibration_parameter_std.size() << " parameter sigmas (in summary.json)\n";
   if (!truth.empty()) {
     const std::vector<int> match = MatchTruthSpheres(result.summary.spheres, truth);
     for (std::size_t i = 0; i < match.size(); ++i) {

@@ -8,6 +8,7 @@
 
 #include "camera_test_util.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::calib {
 namespace {
@@ -149,3 +150,34 @@ TEST(CameraCalibration, Charuco) { CheckBoard("charuco:8x6:25:18:DICT_5X5_100", 
 
 }  // namespace
 }  // namespace ramtk::calib
+
+// The file `ramtk calib cameras` writes, read by the scan's reader: the session's RMS and every σ
+// survive (issue 18: they used to be dropped), in the order ramtk::vision::kCalibParameterStdOrder names.
+TEST(CalibrationFile, SessionFiguresSurviveTheScanReader) {
+  ramtk::calib::StereoCalibrationResult st;
+  for (ramtk::calib::CameraCalibrationResult* c : {&st.left, &st.right}) {
+    c->image_size = cv::Size(640, 512);
+    c->camera_matrix = cv::Matx33d(1000, 0, 320, 0, 1000, 256, 0, 0, 1);
+    c->distortion = {0.01, -0.02, 0.0, 0.0, 0.0};
+    c->rms_px = 0.11;
+  }
+  for (int i = 0; i < 9; ++i) st.left.std_intrinsics.push_back(0.1 * (i + 1));
+  for (int i = 0; i < 9; ++i) st.right.std_intrinsics.push_back(0.01 * (i + 1));
+  st.translation = cv::Vec3d(-100, 0.5, 2);
+  st.std_rt = cv::Vec6d(1e-5, 2e-5, 3e-5, 0.004, 0.005, 0.006);
+  st.rms_px = 0.1234;
+  st.per_pair_rms_px = {cv::Vec2d(0.1, 0.2), cv::Vec2d(0.3, 0.4)};
+  const std::string path = ::testing::TempDir() + "session_stereo.yml";
+  ramtk::WriteFileAtomically(path, ramtk::calib::StereoCalibrationYaml(st, ramtk::calib::ParseBoardSpec("chessboard:9x6:20", {})));
+  const ramtk::vision::StereoCalibration v = ramtk::vision::ReadStereoCalibration(path);
+  EXPECT_DOUBLE_EQ(v.rms_px, 0.1234);
+  ASSERT_EQ(v.parameter_std.size(), 24u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_DOUBLE_EQ(v.parameter_std[i], st.left.std_intrinsics[i]);
+    EXPECT_DOUBLE_EQ(v.parameter_std[9 + i], st.right.std_intrinsics[i]);
+  }
+  for (int i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(v.parameter_std[18 + i], st.std_rt[i]);
+  const std::vector<double> per_view = {0.1, 0.2, 0.3, 0.4};
+  EXPECT_EQ(v.per_view_errors_px, per_view);
+  EXPECT_NEAR(v.right_from_left.translation().x(), -100, 1e-12);
+}

@@ -85,6 +85,8 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   ScanResult result;
   ScanSummary& sum = result.summary;
   sum.calibration = calibration_path;
+  sum.calibration_rms_px = calibration.rms_px;
+  sum.calibration_parameter_std = calibration.parameter_std;
   sum.left = left.summary;
   sum.right = right.summary;
   sum.width = left.coordinate.cols;
@@ -256,6 +258,11 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["version"] = 1;
   j["set"] = s.set;
   j["calibration"] = s.calibration;
+  if (std::isfinite(s.calibration_rms_px)) j["calibration_rms_px"] = s.calibration_rms_px;
+  if (!s.calibration_parameter_std.empty()) {
+    j["calibration_parameter_std"] = s.calibration_parameter_std;
+    if (s.calibration_parameter_std.size() == 24) j["calibration_parameter_std_order"] = kCalibParameterStdOrder;
+  }
   j["frame"] = kScanFrame;
   j["termination"] = s.termination;
   j["image_size"] = {s.width, s.height};

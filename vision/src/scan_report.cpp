@@ -77,7 +77,13 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
                   {"median point σ (µm)", Fixed(s.triangulation.median_sigma_mm * 1000.0, 2)},
                   {"depth range (mm)", Fixed(s.triangulation.depth_min_mm, 1) + " – " +
                                            Fixed(s.triangulation.depth_max_mm, 1)},
-                  {"frame", kScanFrame}});
+                  {"frame", kScanFrame},
+                  {"calibration RMS (px)", std::isfinite(s.calibration_rms_px) ? Fixed(s.calibration_rms_px, 4)
+                                                                               : "not in the file"},
+                  {"calibration σ", s.calibration_parameter_std.empty()
+                                        ? "not in the file"
+                                        : std::to_string(s.calibration_parameter_std.size()) +
+                                              " parameter standard deviations (summary.json)"}});
 
   html.Section("Spheres");
   if (s.spheres.spheres.empty()) {

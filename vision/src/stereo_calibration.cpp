@@ -1,6 +1,7 @@
 #include "ramtk/vision/stereo_calibration.h"
 
 #include <cmath>
+#include <utility>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <sstream>
@@ -184,6 +185,26 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
   if (ReadNumbers(fs["rms_px"], path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];
   if (ReadNumbers(fs["per_view_errors_px"], path, "per_view_errors_px", &v, &rows, &cols)) calib.per_view_errors_px = v;
   if (ReadNumbers(fs["parameter_std"], path, "parameter_std", &v, &rows, &cols)) calib.parameter_std = v;
+  // The keys `ramtk calib cameras` writes (calib/src/calibration_file.cpp): rms, per_view_errors
+  // (left, right per pair) and the σ blocks std_intrinsics1/2, std_R, std_T, which become
+  // parameter_std in the order of kCalibParameterStdOrder.
+  if (!std::isfinite(calib.rms_px) && ReadNumbers(fs["rms"], path, "rms", &v, &rows, &cols) && v.size() == 1)
+    calib.rms_px = v[0];
+  if (calib.per_view_errors_px.empty() && ReadNumbers(fs["per_view_errors"], path, "per_view_errors", &v, &rows, &cols))
+    calib.per_view_errors_px = v;
+  if (calib.parameter_std.empty()) {
+    std::vector<double> all, block;
+    bool complete = true;
+    for (const auto& [key, n] : {std::pair<const char*, size_t>{"std_intrinsics1", 9}, {"std_intrinsics2", 9},
+                                 {"std_R", 3}, {"std_T", 3}}) {
+      if (!ReadNumbers(fs[key], path, key, &block, &rows, &cols) || block.size() != n) {
+        complete = false;
+        break;
+      }
+      all.insert(all.end(), block.begin(), block.end());
+    }
+    if (complete) calib.parameter_std = all;
+  }
   return calib;
 }
 

@@ -4,6 +4,7 @@
 // frame with per-point sigma -> the sphere(s) in it (ball centres, ball_in_left_camera).
 
 #include <opencv2/core.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,10 @@ struct ScanSummary {
   std::string termination = "ok";  // "ok", "no sphere found" or "cancelled"
   std::string set;                 // manifest path ("" for in-memory sets)
   std::string calibration;         // calibration path used
+  // The calibration session's own figures, carried from the file when it has them (NaN / empty
+  // otherwise): reprojection RMS and parameter standard deviations (stereo_calibration.h).
+  double calibration_rms_px = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> calibration_parameter_std;
   int width = 0, height = 0;       // left image size
   DecodeSummary left, right;
   StereoMatchSummary match;

@@ -32,7 +32,13 @@ struct StereoCalibration {
   double rms_px = std::numeric_limits<double>::quiet_NaN();  // reprojection RMS, pixels
   std::vector<double> per_view_errors_px;                    // RMS per calibration view, pixels
   std::vector<double> parameter_std;                         // std devs of the estimated parameters
+                                                             // (from `ramtk calib cameras`: kCalibParameterStdOrder)
 };
+
+// The order of parameter_std when it comes from a `ramtk calib cameras` file (its std_intrinsics1,
+// std_intrinsics2, std_R, std_T keys): 24 values, intrinsics in px, rotation vector in rad, T in mm.
+inline constexpr const char* kCalibParameterStdOrder =
+    "fx1 fy1 cx1 cy1 k1_1 k2_1 p1_1 p2_1 k3_1 fx2 fy2 cx2 cy2 k1_2 k2_2 p1_2 p2_2 k3_2 rx ry rz tx ty tz";
 
 // Reads either layout. Throws InputError naming the file and the key for: an unreadable or
 // unparsable file, a missing key, a matrix of the wrong size, a K that is not a pinhole matrix,
