@@ -10,6 +10,7 @@
 #include "ramtk/calib/camera_calibration.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange.h"
+#include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/calib/sensor_robot_io.h"
 #include "ramtk/calib/sensor_robot_sim.h"
@@ -269,6 +270,8 @@ struct HandEyeFlangeCommandOptions {
   std::string output_path;  // result JSON
   std::string flange_units = "mm";
   std::string method = "park";
+  bool no_refine = false;                // OpenCV's closed form only
+  double sigma_deg = 0, sigma_mm = 0;    // measurement noise for the refinement (0: estimated)
 };
 
 int RunHandEyeFlange(const HandEyeFlangeCommandOptions& opt) {
@@ -282,8 +285,22 @@ int RunHandEyeFlange(const HandEyeFlangeCommandOptions& opt) {
     if (!e.where().file.empty()) throw;
     throw InputError({opt.poses_path, 0, e.where().field}, e.message());
   }
-  WriteFileAtomically(opt.output_path, calib::EyeInHandResultJson(r, method));
-  std::printf("%s\nwrote %s\n", calib::EyeInHandBriefReport(r, method).c_str(), opt.output_path.c_str());
+  std::string json;
+  std::string brief;
+  if (opt.no_refine) {
+    json = calib::EyeInHandResultJson(r, method);
+    brief = calib::EyeInHandBriefReport(r, method);
+  } else {
+    calib::EyeInHandRefineOptions ro;
+    ro.sigma_deg = opt.sigma_deg, ro.sigma_mm = opt.sigma_mm;
+    if (const std::string bad = ro.Validate(); !bad.empty()) throw InputError({"", 0, "--sigma-deg/--sigma-mm"}, bad);
+    calib::EyeInHandRefinement ref;
+    r = calib::RefineCameraOnFlange(obs, r, ro, &ref);
+    json = calib::EyeInHandResultJson(r, method, &ref);
+    brief = calib::EyeInHandBriefReport(r, method, &ref);
+  }
+  WriteFileAtomically(opt.output_path, json);
+  std::printf("%s\nwrote %s\n", brief.c_str(), opt.output_path.c_str());
   return kExitOk;
 }
 
@@ -397,6 +414,12 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--method", opt->method, "tsai, park, horaud, andreff or daniilidis")
         ->check(CLI::IsMember({"tsai", "park", "horaud", "andreff", "daniilidis"}))
         ->capture_default_str();
+    sub->add_flag("--no-refine", opt->no_refine,
+                  "Keep OpenCV's closed form: no least-squares refinement on SE(3), no covariance");
+    sub->add_option("--sigma-deg", opt->sigma_deg,
+                    "Noise of one board pose, rotation per axis (deg), for the refinement's weights and "
+                    "covariance; with --sigma-mm. Default: estimated from the residuals");
+    sub->add_option("--sigma-mm", opt->sigma_mm, "Noise of one board pose, translation per axis (mm)");
     sub->callback([opt, exit_code]() { *exit_code = RunHandEyeFlange(*opt); });
   }
   CLI::App* simulate = SimulateCommand(app);

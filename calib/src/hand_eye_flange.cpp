@@ -1,4 +1,5 @@
 #include "ramtk/calib/hand_eye_flange.h"
+#include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/calib/hand_eye.h"
 
 #include <Eigen/Geometry>
@@ -243,10 +244,32 @@ nlohmann::json IsometryJson(const Isometry3& t) {
 }
 }  // namespace
 
-std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method) {
+std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method,
+                                const EyeInHandRefinement* refinement) {
   nlohmann::json j;
   j["setup"] = "camera on the flange (AX = XB)";
-  j["method"] = EyeInHandMethodName(method);
+  j["method"] = std::string(EyeInHandMethodName(method)) + (refinement ? " + Ceres" : "");
+  if (refinement) {
+    const EyeInHandRefinement& f = *refinement;
+    nlohmann::json cov = nlohmann::json::array();
+    for (int i = 0; i < 6; ++i) {
+      nlohmann::json row = nlohmann::json::array();
+      for (int k = 0; k < 6; ++k) row.push_back(f.flange_from_camera_covariance(i, k));
+      cov.push_back(row);
+    }
+    j["refinement"] = {{"converged", f.converged},
+                       {"iterations", f.iterations},
+                       {"noise_sigma_deg", f.sigma_deg},
+                       {"noise_sigma_mm", f.sigma_mm},
+                       {"noise_estimated_from_residuals", f.noise_estimated},
+                       {"flange_from_camera_rotation_sigma_deg",
+                        {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
+                       {"flange_from_camera_translation_sigma_mm",
+                        {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
+                       {"flange_from_camera_covariance",
+                        cov},
+                       {"covariance_order", "rotation vector (rad, flange frame, left perturbation), translation (mm)"}};
+  }
   j["flange_from_camera"] = IsometryJson(result.flange_from_camera);
   j["base_from_board"] = IsometryJson(result.base_from_board);
   j["rotation_residual_deg"] = result.rotation_residual_deg;
@@ -256,7 +279,8 @@ std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod m
   return j.dump(2) + "\n";
 }
 
-std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod method) {
+std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod method,
+                                 const EyeInHandRefinement* refinement) {
   const KukaAbc abc = KukaAbcFromRotation(result.flange_from_camera.linear());
   const Vec3 t = result.flange_from_camera.translation();
   char buf[400];
@@ -265,7 +289,18 @@ std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod 
                 "t (mm) %.4f %.4f %.4f  A,B,C (deg) %.5f %.5f %.5f",
                 EyeInHandMethodName(method), result.rotation_residual_deg.size(), result.rms_rotation_deg,
                 result.rms_translation_mm, t.x(), t.y(), t.z(), RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c));
-  return buf;
+  std::string out = buf;
+  if (refinement) {
+    const EyeInHandRefinement& f = *refinement;
+    std::snprintf(buf, sizeof buf,
+                  "\nrefined (Ceres, SE(3)): sigma t (mm) %.4f %.4f %.4f, rotation (deg) %.5f %.5f %.5f; noise %s %.4f deg, "
+                  "%.4f mm per axis",
+                  f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z(),
+                  f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z(),
+                  f.noise_estimated ? "estimated" : "given", f.sigma_deg, f.sigma_mm);
+    out += buf;
+  }
+  return out;
 }
 
 }  // namespace ramtk::calib

@@ -57,9 +57,12 @@ std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObserva
 
 // The result as JSON text: flange_from_camera and base_from_board (4x4, mm, KUKA A,B,C deg),
 // per-pose residuals, their RMS and the method.
-std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method);
+struct EyeInHandRefinement;  // hand_eye_flange_refine.h
+std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method,
+                                const EyeInHandRefinement* refinement = nullptr);
 // One line: method, poses, residual RMS, flange_from_camera.
-std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod method);
+std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod method,
+                                 const EyeInHandRefinement* refinement = nullptr);
 
 // Simulated observations of a board at base_from_board by a camera at flange_from_camera, at
 // the given flange poses; noise as SimulateBoardPoses: a rotation of sigma_deg·|w| about a

@@ -1,0 +1,47 @@
+#pragma once
+// Hand-eye for a camera on the flange, refined by least squares on SE(3) with the covariance of
+// the result (mrcal's rule: the uncertainty is an output). Starts from CalibrateCameraOnFlange.
+//
+// Unknowns: X = flange_from_camera and Z = base_from_board. Per pose i the model predicts
+//   camera_from_board_i = X⁻¹ · base_from_flange_i⁻¹ · Z
+// and the residuals are the measured-vs-predicted rotation (rotation vector of R_meas · R_predᵀ,
+// i.e. in the camera frame) over σ_rot and translation difference over σ_t. Covariance of X from
+// (JᵀJ)⁻¹ of the whitened problem, in X's tangent space: a rotation vector applied on the left
+// (in the flange frame, rad) and the translation (mm).
+#include <Eigen/Core>
+#include <vector>
+
+#include "ramtk/calib/hand_eye_flange.h"
+
+namespace ramtk::calib {
+
+struct EyeInHandRefineOptions {
+  // Noise of one camera_from_board measurement: rotation per axis (deg) and translation per axis
+  // (mm). 0: estimated from the residuals of a first fit (each from its share of the degrees of
+  // freedom, 3n − 6 apiece), then the problem is solved again with those weights.
+  double sigma_deg = 0.0;
+  double sigma_mm = 0.0;
+  int max_iterations = 100;
+  // Returns "" or what is wrong.
+  std::string Validate() const;
+};
+
+struct EyeInHandRefinement {
+  bool converged = false;
+  int iterations = 0;
+  double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs (0.5 Σ whitened²)
+  double sigma_deg = 0.0, sigma_mm = 0.0;       // the noise used for the weights and the covariance
+  bool noise_estimated = false;                 // true when it came from the residuals
+  // Covariance of flange_from_camera: [rotation vector (rad, flange frame); translation (mm)].
+  Eigen::Matrix<double, 6, 6> flange_from_camera_covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  Vec3 rotation_sigma_deg = Vec3::Zero();    // sqrt of the diagonal, deg
+  Vec3 translation_sigma_mm = Vec3::Zero();  // sqrt of the diagonal, mm
+};
+
+// Refines `initial` (its flange_from_camera and base_from_board) over `obs`; the result carries
+// the refined poses and residuals. InputError (field "poses") for fewer than 3 poses or
+// non-finite input, (field from the options) for bad options.
+EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, const EyeInHandResult& initial,
+                                     const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement);
+
+}  // namespace ramtk::calib
