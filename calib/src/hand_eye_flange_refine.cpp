@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <utility>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
@@ -20,6 +21,10 @@ struct PoseResidual {
   Eigen::Quaterniond q_meas;  // camera_from_board, measured
   Vec3 t_meas;
   double inv_sigma_rot, inv_sigma_t;
+  // false: camera on the flange, parameters (X = flange_from_camera, Z = base_from_board) and
+  // camera_from_board = X⁻¹ F⁻¹ Z. true: camera on a stand, parameters (C = camera_from_base,
+  // B = flange_from_board) and camera_from_board = C F B.
+  bool stand = false;
 
   template <typename T>
   bool operator()(const T* qx_, const T* tx_, const T* qz_, const T* tz_, T* r) const {
@@ -29,9 +34,15 @@ struct PoseResidual {
     const Eigen::Map<const V> tx(tx_), tz(tz_);
     const Q qf = q_flange.cast<T>();
     const V tf = t_flange.cast<T>();
-    // camera_from_board = X⁻¹ F⁻¹ Z.
-    const Q q_pred = qx.conjugate() * qf.conjugate() * qz;
-    const V t_pred = qx.conjugate() * (qf.conjugate() * (tz - tf) - tx);
+    Q q_pred;
+    V t_pred;
+    if (!stand) {  // camera_from_board = X⁻¹ F⁻¹ Z
+      q_pred = qx.conjugate() * qf.conjugate() * qz;
+      t_pred = qx.conjugate() * (qf.conjugate() * (tz - tf) - tx);
+    } else {  // camera_from_board = C F B (x = C, z = B)
+      q_pred = qx * qf * qz;
+      t_pred = qx * (qf * tz + tf) + tx;
+    }
     const Q q_err = q_meas.cast<T>() * q_pred.conjugate();  // R_meas R_predᵀ, camera frame
     T wxyz[4] = {q_err.w(), q_err.x(), q_err.y(), q_err.z()};
     if (wxyz[0] < T(0))
@@ -55,7 +66,7 @@ struct Solved {
 };
 
 Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x0, const Isometry3& z0,
-             double sigma_rot_rad, double sigma_mm, int max_iterations, bool covariance) {
+             double sigma_rot_rad, double sigma_mm, int max_iterations, bool covariance, bool stand) {
   Solved s;
   s.qx = Eigen::Quaterniond(x0.linear()).normalized();
   s.qz = Eigen::Quaterniond(z0.linear()).normalized();
@@ -66,7 +77,7 @@ Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x
     auto* cost = new ceres::AutoDiffCostFunction<PoseResidual, 6, 4, 3, 4, 3>(new PoseResidual{
         Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
         Eigen::Quaterniond(o.camera_from_board.linear()).normalized(), o.camera_from_board.translation(),
-        1.0 / sigma_rot_rad, 1.0 / sigma_mm});
+        1.0 / sigma_rot_rad, 1.0 / sigma_mm, stand});
     problem.AddResidualBlock(cost, nullptr, s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data());
   }
   problem.SetManifold(s.qx.coeffs().data(), new ceres::EigenQuaternionManifold);
@@ -86,7 +97,7 @@ Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x
     double r[6];
     const PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
                           Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                          o.camera_from_board.translation(), 1.0, 1.0};
+                          o.camera_from_board.translation(), 1.0, 1.0, stand};
     pr(s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data(), r);
     for (int k = 0; k < 3; ++k) s.rot_ss += r[k] * r[k], s.trans_ss += r[3 + k] * r[3 + k];
   }
@@ -118,8 +129,13 @@ std::string EyeInHandRefineOptions::Validate() const {
   return "";
 }
 
-EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, const EyeInHandResult& initial,
-                                     const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement) {
+namespace {
+
+// The shared refinement: the two unknowns (x, z) as in PoseResidual, their initial values, the
+// initial residual RMS for the first weights. Fills *out and returns the refined (x, z).
+std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x_init,
+                                           const Isometry3& z_init, double rms_rotation_deg, double rms_translation_mm,
+                                           const EyeInHandRefineOptions& options, bool stand, EyeInHandRefinement* out) {
   if (const std::string bad = options.Validate(); !bad.empty()) throw InputError({"", 0, "EyeInHandRefineOptions"}, bad);
   if (obs.size() < 3)
     throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least 3 are needed");
@@ -127,55 +143,93 @@ EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>&
     if (!o.base_from_flange.matrix().allFinite() || !o.camera_from_board.matrix().allFinite())
       throw InputError({"", 0, "poses"}, "non-finite flange or board pose");
   const int n = static_cast<int>(obs.size());
-  EyeInHandRefinement out;
+  *out = EyeInHandRefinement();
   double sigma_rot = DegToRad(options.sigma_deg), sigma_t = options.sigma_mm;
-  Isometry3 x0 = initial.flange_from_camera, z0 = initial.base_from_board;
+  Isometry3 x0 = x_init, z0 = z_init;
   if (sigma_rot <= 0) {
     // First fit with the initial residuals' RMS as weights, then each noise from its own
     // residuals (3n − 6 degrees of freedom apiece: 12 parameters over 6n equations).
-    sigma_rot = std::max(DegToRad(initial.rms_rotation_deg) / std::sqrt(3.0), 1e-9);
-    sigma_t = std::max(initial.rms_translation_mm / std::sqrt(3.0), 1e-9);
-    const Solved first = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, false);
+    sigma_rot = std::max(DegToRad(rms_rotation_deg) / std::sqrt(3.0), 1e-9);
+    sigma_t = std::max(rms_translation_mm / std::sqrt(3.0), 1e-9);
+    const Solved first = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, false, stand);
     const double dof = std::max(1, 3 * n - 6);
     sigma_rot = std::max(std::sqrt(first.rot_ss / dof), 1e-12);
     sigma_t = std::max(std::sqrt(first.trans_ss / dof), 1e-12);
     x0.linear() = first.qx.toRotationMatrix(), x0.translation() = first.tx;
     z0.linear() = first.qz.toRotationMatrix(), z0.translation() = first.tz;
-    out.noise_estimated = true;
+    out->noise_estimated = true;
   }
-  const Solved s = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, true);
-  out.converged = s.summary.termination_type == ceres::CONVERGENCE;
-  out.iterations = static_cast<int>(s.summary.iterations.size()) - 1;
-  out.initial_cost = s.summary.initial_cost;
-  out.final_cost = s.summary.final_cost;
-  out.sigma_deg = RadToDeg(sigma_rot);
-  out.sigma_mm = sigma_t;
+  const Solved s = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, true, stand);
+  out->converged = s.summary.termination_type == ceres::CONVERGENCE;
+  out->iterations = static_cast<int>(s.summary.iterations.size()) - 1;
+  out->initial_cost = s.summary.initial_cost;
+  out->final_cost = s.summary.final_cost;
+  out->sigma_deg = RadToDeg(sigma_rot);
+  out->sigma_mm = sigma_t;
   if (s.cov_ok) {
-    out.flange_from_camera_covariance = s.cov;
+    out->flange_from_camera_covariance = s.cov;
     for (int k = 0; k < 3; ++k) {
-      out.rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, s.cov(k, k))));
-      out.translation_sigma_mm[k] = std::sqrt(std::max(0.0, s.cov(3 + k, 3 + k)));
+      out->rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, s.cov(k, k))));
+      out->translation_sigma_mm[k] = std::sqrt(std::max(0.0, s.cov(3 + k, 3 + k)));
     }
   }
+  if (!s.summary.IsSolutionUsable()) return {x_init, z_init};
+  Isometry3 x = Isometry3::Identity(), z = Isometry3::Identity();
+  x.linear() = s.qx.toRotationMatrix(), x.translation() = s.tx;
+  z.linear() = s.qz.toRotationMatrix(), z.translation() = s.tz;
+  return {x, z};
+}
+
+}  // namespace
+
+EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, const EyeInHandResult& initial,
+                                     const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement) {
+  EyeInHandRefinement out;
+  const auto [x, z] = RefineCore(obs, initial.flange_from_camera, initial.base_from_board, initial.rms_rotation_deg,
+                                 initial.rms_translation_mm, options, false, &out);
   EyeInHandResult r = initial;
-  if (s.summary.IsSolutionUsable()) {
-    r.flange_from_camera.linear() = s.qx.toRotationMatrix();
-    r.flange_from_camera.translation() = s.tx;
-    r.base_from_board.linear() = s.qz.toRotationMatrix();
-    r.base_from_board.translation() = s.tz;
-    r.rotation_residual_deg.clear();
-    r.translation_residual_mm.clear();
-    double sr = 0, st = 0;
-    for (const FlangeCameraObservation& o : obs) {
-      const Isometry3 pred = (o.base_from_flange * r.flange_from_camera).inverse() * r.base_from_board;
-      const double dr = RadToDeg(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle());
-      const double dt = (o.camera_from_board.translation() - pred.translation()).norm();
-      r.rotation_residual_deg.push_back(dr);
-      r.translation_residual_mm.push_back(dt);
-      sr += dr * dr, st += dt * dt;
-    }
-    r.rms_rotation_deg = std::sqrt(sr / n);
-    r.rms_translation_mm = std::sqrt(st / n);
+  r.flange_from_camera = x;
+  r.base_from_board = z;
+  r.rotation_residual_deg.clear();
+  r.translation_residual_mm.clear();
+  double sr = 0, st = 0;
+  for (const FlangeCameraObservation& o : obs) {
+    const Isometry3 pred = (o.base_from_flange * r.flange_from_camera).inverse() * r.base_from_board;
+    const double dr = RadToDeg(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle());
+    const double dt = (o.camera_from_board.translation() - pred.translation()).norm();
+    r.rotation_residual_deg.push_back(dr);
+    r.translation_residual_mm.push_back(dt);
+    sr += dr * dr, st += dt * dt;
+  }
+  r.rms_rotation_deg = std::sqrt(sr / obs.size());
+  r.rms_translation_mm = std::sqrt(st / obs.size());
+  if (refinement) *refinement = out;
+  return r;
+}
+
+HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeResult& initial,
+                                const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement) {
+  std::vector<FlangeCameraObservation> f;
+  double sr = 0, st = 0;
+  for (const StandCameraObservation& o : obs) {
+    f.push_back({o.base_from_flange, o.camera_from_board});
+    const Isometry3 pred = initial.camera_from_base * o.base_from_flange * initial.flange_from_board;
+    sr += std::pow(RadToDeg(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle()), 2);
+    st += (o.camera_from_board.translation() - pred.translation()).squaredNorm();
+  }
+  const double n = std::max<double>(1, obs.size());
+  EyeInHandRefinement out;
+  const auto [c, b] = RefineCore(f, initial.camera_from_base, initial.flange_from_board, std::sqrt(sr / n),
+                                 std::sqrt(st / n), options, true, &out);
+  HandEyeResult r = initial;
+  r.camera_from_base = c;
+  r.flange_from_board = b;
+  r.rotation_residual_rad.clear();
+  r.translation_residual_mm.clear();
+  for (const StandCameraObservation& o : obs) {
+    const Isometry3 pred = r.camera_from_base * o.base_from_flange * r.flange_from_board;
+    r.rotation_residual_rad.push_back(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle());
+    r.translation_residual_mm.push_back((o.camera_from_board.translation() - pred.translation()).norm());
   }
   if (refinement) *refinement = out;
   return r;

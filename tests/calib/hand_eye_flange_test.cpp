@@ -243,6 +243,48 @@ void CheckCovarianceAgainstMonteCarlo(bool noise_known) {
 TEST(HandEyeFlangeRefine, CovarianceMatchesMonteCarloWithTheNoiseGiven) { CheckCovarianceAgainstMonteCarlo(true); }
 TEST(HandEyeFlangeRefine, CovarianceMatchesMonteCarloWithTheNoiseEstimated) { CheckCovarianceAgainstMonteCarlo(false); }
 
+// Camera on a stand (AX = ZB): the refined camera_from_base and its covariance against 300
+// Monte-Carlo re-solves, with the measurement noise drawn as SimulateFlangeCameraPoses draws it.
+TEST(HandEyeStandRefine, CovarianceMatchesMonteCarlo) {
+  const Isometry3 camera_from_base = Pose(Vec3(-1800.0, 250.0, 1900.0), Vec3(0.3, -1.0, 0.2), 120.0);
+  const Isometry3 flange_from_board = Pose(Vec3(10.0, -5.0, 60.0), Vec3(1.0, 0.1, 0.0), 8.0);
+  const auto poses = FlangePoses(12, 21);
+  const double sigma_deg = 0.05, sigma_mm = 0.2;
+  const int draws = 300;
+  Eigen::Matrix<double, 6, 6> predicted = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> sum_sq = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < draws; ++k) {
+    std::mt19937 rng(500 + k);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<StandCameraObservation> obs;
+    for (const Isometry3& bf : poses) {
+      Isometry3 cb = camera_from_base * bf * flange_from_board;
+      const Vec3 w(g(rng), g(rng), g(rng));
+      cb.linear() = Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() * cb.linear();
+      cb.translation() += sigma_mm * Vec3(g(rng), g(rng), g(rng));
+      obs.push_back({bf, cb});
+    }
+    EyeInHandRefineOptions o;
+    o.sigma_deg = sigma_deg, o.sigma_mm = sigma_mm;
+    EyeInHandRefinement ref;
+    const HandEyeResult r = RefineStandCamera(obs, CalibrateStandCamera(obs), o, &ref);
+    ASSERT_TRUE(ref.converged);
+    predicted += ref.flange_from_camera_covariance;
+    const Eigen::AngleAxisd e(r.camera_from_base.linear() * camera_from_base.linear().transpose());
+    Eigen::Matrix<double, 6, 1> d;
+    d.head<3>() = e.angle() * e.axis();
+    d.tail<3>() = r.camera_from_base.translation() - camera_from_base.translation();
+    sum_sq += d.cwiseAbs2();
+  }
+  predicted /= draws;
+  for (int i = 0; i < 6; ++i) {
+    const double observed = std::sqrt(sum_sq[i] / draws), expected = std::sqrt(predicted(i, i));
+    ::testing::Test::RecordProperty("ratio_" + std::to_string(i), std::to_string(observed / expected));
+    EXPECT_GT(observed / expected, 0.8) << "component " << i << ": observed " << observed << ", predicted " << expected;
+    EXPECT_LT(observed / expected, 1.25) << "component " << i << ": observed " << observed << ", predicted " << expected;
+  }
+}
+
 TEST(HandEyeFlangeRefine, ExactOnNoiseFreePosesAndEstimatesTheNoise) {
   const auto poses = FlangePoses(12, 3);
   const auto exact = SimulateFlangeCameraPoses(poses, kFlangeFromCamera, kBaseFromBoard, 0, 0, 1);

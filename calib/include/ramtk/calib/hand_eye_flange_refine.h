@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange.h"
 
 namespace ramtk::calib {
@@ -32,7 +33,8 @@ struct EyeInHandRefinement {
   double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs (0.5 Σ whitened²)
   double sigma_deg = 0.0, sigma_mm = 0.0;       // the noise used for the weights and the covariance
   bool noise_estimated = false;                 // true when it came from the residuals
-  // Covariance of flange_from_camera: [rotation vector (rad, flange frame); translation (mm)].
+  // Covariance of flange_from_camera (stand case: camera_from_base): [rotation vector (rad, applied
+  // on the left); translation (mm)].
   Eigen::Matrix<double, 6, 6> flange_from_camera_covariance = Eigen::Matrix<double, 6, 6>::Zero();
   Vec3 rotation_sigma_deg = Vec3::Zero();    // sqrt of the diagonal, deg
   Vec3 translation_sigma_mm = Vec3::Zero();  // sqrt of the diagonal, mm
@@ -43,5 +45,13 @@ struct EyeInHandRefinement {
 // non-finite input, (field from the options) for bad options.
 EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, const EyeInHandResult& initial,
                                      const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement);
+
+// The same for a camera on a stand (AX = ZB): unknowns C = camera_from_base and
+// B = flange_from_board, camera_from_board_i = C · base_from_flange_i · B, starting from
+// CalibrateStandCamera. The refinement's covariance is then that of camera_from_base: rotation
+// vector applied on the left (in the camera frame, rad), translation (mm); the fields keep the
+// names of the flange case.
+HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeResult& initial,
+                                const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement);
 
 }  // namespace ramtk::calib
