@@ -416,9 +416,18 @@ int RunCompensate(const CompensateOptions& opt) {
             << " mm, after " << Fmt("%.4f", std::sqrt(after.squaredNorm() / after.size())) << " mm\n"
             << "corrected joints for the taught monitoring poses at cycle " << e.monitoring.cycles[col].cycle << ": "
             << cs.BriefReport() << "\n";
+  // What the identification's noise leaves in the compensated points (issue 14).
+  const Eigen::VectorXd mon_sigma = CompensatedMonitoringSigma(mon, dm, id, ResidualSigmaY(is));
+  if (mon_sigma.size() > 0) {
+    std::vector<double> v(mon_sigma.data(), mon_sigma.data() + mon_sigma.size());
+    std::sort(v.begin(), v.end());
+    std::cout << "predicted sigma of the compensated monitoring directions from the identification noise: median "
+              << Fmt("%.4f", v[v.size() / 2]) << " mm, largest " << Fmt("%.4f", v.back()) << " mm\n";
+  }
   if (!opt.out_path.empty()) std::cout << "wrote " << opt.out_path << "\n";
   if (!opt.out_report.empty()) {
     CompensationReportInput in;
+    in.monitoring_sigma_mm = mon_sigma;
     in.experiment = &ex;
     in.params = params;
     in.before = before, in.after = after, in.delta_x = x_mon;

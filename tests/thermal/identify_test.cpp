@@ -219,3 +219,50 @@ TEST(ThermalIdentify, DOptimalSelectionBeatsTheFirstPoses) {
 
 }  // namespace
 }  // namespace ramtk::thermal
+
+namespace ramtk::thermal {
+namespace {
+
+// The compensation's uncertainty at the monitoring points (issue 14: each stage propagates the
+// covariance it receives): CompensatedMonitoringSigma against Monte-Carlo. 30 simulated thesis
+// experiments (20 cycles, drift constant within a cycle so that only the noise separates the
+// identification from the truth), the 8 drifting parameters from 6 D-optimal poses. For every
+// monitoring direction and warm cycle, z = J (ΔX̂ − ΔX) / σ_predicted; the RMS of z over all of
+// them must be 1 within 10 % (the cycles of one experiment share the reference cycle's noise, so
+// the effective sample is far smaller than the 30 · 19 · 102 values).
+TEST(ThermalMonitoringSigma, PredictedCompensationSigmaMatchesMonteCarlo) {
+  double sum_z2 = 0;
+  long count = 0;
+  for (int seed = 1; seed <= 30; ++seed) {
+    ThermalSimOptions o = ThesisPreset(1000 + seed);
+    o.cycles = 20;
+    o.drift_changes_within_cycle = false;
+    const ThermalSimResult sim = SimulateThermal(Kr150(), o);
+    const ThermalExperiment ex = MakeExperiment(Kr150(), sim.setup, GroupCycles(sim.ball, "ball.csv"),
+                                                GroupCycles(sim.monitoring, "monitoring.csv"));
+    const DriftModel dm(Kr150(), sim.setup, ex.ball.taught);
+    IdentificationOptions id;
+    id.params = sim.drifting_params;
+    id.poses = SelectPoses(dm, id.params, 6);
+    const Eigen::MatrixXd x = dm.Solve(ex.ball.DifferencesFromReference(id.poses), id);
+    const MonitoringModel mon(Kr150(), sim.setup, ex.monitoring);
+    const double sigma_y = std::sqrt(2 * (o.sensor_noise_mm * o.sensor_noise_mm + o.repeatability_mm * o.repeatability_mm));
+    const Eigen::VectorXd sigma = CompensatedMonitoringSigma(mon, dm, id, sigma_y);
+    for (int c = 1; c < x.cols(); ++c) {
+      const Eigen::VectorXd dx = x.col(c) - sim.true_delta_x.col(c);
+      for (int k = 0; k < mon.NumPoints(); ++k) {
+        const Eigen::Vector3d e = mon.Jacobian(k) * dx;
+        for (int a = 0; a < 3; ++a) {
+          sum_z2 += std::pow(e[a] / sigma[3 * k + a], 2);
+          ++count;
+        }
+      }
+    }
+  }
+  const double rms_z = std::sqrt(sum_z2 / count);
+  ::testing::Test::RecordProperty("rms_z", std::to_string(rms_z));
+  EXPECT_NEAR(rms_z, 1.0, 0.1) << count << " values";
+}
+
+}  // namespace
+}  // namespace ramtk::thermal

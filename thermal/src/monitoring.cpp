@@ -44,6 +44,21 @@ Eigen::MatrixXd MonitoringModel::Residuals(const Eigen::MatrixXd& delta_x) const
   return r;
 }
 
+Eigen::VectorXd CompensatedMonitoringSigma(const MonitoringModel& monitoring, const DriftModel& drift_model,
+                                           const IdentificationOptions& id, double sigma_y_mm) {
+  const Eigen::MatrixXd cov = drift_model.Covariance(id, sigma_y_mm);
+  std::vector<int> params = id.params;
+  if (params.empty()) params = drift_model.model().FreeParams();
+  Eigen::VectorXd out(3 * monitoring.NumPoints());
+  for (int k = 0; k < monitoring.NumPoints(); ++k) {
+    Eigen::MatrixXd j(3, params.size());
+    for (std::size_t c = 0; c < params.size(); ++c) j.col(c) = monitoring.Jacobian(k).col(params[c]);
+    const Eigen::Matrix3d pc = j * cov * j.transpose();
+    for (int a = 0; a < 3; ++a) out[3 * k + a] = std::sqrt(std::max(0.0, pc(a, a)));
+  }
+  return out;
+}
+
 Eigen::VectorXd DirectionStatistic(const Eigen::MatrixXd& residuals, LambdaStatistic statistic) {
   const int warm = static_cast<int>(residuals.cols()) - 1;
   Eigen::VectorXd out = Eigen::VectorXd::Zero(residuals.rows());

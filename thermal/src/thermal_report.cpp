@@ -1,5 +1,6 @@
 #include "ramtk/thermal/thermal_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -151,6 +152,12 @@ report::HtmlReport CompensationReport(const CompensationReportInput& in) {
                    Fixed(total ? 100.0 * under_before / total : 0.0, 1)},
                   {"directions under the threshold, warm cycles, after (%)",
                    Fixed(total ? 100.0 * under_after / total : 0.0, 1)}});
+  if (in.monitoring_sigma_mm.size() > 0) {
+    std::vector<double> v(in.monitoring_sigma_mm.data(), in.monitoring_sigma_mm.data() + in.monitoring_sigma_mm.size());
+    std::sort(v.begin(), v.end());
+    html.KeyValues({{"σ of a compensated direction from the identification noise, median (mm)", Fixed(v[v.size() / 2], 4)},
+                    {"... largest (mm)", Fixed(v.back(), 4)}});
+  }
   report::Figure f;
   f.id = "monitoring_error";
   f.caption = "Monitoring points: RMS and worst error over the monitored directions per cycle, before and after "

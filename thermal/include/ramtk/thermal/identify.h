@@ -78,6 +78,7 @@ class DriftModel {
   int NumPoses() const { return static_cast<int>(a_full_.rows() / 3); }
   // 3·poses × 30, in the sensor frame (mm per mm / per rad).
   const Eigen::MatrixXd& FullSensitivity() const { return a_full_; }
+  const RobotModel& model() const { return model_; }
 
   // Solves ΔX for every column of `y` (3·|options.poses| × n, the differences of those poses).
   // Returns 30 × n with zeros outside options.params. InputError when the poses give fewer

@@ -53,6 +53,15 @@ class MonitoringModel {
   std::vector<Eigen::Matrix<double, 3, kinematics::kNumParams>> jacobians_;
 };
 
+// Standard deviation of each monitoring direction (3·points) of a compensated position that the
+// identification's noise causes: the point's Jacobian over the identified parameters times
+// Σ_x = drift_model.Covariance(id, sigma_y_mm), J Σ_x Jᵀ per point. sigma_y_mm: the noise of one
+// coordinate of a ball-centre difference (ResidualSigmaY of the identification, or
+// sqrt(2(σ_sensor² + σ_repeatability²)) when known). The uncertainty the compensation adds, for
+// one cycle; the tool sensor's own noise and unmodelled drift come on top.
+Eigen::VectorXd CompensatedMonitoringSigma(const MonitoringModel& monitoring, const DriftModel& drift_model,
+                                           const IdentificationOptions& id, double sigma_y_mm);
+
 // Per direction (3·points) summary statistic over the columns except the reference (column 0).
 Eigen::VectorXd DirectionStatistic(const Eigen::MatrixXd& residuals, LambdaStatistic statistic);
 // λ in percent.

@@ -41,6 +41,8 @@ struct CompensationReportInput {
   const DriftModel* drift_model = nullptr;
   IdentificationOptions identification_options;
   IdentificationSummary identification;
+  // Per monitoring direction, the σ the identification's noise leaves (CompensatedMonitoringSigma).
+  Eigen::VectorXd monitoring_sigma_mm;
 };
 report::HtmlReport CompensationReport(const CompensationReportInput& input);
 
