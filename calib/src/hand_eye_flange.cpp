@@ -46,10 +46,7 @@ int CvMethod(EyeInHandMethod m) {
 Mat3 ChordalMean(const std::vector<Mat3>& rs) {
   Mat3 sum = Mat3::Zero();
   for (const Mat3& r : rs) sum += r;
-  Eigen::JacobiSVD<Mat3> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 d = Mat3::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-  return svd.matrixU() * d * svd.matrixV().transpose();
+  return NearestRotation(sum);
 }
 
 }  // namespace

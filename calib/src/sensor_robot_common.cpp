@@ -15,18 +15,6 @@
 namespace ramtk::calib {
 namespace {
 
-Mat3 Skew(const Vec3& v) {
-  Mat3 s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
-Mat3 ProjectToRotation(const Mat3& m) {
-  Eigen::JacobiSVD<Mat3> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 d = Mat3::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  return svd.matrixU() * d * svd.matrixV().transpose();
-}
 
 }  // namespace
 
@@ -129,7 +117,7 @@ SensorRobotCalibration SolveSensorRobotLinear(const kinematics::RobotModel& mode
   const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
   Mat3 rt;
   rt << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-  const Mat3 rs = ProjectToRotation(rt.transpose());
+  const Mat3 rs = NearestRotation(rt.transpose());
   // With R_s fixed: P_si − R_s·t_i = R_s·R_i·P_e + t_s, linear in [P_e, t_s].
   Eigen::MatrixXd a2(3 * n, 6);
   Eigen::VectorXd b2(3 * n);

@@ -17,9 +17,8 @@ namespace ramtk::calib {
 Isometry3 SensorRobotSimOptions::ThesisSensorFromBase() {
   Mat3 m;  // eq. (5-1), printed with 4 decimals: not exactly orthonormal
   m << 0.9003, -0.1695, -0.4009, -0.1695, 0.7117, -0.6817, 0.4009, 0.6817, 0.6120;
-  Eigen::JacobiSVD<Mat3> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Isometry3 t = Isometry3::Identity();
-  t.linear() = svd.matrixU() * svd.matrixV().transpose();
+  t.linear() = NearestRotation(m);
   t.translation() = Vec3(2037.2109, -1761.8217, 343.7652);
   return t;
 }

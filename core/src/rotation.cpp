@@ -1,5 +1,7 @@
 #include "ramtk/core/rotation.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 
@@ -69,6 +71,19 @@ double RotationAngleBetween(const Mat3& a, const Mat3& b) {
 Vec3 LogSO3(const Mat3& rotation) {
   const Eigen::AngleAxisd aa(rotation);
   return aa.axis() * aa.angle();
+}
+
+Mat3 NearestRotation(const Mat3& m) {
+  Eigen::JacobiSVD<Mat3> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Mat3 d = Mat3::Identity();
+  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  return svd.matrixU() * d * svd.matrixV().transpose();
+}
+
+Mat3 Skew(const Vec3& v) {
+  Mat3 s;
+  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return s;
 }
 
 double OrthonormalityError(const Mat3& rotation) {

@@ -13,16 +13,6 @@
 #include "robot_linear.h"
 
 namespace ramtk::diagnose {
-namespace {
-
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
-
 std::string ResolveRobotModelPath(const std::string& name_or_path) {
   static const std::map<std::string, std::string> bundled = {
       {"kr150", "kuka_kr150_r3100.yaml"}, {"bx200l", "kawasaki_bx200l.yaml"}, {"ur10", "ur10.yaml"}};

@@ -43,18 +43,13 @@ LocalTwist LinkTwist(const LinkParams& link, const Isometry3& link_from_previous
   return tw;
 }
 
-Mat3 Hat(const Vec3& w) {
-  Mat3 m;
-  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
-  return m;
-}
 
 }  // namespace
 
 Mat4 LinkDifferential(const LinkParams& link, double theta_in, ParamKind kind) {
   const LocalTwist tw = LinkTwist(link, LinkTransform(link, theta_in), kind);
   Mat4 a = Mat4::Zero();
-  a.topLeftCorner<3, 3>() = Hat(tw.omega);
+  a.topLeftCorner<3, 3>() = Skew(tw.omega);
   a.topRightCorner<3, 1>() = tw.v;
   return a;
 }
@@ -67,7 +62,7 @@ std::array<Mat4, kNumParams> FlangeDifferentials(const RobotModel& model, const 
     const int i = ParamJointOf(k) + 1;
     const LocalTwist tw = LinkTwist(model.links[i - 1], f.link_from_previous[i], ParamKindOf(k));
     Mat4 a = Mat4::Zero();
-    a.topLeftCorner<3, 3>() = Hat(tw.omega);
+    a.topLeftCorner<3, 3>() = Skew(tw.omega);
     a.topRightCorner<3, 1>() = tw.v;
     const Isometry3 link_from_flange = f.base_from_link[i].inverse() * base_from_flange;  // T_6^i
     out[k] = f.base_from_link[i].matrix() * a * link_from_flange.matrix();

@@ -118,5 +118,35 @@ TEST(Rotation, OrthonormalityErrorDetectsNonRotation) {
   EXPECT_NEAR(OrthonormalityError(reflection), 2.0, 1e-15);
 }
 
+// NearestRotation (one implementation for the four places that had their own, one without the
+// reflection guard): a rotation is its own nearest; a rotation times a small symmetric stretch
+// comes back to the rotation (the polar factor, to first order exactly); a reflection gives a
+// proper rotation; the result minimises the Frobenius distance against random rotations.
+TEST(Rotation, NearestRotationIsThePolarFactorAndNeverAReflection) {
+  const Mat3 r = RotZ(0.3) * RotY(-1.1) * RotX(2.0);
+  EXPECT_LT((NearestRotation(r) - r).norm(), 1e-14);
+  Mat3 s = Mat3::Identity();
+  s(0, 1) = s(1, 0) = 1e-3;
+  s(2, 2) = 1.002;
+  EXPECT_LT((NearestRotation(r * s) - r).norm(), 1e-12);
+  Mat3 flip = Mat3::Identity();
+  flip(2, 2) = -1;
+  const Mat3 n = NearestRotation(r * flip);
+  EXPECT_NEAR(n.determinant(), 1.0, 1e-12);
+  EXPECT_LT(OrthonormalityError(n), 1e-12);
+  const Mat3 m = r * s + 0.05 * Mat3::Random();
+  const Mat3 best = NearestRotation(m);
+  for (int i = 0; i < 200; ++i) {
+    const Mat3 other = best * RotX(0.01 * Vec3::Random()[0]) * RotY(0.01 * Vec3::Random()[1]);
+    EXPECT_LE((best - m).norm(), (other - m).norm() + 1e-12);
+  }
+}
+
+TEST(Rotation, SkewIsTheCrossProduct) {
+  const Vec3 v(0.3, -1.2, 2.5), w(-0.7, 0.4, 1.1);
+  EXPECT_LT((Skew(v) * w - v.cross(w)).norm(), 1e-15);
+  EXPECT_LT((Skew(v) + Skew(v).transpose()).norm(), 1e-15);
+}
+
 }  // namespace
 }  // namespace ramtk

@@ -9,17 +9,6 @@
 namespace ramtk::thermal {
 namespace {
 
-Mat3 NearestRotation(const Mat3& m) {
-  Eigen::JacobiSVD<Mat3> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 r = svd.matrixU() * svd.matrixV().transpose();
-  if (r.determinant() < 0) {
-    Mat3 u = svd.matrixU();
-    u.col(2) *= -1.0;
-    r = u * svd.matrixV().transpose();
-  }
-  return r;
-}
-
 Isometry3 TransformFromJson(const nlohmann::json& j, const std::string& path, const std::string& field) {
   if (!j.is_array() || (j.size() != 3 && j.size() != 4)) {
     throw InputError({path, 0, field}, "expected 3 or 4 rows of 4 numbers");

@@ -53,4 +53,11 @@ Vec3 LogSO3(const Mat3& rotation);
 // Largest deviation of R^T R from identity, and |det R - 1|: how far R is from a rotation.
 double OrthonormalityError(const Mat3& rotation);
 
+// The rotation nearest to m in the Frobenius norm (U·diag(1, 1, det(U Vᵀ))·Vᵀ of m's SVD): never a
+// reflection, also when det m < 0. Of a sum of rotations, their chordal mean.
+Mat3 NearestRotation(const Mat3& m);
+
+// The cross-product matrix [v]×, so that Skew(v)·w = v × w.
+Mat3 Skew(const Vec3& v);
+
 }  // namespace ramtk
