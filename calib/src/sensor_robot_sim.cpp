@@ -8,20 +8,14 @@
 #include <stdexcept>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/thesis_setup.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/inverse.h"
 
 namespace ramtk::calib {
 
-Isometry3 SensorRobotSimOptions::ThesisSensorFromBase() {
-  Mat3 m;  // eq. (5-1), printed with 4 decimals: not exactly orthonormal
-  m << 0.9003, -0.1695, -0.4009, -0.1695, 0.7117, -0.6817, 0.4009, 0.6817, 0.6120;
-  Isometry3 t = Isometry3::Identity();
-  t.linear() = NearestRotation(m);
-  t.translation() = Vec3(2037.2109, -1761.8217, 343.7652);
-  return t;
-}
+Isometry3 SensorRobotSimOptions::ThesisSensorFromBase() { return ramtk::ThesisSensorFromBase(); }
 
 std::string SensorRobotSimOptions::Validate() const {
   if (num_poses < 1 || num_poses > 10000) return "num_poses must be in 1..10000";

@@ -5,6 +5,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/thesis_setup.h"
 
 namespace ramtk::thermal {
 namespace {
@@ -42,16 +43,9 @@ nlohmann::json TransformToJson(const Isometry3& t) {
 
 }  // namespace
 
-Isometry3 ThesisSensorFromBase() {
-  Mat3 r;
-  r << 0.9003, -0.1695, -0.4009, -0.1695, 0.7117, -0.6817, 0.4009, 0.6817, 0.6120;
-  Isometry3 t = Isometry3::Identity();
-  t.linear() = NearestRotation(r);
-  t.translation() = Vec3(2037.2109, -1761.8217, 343.7652);
-  return t;
-}
+Isometry3 ThesisSensorFromBase() { return ramtk::ThesisSensorFromBase(); }
 
-Vec3 ThesisBallInFlange() { return Vec3(43.0823, -5.6419, 306.7015); }
+Vec3 ThesisBallInFlange() { return ramtk::ThesisBallInFlange(); }
 
 ThermalSetup ReadThermalSetup(const std::string& path) {
   const std::string text = ReadTextFile(path);

@@ -9,6 +9,7 @@
 
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/rotation.h"
+#include "ramtk/core/thesis_setup.h"
 #include "ramtk/kinematics/robot_model.h"
 
 namespace ramtk::calib {
@@ -17,7 +18,7 @@ struct SensorRobotSimOptions {
   int num_poses = 9;  // thesis §5.1.1 uses 9
   // Truth; defaults to eq. (5-1) with the rotation projected onto SO(3).
   Isometry3 sensor_from_base = ThesisSensorFromBase();
-  Vec3 ball_in_flange = Vec3(43.0823, -5.6419, 306.7015);  // eq. (5-2), mm
+  Vec3 ball_in_flange = ThesisBallInFlange();  // eq. (5-2), mm (core/thesis_setup.h)
   // Centre of the measurement volume in the sensor frame (mm) and the half-size of the box the
   // ball centres are drawn from (the thesis sensor sees ≈570×430 mm at 700 mm).
   Vec3 volume_center_in_sensor = Vec3(0.0, 0.0, 700.0);
