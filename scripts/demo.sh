@@ -9,7 +9,8 @@ bash scripts/setup.sh
 RAMTK="${RAMTK_BUILD_DIR:-build}/tools/ramtk"
 OUT="${TMPDIR:-/tmp}/ramtk_demo_scan"
 "$RAMTK" scan datasets/scan_default/manifest.json --truth datasets/scan_default/truth/truth.json \
-  --out "$OUT" --force
+  --out "$OUT" --force --report
+echo "open $OUT/report.html in a browser: the ball's points in 3D with the fitted sphere, residuals, depth"
 echo
 "$RAMTK" fk --robot datasets/robots/kawasaki_bx200l.yaml --joints 90,0,0,0,0,0 \
   --measured 1675.749,-0.650,1918.024
