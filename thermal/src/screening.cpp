@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "ramtk/core/autocorrelation.h"
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/robot_model.h"
 
@@ -37,12 +38,10 @@ AcfResult AutocorrelationTest(const Eigen::VectorXd& series, const AcfOptions& o
     out.steady = true;
     return out;
   }
-  const Eigen::VectorXd x = series.array() - series.mean();
-  const double c0 = x.squaredNorm();
+  const std::vector<double> acf = Autocorrelation(std::vector<double>(series.data(), series.data() + n), max_lag);
   for (int k = 1; k <= max_lag; ++k) {
-    const double ck = c0 > 0.0 ? x.head(n - k).dot(x.tail(n - k)) / c0 : 0.0;
-    out.acf.push_back(ck);
-    if (std::abs(ck) > out.band) ++out.outside;
+    out.acf.push_back(acf[k]);
+    if (std::abs(acf[k]) > out.band) ++out.outside;
   }
   out.steady = out.outside <= options.max_fraction_outside * max_lag;
   return out;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/core/autocorrelation.h"
+
 namespace ramtk::diagnose {
 
 struct TestResult {
@@ -42,7 +44,7 @@ std::vector<double> HolmCorrection(const std::vector<double>& p_values);
 double ChiSquareUpperTail(double statistic, double dof);  // P(X ≥ statistic)
 double NormalUpperTail(double z);                         // P(Z ≥ z)
 
-// Sample autocorrelation at lags 0..max_lag.
-std::vector<double> Autocorrelation(const std::vector<double>& series, int max_lag);
+// The sample autocorrelation (core/autocorrelation.h).
+using ramtk::Autocorrelation;
 
 }  // namespace ramtk::diagnose
