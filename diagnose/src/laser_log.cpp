@@ -12,6 +12,7 @@
 #include "ramtk/diagnose/laser.h"
 #include "ramtk/diagnose/plot.h"
 #include "ramtk/diagnose/statistics.h"
+#include "ramtk/tcf/geometry.h"
 #include "ramtk/tcf/tcf_solver.h"
 
 namespace ramtk::diagnose {
@@ -54,18 +55,6 @@ Isometry3 ProgrammedPose(const tcf::ProgrammedMotion& m, const UsedEvent& u, dou
   return u.segment < nc ? m.circles[u.segment].BaseFromFlange(time_s) : m.lines[u.segment - nc].BaseFromFlange(time_s);
 }
 
-// Distance from the line (p, unit d) to the tool's ball centre ray (upwards along −a from c).
-double LineToToolDistance(const Vec3& p, const Vec3& d, const Vec3& c, const Vec3& up) {
-  const Vec3 w = c - p;
-  const double b = d.dot(up);
-  const double den = 1.0 - b * b;
-  // Minimise |w + μ·up − λ·d| over λ, μ ≥ 0.
-  double mu = den > 1e-12 ? (b * d.dot(w) - up.dot(w)) / den : 0.0;
-  mu = std::max(0.0, mu);
-  const Vec3 v = w + mu * up;
-  return (v - v.dot(d) * d).norm();
-}
-
 struct LogModel {
   const tcf::ProgrammedMotion* motion;
   Isometry3 frame;  // calibrated base_from_lasersensor
@@ -90,7 +79,7 @@ struct LogModel {
       const Vec3 a = f.linear() * axis;
       const Vec3 centre = f * tcp - radius * a;
       const int b = static_cast<int>(u.event.beam);
-      out(i) = LineToToolDistance(point[b], dir[b], centre, -a) - radius - 0.5 * q(kWidth);
+      out(i) = tcf::LineToRayDistance(point[b], dir[b], centre, -a) - radius - 0.5 * q(kWidth);
     }
     return out;
   }

@@ -9,6 +9,7 @@
 #include "json_pose.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
+#include "ramtk/tcf/geometry.h"
 #include "ramtk/tcf/tcf_solver.h"
 
 namespace ramtk::tcf {
@@ -24,14 +25,7 @@ struct Tool {
 double Clearance(const Vec3& p, const Vec3& d, double half_width, const Tool& tool, const Isometry3& f) {
   const Vec3 a = f.linear() * tool.axis_in_flange;
   const Vec3 c = f * tool.tcp_in_flange - tool.radius * a;  // ball centre
-  const Vec3 e = -a;
-  const Vec3 w = c - p;
-  const double b = d.dot(e);
-  const double den = 1.0 - b * b;
-  double mu = den > 1e-12 ? (b * d.dot(w) - e.dot(w)) / den : 0.0;
-  mu = std::max(0.0, mu);
-  const Vec3 v = c + mu * e - p;
-  return (v - v.dot(d) * d).norm() - tool.radius - half_width;
+  return LineToRayDistance(p, d, c, -a) - tool.radius - half_width;
 }
 
 }  // namespace

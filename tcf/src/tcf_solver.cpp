@@ -11,6 +11,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/units.h"
+#include "ramtk/tcf/geometry.h"
 
 namespace ramtk::tcf {
 namespace {
@@ -18,19 +19,6 @@ namespace {
 double WrapTwoPi(double a) {
   a = std::fmod(a, 2.0 * kPi);
   return a < 0 ? a + 2.0 * kPi : a;
-}
-
-// Shortest distance from the line (p, unit d) to the ray {c − μ·a, μ ≥ 0} (a unit).
-double LineRayDistance(const Vec3& p, const Vec3& d, const Vec3& c, const Vec3& a) {
-  const Vec3 e = -a;  // ray direction (up the tool, towards the flange)
-  const Vec3 w = c - p;
-  const double b = d.dot(e), dd = d.dot(w), ee = e.dot(w);
-  const double den = 1.0 - b * b;
-  double mu = den > 1e-12 ? (b * dd - ee) / den : 0.0;
-  if (mu < 0.0) mu = 0.0;
-  const Vec3 q = c + mu * e;
-  const Vec3 v = q - p;
-  return (v - v.dot(d) * d).norm();
 }
 
 struct BeamLine {
@@ -229,10 +217,10 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
       const Vec3 bp = base_from_sensor * Vec3(0.0, 0.0, zb), bd = base_from_sensor.linear() * dir_s;
       // dist(line, ray(λ)) is non-increasing in λ: bisect for dist = r_eff.
       double lo = -1000.0, hi = 1000.0;
-      if (LineRayDistance(bp, bd, c0 + hi * a_base, a_base) > r_eff[te.beam]) return std::nan("");
+      if (LineToRayDistance(bp, bd, c0 + hi * a_base, -(a_base)) > r_eff[te.beam]) return std::nan("");
       for (int i = 0; i < 80; ++i) {
         const double mid = 0.5 * (lo + hi);
-        (LineRayDistance(bp, bd, c0 + mid * a_base, a_base) > r_eff[te.beam] ? lo : hi) = mid;
+        (LineToRayDistance(bp, bd, c0 + mid * a_base, -(a_base)) > r_eff[te.beam] ? lo : hi) = mid;
       }
       return 0.5 * (lo + hi) + tool_r;
     };

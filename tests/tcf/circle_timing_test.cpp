@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
+#include "ramtk/tcf/geometry.h"
 
 namespace ramtk::tcf {
 namespace {
@@ -134,6 +136,33 @@ TEST(CircleTiming, TooFewCrossingsIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("at least 4"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace ramtk::tcf
+
+namespace ramtk::tcf {
+namespace {
+
+// LineToRayDistance (one implementation for the simulator, the solver and the diagnosis) against
+// closed forms: a perpendicular ray passing the line, a ray pointing away (the clamp μ ≥ 0), a
+// ray parallel to the line.
+TEST(TcfGeometry, LineToRayDistanceClosedForms) {
+  const Vec3 p(0, 0, 0), d(1, 0, 0);  // the x axis
+  // Ray from (3, 5, 2) straight down −y: crosses below the line's height 2 away in z.
+  EXPECT_NEAR(LineToRayDistance(p, d, Vec3(3, 5, 2), Vec3(0, -1, 0)), 2.0, 1e-12);
+  // The same ray pointing up +y: the closest point is its start, √(5² + 2²) away.
+  EXPECT_NEAR(LineToRayDistance(p, d, Vec3(3, 5, 2), Vec3(0, 1, 0)), std::sqrt(29.0), 1e-12);
+  // Parallel to the line, 4 away.
+  EXPECT_NEAR(LineToRayDistance(p, d, Vec3(-7, 0, 4), Vec3(1, 0, 0)), 4.0, 1e-12);
+  // A skew ray: against a dense sampling of μ.
+  const Vec3 c(1, 2, 3), e = Vec3(0.3, -0.8, 0.5).normalized();
+  double best = 1e300;
+  for (int i = 0; i <= 200000; ++i) {
+    const Vec3 q = c + (i * 1e-4) * e;
+    best = std::min(best, std::hypot(q.y(), q.z()));
+  }
+  EXPECT_NEAR(LineToRayDistance(p, d, c, e), best, 1e-6);
 }
 
 }  // namespace
