@@ -40,6 +40,9 @@ struct ScanCommandOptions {
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
   std::string shard;                          // "K/N": scan only shard K of N of the batch
   bool report = false;                        // also write report.html
+  std::string roi = "full";                   // full, auto, or a predicted centre X,Y,Z (mm)
+  double roi_margin = vision::ScanRoiOptions{}.margin_mm;  // mm added to the ball radius for the window
+  int roi_stride = 0;                                      // coarse pass stride (0 = automatic)
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -74,6 +77,9 @@ int RunScan(const ScanCommandOptions& opt) {
   options.match.full_search = opt.full_search;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
+  options.roi = ParseScanRoi(opt.roi);
+  options.roi.margin_mm = opt.roi_margin;
+  options.roi.coarse_stride = opt.roi_stride;
   options.Validate();
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
@@ -137,6 +143,9 @@ int RunScan(const ScanCommandOptions& opt) {
   const ScanResult result = ScanFringeSet(opt.set, options);
   WriteScanOutputs(opt.out, result, opt.force, opt.report);
   std::cout << result.summary.BriefReport() << "\n";
+  if (options.roi.mode != ScanRoiOptions::Mode::kFull)
+    std::cout << "roi " << result.summary.roi_source << ": left " << WindowText(result.summary.windows.left)
+              << ", right " << WindowText(result.summary.windows.right) << " (x,y,w,h px)\n";
   if (std::isfinite(result.summary.calibration_rms_px))
     std::cout << "calibration: session RMS " << result.summary.calibration_rms_px << " px, "
               << result.summary.calibration_parameter_std.size() << " parameter sigmas (in summary.json)\n";
@@ -193,6 +202,20 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--report", opt->report,
                 "Also write report.html: one self-contained page (summary, sphere table, 3D view of the points "
                 "around the sphere with its fit, residual and depth pictures). With --batch: one page for the batch");
+  sub->add_option("--roi", opt->roi,
+                  "Decode and match only windows around the ball: full (every pixel), auto (a coarse pass over "
+                  "every few pixels finds the ball first; the full frame if it finds none), or X,Y,Z = a predicted "
+                  "ball_in_left_camera in mm (e.g. from the robot pose). The cloud then holds the windows' points "
+                  "only (docs/scan.md)")
+      ->capture_default_str();
+  sub->add_option("--roi-margin", opt->roi_margin,
+                  "mm added to the ball radius before its silhouette bounds the window: at least the error of a "
+                  "predicted centre")
+      ->capture_default_str();
+  sub->add_option("--roi-stride", opt->roi_stride,
+                  "--roi auto: the coarse pass keeps every N-th pixel in x and y (0: automatic, the coarse left "
+                  "image at most 500 px wide)")
+      ->capture_default_str();
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");

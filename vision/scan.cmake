@@ -5,6 +5,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_match.cpp
   src/triangulate.cpp
   src/scan.cpp
+  src/scan_roi.cpp
   src/scan_report.cpp
   src/scan_batch.cpp
   src/cloud_noise.cpp)

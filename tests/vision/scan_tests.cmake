@@ -10,7 +10,8 @@ ramtk_add_gtest(vision_scan_tests
   scan_pipeline_test.cpp
   decode_fast_test.cpp
   stereo_walk_test.cpp
-  scan_shard_test.cpp)
+  scan_shard_test.cpp
+  scan_roi_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
 target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
@@ -48,3 +49,12 @@ file(WRITE ${SCAN_CLI}/batch.txt "# sets\n${SCAN_DEFAULT}/manifest.json\n${SCAN_
 ramtk_cli_test(scan_batch 1
   ARGS scan --batch ${SCAN_CLI}/batch.txt --out ${SCAN_CLI}/batch --force -q
   STDOUT "set,status,points,x_mm.*scan_default/manifest.json,ok,[0-9]+,-?0\\.00.*missing/manifest.json,error.*scanned 3 sets: 2 ok, 0 without a sphere, 1 with errors")
+# Windows around the ball: the coarse pass on the default set, and a --roi that is neither full,
+# auto nor a centre.
+ramtk_cli_test(scan_roi_auto 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --roi auto --out ${SCAN_CLI}/roi --force
+  STDOUT "scan ok:.*roi auto \\(coarse pass, stride 2\\): left [0-9]+,[0-9]+,[0-9]+,[0-9]+, right .*error vs truth \\(ball\\)")
+ramtk_cli_test(scan_roi_bad 1
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --roi somewhere --out ${SCAN_CLI}/not_written_roi
+  STDERR "--roi"
+  NO_PATH ${SCAN_CLI}/not_written_roi)

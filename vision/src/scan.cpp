@@ -55,6 +55,9 @@ void ScanOptions::Validate() const {
   match.Validate();
   triangulation.Validate();
   if (fit_spheres) sphere.Validate();
+  roi.Validate();
+  if (roi.mode != ScanRoiOptions::Mode::kFull && !fit_spheres)
+    throw InputError({"", 0, "roi"}, "a window around the ball needs the sphere fit (fit_spheres)");
   if (!(max_sphere_variance_factor >= 1)) throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
 }
 
@@ -91,6 +94,7 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   sum.right = right.summary;
   sum.width = left.coordinate.cols;
   sum.height = left.coordinate.rows;
+  sum.windows = FullFrameWindows(calibration);
 
   auto t0 = std::chrono::steady_clock::now();
   StereoMatchOptions mo = options.match;
@@ -188,6 +192,165 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   return result;
 }
 
+namespace {
+
+ScanResult Cancelled() {
+  ScanResult r;
+  r.summary.termination = "cancelled";
+  return r;
+}
+
+// Decodes the windows of both cameras' frames and runs the rest of the pipeline on them; the
+// cloud's pixels and the depth image are returned in full-frame pixels.
+ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration& calibration,
+                               const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                               double full_scale, const ScanWindows& windows, const ScanOptions& options,
+                               const std::string& calibration_path) {
+  const ScanWindows full = FullFrameWindows(calibration);
+  const bool whole = windows.left == full.left && windows.right == full.right;
+  const StereoCalibration cropped = whole ? calibration : CropCalibration(calibration, windows);
+  auto t0 = std::chrono::steady_clock::now();
+  DecodeOptions dopt = options.decode;
+  dopt.progress = {};
+  const DecodedCamera left = DecodeFrames(m, whole ? left_frames : CropFrames(left_frames, windows.left),
+                                          full_scale, dopt, options.left_camera);
+  if (!Report(options, "decode " + options.left_camera, 1, 5)) return Cancelled();
+  const DecodedCamera right = DecodeFrames(m, whole ? right_frames : CropFrames(right_frames, windows.right),
+                                           full_scale, dopt, options.right_camera);
+  const double decode_s = Seconds(t0);
+  if (!Report(options, "decode " + options.right_camera, 2, 5)) return Cancelled();
+  ScanResult result = ScanDecoded(cropped, left, right, left.summary.period_px, options, calibration_path);
+  result.summary.decode_s = decode_s;
+  result.summary.windows = windows;
+  if (!whole) {
+    const Eigen::Vector2f shift(static_cast<float>(windows.left.x), static_cast<float>(windows.left.y));
+    for (Eigen::Vector2f& px : result.cloud.left_pixels) px += shift;
+    if (!result.depth.empty()) {
+      cv::Mat depth(calibration.left.height, calibration.left.width, CV_32F,
+                    cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+      result.depth.copyTo(depth(windows.left));
+      result.depth = depth;
+    }
+    result.summary.width = calibration.left.width;
+    result.summary.height = calibration.left.height;
+  }
+  return result;
+}
+
+// The coarse pass of roi auto: every stride-th pixel through the whole pipeline; the spheres it
+// finds (empty, with the reason in *why, if none).
+std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibration& calibration,
+                                  const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                                  double full_scale, int stride, const ScanOptions& options, std::string* why) {
+  const StereoCalibration coarse = SubsampleCalibration(calibration, stride);
+  ScanOptions o = options;
+  o.progress = {};
+  o.roi = ScanRoiOptions();
+  o.fit_spheres = true;
+  // A window only needs the centre to a fraction of a millimetre: no nonlinearity correction,
+  // and the variance gate is left to the windowed pass (the coarse cloud's noise model is not
+  // the point here); the radius gate stays, so a backdrop is not taken for the ball.
+  o.decode.correct_nonlinearity = false;
+  o.max_sphere_variance_factor = std::numeric_limits<double>::max();
+  // The coarse ball has ~1/stride^2 of the points; a few dozen fix its centre to ~0.1 mm.
+  o.sphere.min_points = std::min(o.sphere.min_points, 50);
+  const ScanResult r = ScanWindowsOfFrames(m, coarse, SubsampleFrames(left_frames, stride),
+                                           SubsampleFrames(right_frames, stride), full_scale,
+                                           FullFrameWindows(coarse), o, "");
+  std::vector<Sphere> spheres;
+  for (const SphereResult& s : r.summary.spheres.spheres) {
+    Sphere sp;
+    sp.centre_in_left = s.centre_mm;
+    sp.radius = s.radius_mm;
+    spheres.push_back(sp);
+  }
+  if (spheres.empty())
+    *why = "the coarse pass (stride " + std::to_string(stride) + ", " + std::to_string(r.summary.triangulation.points) +
+           " points) found no sphere" +
+           (r.summary.spheres.no_sphere_reason.empty() ? "" : ": " + r.summary.spheres.no_sphere_reason);
+  return spheres;
+}
+
+}  // namespace
+
+ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibration,
+                      const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                      double full_scale, const ScanOptions& options, const std::string& calibration_path) {
+  options.Validate();
+  for (const auto* frames : {&left_frames, &right_frames}) {
+    const CameraIntrinsics& k = frames == &left_frames ? calibration.left : calibration.right;
+    for (const cv::Mat& f : *frames)
+      if (f.cols != k.width || f.rows != k.height)
+        throw InputError({calibration_path, 0, "image_size"},
+                         "a frame is " + std::to_string(f.cols) + "x" + std::to_string(f.rows) + ", the calibration's " +
+                             (frames == &left_frames ? "left" : "right") + " camera " + std::to_string(k.width) + "x" +
+                             std::to_string(k.height));
+  }
+  const ScanRoiOptions& roi = options.roi;
+  const ScanWindows full = FullFrameWindows(calibration);
+  ScanWindows windows = full;
+  std::string source = "full", fallback_why;
+  auto t0 = std::chrono::steady_clock::now();
+  if (roi.mode == ScanRoiOptions::Mode::kAuto) {
+    constexpr int kCoarseWidth = 500;
+    const int stride = roi.coarse_stride > 0 ? roi.coarse_stride
+                                             : std::max(2, (calibration.left.width + kCoarseWidth - 1) / kCoarseWidth);
+    // A ball too small for this stride gives too few coarse points: halve the stride (down to 2)
+    // before falling back to the full frame.
+    std::vector<Sphere> found;
+    for (int s = stride;; s /= 2) {
+      fallback_why.clear();
+      found = CoarseSpheres(m, calibration, left_frames, right_frames, full_scale, s, options, &fallback_why);
+      source = "auto (coarse pass, stride " + std::to_string(s) + ")";
+      if (!found.empty() || s / 2 < 2) break;
+      RAMTK_LOG(kInfo) << "scan --roi auto: " << fallback_why << "; trying stride " << s / 2;
+    }
+    if (!found.empty()) windows = WindowsAroundSpheres(calibration, found, roi.margin_mm, roi.margin_px);
+  } else if (roi.mode == ScanRoiOptions::Mode::kPredicted) {
+    source = "predicted";
+    std::vector<Sphere> predicted;
+    for (const Vec3& c : roi.predicted_centres_in_left_mm) {
+      Sphere s;
+      s.centre_in_left = c;
+      s.radius = options.sphere.radius_mm > 0 ? options.sphere.radius_mm : 19.05;
+      predicted.push_back(s);
+    }
+    windows = WindowsAroundSpheres(calibration, predicted, roi.margin_mm, roi.margin_px);
+  }
+  const double roi_s = Seconds(t0);
+  if (!fallback_why.empty() && !roi.fall_back_to_full) {
+    ScanResult r;
+    r.summary.termination = "no sphere found";
+    r.summary.spheres.termination = "no sphere found";
+    r.summary.spheres.no_sphere_reason = fallback_why;
+    r.summary.roi_source = source;
+    r.summary.roi_s = roi_s;
+    r.summary.width = calibration.left.width, r.summary.height = calibration.left.height;
+    return r;
+  }
+  ScanResult result =
+      ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows, options, calibration_path);
+  const bool windowed = !(windows.left == full.left && windows.right == full.right);
+  if (windowed && result.summary.termination == "no sphere found" && roi.fall_back_to_full) {
+    fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
+                                                              ? std::string()
+                                                              : ": " + result.summary.spheres.no_sphere_reason);
+    const double windowed_s = result.summary.decode_s + result.summary.match_s + result.summary.triangulate_s +
+                              result.summary.fit_s;
+    result = ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, full, options,
+                                 calibration_path);
+    result.summary.roi_s = roi_s + windowed_s;
+  } else {
+    result.summary.roi_s = roi_s;
+  }
+  if (!fallback_why.empty()) {
+    source += "; fell back to the full frame: " + fallback_why;
+    RAMTK_LOG(kWarning) << "scan --roi: " << fallback_why << "; scanned the full frame";
+  }
+  result.summary.roi_source = source;
+  return result;
+}
+
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
   options.Validate();
   const FringeManifest m = ReadFringeManifest(manifest_path);
@@ -201,37 +364,30 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     calib_path = m.Resolve(m.calibration);
   }
   const StereoCalibration calibration = ReadStereoCalibration(calib_path);
-  // Image size against the calibration before the (long) decode: one image per camera.
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<ImageStack> stacks;
   for (const std::string& cam : {options.left_camera, options.right_camera}) {
-    const std::string first = m.Resolve(m.cameras.at(cam).front());
-    int bits = 0;
-    const cv::Mat im = LoadImageNative(first, &bits);
+    std::vector<std::string> paths;
+    for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
+    // The fast path reads 8/16-bit grey files as stored; the reference path as float.
+    stacks.push_back(LoadImageStack(paths, options.decode.dark_fraction, !options.decode.reference_path));
+    const cv::Mat& im = stacks.back().frames.front();
     const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
     if (im.cols != k.width || im.rows != k.height)
       throw InputError({calib_path, 0, "image_size"},
                        "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
-                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " + first +
-                           " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
+                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " +
+                           paths.front() + " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
   }
-  auto t0 = std::chrono::steady_clock::now();
-  DecodeOptions dopt = options.decode;
-  dopt.progress = {};
-  const DecodedCamera left = DecodeCamera(m, options.left_camera, dopt);
-  if (!Report(options, "decode " + options.left_camera, 1, 5)) {
-    ScanResult r;
-    r.summary.termination = "cancelled";
-    return r;
-  }
-  const DecodedCamera right = DecodeCamera(m, options.right_camera, dopt);
-  const double decode_s = Seconds(t0);
-  if (!Report(options, "decode " + options.right_camera, 2, 5)) {
-    ScanResult r;
-    r.summary.termination = "cancelled";
-    return r;
-  }
-  ScanResult result = ScanDecoded(calibration, left, right, left.summary.period_px, options, calib_path);
+  if (stacks[0].bits_per_sample != stacks[1].bits_per_sample)
+    throw InputError({manifest_path, 0, "cameras." + options.right_camera},
+                     std::to_string(stacks[1].bits_per_sample) + "-bit images beside " +
+                         std::to_string(stacks[0].bits_per_sample) + "-bit ones of camera " + options.left_camera);
+  const double load_s = Seconds(t0);
+  ScanResult result = ScanFrames(m, calibration, stacks[0].frames, stacks[1].frames, stacks[0].full_scale, options,
+                                 calib_path);
   result.summary.set = manifest_path;
-  result.summary.decode_s = decode_s;
+  result.summary.load_s = load_s;
   return result;
 }
 
@@ -274,7 +430,10 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["median_point_sigma_mm"] = s.triangulation.median_sigma_mm;
   j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};
   j["spheres"] = json::parse(SphereFitToJson(s.spheres, kScanFrame, -1));
-  j["seconds"] = {{"decode", s.decode_s}, {"match", s.match_s}, {"triangulate", s.triangulate_s}, {"fit", s.fit_s}};
+  j["roi"] = {{"source", s.roi_source},
+              {"left", {s.windows.left.x, s.windows.left.y, s.windows.left.width, s.windows.left.height}},
+              {"right", {s.windows.right.x, s.windows.right.y, s.windows.right.width, s.windows.right.height}}};
+  j["seconds"] = {{"load", s.load_s}, {"roi", s.roi_s}, {"decode", s.decode_s}, {"match", s.match_s}, {"triangulate", s.triangulate_s}, {"fit", s.fit_s}};
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
 }

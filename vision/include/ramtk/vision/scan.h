@@ -11,6 +11,7 @@
 #include "ramtk/core/progress.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/point_cloud.h"
+#include "ramtk/vision/scan_roi.h"
 #include "ramtk/vision/scene.h"
 #include "ramtk/vision/sphere_fit.h"
 #include "ramtk/vision/stereo_calibration.h"
@@ -41,6 +42,9 @@ struct ScanOptions {
   // this (16: the surface RMS is at most 4x the predicted noise), and with a radius prior its
   // radius must lie within sphere.radius_tolerance_mm of it.
   double max_sphere_variance_factor = 16.0;
+  // Decode and match only windows around the ball (scan_roi.h; ScanFringeSet only): the whole
+  // frame (default), a coarse pass first, or a predicted centre.
+  ScanRoiOptions roi;
   // Called after each stage ("decode left", "decode right", "match", "triangulate", "fit");
   // returning false cancels (termination "cancelled", nothing else is computed).
   ProgressCallback progress;
@@ -59,12 +63,18 @@ struct ScanSummary {
   double calibration_rms_px = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> calibration_parameter_std;
   int width = 0, height = 0;       // left image size
+  // The windows decoded and matched (full-frame pixels; the whole frames without --roi) and how
+  // they were chosen: "full", "auto (coarse pass, stride S)", "predicted", possibly followed by
+  // "; fell back to the full frame: WHY".
+  ScanWindows windows;
+  std::string roi_source = "full";
   DecodeSummary left, right;
   StereoMatchSummary match;
   TriangulationSummary triangulation;
   SphereFitSummary spheres;
-  // Wall time of each stage, seconds.
-  double decode_s = 0, match_s = 0, triangulate_s = 0, fit_s = 0;
+  // Wall time of each stage, seconds: loading the frames (ScanFringeSet), the coarse pass that
+  // finds the windows (roi auto), decoding (both cameras), matching, triangulation, sphere fit.
+  double load_s = 0, roi_s = 0, decode_s = 0, match_s = 0, triangulate_s = 0, fit_s = 0;
   // One line: points, sphere centre(s) with sigma, radius, RMS (or "no sphere found: why").
   std::string BriefReport() const;
 };
@@ -78,7 +88,17 @@ struct ScanResult {
 // Runs the pipeline on a fringe image set. InputError naming the file and field for a bad
 // manifest, a missing calibration, a calibration whose image size differs from the images, a
 // non-rotation R (from ReadStereoCalibration), or bad options.
+// With options.roi, decodes and matches only windows around the ball (scan_roi.h): the cloud
+// then holds the windows' points only, the depth image is NaN outside them, and the summary
+// records the windows and how they were found.
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options);
+
+// The pipeline on frames already in memory (8/16-bit as loaded, or CV_32F in DN; each camera's
+// frames in the manifest's sequence order, at the calibration's image size), with options.roi.
+// `manifest` gives the pattern sequence; its paths are not read.
+ScanResult ScanFrames(const FringeManifest& manifest, const StereoCalibration& calibration,
+                      const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                      double full_scale, const ScanOptions& options, const std::string& calibration_path = "");
 
 // The stages after decoding, on cameras already decoded (tests, benchmarks). `period` is the
 // finest fringe period in projector px.
