@@ -120,6 +120,33 @@ int Speed(const std::string& preset, int repeat) {
         "sigma Jacobian) %.3f s: ratio %.2f; max point difference %.2g mm (float32 storage)\n",
         cv_s, s.triangulate_s, s.triangulate_s / cv_s, max_diff);
   }
+  // The same frames with windows around the ball (`ramtk scan --roi auto`), in memory: the coarse
+  // pass, then decode and match of the windows. Beside it the memory floor: one copy of the
+  // set's samples into fresh memory (what loading the set can at best cost).
+  std::vector<cv::Mat> lf = l.images, rf = r.images;
+  std::size_t bytes = 0;
+  for (const auto* v : {&lf, &rf})
+    for (const cv::Mat& m : *v) bytes += m.total() * m.elemSize();
+  for (int k = 0; k < repeat; ++k) {
+    auto t = Clock::now();
+    std::vector<cv::Mat> copies;
+    for (const auto* v : {&lf, &rf})
+      for (const cv::Mat& m : *v) copies.push_back(m.clone());
+    const double floor_s = Since(t);
+    ScanOptions o;
+    o.roi.mode = ScanRoiOptions::Mode::kAuto;
+    t = Clock::now();
+    const ScanResult res =
+        ScanFrames(testing::ManifestForConfig(c), calib, lf, rf, (1 << c.sensor.bits) - 1.0, o);
+    const double total = Since(t);
+    const ScanSummary& s = res.summary;
+    std::printf(
+        "roi auto: total %.3f s in memory (coarse pass %.3f s, decode %.3f s, match %.3f s, triangulate %.3f s, "
+        "fit %.3f s); left window %s, %ld points\n  memory floor: one copy of the set's %.0f MB %.3f s "
+        "(ratio %.1f)\n  %s\n",
+        total, s.roi_s, s.decode_s, s.match_s, s.triangulate_s, s.fit_s, WindowText(s.windows.left).c_str(),
+        s.triangulation.points, bytes / 1e6, floor_s, total / floor_s, s.BriefReport().c_str());
+  }
   return 0;
 }
 

@@ -214,7 +214,7 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--roi-stride", opt->roi_stride,
                   "--roi auto: the coarse pass keeps every N-th pixel in x and y (0: automatic, the coarse left "
-                  "image at most 500 px wide)")
+                  "image at most 350 px wide)")
       ->capture_default_str();
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "

@@ -108,8 +108,10 @@ void BindVision(py::module_& m) {
   m.def(
       "scan",
       [](const std::string& manifest, const std::string& calibration_path, double radius_mm, bool fix_radius,
-         int max_spheres, double min_depth_mm, double max_depth_mm) {
+         int max_spheres, double min_depth_mm, double max_depth_mm, const std::string& roi, double roi_margin_mm) {
         vision::ScanOptions o;
+        o.roi = vision::ParseScanRoi(roi);
+        o.roi.margin_mm = roi_margin_mm;
         o.calibration_path = calibration_path;
         o.sphere.radius_mm = radius_mm;
         o.sphere.fix_radius = fix_radius;
@@ -142,9 +144,12 @@ void BindVision(py::module_& m) {
       py::arg("fix_radius") = vision::ScanOptions{}.sphere.fix_radius,
       py::arg("max_spheres") = vision::ScanOptions{}.sphere.max_spheres,
       py::arg("min_depth_mm") = vision::ScanOptions{}.match.min_depth_mm,
-      py::arg("max_depth_mm") = vision::ScanOptions{}.match.max_depth_mm,
+      py::arg("max_depth_mm") = vision::ScanOptions{}.match.max_depth_mm, py::arg("roi") = "full",
+      py::arg("roi_margin_mm") = vision::ScanRoiOptions{}.margin_mm,
       "Scans a stereo fringe set: 'points' N×5 (x, y, z mm in the left-camera frame, sigma mm, quality), 'depth' "
-      "(z per left pixel, NaN none), 'spheres' (centre, radius, centre covariance), 'summary'");
+      "(z per left pixel, NaN none), 'spheres' (centre, radius, centre covariance), 'summary'. roi: 'full', "
+      "'auto' (a coarse pass finds the ball, then only windows around it are decoded and matched) or 'X,Y,Z' (a "
+      "predicted ball_in_left_camera, mm); summary['roi'] gives the windows");
 
   m.def(
       "fit_sphere",

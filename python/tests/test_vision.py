@@ -58,6 +58,21 @@ def test_scan_matches_the_command_and_the_truth(cli, default_set, scratch, datas
     assert (np.abs(s["centre_mm"] - truth["centre_mm"]) < 5 * sigma + 1e-4).all()
 
 
+def test_scan_in_a_window_finds_the_same_ball(default_set):
+    full = ramtk.scan(str(default_set))
+    win = ramtk.scan(str(default_set), roi="auto")
+    assert win["summary"]["roi"]["source"].startswith("auto (coarse pass, stride 2)")
+    x, y, w, h = win["summary"]["roi"]["left"]
+    assert w < 640 and h < 512
+    assert win["points"].shape[0] < full["points"].shape[0]
+    # The same pixels on the ball decode and match as in the whole frame: the centres agree far
+    # inside the centre's own sigma (same images, same noise).
+    sigma = np.sqrt(np.diag(full["spheres"][0]["centre_covariance_mm2"]))
+    assert (np.abs(win["spheres"][0]["centre_mm"] - full["spheres"][0]["centre_mm"]) < 0.3 * sigma).all()
+    with pytest.raises(Exception, match="--roi"):
+        ramtk.scan(str(default_set), roi="nowhere")
+
+
 def test_fit_sphere_recovers_a_noisy_sphere():
     rng = np.random.default_rng(7)
     centre, radius, noise = np.array([10.0, -20.0, 700.0]), 19.05, 0.005

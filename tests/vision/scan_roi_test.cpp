@@ -145,7 +145,7 @@ TEST(ScanRoiPipeline, AutoWindowsHoldTheBallAndGiveTheWholeFrameCentre) {
   const ScanResult win = ScanWide(roi);
   ASSERT_EQ(full.summary.spheres.spheres.size(), 1u) << full.summary.BriefReport();
   ASSERT_EQ(win.summary.spheres.spheres.size(), 1u) << win.summary.BriefReport();
-  EXPECT_EQ(win.summary.roi_source.rfind("auto (coarse pass, stride 3)", 0), 0u) << win.summary.roi_source;
+  EXPECT_EQ(win.summary.roi_source.rfind("auto (coarse pass, stride 4)", 0), 0u) << win.summary.roi_source;
   const cv::Rect truth = TrueLeftBox();
   EXPECT_EQ((win.summary.windows.left & truth), truth) << WindowText(win.summary.windows.left);
   // A window, not the frame: the ball's box plus the margins (3 mm ~ 20 px, 8 px).

@@ -292,7 +292,7 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
   std::string source = "full", fallback_why;
   auto t0 = std::chrono::steady_clock::now();
   if (roi.mode == ScanRoiOptions::Mode::kAuto) {
-    constexpr int kCoarseWidth = 500;
+    constexpr int kCoarseWidth = 350;
     const int stride = roi.coarse_stride > 0 ? roi.coarse_stride
                                              : std::max(2, (calibration.left.width + kCoarseWidth - 1) / kCoarseWidth);
     // A ball too small for this stride gives too few coarse points: halve the stride (down to 2)
@@ -445,7 +445,13 @@ void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool
   comment << "frame " << kScanFrame << "; set " << result.summary.set;
   WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str());
   WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-  if (!result.depth.empty()) WriteImage((tmp / "depth.png").string(), DepthPreview(result.depth));
+  if (!result.depth.empty()) {
+    // With windows (--roi) the preview shows the left window only: the rest holds no point.
+    const cv::Rect w = result.summary.windows.left;
+    const bool windowed = w.area() > 0 && (w & cv::Rect(0, 0, result.depth.cols, result.depth.rows)) == w &&
+                          w.size() != result.depth.size();
+    WriteImage((tmp / "depth.png").string(), DepthPreview(windowed ? result.depth(w) : result.depth));
+  }
   WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
   if (html_report) {
     for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {

@@ -111,7 +111,8 @@ cv::Mat DepthPreview(const cv::Mat& depth);
 // JSON text of a scan summary (stage figures, sphere results, timings).
 std::string ScanSummaryToJson(const ScanSummary& summary);
 
-// Writes cloud.ply, spheres.json, depth.png and summary.json into `out_dir`: all into a
+// Writes cloud.ply, spheres.json, depth.png (of the left window when the scan used --roi windows)
+// and summary.json into `out_dir`: all into a
 // temporary sibling folder first, then renamed into place, so a failure leaves nothing. An
 // existing non-empty `out_dir` is an InputError unless `overwrite`. With `html_report`, also
 // report.html (scan_report.h) and sphere<k>_residual.png (when gnuplot is installed).

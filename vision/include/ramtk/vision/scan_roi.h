@@ -27,7 +27,7 @@ struct ScanRoiOptions {
   std::vector<Vec3> predicted_centres_in_left_mm;
   // kAuto: the coarse pass keeps every coarse_stride-th pixel in x and y (no averaging, so the
   // fringe modulation is kept). 0: the smallest stride >= 2 that makes the coarse left image
-  // at most 500 px wide.
+  // at most 350 px wide.
   int coarse_stride = 0;
   // Added to the ball radius before its silhouette is projected: covers the error of the
   // centre the window is built around (coarse pass: ~0.1 mm; a predicted centre: the robot's
