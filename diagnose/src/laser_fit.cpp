@@ -1,7 +1,10 @@
 #include "laser_fit.h"
 
+#include <ceres/ceres.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "ramtk/diagnose/model_selection.h"
@@ -20,60 +23,106 @@ Eigen::VectorXd Rows(const Eigen::VectorXd& r, const std::vector<bool>& use) {
 
 double Rms(const Eigen::VectorXd& v) { return v.size() ? std::sqrt(v.squaredNorm() / v.size()) : 0.0; }
 
+namespace {
+
+// The model's residuals on the used rows as a Ceres cost of the free parameters, with the
+// Jacobian by central differences at the model's own step per parameter (the residual models
+// are closed-form geometry evaluated by code that is not templated for automatic
+// differentiation).
+class ResidualModelCost : public ceres::CostFunction {
+ public:
+  ResidualModelCost(const ResidualModel& model, const std::vector<int>& free, const std::vector<bool>& use,
+                    const Eigen::VectorXd& fixed)
+      : model_(model), free_(free), use_(use), fixed_(fixed) {
+    set_num_residuals(static_cast<int>(std::count(use.begin(), use.end(), true)));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
+  }
+
+  Eigen::VectorXd Full(const double* p) const {
+    Eigen::VectorXd full = fixed_;
+    for (std::size_t j = 0; j < free_.size(); ++j) full(free_[j]) = p[j];
+    return full;
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::VectorXd p = Full(parameters[0]);
+    const Eigen::VectorXd r = Rows(model_.residuals(p), use_);
+    if (!r.allFinite()) return false;
+    Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
+    if (jacobians && jacobians[0]) {
+      const int n = static_cast<int>(r.size()), k = static_cast<int>(free_.size());
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac(jacobians[0], n, k);
+      for (int j = 0; j < k; ++j) {
+        const int i = free_[j];
+        Eigen::VectorXd hi = p, lo = p;
+        hi(i) += model_.step(i);
+        lo(i) -= model_.step(i);
+        jac.col(j) = (Rows(model_.residuals(hi), use_) - Rows(model_.residuals(lo), use_)) / (2.0 * model_.step(i));
+      }
+      if (!jac.allFinite()) return false;
+    }
+    return true;
+  }
+
+ private:
+  const ResidualModel& model_;
+  const std::vector<int>& free_;
+  const std::vector<bool>& use_;
+  Eigen::VectorXd fixed_;
+};
+
+}  // namespace
+
 FitResult Fit(const ResidualModel& model, const std::vector<int>& free, const std::vector<bool>& use,
               const Eigen::VectorXd& start) {
   FitResult out;
   out.params = start;
   out.sigma = Eigen::VectorXd::Zero(start.size());
-  Eigen::VectorXd r = Rows(model.residuals(out.params), use);
-  const int n = static_cast<int>(r.size()), k = static_cast<int>(free.size());
-  double cost = r.squaredNorm();
-  Eigen::MatrixXd jac(n, k);
-  double lambda = 1e-3;
-  auto jacobian = [&](const Eigen::VectorXd& p) {
-    for (int j = 0; j < k; ++j) {
-      const int i = free[j];
-      Eigen::VectorXd hi = p, lo = p;
-      hi(i) += model.step(i);
-      lo(i) -= model.step(i);
-      jac.col(j) = (Rows(model.residuals(hi), use) - Rows(model.residuals(lo), use)) / (2.0 * model.step(i));
-    }
-  };
-  for (int iter = 0; iter < 60 && k > 0; ++iter) {
-    jacobian(out.params);
-    const Eigen::MatrixXd jtj = jac.transpose() * jac;
-    const Eigen::VectorXd g = jac.transpose() * r;
-    bool improved = false;
-    for (int attempt = 0; attempt < 12; ++attempt) {
-      Eigen::MatrixXd a = jtj;
-      for (int j = 0; j < k; ++j) a(j, j) += lambda * (jtj(j, j) + 1e-12);
-      const Eigen::VectorXd delta = a.ldlt().solve(-g);
-      Eigen::VectorXd trial = out.params;
-      for (int j = 0; j < k; ++j) trial(free[j]) += delta(j);
-      const Eigen::VectorXd rt = Rows(model.residuals(trial), use);
-      const double c = rt.squaredNorm();
-      if (std::isfinite(c) && c <= cost) {
-        const double gain = cost - c;
-        out.params = trial;
-        r = rt;
-        cost = c;
-        lambda = std::max(1e-9, lambda * 0.3);
-        improved = true;
-        if (gain <= 1e-12 * (cost + 1e-30)) iter = 1000;
-        break;
-      }
-      lambda *= 10.0;
-    }
-    if (!improved) break;
+  const int n = static_cast<int>(std::count(use.begin(), use.end(), true)), k = static_cast<int>(free.size());
+  if (k == 0 || n == 0) {
+    const Eigen::VectorXd r = Rows(model.residuals(start), use);
+    out.rms = Rms(r);
+    out.ok = r.allFinite();
+    return out;
   }
-  out.rms = n ? std::sqrt(cost / n) : 0.0;
-  if (k > 0 && n > k) {
-    jacobian(out.params);
-    const Eigen::MatrixXd cov = (jac.transpose() * jac).ldlt().solve(Eigen::MatrixXd::Identity(k, k));
-    const double s2 = cost / (n - k);
-    for (int j = 0; j < k; ++j) out.sigma(free[j]) = std::sqrt(std::max(0.0, cov(j, j) * s2));
+  std::vector<double> x(static_cast<std::size_t>(k));
+  for (int j = 0; j < k; ++j) x[j] = start(free[j]);
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  ResidualModelCost cost(model, free, use, start);
+  problem.AddResidualBlock(&cost, nullptr, x.data());
+  ceres::Solver::Options so;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 100;
+  so.function_tolerance = 1e-12;  // relative cost change: the residuals are mm / deg, fitted to ~1e-4
+  so.parameter_tolerance = 1e-12;
+  so.gradient_tolerance = 1e-14;
+  so.logging_type = ceres::SILENT;
+  so.num_threads = 1;  // candidates and folds are evaluated in parallel by the callers
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  out.params = cost.Full(x.data());
+  const double sum_sq = 2.0 * summary.final_cost;
+  out.rms = std::sqrt(sum_sq / n);
+  out.ok = std::isfinite(sum_sq) && summary.termination_type != ceres::FAILURE;
+  if (n > k) {
+    // Parameter covariance (J^T J)^-1 scaled by the residual variance sum r^2 / (n - k); a
+    // direction the rows do not constrain gives no sigma (NaN), not a pseudo-inverse's zero.
+    ceres::Covariance::Options co;
+    co.algorithm_type = ceres::DENSE_SVD;
+    co.num_threads = 1;
+    ceres::Covariance covariance(co);
+    const std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> cov(k, k);
+    if (covariance.Compute(blocks, &problem) && covariance.GetCovarianceBlock(x.data(), x.data(), cov.data())) {
+      const double s2 = sum_sq / (n - k);
+      for (int j = 0; j < k; ++j) out.sigma(free[j]) = std::sqrt(std::max(0.0, cov(j, j) * s2));
+    } else {
+      for (int j = 0; j < k; ++j) out.sigma(free[j]) = std::numeric_limits<double>::quiet_NaN();
+    }
   }
-  out.ok = std::isfinite(cost);
   return out;
 }
 
