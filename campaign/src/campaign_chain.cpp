@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <algorithm>
+#include <limits>
 #include <map>
 
 #include "campaign_internal.h"
@@ -36,6 +37,7 @@ struct ChainResult {
   thermal::ThermalSetup setup;
   Eigen::MatrixXd delta_x;  // 30 × ball cycles
   Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
+  std::vector<Eigen::MatrixXd> drift_covariance;  // per cycle, params × params (mm / rad)
 };
 
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
@@ -64,6 +66,7 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   const thermal::ThermalExperiment ex = thermal::MakeExperiment(model, r.setup, series, monitoring);
   const thermal::DriftModel dm(model, r.setup, series.taught);
   r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
+  if (!id.difference_covariance_mm2.empty()) r.drift_covariance = dm.WeightedCovariances(id);
   Eigen::MatrixXd x_mon(r.delta_x.rows(), static_cast<Eigen::Index>(ex.ball_column.size()));
   for (std::size_t c = 0; c < ex.ball_column.size(); ++c) x_mon.col(c) = r.delta_x.col(ex.ball_column[c]);
   const thermal::MonitoringModel mon(model, r.setup, monitoring);
@@ -170,16 +173,23 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   s.translation_sigma_um = img.calibration.TranslationStdMm().norm() * 1000.0;
   s.ball_sigma_um = img.calibration.BallStdMm().norm() * 1000.0;
   setup_errors(tru, &s.rotation_error_truth_arcsec, &s.translation_error_truth_um, &s.ball_error_truth_um);
-  s.budget.push_back({"centres", "RMS 3-D centre error, um", s.centre_rms_um, 0.0});
-  s.budget.push_back({"calibration", "rotation error, arcsec", s.rotation_error_arcsec, s.rotation_error_truth_arcsec});
-  s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um});
-  s.budget.push_back({"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um});
+  s.budget.push_back({"centres", "RMS 3-D centre error, um", s.centre_rms_um, 0.0, s.centre_predicted_rms_um});
+  s.budget.push_back({"calibration", "rotation error, arcsec", s.rotation_error_arcsec, s.rotation_error_truth_arcsec,
+                      s.rotation_sigma_arcsec});
+  s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um,
+                      s.translation_sigma_um});
+  s.budget.push_back({"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um,
+                      s.ball_sigma_um});
 
   // Drift per parameter against the true drift relative to the cold cycle, warm cycles.
   const int cycles = static_cast<int>(img.delta_x.cols());
-  for (int p : s.params) {
-    double ei = 0.0, et = 0.0, tt = 0.0;
+  for (std::size_t j = 0; j < s.params.size(); ++j) {
+    const int p = s.params[j];
+    double ei = 0.0, et = 0.0, tt = 0.0, vp = 0.0;
     for (int c = 1; c < cycles; ++c) {
+      if (!img.drift_covariance.empty())
+        vp += img.drift_covariance.at(static_cast<std::size_t>(c))(static_cast<Eigen::Index>(j),
+                                                                   static_cast<Eigen::Index>(j));
       const double truth = thermal::ToFileUnits(p, sim.true_delta_x(p, c) - sim.true_delta_x(p, 0));
       ei += std::pow(thermal::ToFileUnits(p, img.delta_x(p, c)) - truth, 2);
       et += std::pow(thermal::ToFileUnits(p, tru.delta_x(p, c)) - truth, 2);
@@ -188,9 +198,12 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
     s.drift_rms_error.push_back(std::sqrt(ei / (cycles - 1)));
     s.drift_rms_error_truth.push_back(std::sqrt(et / (cycles - 1)));
     s.drift_rms_true.push_back(std::sqrt(tt / (cycles - 1)));
+    s.drift_predicted_sigma.push_back(img.drift_covariance.empty()
+                                          ? std::numeric_limits<double>::quiet_NaN()
+                                          : std::abs(thermal::ToFileUnits(p, std::sqrt(vp / (cycles - 1)))));
     const std::string unit = kinematics::IsAngleParam(p) ? "deg" : "mm";
     s.budget.push_back({"drift " + kinematics::ParamName(p), "RMS error over warm cycles, " + unit,
-                        s.drift_rms_error.back(), s.drift_rms_error_truth.back()});
+                        s.drift_rms_error.back(), s.drift_rms_error_truth.back(), s.drift_predicted_sigma.back()});
   }
   s.monitoring_uncompensated_mm = WarmRms(img.before);
   s.monitoring_compensated_mm = WarmRms(img.after);
@@ -237,6 +250,7 @@ std::string BudgetJson(const CampaignSummary& s) {
   nlohmann::json b = nlohmann::json::array();
   for (const StageError& e : s.budget) {
     b.push_back({{"stage", e.stage}, {"quantity", e.quantity}, {"images", e.images}, {"true_centres", e.truth}});
+    if (std::isfinite(e.predicted)) b.back()["predicted"] = e.predicted;
   }
   j["budget"] = b;
   j["monitoring"] = {{"uncompensated_rms_mm", s.monitoring_uncompensated_mm},
@@ -289,8 +303,9 @@ report::HtmlReport CampaignReport(const CampaignSummary& s) {
   html.Section("Error budget, stage by stage");
   std::vector<std::vector<std::string>> rows;
   for (const StageError& e : s.budget)
-    rows.push_back({e.stage, e.quantity, f(e.images), e.stage == "centres" ? "—" : f(e.truth)});
-  html.Table({"stage", "quantity", "centres from images", "true centres"}, rows);
+    rows.push_back({e.stage, e.quantity, f(e.images), std::isfinite(e.predicted) ? f(e.predicted) : "—",
+                    e.stage == "centres" ? "—" : f(e.truth)});
+  html.Table({"stage", "quantity", "centres from images", "predicted (propagated σ)", "true centres"}, rows);
   html.Section("Centres and set-up calibration against the truth");
   html.Table({"quantity", "error", "predicted σ"},
              {{"centre RMS (µm)", f(s.centre_rms_um), f(s.centre_predicted_rms_um)},
@@ -318,12 +333,15 @@ report::HtmlReport CampaignReport(const CampaignSummary& s) {
 }
 
 std::string BudgetMarkdown(const CampaignSummary& s) {
-  std::string md = "| stage | quantity | centres from images | true centres |\n|---|---|---|---|\n";
+  std::string md =
+      "| stage | quantity | centres from images | predicted (propagated σ) | true centres |\n|---|---|---|---|---|\n";
   char buf[300];
   for (const StageError& e : s.budget) {
-    char truth[32] = "—";
+    char truth[32] = "—", predicted[32] = "—";
     if (e.stage != "centres") std::snprintf(truth, sizeof(truth), "%.4g", e.truth);
-    std::snprintf(buf, sizeof(buf), "| %s | %s | %.4g | %s |\n", e.stage.c_str(), e.quantity.c_str(), e.images, truth);
+    if (std::isfinite(e.predicted)) std::snprintf(predicted, sizeof(predicted), "%.4g", e.predicted);
+    std::snprintf(buf, sizeof(buf), "| %s | %s | %.4g | %s | %s |\n", e.stage.c_str(), e.quantity.c_str(), e.images,
+                  predicted, truth);
     md += buf;
   }
   std::snprintf(buf, sizeof(buf),

@@ -80,6 +80,53 @@ TEST(ThermalWeighting, CovarianceWeightingBeatsUnweightedWhenNoiseVariesAcrossTh
   EXPECT_LT(std::exp(log_ratio / params.size()), 1.0 / 1.5);
 }
 
+TEST(ThermalWeighting, PredictedCovarianceMatchesMonteCarloScatter) {
+  // Differences Y = A x + noise with a different covariance at every pose (as the scan gives):
+  // the weighted solution's scatter over 400 draws against (A^T C^-1 A)^-1. An observed sd
+  // from 400 draws is uncertain by ~3.5 %: 15 % bound.
+  const auto& e = testing::Thesis(1);
+  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+  IdentificationOptions id;
+  id.params = e.sim.drifting_params;
+  const int poses = dm.NumPoses(), k = static_cast<int>(id.params.size());
+  std::mt19937_64 rng(21);
+  std::normal_distribution<double> n01;
+  std::uniform_real_distribution<double> u(0.002, 0.02);
+  std::vector<Mat3> blocks(poses);
+  for (Mat3& c : blocks) {
+    Mat3 l = Mat3::Zero();
+    for (int i = 0; i < 3; ++i) {
+      l(i, i) = u(rng);
+      for (int j = 0; j < i; ++j) l(i, j) = 0.3 * u(rng);
+    }
+    c = l * l.transpose();
+  }
+  id.difference_covariance_mm2.assign(1, blocks);
+  const Eigen::MatrixXd predicted = dm.WeightedCovariances(id).at(0);
+  ASSERT_EQ(predicted.rows(), k);
+  const int draws = 400;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(k), sum2 = Eigen::VectorXd::Zero(k);
+  for (int d = 0; d < draws; ++d) {
+    Eigen::MatrixXd y(3 * poses, 1);
+    for (int p = 0; p < poses; ++p)
+      y.block<3, 1>(3 * p, 0) = blocks[p].llt().matrixL() * Vec3(n01(rng), n01(rng), n01(rng));  // x = 0
+    const Eigen::MatrixXd x = dm.Solve(y, id);
+    for (int j = 0; j < k; ++j) sum(j) += x(id.params[j], 0), sum2(j) += std::pow(x(id.params[j], 0), 2);
+  }
+  for (int j = 0; j < k; ++j) {
+    const double mean = sum(j) / draws;
+    const double observed = std::sqrt(sum2(j) / draws - mean * mean);
+    const double pred = std::sqrt(predicted(j, j));
+    ::testing::Test::RecordProperty("ratio_" + kinematics::ParamName(id.params[j]), std::to_string(pred / observed));
+    EXPECT_NEAR(pred / observed, 1.0, 0.15) << kinematics::ParamName(id.params[j]);
+  }
+  // Unweighted, with the same sigma everywhere, it is Covariance(options, sigma).
+  IdentificationOptions flat = id;
+  flat.difference_covariance_mm2.assign(1, std::vector<Mat3>(poses, 0.01 * 0.01 * Mat3::Identity()));
+  const Eigen::MatrixXd a = dm.WeightedCovariances(flat).at(0), b = dm.Covariance(flat, 0.01);
+  EXPECT_LT((a - b).norm(), 1e-9 * b.norm());
+}
+
 TEST(ThermalWeighting, MismatchedCovarianceIsAnInputError) {
   const auto& e = testing::Thesis(1);
   IdentificationOptions id;

@@ -215,6 +215,37 @@ Eigen::MatrixXd DriftModel::Covariance(const IdentificationOptions& options, dou
   return sigma_y_mm * sigma_y_mm * info.completeOrthogonalDecomposition().pseudoInverse();
 }
 
+std::vector<Eigen::MatrixXd> DriftModel::WeightedCovariances(const IdentificationOptions& options) const {
+  const auto& cov = options.difference_covariance_mm2;
+  if (cov.empty()) throw InputError({"", 0, "difference_covariance_mm2"}, "no covariances given");
+  const std::vector<int> params = options.params.empty() ? model_.FreeParams() : options.params;
+  std::vector<int> poses = options.poses;
+  if (poses.empty()) {
+    for (int i = 0; i < NumPoses(); ++i) poses.push_back(i);
+  }
+  const Eigen::Index k = static_cast<Eigen::Index>(params.size());
+  std::vector<Eigen::MatrixXd> out;
+  for (std::size_t c = 0; c < cov.size(); ++c) {
+    Eigen::MatrixXd info = Eigen::MatrixXd::Zero(k, k);
+    for (int pose : poses) {
+      if (pose < 0 || pose >= static_cast<int>(cov[c].size()) || pose >= NumPoses())
+        throw InputError({"", 0, "difference_covariance_mm2"},
+                         "cycle " + std::to_string(c) + " lacks pose position " + std::to_string(pose));
+      const Eigen::LLT<Mat3> llt(cov[c][pose]);
+      if (llt.info() != Eigen::Success)
+        throw InputError({"", 0, "difference_covariance_mm2"},
+                         "not positive definite at cycle " + std::to_string(c) + ", pose position " +
+                             std::to_string(pose));
+      Eigen::MatrixXd a(3, k);
+      for (Eigen::Index j = 0; j < k; ++j) a.col(j) = a_full_.block(3 * pose, params[j], 3, 1);
+      const Eigen::MatrixXd aw = llt.matrixL().solve(a);  // C^-1/2 A
+      info += aw.transpose() * aw;
+    }
+    out.push_back(info.completeOrthogonalDecomposition().pseudoInverse());
+  }
+  return out;
+}
+
 Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setup, const CycleSeries& ball,
                                const IdentificationOptions& options, IdentificationSummary* summary) {
   const DriftModel drift_model(model, setup, ball.taught);

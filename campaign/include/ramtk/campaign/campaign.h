@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,10 @@ struct StageError {
   std::string quantity; // what the number is, with its unit
   double images = 0.0;  // chain fed the image-derived centres
   double truth = 0.0;   // chain fed the true centres (0 for the centres stage itself)
+  // The image chain's own prediction of `images`, from the covariance each stage propagates
+  // (centres: the scan covariance; calibration: its covariance, |std vector|; drift: the
+  // weighted identification's covariance, RMS over warm cycles); NaN where none is propagated.
+  double predicted = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct CampaignSummary {
@@ -60,6 +65,9 @@ struct CampaignSummary {
   double rotation_error_truth_arcsec = 0, translation_error_truth_um = 0, ball_error_truth_um = 0;
   std::vector<int> params;
   std::vector<double> drift_rms_error, drift_rms_error_truth, drift_rms_true;  // per param, mm or deg, warm cycles
+  // Per param, mm or deg: the image chain's predicted σ of the identified drift, RMS over the warm
+  // cycles of sqrt(diag((Aᵀ C_c⁻¹ A)⁻¹)) (DriftModel::WeightedCovariances).
+  std::vector<double> drift_predicted_sigma;
   double monitoring_uncompensated_mm = 0;  // RMS over warm cycles and directions
   double monitoring_compensated_mm = 0;    // with the image chain's drift and set-up
   double monitoring_compensated_truth_mm = 0;  // with the true-centre chain

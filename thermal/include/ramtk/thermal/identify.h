@@ -91,6 +91,12 @@ class DriftModel {
   // singular).
   Eigen::MatrixXd Covariance(const IdentificationOptions& options, double sigma_y_mm) const;
 
+  // Covariance (params × params, mm / rad units) of the weighted ΔX of each cycle c:
+  // (Aᵀ C_c⁻¹ A)⁻¹ with C_c block-diagonal over the poses of `options`, its blocks
+  // options.difference_covariance_mm2[c] (pseudo-inverse if singular). One matrix per cycle;
+  // InputError if the covariances are absent, lack a pose or are not positive definite.
+  std::vector<Eigen::MatrixXd> WeightedCovariances(const IdentificationOptions& options) const;
+
  private:
   RobotModel model_;
   Eigen::MatrixXd a_full_;
