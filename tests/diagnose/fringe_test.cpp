@@ -89,7 +89,7 @@ INSTANTIATE_TEST_SUITE_P(Gains, FringeShotNoise,
 TEST(FringeDiagnosis, SeedListCoversEveryEffect) {
   std::set<std::string> effects;
   for (std::uint64_t s : Seeds()) effects.insert(DrawHiddenFringeEffect(s).effect);
-  EXPECT_EQ(effects.size(), 8u);  // seven effects and "none"
+  EXPECT_EQ(effects.size(), 9u);  // eight effects and "none"
 }
 
 TEST(FringeDiagnosis, HarmonicsOfAProjectorGammaMatchTheClosedForm) {
@@ -129,6 +129,18 @@ TEST(FringeDiagnosis, DefocusSigmaMatchesTheRenderedBlur) {
   ASSERT_EQ(d.pictures.size(), 4u);
   for (const Picture& p : d.pictures)
     EXPECT_TRUE(std::filesystem::exists(std::string(RAMTK_TEST_OUTPUT_DIR) + "/fringe_defocus/" + p.file)) << p.file;
+}
+
+TEST(FringeDiagnosis, SoftKneeIsNamedWithTheRenderedKnee) {
+  // The simulator's knee is the algebraic soft clip at 30 % of full scale; the candidate's grid
+  // steps 0.05 in the knee, so the estimate must land within one step.
+  HiddenFringeDraw draw;
+  draw.seed = 17, draw.effect = draw.expected = "soft_knee_response", draw.magnitude = 0.3;
+  const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw));
+  ASSERT_EQ(d.cause, "soft_knee_response");
+  EXPECT_NEAR(d.parameters.at("knee_fraction"), 0.3, 0.05 + 1e-9);
+  EXPECT_EQ(d.parameters.at("knee_shape_algebraic"), 1.0);
+  EXPECT_GE(d.excess_removed, 0.5);
 }
 
 TEST(FringeDiagnosis, RejectsASequenceWithoutGrayCode) {

@@ -104,6 +104,32 @@ TEST(SimSensor, DefocusBlurStepResponseIsTheGaussianErf) {
   }
 }
 
+TEST(SimSensor, SoftKneeIsLinearBelowTheKneeAndTheAlgebraicClipAbove) {
+  // Noise-free 16-bit ramp: below K = k·F the reading is the signal; above it the closed form
+  // K + (F − K)·x/sqrt(1 + x²), x = (S − K)/(F − K), to the rounding (0.5 DN); monotone.
+  SensorOptions o;
+  o.bits = 16;
+  o.exposure = 1.0;
+  o.noise = false;
+  o.soft_knee_fraction = 0.6;
+  const double f = o.MaxValue(), k = 0.6 * f;
+  cv::Mat ramp(1, 200, CV_32F);
+  for (int u = 0; u < ramp.cols; ++u) ramp.at<float>(0, u) = static_cast<float>(1.3 * u / (ramp.cols - 1.0));
+  const cv::Mat out = ApplySensor(ramp, 1.0, o, 1, 0);
+  double previous = -1;
+  for (int u = 0; u < ramp.cols; ++u) {
+    const double s = ramp.at<float>(0, u) * f;
+    const double x = (s - k) / (f - k);
+    const double expected = s <= k ? s : k + (f - k) * x / std::sqrt(1 + x * x);
+    const double got = out.at<std::uint16_t>(0, u);
+    EXPECT_NEAR(got, std::min(std::round(s <= k ? s : expected), f), 0.5 + 1e-9) << "signal " << s;
+    EXPECT_GE(got, previous);
+    previous = got;
+  }
+  o.soft_knee_fraction = 1.0;
+  EXPECT_THROW(o.Validate(), InputError);
+}
+
 TEST(SimSensor, BadOptionsAreRejected) {
   SensorOptions o;
   o.bits = 9;

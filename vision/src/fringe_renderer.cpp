@@ -284,6 +284,8 @@ void SensorOptions::Validate() const {
   if (!(read_noise_electrons >= 0.0)) throw InputError({"", 0, "read_noise_electrons"}, "must be >= 0");
   if (!(blur_sigma_px >= 0.0 && blur_sigma_px < 100.0))
     throw InputError({"", 0, "blur_sigma_px"}, "must be in [0, 100)");
+  if (!(soft_knee_fraction == 0.0 || (soft_knee_fraction > 0.0 && soft_knee_fraction < 1.0)))
+    throw InputError({"", 0, "soft_knee_fraction"}, "must be 0 (linear) or in (0, 1)");
 }
 
 cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o, std::uint64_t seed,
@@ -298,6 +300,7 @@ cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o
   cv::Mat out(mean.size(), o.bits == 8 ? CV_8U : CV_16U);
   const double dn_per_electron = max_value / o.full_well_electrons;
   const double read_var_dn = std::pow(o.read_noise_electrons * dn_per_electron, 2);
+  const double knee = o.soft_knee_fraction * max_value;
   tbb::parallel_for(tbb::blocked_range<int>(0, mean.rows, 16), [&](const tbb::blocked_range<int>& range) {
     for (int v = range.begin(); v != range.end(); ++v) {
       std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
@@ -311,6 +314,10 @@ cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o
         if (o.noise) {
           const double var = std::max(dn, 0.0) * dn_per_electron + read_var_dn;
           dn += std::sqrt(var) * normal(rng);
+        }
+        if (knee > 0.0 && dn > knee) {
+          const double x = (dn - knee) / (max_value - knee);
+          dn = knee + (max_value - knee) * x / std::sqrt(1.0 + x * x);
         }
         const double q = std::min(std::max(std::round(dn), 0.0), max_value);
         if (o.bits == 8) {

@@ -128,6 +128,8 @@ void FringeEffects::Set(const std::string& name, double m, const std::string& wh
     saturation = m;
   } else if (name == "defocus") {
     defocus = m;
+  } else if (name == "soft_knee_response") {
+    soft_knee_response = m;
   } else if (name == "ambient_light") {
     ambient_light = m;
   } else if (name == "lens_distortion_unmodelled") {
@@ -135,7 +137,7 @@ void FringeEffects::Set(const std::string& name, double m, const std::string& wh
   } else {
     throw InputError({"", 0, where}, "unknown effect '" + name +
                                          "' (known: projector_nonlinearity, phase_shift_error, intensity_drift, "
-                                         "saturation, defocus, ambient_light, lens_distortion_unmodelled)");
+                                         "saturation, defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
   }
   try {
     Validate();
@@ -150,6 +152,7 @@ std::map<std::string, double> FringeEffects::ByName() const {
           {"intensity_drift", intensity_drift},
           {"saturation", saturation},
           {"defocus", defocus},
+          {"soft_knee_response", soft_knee_response},
           {"ambient_light", ambient_light},
           {"lens_distortion_unmodelled", lens_distortion_unmodelled}};
 }
@@ -163,6 +166,8 @@ void FringeEffects::Validate() const {
   CheckMagnitude(intensity_drift > -1.0 && intensity_drift <= 10.0, w, "intensity_drift", "must be in (-1, 10]");
   CheckMagnitude(saturation > 0.0 && saturation <= 100.0, w, "saturation", "(exposure factor) must be in (0, 100]");
   CheckMagnitude(defocus >= 0.0 && defocus < 100.0, w, "defocus", "(blur sigma, px) must be in [0, 100)");
+  CheckMagnitude(soft_knee_response == 0.0 || (soft_knee_response > 0.0 && soft_knee_response < 1.0), w,
+                 "soft_knee_response", "(knee, fraction of full scale) must be 0 (off) or in (0, 1)");
   CheckMagnitude(ambient_light >= 0.0 && ambient_light <= 100.0, w, "ambient_light", "must be in [0, 100]");
   CheckMagnitude(std::abs(lens_distortion_unmodelled) <= 1.0, w, "lens_distortion_unmodelled",
                  "(extra k1) must be in [-1, 1]");
@@ -296,6 +301,7 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
   SensorOptions sensor = config.sensor;
   sensor.exposure *= config.effects.saturation;
   sensor.blur_sigma_px = config.effects.defocus;
+  sensor.soft_knee_fraction = config.effects.soft_knee_response;
   for (std::size_t i = 0; i < frames.size(); ++i)
     out.images.push_back(ApplySensor(out.truth.radiance[i], fx.gains[i], sensor, config.seed,
                                      static_cast<std::uint64_t>(camera) * 1000 + i));
@@ -430,6 +436,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
           {"full_well_electrons", config.sensor.full_well_electrons},
           {"read_noise_electrons", config.sensor.read_noise_electrons},
           {"blur_sigma_px", config.effects.defocus},
+          {"soft_knee_fraction", config.effects.soft_knee_response},
           {"noise", config.sensor.noise}}},
         {"truth_images",
          "float32 TIFF per camera: projector_x/projector_y = projector pixel of the pixel-centre ray's first hit "

@@ -114,6 +114,10 @@ struct SensorOptions {
   double full_well_electrons = 10000;  // electrons at full scale: shot-noise variance = signal in e−
   double read_noise_electrons = 10;    // read-noise std dev, e−
   double blur_sigma_px = 0.0;          // Gaussian defocus blur std dev, camera pixels (0 = none)
+  // Soft knee of the sensor response (0 = linear): a signal S (DN, noise included) above
+  // K = soft_knee_fraction · full scale F reads K + (F − K)·x / sqrt(1 + x²), x = (S − K)/(F − K),
+  // an algebraic soft clip that is linear at the knee and approaches F smoothly.
+  double soft_knee_fraction = 0.0;
   bool noise = true;                   // add shot and read noise
   // Throws InputError naming the field if a value is out of range.
   void Validate() const;

@@ -25,6 +25,9 @@ struct FringeEffects {
                                             // frame (0.02: the last frame is 2 % brighter)
   double saturation = 1.0;                  // exposure multiplier; > 1 drives bright fringes into clipping
   double defocus = 0.0;                     // camera defocus: Gaussian blur std dev, camera pixels
+  double soft_knee_response = 0.0;          // sensor knee k in (0, 1): signal above k·full scale is
+                                            // compressed smoothly (SensorOptions::soft_knee_fraction);
+                                            // 0 = linear
   double ambient_light = 0.0;               // ambient irradiance as a fraction of projector white
   double lens_distortion_unmodelled = 0.0;  // extra radial k1 rendered in both cameras but left out
                                             // of the written calibration
