@@ -56,7 +56,7 @@ SimulatedCamera Renoise(const FringeSimulationConfig& c, const SimulatedCamera& 
   SimulatedCamera out;
   out.truth = clean.truth;
   SensorOptions sensor = c.sensor;
-  sensor.blur_sigma_px = c.effects.defocus;
+  sensor.blur_sigma_px = c.effects.camera_defocus;
   for (std::size_t i = 0; i < clean.truth.radiance.size(); ++i)
     out.images.push_back(
         ApplySensor(clean.truth.radiance[i], 1.0, sensor, c.seed, static_cast<std::uint64_t>(camera) * 1000 + i));

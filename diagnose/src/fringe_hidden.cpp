@@ -17,8 +17,8 @@ struct EffectRange {
 
 // Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,
 // a few percent lamp/exposure drift over the sequence, 50–120 % over-exposure (the brightest
-// surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px defocus
-// at 320×256, a sensor knee at 20–35 % of full scale (the scene's brightest samples reach ~70 %;
+// surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px camera
+// defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of full scale (the scene's brightest samples reach ~70 %;
 // a knee above ~40 % bends them by less than the per-pixel fit leaves visible), ambient light 5–20 %
 // of projector white, an extra k1 of a poorly calibrated lens.
 const EffectRange kRanges[] = {
@@ -26,7 +26,8 @@ const EffectRange kRanges[] = {
     {"phase_shift_error", 1.5, 5.0, false, true},
     {"intensity_drift", 0.03, 0.10, true, true},
     {"saturation", 1.5, 2.2, false, true},
-    {"defocus", 0.8, 2.5, false, true},
+    {"camera_defocus", 0.8, 2.5, false, true},
+    {"defocus", 0.5, 1.4, false, true},
     {"soft_knee_response", 0.2, 0.35, false, true},
     {"ambient_light", 0.05, 0.2, false, false},
     {"lens_distortion_unmodelled", 0.02, 0.1, true, false},

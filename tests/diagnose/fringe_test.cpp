@@ -89,7 +89,7 @@ INSTANTIATE_TEST_SUITE_P(Gains, FringeShotNoise,
 TEST(FringeDiagnosis, SeedListCoversEveryEffect) {
   std::set<std::string> effects;
   for (std::uint64_t s : Seeds()) effects.insert(DrawHiddenFringeEffect(s).effect);
-  EXPECT_EQ(effects.size(), 9u);  // eight effects and "none"
+  EXPECT_EQ(effects.size(), 10u);  // nine effects and "none"
 }
 
 TEST(FringeDiagnosis, HarmonicsOfAProjectorGammaMatchTheClosedForm) {
@@ -120,15 +120,27 @@ TEST(FringeDiagnosis, PhaseStepErrorsMatchTheRenderedOnes) {
   }
 }
 
-TEST(FringeDiagnosis, DefocusSigmaMatchesTheRenderedBlur) {
+TEST(FringeDiagnosis, CameraDefocusSigmaMatchesTheRenderedBlur) {
   HiddenFringeDraw draw;
-  draw.seed = 13, draw.effect = draw.expected = "defocus", draw.magnitude = 1.5;
+  draw.seed = 13, draw.effect = draw.expected = "camera_defocus", draw.magnitude = 1.5;
   const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw), std::string(RAMTK_TEST_OUTPUT_DIR) + "/fringe_defocus");
-  ASSERT_EQ(d.cause, "defocus");
+  ASSERT_EQ(d.cause, "camera_defocus");
   EXPECT_NEAR(d.parameters.at("blur_sigma_px"), 1.5, 0.3);
   ASSERT_EQ(d.pictures.size(), 4u);
   for (const Picture& p : d.pictures)
     EXPECT_TRUE(std::filesystem::exists(std::string(RAMTK_TEST_OUTPUT_DIR) + "/fringe_defocus/" + p.file)) << p.file;
+}
+
+TEST(FringeDiagnosis, ProjectorDefocusIsNamedApartFromCameraBlurWithItsSigma) {
+  // A projector blur of 1.0 projector px (~1.9 camera px on this view): the code edges spread by
+  // the same width in projector px everywhere, unlike a camera blur whose width in projector px
+  // follows the foreshortening across the ball. Same 0.3 px tolerance as the camera blur.
+  HiddenFringeDraw draw;
+  draw.seed = 19, draw.effect = draw.expected = "defocus", draw.magnitude = 1.0;
+  const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw));
+  ASSERT_EQ(d.cause, "defocus");
+  EXPECT_NEAR(d.parameters.at("blur_sigma_projector_px"), 1.0, 0.3);
+  EXPECT_GE(d.excess_removed, 0.5);
 }
 
 TEST(FringeDiagnosis, SoftKneeIsNamedWithTheRenderedKnee) {

@@ -95,6 +95,25 @@ long long GrayCodeWord(double c, double extent, int bits) {
   return n ^ (n >> 1);
 }
 
+// Bit `shift` of the Gray code at coordinate c seen through a Gaussian projector blur of σ
+// projector px across the fringes: each step of the sharp bit pattern becomes the normal CDF.
+double BlurredGrayBit(double c, double extent, int bits, int shift, double sigma) {
+  const long long sections = 1LL << bits;
+  const double cell = extent / static_cast<double>(sections);
+  const auto bit = [&](long long n) {
+    n = std::max(0LL, std::min(n, sections - 1));
+    return static_cast<int>(((n ^ (n >> 1)) >> shift) & 1);
+  };
+  const long long c0 = static_cast<long long>(std::floor(c / cell));
+  const long long span = 1 + static_cast<long long>(std::ceil(6.0 * sigma / cell));
+  double value = bit(c0 - span);
+  for (long long n = c0 - span + 1; n <= c0 + span; ++n) {
+    const int jump = bit(n) - bit(n - 1);
+    if (jump != 0) value += jump * 0.5 * std::erfc(-(c - n * cell) / (std::sqrt(2.0) * sigma));
+  }
+  return value;
+}
+
 }  // namespace
 
 const char* FringeOrientationName(FringeOrientation direction) {
@@ -171,6 +190,8 @@ void RenderOptions::Validate() const {
   if (!(ambient >= 0.0 && std::isfinite(ambient))) throw InputError({"", 0, "ambient"}, "must be >= 0");
   if (!(projector_gamma > 0.0 && std::isfinite(projector_gamma)))
     throw InputError({"", 0, "projector_gamma"}, "must be > 0");
+  if (!(projector_blur_px >= 0.0 && projector_blur_px < 100.0))
+    throw InputError({"", 0, "projector_blur_px"}, "must be in [0, 100)");
 }
 
 RenderedView RenderView(const Scene& scene, const PinholeView& camera, const PinholeView& projector,
@@ -255,11 +276,17 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
           const double delta = phase ? kTwoPi * frame.index / frame.steps + frame.shift_error_rad : 0.0;
           const double cos_delta = std::cos(delta), sin_delta = std::sin(delta);
           const int shift = frame.bits - 1 - frame.index;
+          // Projector defocus: the fringe's modulation falls by exp(−2π²σ²/P²) (P its period),
+          // the code stripes' edges become normal CDFs.
+          const double blur = options.projector_blur_px;
+          const double period = phase ? extent / frame.cycles : 0.0;
+          const double modulation = phase && blur > 0.0 ? std::exp(-0.5 * std::pow(kTwoPi * blur / period, 2)) : 1.0;
           double sum = ambient_term;
           for (int s = 0; s < samples; ++s) {
             if (sub[s].cosine <= 0.0) continue;
-            double p = phase ? 0.5 + 0.5 * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
-                             : static_cast<double>((gray[s] >> shift) & 1);
+            double p = phase ? 0.5 + 0.5 * modulation * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
+                       : blur > 0.0 ? BlurredGrayBit(sub[s].coord, extent, frame.bits, shift, blur)
+                                    : static_cast<double>((gray[s] >> shift) & 1);
             if (options.projector_gamma != 1.0 && p > 0.0) p = std::pow(p, options.projector_gamma);
             sum += sub[s].albedo * sub[s].cosine * p;
           }

@@ -128,6 +128,8 @@ void FringeEffects::Set(const std::string& name, double m, const std::string& wh
     saturation = m;
   } else if (name == "defocus") {
     defocus = m;
+  } else if (name == "camera_defocus") {
+    camera_defocus = m;
   } else if (name == "soft_knee_response") {
     soft_knee_response = m;
   } else if (name == "ambient_light") {
@@ -137,7 +139,7 @@ void FringeEffects::Set(const std::string& name, double m, const std::string& wh
   } else {
     throw InputError({"", 0, where}, "unknown effect '" + name +
                                          "' (known: projector_nonlinearity, phase_shift_error, intensity_drift, "
-                                         "saturation, defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
+                                         "saturation, defocus, camera_defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
   }
   try {
     Validate();
@@ -152,6 +154,7 @@ std::map<std::string, double> FringeEffects::ByName() const {
           {"intensity_drift", intensity_drift},
           {"saturation", saturation},
           {"defocus", defocus},
+          {"camera_defocus", camera_defocus},
           {"soft_knee_response", soft_knee_response},
           {"ambient_light", ambient_light},
           {"lens_distortion_unmodelled", lens_distortion_unmodelled}};
@@ -166,6 +169,8 @@ void FringeEffects::Validate() const {
   CheckMagnitude(intensity_drift > -1.0 && intensity_drift <= 10.0, w, "intensity_drift", "must be in (-1, 10]");
   CheckMagnitude(saturation > 0.0 && saturation <= 100.0, w, "saturation", "(exposure factor) must be in (0, 100]");
   CheckMagnitude(defocus >= 0.0 && defocus < 100.0, w, "defocus", "(blur sigma, px) must be in [0, 100)");
+  CheckMagnitude(camera_defocus >= 0.0 && camera_defocus < 100.0, w, "camera_defocus",
+                 "(blur sigma, px) must be in [0, 100)");
   CheckMagnitude(soft_knee_response == 0.0 || (soft_knee_response > 0.0 && soft_knee_response < 1.0), w,
                  "soft_knee_response", "(knee, fraction of full scale) must be 0 (off) or in (0, 1)");
   CheckMagnitude(ambient_light >= 0.0 && ambient_light <= 100.0, w, "ambient_light", "must be in [0, 100]");
@@ -293,6 +298,7 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
   ro.supersampling = config.supersampling;
   ro.ambient = config.effects.ambient_light;
   ro.projector_gamma = config.effects.projector_nonlinearity;
+  ro.projector_blur_px = config.effects.defocus;
   ro.direction = config.direction;
   ro.progress = progress;
   SimulatedCamera out;
@@ -300,7 +306,7 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
   if (out.truth.cancelled) return out;
   SensorOptions sensor = config.sensor;
   sensor.exposure *= config.effects.saturation;
-  sensor.blur_sigma_px = config.effects.defocus;
+  sensor.blur_sigma_px = config.effects.camera_defocus;
   sensor.soft_knee_fraction = config.effects.soft_knee_response;
   for (std::size_t i = 0; i < frames.size(); ++i)
     out.images.push_back(ApplySensor(out.truth.radiance[i], fx.gains[i], sensor, config.seed,
@@ -429,13 +435,14 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"render",
          {{"supersampling", config.supersampling},
           {"ambient", config.effects.ambient_light},
-          {"projector_gamma", config.effects.projector_nonlinearity}}},
+          {"projector_gamma", config.effects.projector_nonlinearity},
+          {"projector_blur_px", config.effects.defocus}}},
         {"sensor",
          {{"bits", config.sensor.bits},
           {"exposure", config.sensor.exposure * config.effects.saturation},
           {"full_well_electrons", config.sensor.full_well_electrons},
           {"read_noise_electrons", config.sensor.read_noise_electrons},
-          {"blur_sigma_px", config.effects.defocus},
+          {"blur_sigma_px", config.effects.camera_defocus},
           {"soft_knee_fraction", config.effects.soft_knee_response},
           {"noise", config.sensor.noise}}},
         {"truth_images",

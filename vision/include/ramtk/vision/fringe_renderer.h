@@ -84,6 +84,10 @@ struct RenderOptions {
   int supersampling = 4;                                       // n: n×n rays per camera pixel
   double ambient = 0.0;                                        // ambient irradiance, fraction of projector white
   double projector_gamma = 1.0;                                // projector response P^γ
+  // Projector defocus: Gaussian blur std dev in projector pixels across the fringes (along them
+  // it changes nothing); 0 = sharp. Applied to the pattern before the response P^γ (exact for
+  // γ = 1).
+  double projector_blur_px = 0.0;
   FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
   bool shadows = true;                                         // trace projector shadow rays
   ProgressCallback progress;                                   // called from worker threads (serialised), rows done

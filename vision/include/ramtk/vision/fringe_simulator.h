@@ -24,7 +24,9 @@ struct FringeEffects {
   double intensity_drift = 0.0;             // relative gain change, linear from the first to the last
                                             // frame (0.02: the last frame is 2 % brighter)
   double saturation = 1.0;                  // exposure multiplier; > 1 drives bright fringes into clipping
-  double defocus = 0.0;                     // camera defocus: Gaussian blur std dev, camera pixels
+  double defocus = 0.0;                     // projector defocus: Gaussian blur std dev, projector pixels
+                                            // across the fringes (RenderOptions::projector_blur_px)
+  double camera_defocus = 0.0;              // camera defocus: Gaussian blur std dev, camera pixels
   double soft_knee_response = 0.0;          // sensor knee k in (0, 1): signal above k·full scale is
                                             // compressed smoothly (SensorOptions::soft_knee_fraction);
                                             // 0 = linear
@@ -50,7 +52,7 @@ struct FringeSimulationConfig {
   std::vector<PatternBlock> sequence;                          // projected pattern sequence
   FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
   int supersampling = 4;                                       // n×n rays per camera pixel
-  SensorOptions sensor;                                        // bit depth, exposure, noise, (blur is set by `defocus`)
+  SensorOptions sensor;                                        // bit depth, exposure, noise, (blur is set by `camera_defocus`)
   FringeEffects effects;                                       // effect magnitudes
   std::uint64_t seed = 1;                                      // seeds every random draw (effects and noise)
 
