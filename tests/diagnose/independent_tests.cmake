@@ -8,10 +8,12 @@ endif()
 set(_indep_check ${CMAKE_CURRENT_LIST_DIR}/check_independent.cmake)
 set(_indep_work ${CMAKE_BINARY_DIR}/tests/diagnose/independent)
 # kind effect seed [gain]: clean sets (fringe photon noise at camera gains 1, 4, 16), catalogued
-# effects, and out-of-catalogue ones (robot eccentric encoder: joint_cyclic_error or unexplained
+# effects (fringe: the knee and camera vs projector blur; seed 2 of camera_defocus is read as the
+# projector's blur, docs/diagnose_fringe.md), and out-of-catalogue ones (robot eccentric encoder: joint_cyclic_error or unexplained
 # with its joint angle; laser speed ripple: unexplained with the angle along the circle).
 set(_indep_draws
   "fringe none 1 1" "fringe none 2 4" "fringe none 3 16"
+  "fringe soft_knee_response 1" "fringe camera_defocus 1" "fringe defocus 1"
   "robot none 1"
   "robot joint_compliance 1" "robot joint_compliance 2" "robot joint_compliance 3"
   "robot joint_cyclic_error 1" "robot joint_cyclic_error 3" "robot joint_cyclic_error 5"
