@@ -38,12 +38,13 @@ void CrossValidate(const std::vector<int>& fold_of_tile, int folds, const std::v
                    const std::function<double(int, int)>& ssr_for, CandidateFit* c) {
   double held = 0, train = 0;
   long nheld = 0, ntrain = 0;
+  c->heldout_group_ssr.assign(count.size(), 0.0);
   for (int k = 0; k < folds; ++k)
     for (size_t t = 0; t < count.size(); ++t) {
       if (count[t] == 0) continue;
       const double s = ssr_for(k, static_cast<int>(t));
       if (fold_of_tile[t] == k)
-        held += s, nheld += count[t];
+        held += s, nheld += count[t], c->heldout_group_ssr[t] = s;
       else
         train += s, ntrain += count[t];
     }

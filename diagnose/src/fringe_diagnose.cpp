@@ -15,6 +15,42 @@
 namespace ramtk::diagnose {
 namespace {
 
+// A contender is a look-alike unless the named candidate beats it by this many standard errors.
+constexpr double kSeparationZ = 2.0;
+// A contender with more than this many times the named candidate's parameters is not a look-alike.
+constexpr int kOccamFactor = 2;
+
+// Paired comparison over tiles of two candidates' held-out SSR: sum(a - b) over its standard
+// error from the tile-to-tile scatter (negative: a is better). 0 when fewer than 3 tiles.
+double PairedTileZ(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return 0.0;
+  std::vector<double> d;
+  for (size_t t = 0; t < a.size(); ++t)
+    if (a[t] != 0.0 || b[t] != 0.0) d.push_back(a[t] - b[t]);
+  const int g = static_cast<int>(d.size());
+  if (g < 3) return 0.0;
+  double sum = 0;
+  for (double v : d) sum += v;
+  const double mean = sum / g;
+  double ss = 0;
+  for (double v : d) ss += (v - mean) * (v - mean);
+  const double se = std::sqrt(ss * g / (g - 1.0));
+  return se > 0 ? sum / se : 0.0;
+}
+
+// What would tell two fringe look-alikes apart.
+std::string SeparatingData(const std::string& a, const std::string& b) {
+  const auto pair = [&](const char* x, const char* y) { return (a == x && b == y) || (a == y && b == x); };
+  if (pair("camera_defocus", "defocus"))
+    return "a surface whose fringe density varies across the image (tilted or curved: the camera's blur "
+           "spreads the code edges in camera pixels, the projector's in projector pixels), or a capture of "
+           "a sharp albedo edge";
+  if (pair("soft_knee_response", "projector_nonlinearity"))
+    return "samples over the whole intensity range (surfaces of different albedo or two exposures): a sensor "
+           "knee bends only samples above its level, a projector response every fringe alike";
+  return "more image regions, or a second capture with the suspected cause changed";
+}
+
 constexpr double kPi = 3.14159265358979323846;
 // A cause is named only when its held-out gain is at least this share of the noise variance and
 // removes at least kMinShare of the excess: below that the data hold no effect worth a model.
@@ -217,6 +253,26 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
     d.sigmas = best.sigmas;
     d.confidence = best.weight;
     d.rms_after = best.heldout_rms;
+    // Look-alikes: a contender that removes a material share of the excess too, with at most
+    // kOccamFactor times the parameters, whose held-out error per image tile is not worse than the
+    // named one's by kSeparationZ standard errors of the tile-to-tile scatter (paired over tiles).
+    std::string closest;
+    double closest_z = -INFINITY;
+    for (const CandidateFit& c : d.candidates) {
+      if (c.effect == best.effect || c.effect == kNoEffect || !c.implausible.empty()) continue;
+      if (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare) continue;
+      if (c.num_parameters > kOccamFactor * best.num_parameters) continue;
+      const double z = PairedTileZ(best.heldout_group_ssr, c.heldout_group_ssr);
+      d.findings.push_back("held-out difference '" + best.effect + "' - '" + c.effect + "': " + Fixed(z, 2) +
+                           " standard errors (tile-to-tile scatter)");
+      if (z > -kSeparationZ && z > closest_z) closest_z = z, closest = c.effect;
+    }
+    if (!closest.empty()) {
+      d.cause = kAmbiguous;
+      d.look_alikes = {best.effect, closest};
+      d.separate_with = SeparatingData(best.effect, closest);
+      d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
+    }
   } else {
     d.rms_after = d.rms_before;
     if (d.structure_found && excess >= kUnexplainedExcess * floor * floor) {

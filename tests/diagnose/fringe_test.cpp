@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <filesystem>
 #include <map>
 #include <numeric>
@@ -27,6 +29,21 @@ Diagnosis DiagnoseSet(const HiddenFringeSet& set, const std::string& out = "") {
   return DiagnoseFringeFrames(set.manifest, set.frames, set.full_scale, o, "draw");
 }
 
+// The issue-15 rule: a named cause is right if it is the truth, or `ambiguous` with the truth in a
+// look-alike set of at most two.
+bool NamesOrAmbiguousWith(const Diagnosis& d, const std::string& effect) {
+  if (d.cause == effect) return true;
+  return d.cause == kAmbiguous && d.look_alikes.size() <= 2 &&
+         std::find(d.look_alikes.begin(), d.look_alikes.end(), effect) != d.look_alikes.end();
+}
+
+// A candidate's own fit (its parameters whether or not it was the one named).
+const CandidateFit& Candidate(const Diagnosis& d, const std::string& effect) {
+  for (const CandidateFit& c : d.candidates)
+    if (c.effect == effect) return c;
+  throw std::runtime_error("no candidate " + effect);
+}
+
 // Fixed seeds: the first two draws of every effect from seed 1 on, and the first three clean ones.
 std::vector<std::uint64_t> Seeds() {
   std::map<std::string, int> taken;
@@ -43,8 +60,8 @@ class FringeHiddenDraw : public ::testing::TestWithParam<std::uint64_t> {};
 TEST_P(FringeHiddenDraw, NamesTheHiddenCause) {
   const HiddenFringeSet set = SimulateHiddenFringe(DrawHiddenFringeEffect(GetParam()));
   const Diagnosis d = DiagnoseSet(set);
-  SCOPED_TRACE(set.draw.effect + " " + std::to_string(set.draw.magnitude));
-  EXPECT_EQ(d.cause, set.draw.expected);
+  SCOPED_TRACE(set.draw.effect + " " + std::to_string(set.draw.magnitude) + ": " + d.cause);
+  EXPECT_TRUE(NamesOrAmbiguousWith(d, set.draw.expected));
   // The noise floor of 8-bit simulated images (shot noise of 10000 e- full well, quantisation)
   // is about 1.2 DN; the data-driven estimate must land there.
   EXPECT_GT(d.noise_floor_rms, 0.9);
@@ -124,8 +141,10 @@ TEST(FringeDiagnosis, CameraDefocusSigmaMatchesTheRenderedBlur) {
   HiddenFringeDraw draw;
   draw.seed = 13, draw.effect = draw.expected = "camera_defocus", draw.magnitude = 1.5;
   const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw), std::string(RAMTK_TEST_OUTPUT_DIR) + "/fringe_defocus");
-  ASSERT_EQ(d.cause, "camera_defocus");
-  EXPECT_NEAR(d.parameters.at("blur_sigma_px"), 1.5, 0.3);
+  // At 1.5 camera px on this view the edges spread by ~0.4 projector px, hardly varying across the
+  // ball: the projector's blur is a look-alike, and `ambiguous` with both is an allowed verdict.
+  ASSERT_TRUE(NamesOrAmbiguousWith(d, "camera_defocus")) << d.cause;
+  EXPECT_NEAR(Candidate(d, "camera_defocus").parameters.at("blur_sigma_px"), 1.5, 0.3);
   ASSERT_EQ(d.pictures.size(), 4u);
   for (const Picture& p : d.pictures)
     EXPECT_TRUE(std::filesystem::exists(std::string(RAMTK_TEST_OUTPUT_DIR) + "/fringe_defocus/" + p.file)) << p.file;
@@ -138,8 +157,8 @@ TEST(FringeDiagnosis, ProjectorDefocusIsNamedApartFromCameraBlurWithItsSigma) {
   HiddenFringeDraw draw;
   draw.seed = 19, draw.effect = draw.expected = "defocus", draw.magnitude = 1.0;
   const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw));
-  ASSERT_EQ(d.cause, "defocus");
-  EXPECT_NEAR(d.parameters.at("blur_sigma_projector_px"), 1.0, 0.3);
+  ASSERT_TRUE(NamesOrAmbiguousWith(d, "defocus")) << d.cause;
+  EXPECT_NEAR(Candidate(d, "defocus").parameters.at("blur_sigma_projector_px"), 1.0, 0.3);
   EXPECT_GE(d.excess_removed, 0.5);
 }
 
@@ -149,9 +168,9 @@ TEST(FringeDiagnosis, SoftKneeIsNamedWithTheRenderedKnee) {
   HiddenFringeDraw draw;
   draw.seed = 17, draw.effect = draw.expected = "soft_knee_response", draw.magnitude = 0.3;
   const Diagnosis d = DiagnoseSet(SimulateHiddenFringe(draw));
-  ASSERT_EQ(d.cause, "soft_knee_response");
-  EXPECT_NEAR(d.parameters.at("knee_fraction"), 0.3, 0.05 + 1e-9);
-  EXPECT_EQ(d.parameters.at("knee_shape_algebraic"), 1.0);
+  ASSERT_TRUE(NamesOrAmbiguousWith(d, "soft_knee_response")) << d.cause;
+  EXPECT_NEAR(Candidate(d, "soft_knee_response").parameters.at("knee_fraction"), 0.3, 0.05 + 1e-9);
+  EXPECT_EQ(Candidate(d, "soft_knee_response").parameters.at("knee_shape_algebraic"), 1.0);
   EXPECT_GE(d.excess_removed, 0.5);
 }
 

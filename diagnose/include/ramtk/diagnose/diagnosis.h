@@ -31,6 +31,8 @@ struct CandidateFit {
   double train_rms = 0.0;                    // residual RMS on the fitting folds
   double heldout_rms = 0.0;                  // residual RMS on the held-out folds (cross-validated)
   int heldout_count = 0;                     // residuals behind heldout_rms
+  std::vector<double> heldout_group_ssr;     // held-out sum of squares per cross-validation group (fringe:
+                                             // image tile), for paired comparisons; empty if not kept
   double score = 0.0;                        // selection score, lower is better (model_selection.h)
   double weight = 0.0;                       // relative evidence in [0, 1] over all candidates
   double absorbed_share = -1.0;              // share of the candidate the current model absorbs (< 0: not computed)
