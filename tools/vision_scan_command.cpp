@@ -116,7 +116,7 @@ int RunScan(const ScanCommandOptions& opt) {
       }
     }
     const std::vector<ScanBatchRow> rows =
-        RunScanBatch(sets, options, opt.out, opt.jobs, opt.force, progress, positions);
+        RunScanBatch(ReadScanBatchEntries(opt.batch), options, opt.out, opt.jobs, opt.force, progress, positions);
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(opt.out + "/" + results_name, csv);
     std::cout << csv;
@@ -175,7 +175,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   CLI::App* sub = app.add_subcommand(
       "scan", "Stereo fringe set -> point cloud (PLY) and sphere centres (JSON) in the left-camera frame");
   sub->add_option("set", opt->set, "Fringe image set manifest (JSON)");
-  sub->add_option("--batch", opt->batch, "File listing one manifest per line; scanned in parallel, one CSV row each");
+  sub->add_option("--batch", opt->batch,
+                  "File listing one manifest per line, optionally followed by a predicted ball centre X,Y,Z (mm, "
+                  "left camera: that set is scanned in windows around it); scanned in parallel, one CSV row each");
   sub->add_option("--calib", opt->calib, "Stereo calibration (default: the manifest's)");
   sub->add_option("--out", opt->out, "Output folder (batch: one sub-folder per set)")->capture_default_str();
   sub->add_option("--radius", opt->radius, "Sphere radius prior, mm (0 = unknown)")->capture_default_str();

@@ -31,6 +31,41 @@ TEST(ScanShard, ShardsCoverEveryPositionExactlyOnce) {
   EXPECT_EQ(ShardPositions(10, {2, 4}), (std::vector<std::size_t>{1, 5, 9}));
 }
 
+TEST(ScanBatchList, PredictedCentresAreReadAndBadOnesNamedByLine) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "batch_list_centres";
+  fs::create_directories(dir);
+  {
+    std::ofstream(dir / "list.txt") << "# campaign\n"
+                                       "a/manifest.json\n"
+                                       "b/manifest.json  1.5,-2,700.25\r\n"
+                                       "\n"
+                                       "c d/manifest.json\n"
+                                       "/abs/e/manifest.json\t-3,4,650\n";
+  }
+  const std::vector<ScanBatchEntry> e = ReadScanBatchEntries((dir / "list.txt").string());
+  ASSERT_EQ(e.size(), 4u);
+  EXPECT_EQ(e[0].set, (dir / "a/manifest.json").string());
+  EXPECT_FALSE(e[0].predicted_centre_in_left_mm);
+  EXPECT_EQ(e[1].set, (dir / "b/manifest.json").string());
+  ASSERT_TRUE(e[1].predicted_centre_in_left_mm);
+  EXPECT_EQ(*e[1].predicted_centre_in_left_mm, Vec3(1.5, -2, 700.25));
+  EXPECT_EQ(e[2].set, (dir / "c d/manifest.json").string());  // a space in the path, no centre
+  EXPECT_FALSE(e[2].predicted_centre_in_left_mm);
+  EXPECT_EQ(e[3].set, "/abs/e/manifest.json");
+  EXPECT_EQ(*e[3].predicted_centre_in_left_mm, Vec3(-3, 4, 650));
+  EXPECT_EQ(ReadScanBatchList((dir / "list.txt").string()).size(), 4u);  // paths only, for merge
+  for (const char* bad : {"x/manifest.json 1,2", "x/manifest.json 1,2,nan", "x/manifest.json 1,2,3,4"}) {
+    std::ofstream(dir / "bad.txt") << "# first\n" << bad << "\n";
+    try {
+      ReadScanBatchEntries((dir / "bad.txt").string());
+      ADD_FAILURE() << bad;
+    } catch (const InputError& ex) {
+      EXPECT_NE(std::string(ex.what()).find("bad.txt:2"), std::string::npos) << ex.what();
+    }
+  }
+}
+
 TEST(ScanShard, ParsesKOverN) {
   const ScanShard s = ParseScanShard("3/8");
   EXPECT_EQ(s.index, 3);

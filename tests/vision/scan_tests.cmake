@@ -58,3 +58,14 @@ ramtk_cli_test(scan_roi_bad 1
   ARGS scan ${SCAN_DEFAULT}/manifest.json --roi somewhere --out ${SCAN_CLI}/not_written_roi
   STDERR "--roi"
   NO_PATH ${SCAN_CLI}/not_written_roi)
+# A batch line with a predicted centre: that set is scanned in windows around it (the default
+# set's ball is at (0, 0, 700) mm); a centre that is not three numbers is refused naming the line.
+file(WRITE ${SCAN_CLI}/batch_centres.txt "${SCAN_DEFAULT}/manifest.json 0.4,-0.3,701\n")
+ramtk_cli_test(scan_batch_predicted_centre 0
+  ARGS scan --batch ${SCAN_CLI}/batch_centres.txt --out ${SCAN_CLI}/batch_centres --force -q
+  STDOUT "scan_default/manifest.json,ok,[0-9]+,-?0\\.00.*scanned 1 sets: 1 ok")
+file(WRITE ${SCAN_CLI}/batch_bad_centre.txt "# one set\n${SCAN_DEFAULT}/manifest.json 0,700\n")
+ramtk_cli_test(scan_batch_bad_centre 1
+  ARGS scan --batch ${SCAN_CLI}/batch_bad_centre.txt --out ${SCAN_CLI}/batch_bad_centre -q
+  STDERR "batch_bad_centre.txt:2.*predicted centre"
+  NO_PATH ${SCAN_CLI}/batch_bad_centre)

@@ -15,21 +15,40 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/parse.h"
 
 namespace ramtk::vision {
 namespace fs = std::filesystem;
-std::vector<std::string> ReadScanBatchList(const std::string& path) {
+std::vector<ScanBatchEntry> ReadScanBatchEntries(const std::string& path) {
   std::istringstream in(ReadTextFile(path));
-  std::vector<std::string> sets;
+  std::vector<ScanBatchEntry> entries;
   const fs::path base = fs::path(path).parent_path();
+  int number = 0;
   for (std::string line; std::getline(in, line);) {
+    ++number;
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
     const std::size_t start = line.find_first_not_of(" \t");
     if (start == std::string::npos || line[start] == '#') continue;
     line = line.substr(start);
-    sets.push_back(fs::path(line).is_absolute() ? line : (base / line).lexically_normal().string());
+    ScanBatchEntry e;
+    // A last whitespace-separated word with commas is the predicted centre.
+    const std::size_t gap = line.find_last_of(" \t");
+    if (gap != std::string::npos && line.find(',', gap) != std::string::npos) {
+      const std::vector<double> c =
+          ParseDoubleList(line.substr(gap + 1), {path, number, "predicted centre X,Y,Z (mm)"}, 3);
+      e.predicted_centre_in_left_mm = Vec3(c[0], c[1], c[2]);
+      line = line.substr(0, line.find_last_not_of(" \t", gap) + 1);
+    }
+    e.set = fs::path(line).is_absolute() ? line : (base / line).lexically_normal().string();
+    entries.push_back(e);
   }
-  if (sets.empty()) throw InputError({path, 0, "--batch"}, "the list names no fringe set");
+  if (entries.empty()) throw InputError({path, 0, "--batch"}, "the list names no fringe set");
+  return entries;
+}
+
+std::vector<std::string> ReadScanBatchList(const std::string& path) {
+  std::vector<std::string> sets;
+  for (const ScanBatchEntry& e : ReadScanBatchEntries(path)) sets.push_back(e.set);
   return sets;
 }
 
@@ -69,16 +88,26 @@ std::string ShardResultsName(const ScanShard& shard) {
 std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& all_sets, const ScanOptions& options,
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
                                        const ProgressCallback& progress, const std::vector<std::size_t>& positions) {
+  std::vector<ScanBatchEntry> entries;
+  for (const std::string& s : all_sets) entries.push_back({s, std::nullopt});
+  return RunScanBatch(entries, options, out_dir, parallel_sets, overwrite, progress, positions);
+}
+
+std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_entries, const ScanOptions& options,
+                                       const std::string& out_dir, int parallel_sets, bool overwrite,
+                                       const ProgressCallback& progress, const std::vector<std::size_t>& positions) {
   // The sets of this run and their positions in the full list (the folder prefix NNN_ is the
   // position, so every shard writes the folder a single run would).
   std::vector<std::size_t> position = positions;
   if (position.empty()) {
-    for (std::size_t i = 0; i < all_sets.size(); ++i) position.push_back(i);
+    for (std::size_t i = 0; i < all_entries.size(); ++i) position.push_back(i);
   }
   std::vector<std::string> sets;
+  std::vector<std::optional<Vec3>> predicted;
   for (std::size_t p : position) {
-    if (p >= all_sets.size()) throw InputError({"", 0, "positions"}, "set position beyond the list");
-    sets.push_back(all_sets[p]);
+    if (p >= all_entries.size()) throw InputError({"", 0, "positions"}, "set position beyond the list");
+    sets.push_back(all_entries[p].set);
+    predicted.push_back(all_entries[p].predicted_centre_in_left_mm);
   }
   options.Validate();
   if (parallel_sets < 1) throw InputError({"", 0, "--jobs"}, "must be >= 1");
@@ -101,6 +130,10 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& all_sets,
       try {
         ScanOptions o = options;
         o.progress = {};
+        if (predicted[i]) {
+          o.roi.mode = ScanRoiOptions::Mode::kPredicted;
+          o.roi.predicted_centres_in_left_mm = {*predicted[i]};
+        }
         const ScanResult r = ScanFringeSet(sets[i], o);
         WriteScanOutputs(dir, r, overwrite);
         row.out_dir = dir;

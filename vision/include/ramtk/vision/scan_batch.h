@@ -2,6 +2,7 @@
 // Many scans at once (`ramtk scan --batch LIST`): the sets run in parallel (TBB), each writes its
 // own output folder, and each gives one result row (CSV).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,21 @@ struct ScanBatchRow {
   double seconds = 0;       // wall time of this set
 };
 
-// Reads a batch list: one manifest path per line, relative paths against the list's folder;
-// blank lines and lines starting with '#' are skipped. InputError naming the list if it is
-// empty or unreadable.
+// One line of a batch list: a manifest and, optionally, the ball's predicted centre.
+struct ScanBatchEntry {
+  std::string set;  // manifest path (relative paths resolved against the list's folder)
+  // "PATH X,Y,Z": the predicted ball_in_left_camera (mm), e.g. from the robot pose; the set is
+  // then scanned in windows around it (ScanRoiOptions::Mode::kPredicted, whatever the batch's
+  // own roi mode).
+  std::optional<Vec3> predicted_centre_in_left_mm;
+};
+
+// Reads a batch list: one manifest path per line, optionally followed by whitespace and a
+// predicted centre "X,Y,Z" in mm; relative paths against the list's folder; blank lines and
+// lines starting with '#' are skipped. InputError naming the list (and the line) if it is empty,
+// unreadable, or a centre is not three finite numbers.
+std::vector<ScanBatchEntry> ReadScanBatchEntries(const std::string& path);
+// The manifests of ReadScanBatchEntries, in list order.
 std::vector<std::string> ReadScanBatchList(const std::string& path);
 
 // Scans the sets, at most `parallel_sets` at a time, writing each into out_dir/NNN_<name>/ (NNN
@@ -31,6 +44,11 @@ std::vector<std::string> ReadScanBatchList(const std::string& path);
 // `sets`) restricts the run to those sets (a shard); empty: all. Bad input in one set is recorded
 // in its row; the others go on. `progress` is called (serialised) after each set.
 std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& sets, const ScanOptions& options,
+                                       const std::string& out_dir, int parallel_sets, bool overwrite,
+                                       const ProgressCallback& progress = {},
+                                       const std::vector<std::size_t>& positions = {});
+// The same with the list's entries: a set with a predicted centre is scanned in windows around it.
+std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& entries, const ScanOptions& options,
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
                                        const ProgressCallback& progress = {},
                                        const std::vector<std::size_t>& positions = {});
