@@ -21,10 +21,15 @@ seed fuzz_manifest datasets/scan_default/manifest.json datasets/vision/*.json
 seed fuzz_laser_log fuzz/seeds/laser_log.csv
 seed fuzz_tcf_json fuzz/seeds/tcf_*.json
 seed fuzz_ply fuzz/seeds/*.ply
-for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply; do
+seed fuzz_stereo_calibration datasets/scan_default/calibration.yml fuzz/seeds/*.yml
+seed fuzz_image fuzz/seeds/*.png fuzz/seeds/*.bmp
+for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply \
+         fuzz_stereo_calibration fuzz_image; do
   # The motion JSON seed is ~4.5 KiB: room for it; the others fit in 1 KiB.
   len=1024
   [ "$t" = fuzz_tcf_json ] && len=6144
+  [ "$t" = fuzz_stereo_calibration ] && len=4096  # a calibration file is ~2-3 KiB
+  [ "$t" = fuzz_image ] && len=2048  # the BMP seed is 1.3 KiB
   echo "== $t: $RUNS runs"
   # Inputs up to 1 KiB: every format's structure fits, and runs stay fast (~5000/s for the CSV
   # parser under ASan + UBSan on one core).

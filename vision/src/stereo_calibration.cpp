@@ -36,6 +36,19 @@ bool ReadNumbers(const cv::FileNode& node, const std::string& path, const std::s
     *rows = *cols = 1;
     return true;
   }
+  // An opencv-matrix's declared size is checked before OpenCV allocates it: a corrupt "rows: s"
+  // read as a huge count made it allocate gigabytes (found by fuzz/fuzz_stereo_calibration.cpp).
+  // Calibration matrices are at most 3x3 or a few dozen values.
+  if (node.isMap()) {
+    const cv::FileNode r = node["rows"], c = node["cols"], data = node["data"];
+    if (!r.isInt() || !c.isInt() || !data.isSeq())
+      throw InputError({path, 0, key}, "not a matrix: an opencv-matrix needs integer rows and cols and a data list");
+    const int nr = static_cast<int>(r), nc = static_cast<int>(c);
+    if (nr < 1 || nc < 1 || nr > 64 || nc > 64 || static_cast<std::size_t>(nr) * nc != data.size())
+      throw InputError({path, 0, key}, "not a matrix: " + std::to_string(nr) + "x" + std::to_string(nc) + " with " +
+                                           std::to_string(data.size()) +
+                                           " values (rows and cols must be 1..64 and match the data)");
+  }
   cv::Mat m;
   try {
     node >> m;
@@ -139,14 +152,35 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
     std::ifstream probe(path);
     if (!probe) throw InputError({path, 0, ""}, "cannot open stereo calibration file");
   }
+  return ParseStereoCalibration(ReadTextFile(path), path);
+}
+
+namespace {
+StereoCalibration ReadCalibrationKeys(const cv::FileStorage& fs, const std::string& path);
+}  // namespace
+
+StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path) {
   cv::FileStorage fs;
   try {
-    fs.open(path, cv::FileStorage::READ);
+    // OpenCV tells YAML, JSON and XML apart by their first characters.
+    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& e) {
     throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON: " + std::string(e.err));
   }
   if (!fs.isOpened()) throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON");
+  // The keys are looked up by name: a top level that is a list or a scalar has none (OpenCV
+  // would throw from the lookup; found by fuzz/fuzz_stereo_calibration.cpp).
+  if (!fs.root().isMap()) throw InputError({path, 0, ""}, "the top level is not a map of keys (K1, D1, R, T, ...)");
+  try {
+    return ReadCalibrationKeys(fs, path);
+  } catch (const cv::Exception& e) {
+    throw InputError({path, 0, ""}, "unreadable value: " + std::string(e.err));
+  }
+}
 
+namespace {
+
+StereoCalibration ReadCalibrationKeys(const cv::FileStorage& fs, const std::string& path) {
   StereoCalibration calib;
   calib.left = ReadCamera(fs, path, "K1", "M1", "D1");
   calib.right = ReadCamera(fs, path, "K2", "M2", "D2");
@@ -207,6 +241,8 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
   }
   return calib;
 }
+
+}  // namespace
 
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calib) {
   const bool json = EndsWith(path, ".json");

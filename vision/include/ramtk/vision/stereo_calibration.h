@@ -45,6 +45,8 @@ inline constexpr const char* kCalibParameterStdOrder =
 // distortion beyond the 5-coefficient model, an R that is not a rotation (its orthonormality
 // error is reported), a non-positive image size.
 StereoCalibration ReadStereoCalibration(const std::string& path);
+// The same from the file's text; `path` only names it in errors.
+StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path);
 
 // Writes the standard keys; JSON if `path` ends in ".json", YAML otherwise. Atomic (temporary
 // file + rename). Throws InputError if the file cannot be written.
