@@ -103,6 +103,10 @@ TEST(FuzzReplay, CalibrationWhoseTopLevelIsNotAMapIsAnInputError) {
   EXPECT_THROW(ramtk::vision::ParseStereoCalibration("[1, 2]", "c.json"), ramtk::InputError);
 }
 
+// The third (same target): a malformed file on which OpenCV's own parser throws
+// std::length_error is bad input too (the reproducer is fuzz_stereo_calibration-crash-e780…,
+// replayed above).
+
 // The second (same target): an opencv-matrix whose "rows" was not a number made OpenCV allocate
 // gigabytes before anything was checked.
 TEST(FuzzReplay, CalibrationMatrixWithACorruptSizeIsAnInputError) {

@@ -1,6 +1,7 @@
 #include "ramtk/vision/stereo_calibration.h"
 
 #include <cmath>
+#include <exception>
 #include <utility>
 #include <fstream>
 #include <opencv2/core.hpp>
@@ -166,6 +167,10 @@ StereoCalibration ParseStereoCalibration(const std::string& text, const std::str
     fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
   } catch (const cv::Exception& e) {
     throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON: " + std::string(e.err));
+  } catch (const std::exception& e) {
+    // OpenCV's parser lets std::length_error escape on some malformed files (found by
+    // fuzz/fuzz_stereo_calibration.cpp): still bad input, not an internal error.
+    throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON (" + std::string(e.what()) + ")");
   }
   if (!fs.isOpened()) throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON");
   // The keys are looked up by name: a top level that is a list or a scalar has none (OpenCV
