@@ -38,7 +38,7 @@ string(REPLACE "data: [ 9.6152394764082316e-01, 0., 2.7472" "data: [ 9.715239476
 file(WRITE ${SCAN_CLI}/bad_rotation.yml "${SCAN_CALIB_BADR}")
 ramtk_cli_test(scan_calibration_not_a_rotation 1
   ARGS scan ${SCAN_DEFAULT}/manifest.json --calib ${SCAN_CLI}/bad_rotation.yml --out ${SCAN_CLI}/not_written2
-  STDERR "bad_rotation.yml: field 'R'.*not a rotation"
+  STDERR "bad_rotation.yml:[0-9]+: field 'R'.*not a rotation"
   NO_PATH ${SCAN_CLI}/not_written2)
 ramtk_cli_test(scan_missing_set 1
   ARGS scan ${SCAN_CLI}/nothing_here/manifest.json --out ${SCAN_CLI}/not_written3

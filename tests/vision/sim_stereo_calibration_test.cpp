@@ -163,5 +163,69 @@ TEST(SimStereoCalibration, WrongSizeAndMissingKeysNameTheKey) {
   }
 }
 
+// The reader is our own (yaml-cpp / nlohmann-json, vision/src/calibration_tree.cpp), not
+// cv::FileStorage, whose YAML parser hangs on a fuzz-found file (fuzz/crashes/...-timeout-*).
+// It must still read what OpenCV writes, in both dialects, and say where a problem is.
+TEST(SimStereoCalibration, ReadsWhatOpenCvWritesInBothDialects) {
+  const StereoCalibration c = ExampleCalibration();
+  for (const std::string ext : {".yml", ".json"}) {
+    const std::string path = TempPath("opencv" + ext);
+    WriteStereoCalibration(path, c);  // written by cv::FileStorage
+    ExpectSame(c, ReadStereoCalibration(path));
+    std::remove(path.c_str());
+  }
+  // Plain YAML without OpenCV's first line and tags, and plain JSON lists, read the same.
+  const std::string plain =
+      "image_size: [640, 512]\nK1: [1000, 0, 320, 0, 1000, 256, 0, 0, 1]\nD1: [0, 0, 0, 0, 0]\n"
+      "K2: [1000, 0, 320, 0, 1000, 256, 0, 0, 1]\nD2: [0, 0, 0, 0, 0]\nR: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-200, 0, 0]\n";
+  EXPECT_EQ(ReadError(plain), "");
+  // Nested lists are matrices by rows; a ragged one is an error on its row.
+  std::string nested = plain;
+  nested.replace(nested.find("R: [1, 0, 0, 0, 1, 0, 0, 0, 1]"), 30, "R: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]");
+  EXPECT_EQ(ReadError(nested), "");
+  nested.replace(nested.find("[0, 0, 1]]"), 10, "[0, 1]]   ");
+  InputLocation where;
+  EXPECT_NE(ReadError(nested, &where).find("rows of equal length"), std::string::npos);
+  EXPECT_EQ(where.field, "R");
+  EXPECT_EQ(where.line, 6);
+}
+
+TEST(SimStereoCalibration, ErrorsGiveTheLineOfTheKey) {
+  InputLocation where;
+  // The line of "R: !!opencv-matrix", counted in the text (line 1 is %YAML:1.0).
+  const std::string text = GoodYamlWith("1., 0.01, 0., 0., 1., 0., 0., 0., 1.");
+  int r_line = 1;
+  for (std::size_t i = 0; i < text.find("R: !!"); ++i) r_line += text[i] == '\n';
+  ReadError(text, &where);
+  EXPECT_EQ(where.field, "R");
+  EXPECT_EQ(where.line, r_line);
+  // A syntax error names its line.
+  ReadError("%YAML:1.0\n---\nK1: [1, 2\nD1: x: y\n", &where);
+  EXPECT_GE(where.line, 3);
+}
+
+TEST(SimStereoCalibration, MalformedStructuresAreInputErrors) {
+  InputLocation where;
+  const std::string good = GoodYamlWith("1., 0., 0., 0., 1., 0., 0., 0., 1.");
+  EXPECT_NE(ReadError(good + "K1: [1]\n", &where).find("duplicate key"), std::string::npos);
+  EXPECT_EQ(where.field, "K1");
+  std::string deep = "K1: ";
+  for (int i = 0; i < 40; ++i) deep += "[";
+  deep += "1";
+  for (int i = 0; i < 40; ++i) deep += "]";
+  EXPECT_NE(ReadError(deep).find("nested deeper"), std::string::npos);
+  EXPECT_NE(ReadError("<?xml version=\"1.0\"?>\n<opencv_storage/>\n").find("XML"), std::string::npos);
+  std::string quoted = good;
+  quoted.replace(quoted.find("-200."), 5, "\"-200\"");
+  EXPECT_NE(ReadError(quoted, &where).find("expected a list of numbers"), std::string::npos);
+  EXPECT_EQ(where.field, "T");
+  std::string inf = good;
+  inf.replace(inf.find("-200."), 5, ".Inf");
+  EXPECT_NE(ReadError(inf).find("non-finite"), std::string::npos);
+  EXPECT_NE(ReadError("{\"K1\": [1, 2,]}").find("cannot parse as JSON"), std::string::npos);
+  EXPECT_NE(ReadError("- K1\n- D1\n").find("top level is not a map"), std::string::npos);
+  EXPECT_NE(ReadError(std::string(5u << 20, ' ')).find("at most"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace ramtk::vision

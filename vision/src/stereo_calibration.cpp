@@ -9,6 +9,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "calibration_tree.h"
 
 namespace ramtk::vision {
 namespace {
@@ -17,63 +18,83 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-// Reads a matrix node (an opencv-matrix or a plain sequence of numbers) as doubles, row-major.
-// Returns false if the key is absent.
-bool ReadNumbers(const cv::FileNode& node, const std::string& path, const std::string& key, std::vector<double>* values,
-                 int* rows, int* cols) {
-  if (node.empty() || node.isNone()) return false;
-  values->clear();
-  if (node.isSeq()) {
-    for (const auto& item : node) {
-      if (!item.isReal() && !item.isInt()) throw InputError({path, 0, key}, "expected a list of numbers");
-      values->push_back(static_cast<double>(item));
-    }
-    *rows = static_cast<int>(values->size());
-    *cols = 1;
-    return true;
-  }
-  if (node.isReal() || node.isInt()) {
-    values->push_back(static_cast<double>(node));
-    *rows = *cols = 1;
-    return true;
-  }
-  // An opencv-matrix's declared size is checked before OpenCV allocates it: a corrupt "rows: s"
-  // read as a huge count made it allocate gigabytes (found by fuzz/fuzz_stereo_calibration.cpp).
-  // Calibration matrices are at most 3x3 or a few dozen values.
-  if (node.isMap()) {
-    const cv::FileNode r = node["rows"], c = node["cols"], data = node["data"];
-    if (!r.isInt() || !c.isInt() || !data.isSeq())
-      throw InputError({path, 0, key}, "not a matrix: an opencv-matrix needs integer rows and cols and a data list");
-    const int nr = static_cast<int>(r), nc = static_cast<int>(c);
-    if (nr < 1 || nc < 1 || nr > 64 || nc > 64 || static_cast<std::size_t>(nr) * nc != data.size())
-      throw InputError({path, 0, key}, "not a matrix: " + std::to_string(nr) + "x" + std::to_string(nc) + " with " +
-                                           std::to_string(data.size()) +
-                                           " values (rows and cols must be 1..64 and match the data)");
-  }
-  cv::Mat m;
-  try {
-    node >> m;
-  } catch (const cv::Exception& e) {
-    throw InputError({path, 0, key}, "not a matrix: " + std::string(e.what()));
-  }
-  if (m.empty()) throw InputError({path, 0, key}, "not a matrix, or an empty one");
-  cv::Mat d;
-  m.convertTo(d, CV_64F);
-  *rows = d.rows;
-  *cols = d.cols;
-  for (int r = 0; r < d.rows; ++r)
-    for (int c = 0; c < d.cols; ++c) values->push_back(d.at<double>(r, c));
-  return true;
+using internal::CalibrationNode;
+using Kind = CalibrationNode::Kind;
+
+// Where a node is: the file, its line when known, the key.
+InputLocation At(const std::string& path, const CalibrationNode& node, const std::string& key) {
+  return {path, node.line, key};
 }
 
-std::vector<double> RequireNumbers(const cv::FileStorage& fs, const std::string& path,
+// Reads a matrix node (an opencv-matrix map or a plain list of numbers, or one number) as doubles,
+// row-major. Returns false if the key is absent or null.
+bool ReadNumbers(const CalibrationNode* node, const std::string& path, const std::string& key,
+                 std::vector<double>* values, int* rows, int* cols) {
+  if (node == nullptr || node->kind == Kind::kNull) return false;
+  values->clear();
+  auto numbers = [&](const CalibrationNode& list) {
+    for (const CalibrationNode& item : list.items) {
+      if (item.kind != Kind::kNumber) throw InputError(At(path, item, key), "expected a list of numbers");
+      values->push_back(item.number);
+    }
+  };
+  switch (node->kind) {
+    case Kind::kNumber:
+      values->push_back(node->number);
+      *rows = *cols = 1;
+      return true;
+    case Kind::kList:
+      // [[a, b, c], [d, e, f], ...] is a matrix by rows; a flat list is a column.
+      if (!node->items.empty() && node->items.front().kind == Kind::kList) {
+        const std::size_t n = node->items.front().items.size();
+        for (const CalibrationNode& row : node->items) {
+          if (row.kind != Kind::kList || row.items.size() != n)
+            throw InputError(At(path, row, key), "expected rows of equal length");
+          numbers(row);
+        }
+        *rows = static_cast<int>(node->items.size());
+        *cols = static_cast<int>(n);
+        return true;
+      }
+      numbers(*node);
+      *rows = static_cast<int>(values->size());
+      *cols = 1;
+      return true;
+    case Kind::kMap: {
+      // An opencv-matrix: rows, cols, dt, data. The declared size is checked against the data
+      // (calibration matrices are at most 3x3 or a few dozen values).
+      const CalibrationNode* r = node->Find("rows");
+      const CalibrationNode* c = node->Find("cols");
+      const CalibrationNode* data = node->Find("data");
+      if (r == nullptr || c == nullptr || data == nullptr || r->kind != Kind::kNumber || !r->integer ||
+          c->kind != Kind::kNumber || !c->integer || data->kind != Kind::kList)
+        throw InputError(At(path, *node, key),
+                         "not a matrix: an opencv-matrix needs integer rows and cols and a data list");
+      const double nr = r->number, nc = c->number;
+      if (!(nr >= 1 && nc >= 1 && nr <= 64 && nc <= 64) || nr * nc != static_cast<double>(data->items.size()))
+        throw InputError(At(path, *node, key), "not a matrix: " + std::to_string(static_cast<long long>(nr)) + "x" +
+                                                   std::to_string(static_cast<long long>(nc)) + " with " +
+                                                   std::to_string(data->items.size()) +
+                                                   " values (rows and cols must be 1..64 and match the data)");
+      numbers(*data);
+      *rows = static_cast<int>(nr);
+      *cols = static_cast<int>(nc);
+      return true;
+    }
+    default:
+      throw InputError(At(path, *node, key), "expected a number, a list of numbers or an opencv-matrix");
+  }
+}
+
+std::vector<double> RequireNumbers(const CalibrationNode& root, const std::string& path,
                                    const std::vector<std::string>& keys, int* rows, int* cols, std::string* used_key) {
   std::vector<double> values;
   for (const std::string& key : keys) {
-    if (ReadNumbers(fs[key], path, key, &values, rows, cols)) {
+    const CalibrationNode* node = root.Find(key);
+    if (ReadNumbers(node, path, key, &values, rows, cols)) {
       *used_key = key;
       for (double v : values)
-        if (!std::isfinite(v)) throw InputError({path, 0, key}, "contains a non-finite value");
+        if (!std::isfinite(v)) throw InputError(At(path, *node, key), "contains a non-finite value");
       return values;
     }
   }
@@ -82,56 +103,68 @@ std::vector<double> RequireNumbers(const cv::FileStorage& fs, const std::string&
   throw InputError({path, 0, keys.front()}, "missing key (expected " + names + ")");
 }
 
-CameraIntrinsics ReadCamera(const cv::FileStorage& fs, const std::string& path, const std::string& k_key,
+int LineOf(const CalibrationNode& root, const std::string& key) {
+  const CalibrationNode* node = root.Find(key);
+  return node == nullptr ? 0 : node->line;
+}
+
+CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, const std::string& k_key,
                             const std::string& k_alias, const std::string& d_key) {
   int rows = 0, cols = 0;
   std::string key;
   const std::vector<double> k = RequireNumbers(fs, path, {k_key, k_alias}, &rows, &cols, &key);
+  const InputLocation k_at{path, LineOf(fs, key), key};
+  if (rows == 9 && cols == 1) rows = cols = 3;  // a flat list of 9, row-major
   if (rows != 3 || cols != 3)
-    throw InputError({path, 0, key},
-                     "expected a 3x3 camera matrix, got " + std::to_string(rows) + "x" + std::to_string(cols));
+    throw InputError(k_at, "expected a 3x3 camera matrix, got " + std::to_string(rows) + "x" + std::to_string(cols));
   if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || std::abs(k[8] - 1.0) > 1e-12)
-    throw InputError({path, 0, key}, "not a pinhole camera matrix [fx 0 cx; 0 fy cy; 0 0 1] (skew unsupported)");
-  if (!(k[0] > 0.0 && k[4] > 0.0)) throw InputError({path, 0, key}, "focal lengths must be positive");
+    throw InputError(k_at, "not a pinhole camera matrix [fx 0 cx; 0 fy cy; 0 0 1] (skew unsupported)");
+  if (!(k[0] > 0.0 && k[4] > 0.0)) throw InputError(k_at, "focal lengths must be positive");
   CameraIntrinsics cam;
   cam.fx = k[0];
   cam.cx = k[2];
   cam.fy = k[4];
   cam.cy = k[5];
   const std::vector<double> d = RequireNumbers(fs, path, {d_key}, &rows, &cols, &key);
+  const InputLocation d_at{path, LineOf(fs, key), key};
   if (std::min(rows, cols) != 1 ||
       (d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 && d.size() != 14))
-    throw InputError({path, 0, key}, "expected 4, 5, 8, 12 or 14 distortion coefficients in one row, got " +
-                                         std::to_string(rows) + "x" + std::to_string(cols));
+    throw InputError(d_at, "expected 4, 5, 8, 12 or 14 distortion coefficients in one row, got " +
+                               std::to_string(rows) + "x" + std::to_string(cols));
   for (std::size_t i = 5; i < d.size(); ++i)
     if (d[i] != 0.0)
-      throw InputError({path, 0, key}, "coefficient " + std::to_string(i) +
-                                           " is not zero: only the 5-coefficient model (k1 k2 p1 p2 k3) is supported");
+      throw InputError(d_at, "coefficient " + std::to_string(i) +
+                                 " is not zero: only the 5-coefficient model (k1 k2 p1 p2 k3) is supported");
   cam.distortion = {d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
   return cam;
 }
 
 // Image size [w, h] from image_size / S / image_width+image_height.
-void ReadImageSize(const cv::FileStorage& fs, const std::string& path, const std::vector<std::string>& keys, int* width,
-                   int* height) {
+void ReadImageSize(const CalibrationNode& fs, const std::string& path, const std::vector<std::string>& keys,
+                   int* width, int* height) {
   std::vector<double> v;
   int rows = 0, cols = 0;
   for (const std::string& key : keys) {
-    if (ReadNumbers(fs[key], path, key, &v, &rows, &cols)) {
-      if (v.size() != 2) throw InputError({path, 0, key}, "expected the image size as [width, height]");
+    if (ReadNumbers(fs.Find(key), path, key, &v, &rows, &cols)) {
+      const InputLocation at{path, LineOf(fs, key), key};
+      if (v.size() != 2) throw InputError(at, "expected the image size as [width, height]");
+      if (!(v[0] >= 1 && v[0] <= 1e6 && v[1] >= 1 && v[1] <= 1e6) || v[0] != std::floor(v[0]) ||
+          v[1] != std::floor(v[1]))
+        throw InputError(at, "image size must be two positive integers (at most 1000000)");
       *width = static_cast<int>(v[0]);
       *height = static_cast<int>(v[1]);
-      if (*width <= 0 || *height <= 0 || v[0] != *width || v[1] != *height)
-        throw InputError({path, 0, key}, "image size must be two positive integers");
       return;
     }
   }
   std::vector<double> w, h;
-  if (ReadNumbers(fs["image_width"], path, "image_width", &w, &rows, &cols) &&
-      ReadNumbers(fs["image_height"], path, "image_height", &h, &rows, &cols) && w.size() == 1 && h.size() == 1) {
+  if (ReadNumbers(fs.Find("image_width"), path, "image_width", &w, &rows, &cols) &&
+      ReadNumbers(fs.Find("image_height"), path, "image_height", &h, &rows, &cols) && w.size() == 1 && h.size() == 1) {
+    if (!(w[0] >= 1 && w[0] <= 1e6 && h[0] >= 1 && h[0] <= 1e6) || w[0] != std::floor(w[0]) ||
+        h[0] != std::floor(h[0]))
+      throw InputError({path, LineOf(fs, "image_width"), "image_width"},
+                       "image size must be two positive integers (at most 1000000)");
     *width = static_cast<int>(w[0]);
     *height = static_cast<int>(h[0]);
-    if (*width <= 0 || *height <= 0) throw InputError({path, 0, "image_width"}, "image size must be positive");
     return;
   }
   throw InputError({path, 0, keys.front()},
@@ -157,86 +190,72 @@ StereoCalibration ReadStereoCalibration(const std::string& path) {
 }
 
 namespace {
-StereoCalibration ReadCalibrationKeys(const cv::FileStorage& fs, const std::string& path);
+StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::string& path);
 }  // namespace
 
 StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path) {
-  cv::FileStorage fs;
-  try {
-    // OpenCV tells YAML, JSON and XML apart by their first characters.
-    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
-  } catch (const cv::Exception& e) {
-    throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON: " + std::string(e.err));
-  } catch (const std::exception& e) {
-    // OpenCV's parser lets std::length_error escape on some malformed files (found by
-    // fuzz/fuzz_stereo_calibration.cpp): still bad input, not an internal error.
-    throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON (" + std::string(e.what()) + ")");
-  }
-  if (!fs.isOpened()) throw InputError({path, 0, ""}, "cannot parse as OpenCV FileStorage YAML/JSON");
-  // The keys are looked up by name: a top level that is a list or a scalar has none (OpenCV
-  // would throw from the lookup; found by fuzz/fuzz_stereo_calibration.cpp).
-  if (!fs.root().isMap()) throw InputError({path, 0, ""}, "the top level is not a map of keys (K1, D1, R, T, ...)");
-  try {
-    return ReadCalibrationKeys(fs, path);
-  } catch (const cv::Exception& e) {
-    throw InputError({path, 0, ""}, "unreadable value: " + std::string(e.err));
-  }
+  const CalibrationNode root = internal::ParseCalibrationTree(text, path);
+  // The keys are looked up by name: a top level that is a list or a scalar has none.
+  if (root.kind != Kind::kMap)
+    throw InputError({path, root.line, ""}, "the top level is not a map of keys (K1, D1, R, T, ...)");
+  return ReadCalibrationKeys(root, path);
 }
 
 namespace {
 
-StereoCalibration ReadCalibrationKeys(const cv::FileStorage& fs, const std::string& path) {
+StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::string& path) {
   StereoCalibration calib;
   calib.left = ReadCamera(fs, path, "K1", "M1", "D1");
   calib.right = ReadCamera(fs, path, "K2", "M2", "D2");
   ReadImageSize(fs, path, {"image_size", "S", "imageSize"}, &calib.left.width, &calib.left.height);
   calib.right.width = calib.left.width;
   calib.right.height = calib.left.height;
-  if (!fs["image_size2"].empty()) ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
+  if (fs.Find("image_size2") != nullptr) ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
 
   int rows = 0, cols = 0;
   std::string key;
   const std::vector<double> r = RequireNumbers(fs, path, {"R", "Rlr"}, &rows, &cols, &key);
+  if (rows == 9 && cols == 1) rows = cols = 3;  // a flat list of 9, row-major
   if (rows != 3 || cols != 3)
-    throw InputError({path, 0, key},
+    throw InputError({path, LineOf(fs, key), key},
                      "expected a 3x3 rotation, got " + std::to_string(rows) + "x" + std::to_string(cols));
   Mat3 rotation;
   for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = r[i];
   const double ortho = OrthonormalityError(rotation);
   if (!(ortho <= kMaxRotationOrthonormalityError))
-    throw InputError({path, 0, key}, "not a rotation: orthonormality error " + FormatDouble(ortho) +
+    throw InputError({path, LineOf(fs, key), key}, "not a rotation: orthonormality error " + FormatDouble(ortho) +
                                          " (max(|RᵀR − I|, |det R − 1|) must be below " +
                                          FormatDouble(kMaxRotationOrthonormalityError) + ")");
   const std::vector<double> t = RequireNumbers(fs, path, {"T", "Tlr"}, &rows, &cols, &key);
   if (t.size() != 3 || std::min(rows, cols) != 1)
-    throw InputError({path, 0, key},
+    throw InputError({path, LineOf(fs, key), key},
                      "expected a 3-vector translation (mm), got " + std::to_string(rows) + "x" + std::to_string(cols));
   calib.right_from_left.linear() = rotation;
   calib.right_from_left.translation() = Vec3(t[0], t[1], t[2]);
   // A stereo pair triangulates along its baseline: zero (or a corrupt huge value) cannot be a rig.
   const double baseline = calib.right_from_left.translation().norm();
   if (!(baseline >= 1e-3 && baseline <= 1e5)) {
-    throw InputError({path, 0, key}, "stereo baseline |T| = " + FormatDouble(baseline) +
+    throw InputError({path, LineOf(fs, key), key}, "stereo baseline |T| = " + FormatDouble(baseline) +
                                          " mm is not a stereo rig (expected 0.001 .. 100000 mm)");
   }
 
   std::vector<double> v;
-  if (ReadNumbers(fs["rms_px"], path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];
-  if (ReadNumbers(fs["per_view_errors_px"], path, "per_view_errors_px", &v, &rows, &cols)) calib.per_view_errors_px = v;
-  if (ReadNumbers(fs["parameter_std"], path, "parameter_std", &v, &rows, &cols)) calib.parameter_std = v;
+  if (ReadNumbers(fs.Find("rms_px"), path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];
+  if (ReadNumbers(fs.Find("per_view_errors_px"), path, "per_view_errors_px", &v, &rows, &cols)) calib.per_view_errors_px = v;
+  if (ReadNumbers(fs.Find("parameter_std"), path, "parameter_std", &v, &rows, &cols)) calib.parameter_std = v;
   // The keys `ramtk calib cameras` writes (calib/src/calibration_file.cpp): rms, per_view_errors
   // (left, right per pair) and the σ blocks std_intrinsics1/2, std_R, std_T, which become
   // parameter_std in the order of kCalibParameterStdOrder.
-  if (!std::isfinite(calib.rms_px) && ReadNumbers(fs["rms"], path, "rms", &v, &rows, &cols) && v.size() == 1)
+  if (!std::isfinite(calib.rms_px) && ReadNumbers(fs.Find("rms"), path, "rms", &v, &rows, &cols) && v.size() == 1)
     calib.rms_px = v[0];
-  if (calib.per_view_errors_px.empty() && ReadNumbers(fs["per_view_errors"], path, "per_view_errors", &v, &rows, &cols))
+  if (calib.per_view_errors_px.empty() && ReadNumbers(fs.Find("per_view_errors"), path, "per_view_errors", &v, &rows, &cols))
     calib.per_view_errors_px = v;
   if (calib.parameter_std.empty()) {
     std::vector<double> all, block;
     bool complete = true;
     for (const auto& [key, n] : {std::pair<const char*, size_t>{"std_intrinsics1", 9}, {"std_intrinsics2", 9},
                                  {"std_R", 3}, {"std_T", 3}}) {
-      if (!ReadNumbers(fs[key], path, key, &block, &rows, &cols) || block.size() != n) {
+      if (!ReadNumbers(fs.Find(key), path, key, &block, &rows, &cols) || block.size() != n) {
         complete = false;
         break;
       }

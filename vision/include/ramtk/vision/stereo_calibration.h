@@ -1,6 +1,8 @@
 #pragma once
 // Stereo camera calibration: two pinhole cameras with OpenCV distortion and the rigid transform
-// between them, read from and written to OpenCV FileStorage files (YAML or JSON).
+// between them, in OpenCV's calibration files (YAML or JSON): written with cv::FileStorage, read
+// with yaml-cpp / nlohmann-json (vision/src/calibration_tree.h; FileStorage's YAML parser can hang
+// on a damaged file).
 //
 // Read layouts (docs/formats.md, "Stereo calibration"):
 //  * standard keys: K1 D1 K2 D2 R T and the image size as `image_size: [w, h]` (or `S`, or
@@ -40,7 +42,7 @@ struct StereoCalibration {
 inline constexpr const char* kCalibParameterStdOrder =
     "fx1 fy1 cx1 cy1 k1_1 k2_1 p1_1 p2_1 k3_1 fx2 fy2 cx2 cy2 k1_2 k2_2 p1_2 p2_2 k3_2 rx ry rz tx ty tz";
 
-// Reads either layout. Throws InputError naming the file and the key for: an unreadable or
+// Reads either layout. Throws InputError naming the file, the key and (YAML) its line for: an unreadable or
 // unparsable file, a missing key, a matrix of the wrong size, a K that is not a pinhole matrix,
 // distortion beyond the 5-coefficient model, an R that is not a rotation (its orthonormality
 // error is reported), a non-positive image size.
