@@ -6,6 +6,7 @@
 // the drift parameters); > 1 means the stage is optimistic.
 //
 //   campaign_uncertainty --robot datasets/robots/kuka_kr150_r3100.yaml --seeds 10 --work /tmp/cu
+//       [--scale 0.25] [--supersampling 2]   (camera window scale and rays per pixel side, as the twin)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -42,6 +43,9 @@ int main(int argc, char** argv) {
   for (int seed = first; seed < first + seeds; ++seed) {
     campaign::CampaignOptions o;
     o.seed = static_cast<std::uint64_t>(seed);
+    o.image_scale = std::atof(Arg(argc, argv, "--scale", std::to_string(o.image_scale)).c_str());
+    o.supersampling = std::atoi(Arg(argc, argv, "--supersampling", std::to_string(o.supersampling)).c_str());
+    o.screen_keep = -1;  // the screening has no propagated σ to score
     const fs::path out = work / ("seed" + std::to_string(seed));
     fs::remove_all(out);
     const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, out.string());

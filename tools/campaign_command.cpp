@@ -32,6 +32,9 @@ int RunCampaign(const CampaignCommandOptions& opt) {
   }
   const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir);
   std::printf("%s", campaign::BudgetMarkdown(s).c_str());
+  if (!s.screened.empty())
+    std::printf("\nScreening (image-derived centres), Table 5-1 form:\n%s\nTable 5-2 form:\n%s",
+                s.screening_elimination.c_str(), s.screening_comparison.c_str());
   for (const std::string& l : s.left_out) std::printf("left out: %s\n", l.c_str());
   std::printf("%s\ntimes: render %.1f s, scan %.1f s, chain %.1f s\nwrote %s/budget.json, budget.md, monitoring_error.png\n",
               s.BriefReport().c_str(), s.render_s, s.scan_s, s.chain_s, opt.out_dir.c_str());
@@ -64,6 +67,10 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--seed", opt->o.seed, "Random seed")->capture_default_str();
   sub->add_option("--jobs", opt->o.jobs, "Sets rendered / scanned at once")->capture_default_str();
+  sub->add_option("--screen-keep", opt->o.screen_keep,
+                  "Parameter screening on the image-derived centres (Tables 5-1/5-2, chain/screening.txt): "
+                  "parameters kept; 0 = by held-out error; -1 = skip")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
   sub->add_flag("--report", opt->report, "Also write report.html: the budget, calibration errors and the monitoring "
                                          "figure on one self-contained page");

@@ -20,6 +20,7 @@
 #include "ramtk/diagnose/plot.h"
 #include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/monitoring.h"
+#include "ramtk/thermal/screening.h"
 #include "ramtk/vision/scan_batch.h"
 
 namespace ramtk::campaign {
@@ -38,12 +39,15 @@ struct ChainResult {
   Eigen::MatrixXd delta_x;  // 30 × ball cycles
   Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
   std::vector<Eigen::MatrixXd> drift_covariance;  // per cycle, params × params (mm / rad)
+  bool screened = false;
+  thermal::ScreeningSummary screening;
+  std::vector<thermal::ComparisonRow> comparison;
 };
 
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
                      const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
-                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm) {
+                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm, int screen_keep) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -72,6 +76,18 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   const thermal::MonitoringModel mon(model, r.setup, monitoring);
   r.before = mon.Uncompensated();
   r.after = mon.Residuals(x_mon);
+  if (screen_keep >= 0) {
+    // As `ramtk thermal screen --keep N`, weighted by the centres' covariance.
+    thermal::ScreeningOptions so;
+    so.keep = screen_keep;
+    so.identification.difference_covariance_mm2 = id.difference_covariance_mm2;
+    r.screening = thermal::ScreenParameters(ex, so);
+    r.comparison = thermal::CompareParameterSets(
+        ex, {{"traditional", thermal::TraditionalParams(model)}, {"screened", r.screening.selected},
+             {"all", model.FreeParams()}},
+        so.identification, so.lambda);
+    r.screened = true;
+  }
   return r;
 }
 
@@ -153,10 +169,25 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const thermal::CycleSeries monitoring =
       thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
-  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
+  const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm,
+                                   options.screen_keep);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru =
-      RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm);
+      RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm, -1);
+  if (img.screened) {
+    s.screened = img.screening.selected;
+    std::vector<int> a = s.screened, b = sim.drifting_params;
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    s.screened_is_drifting_set = a == b;
+    s.screening_elimination = thermal::FormatEliminationTable(img.screening);
+    s.screening_comparison = thermal::FormatComparisonTable(img.comparison);
+    s.screening_rows = img.comparison;
+    WriteFileAtomically((dir / "chain" / "screening.txt").string(),
+                        "Elimination from the image-derived centres (form of thesis Table 5-1):\n" +
+                            s.screening_elimination + img.screening.BriefReport() +
+                            "\n\nParameter sets compared (form of thesis Table 5-2):\n" + s.screening_comparison);
+  }
   calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
                                 img.calibration_summary, img.cold);
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
@@ -247,6 +278,10 @@ std::string BudgetJson(const CampaignSummary& s) {
                             {"translation_um", s.translation_sigma_um},
                             {"ball_um", s.ball_sigma_um}};
   j["dominant_stage"] = s.dominant_stage;
+  if (!s.screened.empty()) {
+    j["screening"] = {{"selected", thermal::ParamListToString(s.screened)},
+                      {"is_simulated_drifting_set", s.screened_is_drifting_set}};
+  }
   nlohmann::json b = nlohmann::json::array();
   for (const StageError& e : s.budget) {
     b.push_back({{"stage", e.stage}, {"quantity", e.quantity}, {"images", e.images}, {"true_centres", e.truth}});
@@ -349,6 +384,11 @@ std::string BudgetMarkdown(const CampaignSummary& s) {
                 "covariance: %.2f um RMS (observed %.2f um). Dominant: %s.\n",
                 s.monitoring_uncompensated_mm, s.centre_predicted_rms_um, s.centre_rms_um, s.dominant_stage.c_str());
   md += buf;
+  if (!s.screened.empty()) {
+    md += "\nScreening from the image-derived centres kept " + thermal::ParamListToString(s.screened) +
+          (s.screened_is_drifting_set ? " (the simulator's drifting set)" : " (not the simulator's drifting set)") +
+          "; chain/screening.txt has the elimination (Table 5-1 form) and the comparison (Table 5-2 form).\n";
+  }
   if (!s.dropped_poses.empty()) {
     md += "\nPoses dropped from both chains (no centre in some cycle):";
     for (int p : s.dropped_poses) md += " " + std::to_string(p);

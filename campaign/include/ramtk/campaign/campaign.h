@@ -18,6 +18,7 @@
 #include "ramtk/core/progress.h"
 #include "ramtk/kinematics/robot_model.h"
 #include "ramtk/report/html_report.h"
+#include "ramtk/thermal/screening.h"
 
 namespace ramtk::campaign {
 
@@ -36,6 +37,9 @@ struct CampaignOptions {
   int jobs = 2;                   // sets rendered / scanned at once
   // Parameters identified: empty = the simulator's drifting set (d4 d6 a1 a2 a3 α3 α4 β2).
   std::vector<int> params;
+  // Parameter screening (thesis §3.2, Tables 5-1/5-2) on the image-derived centres, as
+  // `ramtk thermal screen`: the count kept (thesis: 8); 0 = chosen by held-out error; -1 = skip.
+  int screen_keep = 8;
   ProgressCallback progress;      // "render" and "scan" stages, per set
   std::string Validate() const;
 };
@@ -74,6 +78,13 @@ struct CampaignSummary {
   // Per warm cycle RMS over the monitoring directions (for the picture): uncompensated,
   // compensated (images), compensated (true centres).
   std::vector<double> cycle_time_s, monitoring_before_mm, monitoring_after_mm, monitoring_after_truth_mm;
+  // Screening on the image-derived centres (empty when options.screen_keep = -1): the kept set,
+  // whether it equals the simulator's drifting set, the elimination (Table 5-1 form) and the
+  // comparison of parameter sets (Table 5-2 form) as text.
+  std::vector<int> screened;
+  bool screened_is_drifting_set = false;
+  std::string screening_elimination, screening_comparison;
+  std::vector<thermal::ComparisonRow> screening_rows;  // before, traditional, screened, all
   std::string dominant_stage;  // the stage whose error contributes most to the monitoring residual
   std::vector<StageError> budget;
   std::string BriefReport() const;
