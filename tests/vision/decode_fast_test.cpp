@@ -4,6 +4,8 @@
 // comes from the fringe simulator, the single-camera sets from the analytic synthesiser.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <cmath>
 
 #include "decode_synth.h"
@@ -90,7 +92,8 @@ TEST(DecodeFast, StereoSetSameDecodeMatchesAndCentreAsTheReferencePath) {
   const DecodedCamera rf = DecodeFrames(m, right.images, fs, DecodeOptions{});
   ExpectSameDecode(lf, lr, "left");
   ExpectSameDecode(rf, rr, "right");
-  EXPECT_TRUE(lf.summary.nonlinearity.applied);
+  EXPECT_TRUE(lf.summary.nonlinearity.applied) << lf.summary.BriefReport();
+  std::cout << "left: " << lf.summary.nonlinearity.BriefReport() << "\n";
   EXPECT_GT(std::abs(lr.summary.nonlinearity.sin_rad[0]), 1e-3) << lr.summary.BriefReport();  // a ripple to remove
 
   const StereoCalibration calib = WrittenCalibration(c);

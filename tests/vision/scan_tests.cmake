@@ -9,6 +9,7 @@ ramtk_add_gtest(vision_scan_tests
   scan_ply_test.cpp
   scan_pipeline_test.cpp
   decode_fast_test.cpp
+  nonlinearity_gate_test.cpp
   stereo_walk_test.cpp
   scan_shard_test.cpp
   scan_roi_test.cpp)

@@ -343,6 +343,7 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
       {"equivalent_gamma", std::isfinite(nl.equivalent_gamma) ? nlohmann::json(nl.equivalent_gamma) : nlohmann::json()},
       {"highpass_rms_before_rad", nl.residual_rms_before_rad},
       {"highpass_rms_after_rad", nl.residual_rms_after_rad},
+      {"ripple_t2", nl.ripple_t2},
       {"window_px", nl.window_px},
       {"pixels_used", nl.pixels_used}};
   j["harmonic_ratios"] = s.harmonic_ratios;

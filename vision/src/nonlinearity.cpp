@@ -37,6 +37,38 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
   return 2 * CV_PI / g[g.size() / 2];
 }
 
+double FirstOrderRippleT2(const std::vector<Eigen::MatrixXd>& ata, const std::vector<Eigen::VectorXd>& atb) {
+  if (ata.empty()) return 0;
+  Eigen::MatrixXd total = Eigen::MatrixXd::Zero(ata[0].rows(), ata[0].cols());
+  Eigen::VectorXd total_b = Eigen::VectorXd::Zero(atb[0].size());
+  int bands = 0;
+  for (std::size_t k = 0; k < ata.size(); ++k) {
+    total += ata[k];
+    total_b += atb[k];
+    bands += ata[k](0, 0) > 0;  // entry (0, 0) counts the band's pixels
+  }
+  if (bands < 4) return 0;
+  const Eigen::Vector2d full = total.ldlt().solve(total_b).segment<2>(1);
+  std::vector<Eigen::Vector2d> loo;
+  for (std::size_t k = 0; k < ata.size(); ++k) {
+    if (!(ata[k](0, 0) > 0)) continue;
+    const Eigen::VectorXd c = (total - ata[k]).ldlt().solve(total_b - atb[k]);
+    if (!c.allFinite()) return 0;
+    loo.push_back(c.segment<2>(1));
+  }
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& c : loo) mean += c;
+  mean /= static_cast<double>(loo.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& c : loo) cov += (c - mean) * (c - mean).transpose();
+  const double n = static_cast<double>(loo.size());
+  cov *= (n - 1) / n;
+  if (!full.allFinite()) return 0;
+  // No scatter at all (noise-free data): any non-zero ripple is infinitely significant.
+  if (!(cov.determinant() > 0)) return full.squaredNorm() > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return full.dot(cov.ldlt().solve(full));
+}
+
 }  // namespace detail
 namespace {
 using detail::CameraFringePeriod;
@@ -58,11 +90,13 @@ void NonlinearityOptions::Validate() const {
   if (window_px != 0 && (window_px < 3 || window_px % 2 == 0))
     throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
   if (!(outlier_rad > 0)) throw InputError({"", 0, "outlier_rad"}, "must be positive");
+  if (!(min_ripple_t2 >= 0)) throw InputError({"", 0, "min_ripple_t2"}, "must be >= 0");
 }
 
 std::string NonlinearityEstimate::BriefReport() const {
   std::ostringstream s;
-  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << ", s1 "
+  s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << " (ripple T² " << ripple_t2
+    << "), s1 "
     << (sin_rad.empty() ? 0.0 : sin_rad[0]) << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma "
     << equivalent_gamma << ", high-pass RMS " << residual_rms_before_rad << " -> " << residual_rms_after_rad
     << " rad over " << pixels_used << " px";
@@ -105,7 +139,10 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   }
   for (int i = 0; i < nb; ++i) hp_basis[i] = basis[i] - MaskedMean(basis[i], mf, den, w);
 
+  const cv::Rect box = cv::boundingRect(mask);
   for (int pass = 0; pass < options.passes; ++pass) {
+    std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(nb + 1, nb + 1));
+    std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(nb + 1));
     cv::Mat clean;
     abs_phase.convertTo(clean, CV_64F);
     clean.setTo(0, mask == 0);
@@ -125,6 +162,11 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
         for (int i = 0; i < nb; ++i) row[i + 1] = hp_basis[i].ptr<double>(y)[x];
         ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
         atb += row * r[x];
+        if (pass == 0) {
+          const int band = detail::RippleBand(y - box.y, box.height);
+          band_ata[band] += row * row.transpose();
+          band_atb[band] += row * r[x];
+        }
         ss += r[x] * r[x];
         ++used;
       }
@@ -138,6 +180,10 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
     for (int mo = 0; mo < options.orders; ++mo) {
       est.sin_rad[mo] += coef[1 + 2 * mo];
       est.cos_rad[mo] += coef[2 + 2 * mo];
+    }
+    if (pass == 0) {
+      est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+      if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
     // Subtract this pass's ripple.
     for (int y = 0; y < abs_phase.rows; ++y) {

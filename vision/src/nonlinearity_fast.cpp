@@ -120,9 +120,9 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   });
 
   // Normal equations over the pixels whose whole window is valid and whose high-pass is small.
-  auto accumulate = [&](const cv::Mat& hp, bool design) {
+  auto accumulate = [&](const cv::Mat& hp, bool design, int y_begin, int y_end) {
     return tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, box.height, 16), Normal{},
+        tbb::blocked_range<int>(y_begin, y_end, 16), Normal{},
         [&](const tbb::blocked_range<int>& r, Normal acc) {
           double row[kMaxTerms];
           for (int y = r.begin(); y < r.end(); ++y) {
@@ -154,7 +154,30 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
 
   for (int pass = 0; pass < options.passes; ++pass) {
     const cv::Mat hp = HighPass(abs_phase, mask, den, w);
-    const Normal ne = accumulate(hp, true);
+    // Per band of rows on the first pass (the ripple's jackknife test), else in one go.
+    Normal ne;
+    std::vector<Eigen::MatrixXd> band_ata;
+    std::vector<Eigen::VectorXd> band_atb;
+    if (pass == 0) {
+      int y0 = 0;
+      for (int k = 0; k < detail::kRippleBands; ++k) {
+        int y1 = y0;
+        while (y1 < box.height && detail::RippleBand(y1, box.height) == k) ++y1;
+        const Normal nk = accumulate(hp, true, y0, y1);
+        ne.Add(nk, terms);
+        Eigen::MatrixXd a(terms, terms);
+        Eigen::VectorXd b(terms);
+        for (int i = 0; i < terms; ++i) {
+          for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
+          b[i] = nk.atb[i];
+        }
+        band_ata.push_back(a);
+        band_atb.push_back(b);
+        y0 = y1;
+      }
+    } else {
+      ne = accumulate(hp, true, 0, box.height);
+    }
     est.pixels_used = ne.used;
     est.passes = pass + 1;
     if (ne.used < options.min_pixels) break;
@@ -169,6 +192,10 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     for (int o = 0; o < options.orders; ++o) {
       est.sin_rad[o] += coef[1 + 2 * o];
       est.cos_rad[o] += coef[2 + 2 * o];
+    }
+    if (pass == 0) {
+      est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+      if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
     tbb::parallel_for(tbb::blocked_range<int>(0, box.height, 16), [&](const tbb::blocked_range<int>& r) {
       for (int y = r.begin(); y < r.end(); ++y) {
@@ -185,7 +212,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     est.applied = true;
   }
   if (est.applied) {
-    const Normal after = accumulate(HighPass(abs_phase, mask, den, w), false);
+    const Normal after = accumulate(HighPass(abs_phase, mask, den, w), false, 0, box.height);
     est.residual_rms_after_rad = after.used ? std::sqrt(after.ss / after.used) : 0;
   }
   double r2 = 0;

@@ -26,6 +26,17 @@ struct NonlinearityOptions {
   int window_px = 0;         // box window (odd, camera px); 0 = about two camera fringe periods
   double outlier_rad = 0.5;  // high-pass residuals beyond this are left out of the fit
   long min_pixels = 500;     // fewer usable pixels: no correction (estimate.applied = false)
+  // The first pass's first-order ripple (s_1, c_1) must be significant against its own
+  // leave-one-band-out (jackknife) scatter, T² = aᵀC⁻¹a over kRippleBands bands of rows, else the
+  // phase is left as it was (estimate.applied = false; the fit is still reported). The method
+  // assumes the surface's own phase is smooth over the window; on a ball a few tens of pixels
+  // across, or a scene with edges, the high-pass keeps the surface's shape at ~10x the phase
+  // noise and a ripple fitted to it is spurious: it differs from band to band, while a
+  // projector's ripple is the same everywhere. The default is Hotelling's T² critical value at
+  // p = 0.001 for 2 coefficients from 16 bands (2·15/14 · F(2, 14) = 25.2). Spurious fits on the
+  // campaign twin's 12-step balls had biased each apex by up to 27 µm (docs/scan.md,
+  // "Projector nonlinearity on small balls"). 0 disables the test.
+  double min_ripple_t2 = 25.2;
   // Throws InputError naming the field when a value is out of range.
   void Validate() const;
 };
@@ -41,7 +52,8 @@ struct NonlinearityEstimate {
   int window_px = 0;                   // window used
   long pixels_used = 0;                // pixels in the final fit
   int passes = 0;                      // passes run
-  bool applied = false;                // false if too few pixels: phase left unchanged
+  bool applied = false;                // false if too few pixels or the ripple is not significant: phase unchanged
+  double ripple_t2 = 0;                // T² of (s_1, c_1) against its jackknife covariance (first pass)
   std::string BriefReport() const;
 };
 

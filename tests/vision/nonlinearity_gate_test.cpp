@@ -1,0 +1,70 @@
+// The projector-nonlinearity correction is applied only when its ripple is significant against
+// its own leave-one-band-out scatter (NonlinearityOptions::min_ripple_t2). Truth here is what
+// the simulator rendered: a linear projector (no ripple to remove) on the campaign twin's small
+// 12-step balls, where the old correction fitted the ball's shape and pushed the apex up to 27 µm
+// deep; and a projector gamma on a 4-step set, whose ripple must still be removed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ramtk/vision/fringe_simulator.h"
+#include "scan_sim.h"
+
+namespace ramtk::vision {
+namespace {
+
+// The campaign twin's camera windows: the small preset around a ball, scaled (pixel centres at
+// integers), as campaign/src/campaign_sim.cpp renders them.
+FringeSimulationConfig SmallBall(const Vec3& ball_in_left, double scale, std::uint64_t seed) {
+  FringeSimulationConfig c = MakeFringePreset("small", ball_in_left);
+  for (CameraIntrinsics* cam : {&c.cameras.left, &c.cameras.right}) {
+    cam->fx *= scale;
+    cam->fy *= scale;
+    cam->cx = (cam->cx + 0.5) * scale - 0.5;
+    cam->cy = (cam->cy + 0.5) * scale - 0.5;
+    cam->width = static_cast<int>(std::lround(cam->width * scale));
+    cam->height = static_cast<int>(std::lround(cam->height * scale));
+  }
+  c.supersampling = 1;
+  c.seed = seed;
+  return c;
+}
+
+// Linear projector, 12 steps, balls 64 and 128 px across at several positions and noise draws:
+// there is no ripple, so the correction must not be applied. Under the null hypothesis the
+// test's false-alarm rate is 0.1 %; over these 24 decodes one is already unlikely (2.4 %).
+TEST(NonlinearityGate, NoCorrectionOnSmallBallsWithALinearProjector) {
+  int applied = 0, decodes = 0;
+  double largest_t2 = 0;
+  for (double scale : {0.25, 0.5}) {
+    for (int k = 0; k < 6; ++k) {
+      const Vec3 ball(-30.0 + 12.0 * k, 20.0 - 8.0 * k, 690.0 + 5.0 * k);
+      const FringeSimulationConfig c = SmallBall(ball, scale, 100 + k);
+      for (int cam = 0; cam < 2; ++cam) {
+        const DecodedCamera d = testing::DecodeSimulated(c, SimulateCamera(c, cam));
+        const NonlinearityEstimate& nl = d.summary.nonlinearity;
+        applied += nl.applied;
+        ++decodes;
+        largest_t2 = std::max(largest_t2, nl.ripple_t2);
+        EXPECT_FALSE(nl.applied) << "scale " << scale << " ball " << k << " camera " << cam << ": " << nl.BriefReport();
+      }
+    }
+  }
+  RecordProperty("largest_t2", std::to_string(largest_t2));
+  EXPECT_EQ(applied, 0) << "of " << decodes;
+}
+
+// A projector gamma of 2.2 on a 4-step set of the same small ball: a real ripple (RippleOfGamma)
+// that the gate must let through.
+TEST(NonlinearityGate, GammaRippleOnASmallBallIsStillCorrected) {
+  FringeSimulationConfig c = SmallBall(Vec3(0, 0, 700), 0.5, 7);
+  c.sequence = {PhaseShiftBlock(4, 64.0), GrayCodeBlock(7, true)};
+  c.effects.projector_nonlinearity = 2.2;
+  const DecodedCamera d = testing::DecodeSimulated(c, SimulateCamera(c, 0));
+  const NonlinearityEstimate& nl = d.summary.nonlinearity;
+  EXPECT_TRUE(nl.applied) << nl.BriefReport();
+  EXPECT_GT(nl.ripple_t2, 25.2) << nl.BriefReport();
+}
+
+}  // namespace
+}  // namespace ramtk::vision
