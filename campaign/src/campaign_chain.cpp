@@ -39,6 +39,11 @@ struct ChainResult {
   Eigen::MatrixXd delta_x;  // 30 × ball cycles
   Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
   std::vector<Eigen::MatrixXd> drift_covariance;  // per cycle, params × params (mm / rad)
+  std::vector<int> ball_column;  // per monitoring cycle, its column in delta_x
+  // Per monitoring cycle (warm ones), direction: the compensated position's error caused by the
+  // identified drift's error, J·(ΔX − ΔX_true), and its predicted σ² from the drift covariance.
+  double monitoring_drift_error_ss = 0, monitoring_drift_predicted_ss = 0;
+  long monitoring_drift_terms = 0;
   bool screened = false;
   thermal::ScreeningSummary screening;
   std::vector<thermal::ComparisonRow> comparison;
@@ -47,7 +52,8 @@ struct ChainResult {
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
                      const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
-                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm, int screen_keep) {
+                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm, int screen_keep,
+                     const Eigen::MatrixXd& true_delta_x) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -76,6 +82,25 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   const thermal::MonitoringModel mon(model, r.setup, monitoring);
   r.before = mon.Uncompensated();
   r.after = mon.Residuals(x_mon);
+  r.ball_column = ex.ball_column;
+  // The monitoring points' error from the identification alone, against the true drift of the
+  // same ball cycle, and what the drift covariance predicts for it.
+  for (std::size_t m = 1; m < ex.ball_column.size(); ++m) {
+    const int col = ex.ball_column[m];
+    Eigen::VectorXd dx(params.size());
+    for (std::size_t j = 0; j < params.size(); ++j)
+      dx[static_cast<Eigen::Index>(j)] =
+          r.delta_x(params[j], col) - (true_delta_x(params[j], col) - true_delta_x(params[j], 0));
+    for (int k = 0; k < mon.NumPoints(); ++k) {
+      Eigen::MatrixXd jac(3, static_cast<Eigen::Index>(params.size()));
+      for (std::size_t j = 0; j < params.size(); ++j) jac.col(static_cast<Eigen::Index>(j)) = mon.Jacobian(k).col(params[j]);
+      const Eigen::Vector3d e = jac * dx;
+      r.monitoring_drift_error_ss += e.squaredNorm();
+      if (!r.drift_covariance.empty())
+        r.monitoring_drift_predicted_ss += (jac * r.drift_covariance.at(static_cast<std::size_t>(col)) * jac.transpose()).trace();
+      r.monitoring_drift_terms += 3;
+    }
+  }
   if (screen_keep >= 0) {
     // As `ramtk thermal screen --keep N`, weighted by the centres' covariance.
     thermal::ScreeningOptions so;
@@ -170,10 +195,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
       thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
   const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm,
-                                   options.screen_keep);
+                                   options.screen_keep, sim.true_delta_x);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
-  const ChainResult tru =
-      RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm, -1);
+  const ChainResult tru = RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0,
+                                   options.repeatability_mm, -1, sim.true_delta_x);
   if (img.screened) {
     s.screened = img.screening.selected;
     std::vector<int> a = s.screened, b = sim.drifting_params;
@@ -239,6 +264,14 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   s.monitoring_uncompensated_mm = WarmRms(img.before);
   s.monitoring_compensated_mm = WarmRms(img.after);
   s.monitoring_compensated_truth_mm = WarmRms(tru.after);
+  auto rms = [](double ss, long n) { return n > 0 ? std::sqrt(ss / static_cast<double>(n)) : 0.0; };
+  s.monitoring_drift_error_mm = rms(img.monitoring_drift_error_ss, img.monitoring_drift_terms);
+  s.monitoring_drift_error_truth_mm = rms(tru.monitoring_drift_error_ss, tru.monitoring_drift_terms);
+  s.monitoring_drift_predicted_mm = img.drift_covariance.empty()
+                                        ? std::numeric_limits<double>::quiet_NaN()
+                                        : rms(img.monitoring_drift_predicted_ss, img.monitoring_drift_terms);
+  s.budget.push_back({"monitoring", "error from the identified drift J(dX - dX_true), mm", s.monitoring_drift_error_mm,
+                      s.monitoring_drift_error_truth_mm, s.monitoring_drift_predicted_mm});
   s.budget.push_back({"monitoring", "RMS residual after compensation, mm", s.monitoring_compensated_mm,
                       s.monitoring_compensated_truth_mm});
   for (int c = 1; c < monitoring.NumCycles(); ++c) {

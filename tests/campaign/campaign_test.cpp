@@ -25,12 +25,14 @@ TEST(CampaignTwin, SmallPresetRunsEndToEndAndEveryStageIsWithinItsNoise) {
                         "monitoring_error.png", "truth/truth_params.csv", "chain/setup.json"}) {
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   }
-  // Centres: against the true ball positions. The scan's covariance at these coarse 160×128
-  // windows under-predicts the error about 2× (docs/campaign.md); 4× is the gate, and the
-  // absolute error stays far below the robot's drift (0.1 mm scale).
+  // Centres: against the true ball positions, within the scan's own covariance. Over 10 seeds
+  // observed / predicted is 0.95 (bench/campaign_uncertainty); one seed's RMS over 32 centres
+  // (96 coordinates) scatters by ~7 %, so 1.5 is a > 6σ gate. Before 2026-11-25 a spurious
+  // projector-nonlinearity correction on these 12-step balls made it 2.16 (79 µm against 35 µm
+  // predicted): this gate catches that bias coming back.
   EXPECT_GT(s.centre_predicted_rms_um, 1.0);
-  EXPECT_LT(s.centre_rms_um, 4.0 * s.centre_predicted_rms_um);
-  EXPECT_LT(s.centre_rms_um, 100.0);
+  EXPECT_LT(s.centre_rms_um, 1.5 * s.centre_predicted_rms_um);
+  EXPECT_LT(s.centre_rms_um, 20.0);
   // Set-up calibration on the cold cycle: within 4σ of its own covariance (which is scaled by the
   // residuals, so it carries both the centre noise and the robot's repeatability).
   EXPECT_LT(s.rotation_error_arcsec, 4.0 * s.rotation_sigma_arcsec);
@@ -48,6 +50,10 @@ TEST(CampaignTwin, SmallPresetRunsEndToEndAndEveryStageIsWithinItsNoise) {
     EXPECT_GT(s.drift_predicted_sigma[j], 0.0);
     EXPECT_LT(s.drift_rms_error[j], 3.0 * s.drift_predicted_sigma[j]) << kinematics::ParamName(s.params[j]);
   }
+  // The monitoring points' error from the identified drift alone against its prediction from
+  // the drift covariance (over 10 seeds the ratio is in docs/campaign.md).
+  EXPECT_GT(s.monitoring_drift_predicted_mm, 0.0);
+  EXPECT_LT(s.monitoring_drift_error_mm, 3.0 * s.monitoring_drift_predicted_mm);
   // Screening on the image-derived centres (thesis §3.2): it keeps 8 parameters and, as in the
   // thesis's Table 5-2, the screened set compensates the monitoring points better than the
   // traditional length set (d1 d4 d6 a1 a2 a3), which misses the simulated angular drift (α3 α4

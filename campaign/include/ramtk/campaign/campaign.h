@@ -75,6 +75,11 @@ struct CampaignSummary {
   double monitoring_uncompensated_mm = 0;  // RMS over warm cycles and directions
   double monitoring_compensated_mm = 0;    // with the image chain's drift and set-up
   double monitoring_compensated_truth_mm = 0;  // with the true-centre chain
+  // The monitoring points' error caused by the identified drift's error alone, J·(ΔX − ΔX_true)
+  // at each warm cycle's ball time (RMS over cycles and directions), for both chains, and the
+  // image chain's prediction from its drift covariance, sqrt(mean of diag(J Σ_c Jᵀ)).
+  double monitoring_drift_error_mm = 0, monitoring_drift_error_truth_mm = 0;
+  double monitoring_drift_predicted_mm = std::numeric_limits<double>::quiet_NaN();
   // Per warm cycle RMS over the monitoring directions (for the picture): uncompensated,
   // compensated (images), compensated (true centres).
   std::vector<double> cycle_time_s, monitoring_before_mm, monitoring_after_mm, monitoring_after_truth_mm;
