@@ -43,16 +43,7 @@ std::string SetName(int cycle, int pose) {
 
 vision::FringeSimulationConfig CampaignFringeConfig(const Vec3& ball_in_left, double scale, int supersampling,
                                                     std::uint64_t seed) {
-  vision::FringeSimulationConfig c = vision::MakeFringePreset("small", ball_in_left);
-  for (vision::CameraIntrinsics* cam : {&c.cameras.left, &c.cameras.right}) {
-    // Scale the window (pixel centres at integers: u' = (u + 0.5)·s − 0.5).
-    cam->fx *= scale;
-    cam->fy *= scale;
-    cam->cx = (cam->cx + 0.5) * scale - 0.5;
-    cam->cy = (cam->cy + 0.5) * scale - 0.5;
-    cam->width = static_cast<int>(std::lround(cam->width * scale));
-    cam->height = static_cast<int>(std::lround(cam->height * scale));
-  }
+  vision::FringeSimulationConfig c = vision::ScaleCameraWindows(vision::MakeFringePreset("small", ball_in_left), scale);
   c.supersampling = supersampling;
   c.seed = seed;
   return c;

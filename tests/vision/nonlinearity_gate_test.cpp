@@ -13,18 +13,9 @@
 namespace ramtk::vision {
 namespace {
 
-// The campaign twin's camera windows: the small preset around a ball, scaled (pixel centres at
-// integers), as campaign/src/campaign_sim.cpp renders them.
+// The campaign twin's camera windows: the small preset around a ball, resampled by `scale`.
 FringeSimulationConfig SmallBall(const Vec3& ball_in_left, double scale, std::uint64_t seed) {
-  FringeSimulationConfig c = MakeFringePreset("small", ball_in_left);
-  for (CameraIntrinsics* cam : {&c.cameras.left, &c.cameras.right}) {
-    cam->fx *= scale;
-    cam->fy *= scale;
-    cam->cx = (cam->cx + 0.5) * scale - 0.5;
-    cam->cy = (cam->cy + 0.5) * scale - 0.5;
-    cam->width = static_cast<int>(std::lround(cam->width * scale));
-    cam->height = static_cast<int>(std::lround(cam->height * scale));
-  }
+  FringeSimulationConfig c = ScaleCameraWindows(MakeFringePreset("small", ball_in_left), scale);
   c.supersampling = 1;
   c.seed = seed;
   return c;

@@ -30,6 +30,28 @@ bool Identical(const cv::Mat& a, const cv::Mat& b) {
   return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0.0;
 }
 
+// ScaleCameraWindows resamples a window: a point that images at pixel u in the original window
+// images at (u + 0.5)·s − 0.5 in the scaled one (pixel centres at integers: pixel 0 of the
+// scaled window covers original pixels 0..1/s), for both cameras, through the lens distortion.
+TEST(SimSimulator, ScaledWindowsMapPixelCentresAsResampling) {
+  const FringeSimulationConfig c = MakeFringePreset("small", Vec3(12.0, -7.0, 705.0));
+  for (double s : {0.25, 0.5, 2.0}) {
+    const FringeSimulationConfig d = ScaleCameraWindows(c, s);
+    EXPECT_EQ(d.cameras.left.width, static_cast<int>(std::lround(640 * s)));
+    EXPECT_EQ(d.cameras.right.height, static_cast<int>(std::lround(512 * s)));
+    for (const Vec3& x : {Vec3(12.0, -7.0, 705.0), Vec3(-20.0, 15.0, 690.0), Vec3(30.0, 25.0, 720.0)}) {
+      for (int cam = 0; cam < 2; ++cam) {
+        const Isometry3 view = cam == 0 ? Isometry3::Identity() : c.cameras.right_from_left;
+        const CameraIntrinsics& a = cam == 0 ? c.cameras.left : c.cameras.right;
+        const CameraIntrinsics& b = cam == 0 ? d.cameras.left : d.cameras.right;
+        const Vec2 pa = ProjectPoint(a, view * x), pb = ProjectPoint(b, view * x);
+        EXPECT_NEAR(pb.x(), (pa.x() + 0.5) * s - 0.5, 1e-9);
+        EXPECT_NEAR(pb.y(), (pa.y() + 0.5) * s - 0.5, 1e-9);
+      }
+    }
+  }
+}
+
 TEST(SimSimulator, SeedsReproduceImagesExactlyAcrossThreadCounts) {
   FringeSimulationConfig c = FastConfig();
   c.seed = 1234;

@@ -194,6 +194,18 @@ void FringeSimulationConfig::Validate() const {
     if (!(s.radius > 0.0)) throw InputError({"", 0, "scene.spheres"}, "sphere radius must be positive");
 }
 
+FringeSimulationConfig ScaleCameraWindows(FringeSimulationConfig c, double scale) {
+  for (CameraIntrinsics* cam : {&c.cameras.left, &c.cameras.right}) {
+    cam->fx *= scale;
+    cam->fy *= scale;
+    cam->cx = (cam->cx + 0.5) * scale - 0.5;
+    cam->cy = (cam->cy + 0.5) * scale - 0.5;
+    cam->width = static_cast<int>(std::lround(cam->width * scale));
+    cam->height = static_cast<int>(std::lround(cam->height * scale));
+  }
+  return c;
+}
+
 FringeSimulationConfig MakeFringePreset(const std::string& name) {
   return MakeFringePreset(name, Vec3(0.0, 0.0, 700.0));
 }

@@ -70,6 +70,12 @@ FringeSimulationConfig MakeFringePreset(const std::string& name);
 // 640×512 windows are cropped around where it images (InputError, field "--ball", if outside).
 FringeSimulationConfig MakeFringePreset(const std::string& name, const Vec3& ball_in_left);
 
+// The same configuration with both cameras' windows resampled by `scale` (0.25: a 640×512
+// window becomes 160×128 with 4× larger pixels over the same field): focal lengths and sizes
+// scale, and the principal point keeps pixel centres at integers, c' = (c + 0.5)·scale − 0.5.
+// The campaign twin renders its balls this way.
+FringeSimulationConfig ScaleCameraWindows(FringeSimulationConfig config, double scale);
+
 // The "small" preset's scene and projector around the cameras of a stereo calibration (e.g.
 // SLMaster's caliInfo.yml): the ball where the two optical axes come closest (on the left axis),
 // the backdrop 150 mm behind it, the projector between the cameras aimed at the ball.
