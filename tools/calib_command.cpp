@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 
 #include "commands.h"
 #include "ramtk/calib/camera_calibration.h"
@@ -18,6 +17,7 @@
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/units.h"
+#include "ramtk/image/image_file.h"
 #include "ramtk/kinematics/robot_io.h"
 
 namespace ramtk::tools {
@@ -218,8 +218,7 @@ int RunCameras(const CamerasCommandOptions& opt) {
     yaml = calib::StereoCalibrationYaml(st, board);
     cv::hconcat(calib::DrawCoverage(st.left, left), calib::DrawCoverage(st.right, right), picture);
   }
-  std::vector<unsigned char> png;
-  cv::imencode(".png", picture, png);
+  const std::vector<unsigned char> png = image::EncodePng(picture, coverage_path);
   WriteFileAtomically(opt.output, yaml);
   WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
   std::printf("%s\n", summary.BriefReport().c_str());

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <map>
 #include <opencv2/calib3d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
+#include "ramtk/image/image_file.h"
 #include "stereo_covariance.h"
 
 namespace ramtk::calib {
@@ -247,8 +247,7 @@ std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& path
                                             const ProgressCallback& progress) {
   std::vector<ViewPoints> views(paths.size());
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    const cv::Mat img = cv::imread(paths[i], cv::IMREAD_GRAYSCALE);
-    if (img.empty()) throw InputError({paths[i], 0, ""}, "cannot read image");
+    const cv::Mat img = image::LoadImageGrey8(paths[i]);
     if (image_size->area() == 0) *image_size = img.size();
     if (img.size() != *image_size) {
       throw InputError({paths[i], 0, ""}, "image size " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +

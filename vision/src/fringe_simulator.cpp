@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
 
@@ -99,13 +98,7 @@ void WritePng(const std::string& path, const cv::Mat& image, int bits) {
       for (int u = 0; u < image.cols; ++u)
         out.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(image.at<std::uint16_t>(v, u) * scale));
   }
-  bool ok = false;
-  try {
-    ok = cv::imwrite(path, out);
-  } catch (const cv::Exception&) {
-    ok = false;
-  }
-  if (!ok) throw InputError({path, 0, ""}, "cannot write image");
+  WriteImage(path, out);
 }
 
 std::string FrameName(int i) {

@@ -96,7 +96,8 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
                                         cv::Size image_size, const CameraCalibrationOptions& options,
                                         CameraCalibrationSummary* summary = nullptr);
 
-// Detects the board in image files (8-bit grey or colour; anything cv::imread reads). Images
+// Detects the board in image files (grey or colour, 8 or 16 bit; any format image::LoadImageGrey8
+// reads: PNG, BMP, and through OpenImageIO JPEG, TIFF, ...). Images
 // where the board is not found are listed in `rejected`. InputError names an unreadable file and
 // a file whose size differs from the first one.
 std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& paths, const BoardSpec& board,

@@ -1,5 +1,5 @@
-// The OpenImageIO half of image_io.cpp, built as a plugin (a shared module, `ramtk_oiio_backend`)
-// and loaded with dlopen the first time a format OpenCV's fast path does not take is read or
+// The OpenImageIO half of image_file.cpp, built as a plugin (a shared module, `ramtk_oiio_backend`)
+// and loaded with dlopen the first time a format the PNG/BMP fast path does not take is read or
 // written (TIFF, EXR, JPEG, PGM, ..., float images). Linking OpenImageIO into every program costs
 // 117 shared libraries and ~0.14 s at each start (docs/performance.md); PNG and BMP camera frames,
 // the common case, never load it. The interface is plain C++ without exceptions: errors come back
@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-namespace ramtk::vision::detail {
+namespace ramtk::image::detail {
 
 struct OiioBackend {
   int version = 1;
@@ -26,7 +26,7 @@ struct OiioBackend {
   bool (*write)(const std::string& path, const cv::Mat& image, std::string* error) = nullptr;
 };
 
-}  // namespace ramtk::vision::detail
+}  // namespace ramtk::image::detail
 
 // The plugin's one exported symbol.
-extern "C" const ramtk::vision::detail::OiioBackend* ramtk_oiio_backend();
+extern "C" const ramtk::image::detail::OiioBackend* ramtk_oiio_backend();

@@ -1,4 +1,4 @@
-// OpenImageIO reading and writing for image_io.cpp, compiled into the ramtk_oiio_backend module
+// OpenImageIO reading and writing for image_file.cpp, compiled into the ramtk_oiio_backend module
 // (see oiio_backend.h).
 #include "oiio_backend.h"
 
@@ -11,7 +11,7 @@
 
 namespace {
 
-using ramtk::vision::detail::OiioBackend;
+using ramtk::image::detail::OiioBackend;
 
 bool CheckDimensions(const OIIO::ImageSpec& spec, int max_side, long long max_pixels, std::string* error) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {

@@ -1,0 +1,130 @@
+// Uncompressed Windows bitmaps: 8-bit palette, 24-bit BGR and 32-bit BGRX rows, bottom-up or
+// top-down. That is what cameras and their SDKs write; RLE, bit-field and < 8-bit files are left to
+// the OpenImageIO module. Every offset and size read from the file is checked against the file's
+// length before it is used.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "fast_codecs.h"
+
+namespace ramtk::image::detail {
+namespace {
+
+std::uint32_t Le32(const unsigned char* b) {
+  return static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) |
+         (static_cast<std::uint32_t>(b[2]) << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
+}
+std::uint16_t Le16(const unsigned char* b) { return static_cast<std::uint16_t>(b[0] | (b[1] << 8)); }
+
+bool ReadAt(std::FILE* file, long long offset, void* out, std::size_t n) {
+  if (std::fseek(file, static_cast<long>(offset), SEEK_SET) != 0) return false;
+  return std::fread(out, 1, n, file) == n;
+}
+
+}  // namespace
+
+FastFormat SniffFormat(const unsigned char* b, std::size_t n) {
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (n >= 8 && std::memcmp(b, kPng, 8) == 0) return FastFormat::kPng;
+  if (n >= 2 && b[0] == 'B' && b[1] == 'M') return FastFormat::kBmp;
+  return FastFormat::kOther;
+}
+
+cv::Mat ReadBmp(std::FILE* file, std::string* error) {
+  if (std::fseek(file, 0, SEEK_END) != 0) {
+    *error = "cannot seek in BMP";
+    return {};
+  }
+  const long long file_size = std::ftell(file);
+  unsigned char h[54] = {};
+  if (file_size < 26 || !ReadAt(file, 0, h, std::min<long long>(54, file_size))) {
+    *error = "BMP header truncated";
+    return {};
+  }
+  const std::uint32_t pixel_offset = Le32(h + 10);
+  const std::uint32_t dib_size = Le32(h + 14);
+  long long width = 0, height = 0;
+  int bpp = 0;
+  std::uint32_t compression = 0, colours_used = 0;
+  int palette_entry = 4;
+  if (dib_size == 12) {  // BITMAPCOREHEADER
+    width = Le16(h + 18);
+    height = static_cast<std::int16_t>(Le16(h + 20));
+    bpp = Le16(h + 24);
+    palette_entry = 3;
+  } else if (dib_size >= 40 && file_size >= 54) {
+    width = static_cast<std::int32_t>(Le32(h + 18));
+    height = static_cast<std::int32_t>(Le32(h + 22));
+    bpp = Le16(h + 28);
+    compression = Le32(h + 30);
+    colours_used = Le32(h + 46);
+  } else {
+    *error = "BMP header of " + std::to_string(dib_size) + " bytes not read here";
+    return {};
+  }
+  if (compression != 0 || (bpp != 8 && bpp != 24 && bpp != 32)) {
+    *error = "BMP with " + std::to_string(bpp) + " bits per pixel and compression " + std::to_string(compression) +
+             " not read here";
+    return {};
+  }
+  const bool top_down = height < 0;
+  if (top_down) height = -height;
+  if (width <= 0 || height <= 0) {
+    *error = "BMP has no pixels";
+    return {};
+  }
+  const long long stride = ((width * bpp + 31) / 32) * 4;
+  if (pixel_offset < 14 + dib_size || static_cast<long long>(pixel_offset) + stride * height > file_size) {
+    *error = "BMP pixel data truncated (" + std::to_string(file_size) + " bytes for " + std::to_string(width) + "x" +
+             std::to_string(height) + " at " + std::to_string(bpp) + " bits)";
+    return {};
+  }
+  // Palette: grey when every entry has equal R, G and B (the rows then map through a table into one
+  // channel, as OpenCV reads such files), BGR otherwise.
+  std::array<unsigned char, 256 * 3> palette{};
+  bool grey = true;
+  if (bpp == 8) {
+    const long long palette_at = 14 + dib_size;
+    long long entries = colours_used == 0 ? 256 : std::min<long long>(colours_used, 256);
+    entries = std::min<long long>(entries, (pixel_offset - palette_at) / palette_entry);
+    std::vector<unsigned char> raw(static_cast<std::size_t>(std::max<long long>(entries, 0) * palette_entry));
+    if (!raw.empty() && !ReadAt(file, palette_at, raw.data(), raw.size())) {
+      *error = "BMP palette truncated";
+      return {};
+    }
+    for (long long i = 0; i < entries; ++i)
+      for (int c = 0; c < 3; ++c) palette[static_cast<std::size_t>(i * 3 + c)] = raw[static_cast<std::size_t>(i * palette_entry + c)];
+    for (int i = 0; i < 256 && grey; ++i)
+      grey = palette[i * 3] == palette[i * 3 + 1] && palette[i * 3] == palette[i * 3 + 2];
+  }
+  const int channels = bpp == 8 && grey ? 1 : 3;
+  cv::Mat out(static_cast<int>(height), static_cast<int>(width), CV_8UC(channels));
+  std::vector<unsigned char> row(static_cast<std::size_t>(stride));
+  if (std::fseek(file, static_cast<long>(pixel_offset), SEEK_SET) != 0) {
+    *error = "cannot seek in BMP";
+    return {};
+  }
+  for (long long r = 0; r < height; ++r) {
+    if (std::fread(row.data(), 1, row.size(), file) != row.size()) {
+      *error = "BMP pixel data truncated";
+      return {};
+    }
+    unsigned char* dst = out.ptr<unsigned char>(static_cast<int>(top_down ? r : height - 1 - r));
+    if (bpp == 8 && grey) {
+      for (long long x = 0; x < width; ++x) dst[x] = palette[static_cast<std::size_t>(row[x]) * 3];
+    } else if (bpp == 8) {
+      for (long long x = 0; x < width; ++x) std::memcpy(dst + 3 * x, &palette[static_cast<std::size_t>(row[x]) * 3], 3);
+    } else if (bpp == 24) {
+      std::memcpy(dst, row.data(), static_cast<std::size_t>(width * 3));
+    } else {
+      for (long long x = 0; x < width; ++x) std::memcpy(dst + 3 * x, &row[static_cast<std::size_t>(x * 4)], 3);
+    }
+  }
+  return out;
+}
+
+}  // namespace ramtk::image::detail

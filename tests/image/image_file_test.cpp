@@ -1,0 +1,272 @@
+// ramtk::image's own PNG and BMP codecs against the peer they replace, OpenCV's imgcodecs: every
+// file OpenCV writes is read back identically, every file written here OpenCV reads identically,
+// hand-built BMP variants decode to the pixels they were built from, and the real camera frames
+// of the SLMaster set decode exactly as cv::imread decodes them.
+#include <gtest/gtest.h>
+#include <png.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/error.h"
+#include "ramtk/image/image_file.h"
+
+namespace fs = std::filesystem;
+using ramtk::image::LoadImageGrey8;
+using ramtk::image::LoadImageNative;
+
+namespace {
+
+std::string TempDir() {
+  const fs::path dir = fs::temp_directory_path() / ("ramtk_image_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+cv::Mat Random(int rows, int cols, int type, unsigned seed) {
+  cv::Mat m(rows, cols, type);
+  cv::RNG rng(seed);
+  rng.fill(m, cv::RNG::UNIFORM, 0, CV_MAT_DEPTH(type) == CV_8U ? 256 : 65536);
+  return m;
+}
+
+bool Identical(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  cv::Mat diff;
+  cv::absdiff(a.reshape(1), b.reshape(1), diff);
+  return cv::countNonZero(diff) == 0;
+}
+
+void PutLe(std::vector<unsigned char>* b, std::size_t at, std::uint32_t v, int bytes) {
+  for (int i = 0; i < bytes; ++i) (*b)[at + static_cast<std::size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
+}
+
+// A BMP written byte by byte from the format's definition (BITMAPINFOHEADER), independent of both
+// decoders: `pixels` is CV_8UC1 (written through `palette`, 256 BGR entries) or CV_8UC3 (24 or 32
+// bits per pixel).
+std::vector<unsigned char> BuildBmp(const cv::Mat& pixels, int bpp, bool top_down,
+                                    const std::vector<cv::Vec3b>& palette = {}) {
+  const int w = pixels.cols, h = pixels.rows;
+  const int stride = ((w * bpp + 31) / 32) * 4;
+  const int palette_bytes = bpp == 8 ? 256 * 4 : 0;
+  const int offset = 14 + 40 + palette_bytes;
+  std::vector<unsigned char> b(static_cast<std::size_t>(offset + stride * h), 0);
+  b[0] = 'B';
+  b[1] = 'M';
+  PutLe(&b, 2, static_cast<std::uint32_t>(b.size()), 4);
+  PutLe(&b, 10, static_cast<std::uint32_t>(offset), 4);
+  PutLe(&b, 14, 40, 4);
+  PutLe(&b, 18, static_cast<std::uint32_t>(w), 4);
+  PutLe(&b, 22, static_cast<std::uint32_t>(top_down ? -h : h), 4);
+  PutLe(&b, 26, 1, 2);
+  PutLe(&b, 28, static_cast<std::uint32_t>(bpp), 2);
+  for (int i = 0; i < (bpp == 8 ? 256 : 0); ++i)
+    for (int c = 0; c < 3; ++c) b[static_cast<std::size_t>(54 + 4 * i + c)] = palette[static_cast<std::size_t>(i)][c];
+  for (int r = 0; r < h; ++r) {
+    const int y = top_down ? r : h - 1 - r;
+    unsigned char* row = &b[static_cast<std::size_t>(offset + r * stride)];
+    for (int x = 0; x < w; ++x) {
+      if (bpp == 8) {
+        row[x] = pixels.at<unsigned char>(y, x);
+      } else {
+        const cv::Vec3b p = pixels.at<cv::Vec3b>(y, x);
+        for (int c = 0; c < 3; ++c) row[x * (bpp / 8) + c] = p[c];
+        if (bpp == 32) row[x * 4 + 3] = 0x5a;  // unused byte, must be ignored
+      }
+    }
+  }
+  return b;
+}
+
+std::string WriteBytes(const std::string& path, const std::vector<unsigned char>& bytes) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                               static_cast<std::streamsize>(bytes.size()));
+  return path;
+}
+
+// An interlaced palette PNG written with libpng directly (OpenCV never writes either).
+void WritePalettePng(const std::string& path, const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
+                     bool interlaced) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_init_io(png, f);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(index.cols), static_cast<png_uint_32>(index.rows), 8,
+               PNG_COLOR_TYPE_PALETTE, interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  std::vector<png_color> pal(palette_bgr.size());
+  for (std::size_t i = 0; i < pal.size(); ++i) pal[i] = {palette_bgr[i][2], palette_bgr[i][1], palette_bgr[i][0]};
+  png_set_PLTE(png, info, pal.data(), static_cast<int>(pal.size()));
+  png_write_info(png, info);
+  std::vector<png_bytep> rows(static_cast<std::size_t>(index.rows));
+  for (int y = 0; y < index.rows; ++y) rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(index.ptr<png_byte>(y));
+  png_write_image(png, rows.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(f);
+}
+
+}  // namespace
+
+TEST(ImageFile, ReadsWhatOpenCvWritesAndOpenCvReadsWhatItWrites) {
+  const std::string dir = TempDir();
+  int k = 0;
+  for (int type : {CV_8UC1, CV_16UC1, CV_8UC3, CV_16UC3}) {
+    for (const cv::Size size : {cv::Size(1, 1), cv::Size(37, 23), cv::Size(640, 3)}) {
+      SCOPED_TRACE("type " + std::to_string(type) + " size " + std::to_string(size.width) + "x" +
+                   std::to_string(size.height));
+      const cv::Mat truth = Random(size.height, size.width, type, 100u + static_cast<unsigned>(k));
+      const std::string by_opencv = dir + "/cv" + std::to_string(k) + ".png";
+      ASSERT_TRUE(cv::imwrite(by_opencv, truth));
+      int bits = 0;
+      const cv::Mat read_here = LoadImageNative(by_opencv, &bits);
+      if (truth.channels() == 1) {
+        EXPECT_TRUE(Identical(read_here, truth));
+        EXPECT_EQ(bits, CV_MAT_DEPTH(type) == CV_8U ? 8 : 16);
+      }
+      const std::string by_us = dir + "/us" + std::to_string(k) + ".png";
+      ramtk::image::WriteImage(by_us, truth);
+      EXPECT_TRUE(Identical(cv::imread(by_us, cv::IMREAD_UNCHANGED), truth));
+      const std::vector<unsigned char> bytes = ramtk::image::EncodePng(truth);
+      EXPECT_TRUE(Identical(cv::imdecode(bytes, cv::IMREAD_UNCHANGED), truth));
+      ++k;
+    }
+  }
+  // Colour is averaged to grey DN, as before (the rounding to 1/16 DN is LoadImageDn's contract).
+  const cv::Mat colour = Random(9, 11, CV_8UC3, 7);
+  ASSERT_TRUE(cv::imwrite(dir + "/colour.png", colour));
+  int bits = 0;
+  const cv::Mat dn = ramtk::image::LoadImageDn(dir + "/colour.png", &bits);
+  ASSERT_EQ(dn.type(), CV_32FC1);
+  for (int y = 0; y < colour.rows; ++y)
+    for (int x = 0; x < colour.cols; ++x) {
+      const cv::Vec3b p = colour.at<cv::Vec3b>(y, x);
+      EXPECT_NEAR(dn.at<float>(y, x), (p[0] + p[1] + p[2]) / 3.0, 1.0 / 32 + 1e-6);
+    }
+  fs::remove_all(dir);
+}
+
+TEST(ImageFile, PalettedAndInterlacedPngMatchOpenCv) {
+  const std::string dir = TempDir();
+  const cv::Mat index = Random(29, 31, CV_8UC1, 11);
+  std::vector<cv::Vec3b> grey(256), colour(256);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 256; ++i) {
+    grey[static_cast<std::size_t>(i)] = cv::Vec3b(static_cast<uchar>(i), static_cast<uchar>(i), static_cast<uchar>(i));
+    colour[static_cast<std::size_t>(i)] = cv::Vec3b(static_cast<uchar>(rng()), static_cast<uchar>(rng()), static_cast<uchar>(rng()));
+  }
+  for (bool interlaced : {false, true}) {
+    const std::string path = dir + "/pal" + std::to_string(interlaced) + ".png";
+    WritePalettePng(path, index, colour, interlaced);
+    // LoadImageGrey8 against OpenCV's grey conversion of the same file: OpenCV converts inside
+    // libpng (fixed-point luma), ramtk with cv::cvtColor, so they may differ by the last bit.
+    cv::Mat diff;
+    cv::absdiff(LoadImageGrey8(path), cv::imread(path, cv::IMREAD_GRAYSCALE), diff);
+    double worst = 0;
+    cv::minMaxLoc(diff, nullptr, &worst);
+    EXPECT_LE(worst, 1.0);
+    int bits = 0;
+    const cv::Mat dn = ramtk::image::LoadImageDn(path, &bits);
+    for (int y = 0; y < index.rows; ++y)
+      for (int x = 0; x < index.cols; ++x) {
+        const cv::Vec3b p = colour[index.at<uchar>(y, x)];
+        ASSERT_NEAR(dn.at<float>(y, x), (p[0] + p[1] + p[2]) / 3.0, 1.0 / 32 + 1e-6);
+      }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ImageFile, BmpVariantsDecodeToThePixelsTheyWereBuiltFrom) {
+  const std::string dir = TempDir();
+  const cv::Mat index = Random(13, 17, CV_8UC1, 3);  // 17 px: rows need padding at every depth
+  const cv::Mat bgr = Random(13, 17, CV_8UC3, 4);
+  std::vector<cv::Vec3b> identity(256), inverted(256), colour(256);
+  std::mt19937 rng(9);
+  for (int i = 0; i < 256; ++i) {
+    const auto v = static_cast<uchar>(i);
+    identity[static_cast<std::size_t>(i)] = cv::Vec3b(v, v, v);
+    inverted[static_cast<std::size_t>(i)] = cv::Vec3b(static_cast<uchar>(255 - i), static_cast<uchar>(255 - i), static_cast<uchar>(255 - i));
+    colour[static_cast<std::size_t>(i)] = cv::Vec3b(static_cast<uchar>(rng()), static_cast<uchar>(rng()), static_cast<uchar>(rng()));
+  }
+  cv::Mat inverted_truth = 255 - index;
+  cv::Mat colour_truth(index.size(), CV_8UC3);
+  for (int y = 0; y < index.rows; ++y)
+    for (int x = 0; x < index.cols; ++x) colour_truth.at<cv::Vec3b>(y, x) = colour[index.at<uchar>(y, x)];
+  int n = 0;
+  for (bool top_down : {false, true}) {
+    SCOPED_TRACE(top_down ? "top-down" : "bottom-up");
+    const auto file = [&](const std::vector<unsigned char>& b) {
+      return WriteBytes(dir + "/v" + std::to_string(n++) + ".bmp", b);
+    };
+    int bits = 0;
+    EXPECT_TRUE(Identical(LoadImageNative(file(BuildBmp(index, 8, top_down, identity)), &bits), index));
+    EXPECT_EQ(bits, 8);
+    EXPECT_TRUE(Identical(LoadImageNative(file(BuildBmp(index, 8, top_down, inverted)), &bits), inverted_truth));
+    cv::Mat grey_truth;
+    cv::cvtColor(colour_truth, grey_truth, cv::COLOR_BGR2GRAY);
+    EXPECT_TRUE(Identical(LoadImageGrey8(file(BuildBmp(index, 8, top_down, colour))), grey_truth));
+    cv::cvtColor(bgr, grey_truth, cv::COLOR_BGR2GRAY);
+    EXPECT_TRUE(Identical(LoadImageGrey8(file(BuildBmp(bgr, 24, top_down))), grey_truth));
+    EXPECT_TRUE(Identical(LoadImageGrey8(file(BuildBmp(bgr, 32, top_down))), grey_truth));
+  }
+  // What OpenCV writes (8-bit grey with a grey palette, 24-bit colour) reads back identically.
+  ASSERT_TRUE(cv::imwrite(dir + "/cv8.bmp", index));
+  int bits = 0;
+  EXPECT_TRUE(Identical(LoadImageNative(dir + "/cv8.bmp", &bits), index));
+  ASSERT_TRUE(cv::imwrite(dir + "/cv24.bmp", bgr));
+  cv::Mat grey_truth;
+  cv::cvtColor(bgr, grey_truth, cv::COLOR_BGR2GRAY);
+  EXPECT_TRUE(Identical(LoadImageGrey8(dir + "/cv24.bmp"), grey_truth));
+  fs::remove_all(dir);
+}
+
+TEST(ImageFile, TruncatedOrHostileFilesAreInputErrorsNamingTheFile) {
+  const std::string dir = TempDir();
+  const cv::Mat index = Random(8, 8, CV_8UC1, 1);
+  std::vector<cv::Vec3b> identity(256);
+  for (int i = 0; i < 256; ++i) identity[static_cast<std::size_t>(i)] = cv::Vec3b::all(static_cast<uchar>(i));
+  std::vector<unsigned char> bmp = BuildBmp(index, 8, false, identity);
+  bmp.resize(bmp.size() - 5);
+  const std::string truncated_bmp = WriteBytes(dir + "/truncated.bmp", bmp);
+  std::vector<unsigned char> png = ramtk::image::EncodePng(Random(40, 40, CV_8UC1, 2));
+  png.resize(png.size() / 2);
+  const std::string truncated_png = WriteBytes(dir + "/truncated.png", png);
+  std::vector<unsigned char> huge = BuildBmp(index, 8, false, identity);
+  PutLe(&huge, 18, 1000000, 4);
+  PutLe(&huge, 22, 1000000, 4);
+  const std::string huge_bmp = WriteBytes(dir + "/huge.bmp", huge);
+  for (const std::string& path : {truncated_bmp, truncated_png, huge_bmp}) {
+    SCOPED_TRACE(path);
+    int bits = 0;
+    try {
+      LoadImageNative(path, &bits);
+      ADD_FAILURE() << "no error";
+    } catch (const ramtk::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(ImageFile, RealCameraFramesDecodeAsOpenCvDecodesThem) {
+  const fs::path set = fs::path(RAMTK_SHARED_DIR) / "data/slmaster-binocular";
+  if (!fs::exists(set / "L/0.bmp")) GTEST_SKIP() << "shared data not present: " << set;
+  int files = 0;
+  for (const char* side : {"L", "R"}) {
+    for (const auto& entry : fs::directory_iterator(set / side)) {
+      if (entry.path().extension() != ".bmp") continue;
+      int bits = 0;
+      const cv::Mat ours = LoadImageNative(entry.path().string(), &bits);
+      EXPECT_TRUE(Identical(ours, cv::imread(entry.path().string(), cv::IMREAD_UNCHANGED))) << entry.path();
+      ++files;
+    }
+  }
+  EXPECT_GE(files, 38);
+}
