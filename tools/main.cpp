@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "commands.h"
+#include "huge_pages.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/outputs.h"
@@ -32,6 +33,8 @@ int Fail(const std::string& message, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before anything else: possibly re-executes with huge pages for the heap (huge_pages.h).
+  ramtk::tools::ReexecWithHugePages(argc, argv);
   // Before any other thread exists: SIGINT/SIGTERM remove unfinished outputs, then exit 128+n.
   ramtk::InstallInterruptCleanup("ramtk");
   CLI::App app{"ramtk — robot accuracy maintenance toolkit"};

@@ -101,25 +101,27 @@ cv::Mat ReadBmp(std::FILE* file, std::string* error) {
     for (int i = 0; i < 256 && grey; ++i)
       grey = palette[i * 3] == palette[i * 3 + 1] && palette[i * 3] == palette[i * 3 + 2];
   }
+  bool identity = bpp == 8 && grey;
+  for (int i = 0; i < 256 && identity; ++i) identity = palette[static_cast<std::size_t>(i) * 3] == i;
   const int channels = bpp == 8 && grey ? 1 : 3;
   cv::Mat out(static_cast<int>(height), static_cast<int>(width), CV_8UC(channels));
-  std::vector<unsigned char> row(static_cast<std::size_t>(stride));
-  if (std::fseek(file, static_cast<long>(pixel_offset), SEEK_SET) != 0) {
-    *error = "cannot seek in BMP";
+  // The whole pixel block in one read (a camera frame is 1-10 MB), then row by row into place.
+  std::vector<unsigned char> block(static_cast<std::size_t>(stride * height));
+  if (!ReadAt(file, pixel_offset, block.data(), block.size())) {
+    *error = "BMP pixel data truncated";
     return {};
   }
   for (long long r = 0; r < height; ++r) {
-    if (std::fread(row.data(), 1, row.size(), file) != row.size()) {
-      *error = "BMP pixel data truncated";
-      return {};
-    }
+    const unsigned char* row = &block[static_cast<std::size_t>(r * stride)];
     unsigned char* dst = out.ptr<unsigned char>(static_cast<int>(top_down ? r : height - 1 - r));
-    if (bpp == 8 && grey) {
+    if (identity) {
+      std::memcpy(dst, row, static_cast<std::size_t>(width));
+    } else if (bpp == 8 && grey) {
       for (long long x = 0; x < width; ++x) dst[x] = palette[static_cast<std::size_t>(row[x]) * 3];
     } else if (bpp == 8) {
       for (long long x = 0; x < width; ++x) std::memcpy(dst + 3 * x, &palette[static_cast<std::size_t>(row[x]) * 3], 3);
     } else if (bpp == 24) {
-      std::memcpy(dst, row.data(), static_cast<std::size_t>(width * 3));
+      std::memcpy(dst, row, static_cast<std::size_t>(width * 3));
     } else {
       for (long long x = 0; x < width; ++x) std::memcpy(dst + 3 * x, &row[static_cast<std::size_t>(x * 4)], 3);
     }
