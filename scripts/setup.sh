@@ -18,6 +18,7 @@ PACKAGES=(
   libtbb-dev               # parallel loops
   libopencv-dev libopencv-contrib-dev  # calibration, image ops, structured_light peer
   libopenimageio-dev       # image and EXR I/O
+  libpng-dev libdeflate-dev  # PNG frames: libpng, and one-call inflate of grey camera frames
   openimageio-tools        # OpenImageIO's CMake config references its tools (iconvert, ...)
   libceres-dev             # non-linear least squares
   libboost-dev             # header-only: statistical distributions (diagnose)

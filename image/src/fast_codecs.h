@@ -19,6 +19,10 @@ FastFormat SniffFormat(const unsigned char* bytes, std::size_t n);
 // the file is corrupt or a variant not read here (BMP: RLE, bit fields, < 8 bits per pixel); the
 // caller then hands it to the OpenImageIO module.
 cv::Mat ReadPng(std::FILE* file, std::string* error);
+// The camera-frame case only (grey, 8/16 bit, not interlaced, no tRNS), inflated in one call with
+// libdeflate (png_grey_fast.cpp); empty for any other or any not cleanly decodable file, which
+// ReadPng then takes.
+cv::Mat ReadGreyPngFast(std::FILE* file);
 cv::Mat ReadBmp(std::FILE* file, std::string* error);
 
 // PNG bytes of an 8/16-bit matrix with 1, 3 (BGR) or 4 (BGRA) channels; false with *error set.

@@ -122,7 +122,16 @@ cv::Mat ReadFast(const std::string& path) {
   CheckDimensions(path, width, height);
   std::rewind(file.f);
   std::string error;
-  cv::Mat img = format == detail::FastFormat::kPng ? detail::ReadPng(file.f, &error) : detail::ReadBmp(file.f, &error);
+  cv::Mat img;
+  if (format == detail::FastFormat::kPng) {
+    img = detail::ReadGreyPngFast(file.f);
+    if (img.empty()) {
+      std::rewind(file.f);
+      img = detail::ReadPng(file.f, &error);
+    }
+  } else {
+    img = detail::ReadBmp(file.f, &error);
+  }
   if (img.empty() || img.cols != width || img.rows != height) return {};
   return img;
 }

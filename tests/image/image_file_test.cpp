@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <png.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +18,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/image/image_file.h"
+#include "../../image/src/fast_codecs.h"  // the one-call grey PNG decoder, tested on its own too
 
 namespace fs = std::filesystem;
 using ramtk::image::LoadImageGrey8;
@@ -113,7 +115,69 @@ void WritePalettePng(const std::string& path, const cv::Mat& index, const std::v
   std::fclose(f);
 }
 
+// A grey PNG written with libpng with one filter type forced on every row (PNG section 9).
+void WriteGreyPngFiltered(const std::string& path, const cv::Mat& grey, int filter) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_init_io(png, f);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(grey.cols), static_cast<png_uint_32>(grey.rows),
+               grey.depth() == CV_8U ? 8 : 16, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_set_filter(png, 0, filter);
+  png_set_compression_buffer_size(png, 1000);  // several IDAT chunks
+  png_write_info(png, info);
+  if (grey.depth() == CV_16U) png_set_swap(png);
+  std::vector<png_bytep> rows(static_cast<std::size_t>(grey.rows));
+  for (int y = 0; y < grey.rows; ++y) rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(grey.ptr<png_byte>(y));
+  png_write_image(png, rows.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(f);
+}
+
 }  // namespace
+
+TEST(ImageFile, OneCallGreyPngDecoderUndoesEveryFilterType) {
+  const std::string dir = TempDir();
+  for (int type : {CV_8UC1, CV_16UC1}) {
+    // A fringe-like image: smooth rows with noise, so every filter predicts something.
+    cv::Mat truth(37, 53, type);
+    cv::RNG rng(21);
+    const double full = type == CV_8UC1 ? 255.0 : 65535.0;
+    for (int y = 0; y < truth.rows; ++y)
+      for (int x = 0; x < truth.cols; ++x) {
+        const double v = full * (0.5 + 0.45 * std::cos(0.3 * x + 0.1 * y)) + rng.gaussian(0.01 * full);
+        if (type == CV_8UC1) truth.at<uchar>(y, x) = cv::saturate_cast<uchar>(v);
+        else truth.at<std::uint16_t>(y, x) = cv::saturate_cast<std::uint16_t>(v);
+      }
+    for (int filter : {PNG_FILTER_NONE, PNG_FILTER_SUB, PNG_FILTER_UP, PNG_FILTER_AVG, PNG_FILTER_PAETH, PNG_ALL_FILTERS}) {
+      SCOPED_TRACE("type " + std::to_string(type) + " filter " + std::to_string(filter));
+      const std::string path = dir + "/f" + std::to_string(filter) + ".png";
+      WriteGreyPngFiltered(path, truth, filter);
+      std::FILE* f = std::fopen(path.c_str(), "rb");
+      const cv::Mat fast = ramtk::image::detail::ReadGreyPngFast(f);
+      std::fclose(f);
+      EXPECT_TRUE(Identical(fast, truth));
+      EXPECT_TRUE(Identical(cv::imread(path, cv::IMREAD_UNCHANGED), truth));  // the writer is right
+    }
+  }
+  // Not its case (colour), or damaged (one bit flipped in the pixel data: the chunk CRC fails):
+  // empty, so libpng decides, and names the damage.
+  ASSERT_TRUE(cv::imwrite(dir + "/colour.png", Random(5, 5, CV_8UC3, 1)));
+  std::FILE* f = std::fopen((dir + "/colour.png").c_str(), "rb");
+  EXPECT_TRUE(ramtk::image::detail::ReadGreyPngFast(f).empty());
+  std::fclose(f);
+  std::vector<unsigned char> png = ramtk::image::EncodePng(Random(20, 20, CV_8UC1, 3));
+  png[png.size() / 2] ^= 0x10;
+  const std::string damaged = WriteBytes(dir + "/damaged.png", png);
+  f = std::fopen(damaged.c_str(), "rb");
+  EXPECT_TRUE(ramtk::image::detail::ReadGreyPngFast(f).empty());
+  std::fclose(f);
+  int bits = 0;
+  EXPECT_THROW(LoadImageNative(damaged, &bits), ramtk::InputError);
+  fs::remove_all(dir);
+}
 
 TEST(ImageFile, ReadsWhatOpenCvWritesAndOpenCvReadsWhatItWrites) {
   const std::string dir = TempDir();
