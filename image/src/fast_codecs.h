@@ -10,14 +10,17 @@
 
 namespace ramtk::image::detail {
 
+inline constexpr const char* kNotReadHere = "not read here";
+
 enum class FastFormat { kOther, kPng, kBmp };
 // The format from a file's first bytes (at least 2; 8 for PNG).
 FastFormat SniffFormat(const unsigned char* bytes, std::size_t n);
 
 // Decodes the open file (positioned at its start) whose header size the caller has checked against
-// the limits. The decoders check every size they derive from the file again. Returns an empty matrix with *error set when
-// the file is corrupt or a variant not read here (BMP: RLE, bit fields, < 8 bits per pixel); the
-// caller then hands it to the OpenImageIO module.
+// the limits. The decoders check every size they derive from the file again. Returns an empty
+// matrix with *error set when the file is damaged (the caller's error) or a variant not read here
+// (BMP: RLE, bit fields, < 8 bits per pixel; PNG: 2 channels), whose message then contains
+// kNotReadHere and which the caller hands to the OpenImageIO module.
 cv::Mat ReadPng(std::FILE* file, std::string* error);
 // The camera-frame case only (grey, 8/16 bit, not interlaced, no tRNS), inflated in one call with
 // libdeflate (png_grey_fast.cpp); empty for any other or any not cleanly decodable file, which

@@ -132,6 +132,9 @@ cv::Mat ReadFast(const std::string& path) {
   } else {
     img = detail::ReadBmp(file.f, &error);
   }
+  // A damaged PNG/BMP is named here: OpenImageIO would read it with the same libpng (printing
+  // libpng's complaint on stderr) or not at all. Variants not read here go to OpenImageIO.
+  if (img.empty() && !error.empty() && error.find(detail::kNotReadHere) == std::string::npos) Fail(path, error);
   if (img.empty() || img.cols != width || img.rows != height) return {};
   return img;
 }
