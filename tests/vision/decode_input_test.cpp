@@ -234,7 +234,7 @@ TEST(DecodeProgress, CallbackSeesStagesAndCanCancel) {
 namespace ramtk::vision {
 namespace {
 
-// Image loading: PNG and BMP through OpenCV's fast path, TIFF through the OpenImageIO backend
+// Image loading: PNG and BMP through ramtk's own codecs (image/), TIFF through the OpenImageIO backend
 // module (loaded on first use); every path gives the pixel values that were written.
 class ImageLoading : public ::testing::Test {
  protected:
