@@ -38,8 +38,9 @@ bool Report(const ScanOptions& o, const std::string& stage, std::size_t done, st
 ScanOptions::ScanOptions() {
   sphere.radius_mm = 19.05;  // the 38.1 mm precision ball
   // A triangulated point moves only along its left-camera ray (the left pixel is fixed; the
-  // phase noise moves the match along the epipolar curve).
-  sphere.noise_model = PointNoiseModel::kAlongLineOfSight;
+  // phase noise moves the match along the epipolar curve): the fit measures each point's error
+  // along that ray (kAlongRay; a distance along the normal is biased by such noise, docs/scan.md).
+  sphere.noise_model = PointNoiseModel::kAlongRay;
   sphere.viewpoint_mm = Eigen::Vector3d::Zero();
   sphere.perpendicular_sigma_ratio = 0.02;
   // Beyond 60 deg from the left camera's line of sight the noise biases the triangulated depth
@@ -161,7 +162,7 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
           const Eigen::Vector3d normal = (p - r.centre_mm).normalized();
           const double c = normal.dot((p - so.viewpoint_mm).normalized());
           const double ratio =
-              so.noise_model == PointNoiseModel::kAlongLineOfSight ? so.perpendicular_sigma_ratio : 1.0;
+              so.noise_model != PointNoiseModel::kIsotropic ? so.perpendicular_sigma_ratio : 1.0;
           const double sigma_n = result.cloud.sigma_mm[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1 - c * c));
           if (!(sigma_n > 0)) continue;
           px.push_back(result.cloud.left_pixels[i]);

@@ -147,8 +147,9 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     sigma_median = std::max(Median(std::move(s)), 1e-12);
   }
   const double min_scale = 1e-6 / sigma_median;
+  const bool along_ray = weighted && options.noise_model == PointNoiseModel::kAlongRay;
   const NormalSigma normal_sigma{points, sigma, options,
-                                 weighted && options.noise_model == PointNoiseModel::kAlongLineOfSight};
+                                 weighted && options.noise_model != PointNoiseModel::kIsotropic};
   std::vector<double> sigma_n(points.size(), 1.0);
   std::mt19937_64 rng(options.seed);
   const int num_params = options.fix_radius ? 3 : 4;
@@ -209,7 +210,18 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       std::vector<int> kept;
       for (int i : inliers) {
         const Eigen::Vector3d sight = (points[i] - options.viewpoint_mm).normalized();
-        const Eigen::Vector3d normal = (points[i] - rough.centre).normalized();
+        Eigen::Vector3d normal = (points[i] - rough.centre).normalized();
+        if (along_ray) {
+          // The angle where the point's ray meets the sphere: it depends on the ray only, not on
+          // how far along it the noise put the point. A cut on the noisy point's own normal keeps
+          // points by the sign of their noise near the limit, which biased the fit (+17 um radius
+          // in SphereFitAlongRay.*).
+          const Eigen::Vector3d w = rough.centre - options.viewpoint_mm;
+          const double b = sight.dot(w);
+          const double disc = b * b - w.squaredNorm() + rough.radius * rough.radius;
+          if (disc <= 0) continue;  // the ray misses the sphere: grazing
+          normal = (options.viewpoint_mm + (b - std::sqrt(disc)) * sight - rough.centre).normalized();
+        }
         if (-sight.dot(normal) >= min_cos) kept.push_back(i);
       }
       grazing = static_cast<int>(inliers.size() - kept.size());
@@ -221,10 +233,13 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       }
       inliers.swap(kept);
     }
-    // Final: weighted least squares on the inliers.
+    // Final: weighted least squares on the inliers (distances along the normal, or along the rays).
     const GeometricFit fit =
-        sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius, options.fix_radius,
-                                      SphereLoss::kNone, 1.0, options.max_solver_iterations, true);
+        along_ray ? sphere_internal::FitAlongRay(points, sigma, inliers, options.viewpoint_mm, rough.centre,
+                                                 rough.radius, options.fix_radius, options.max_solver_iterations)
+                  : sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius,
+                                                  options.fix_radius, SphereLoss::kNone, 1.0,
+                                                  options.max_solver_iterations, true);
     if (!fit.converged) {
       RAMTK_LOG(kWarning) << "sphere fit: Ceres did not report convergence";
     }
@@ -247,9 +262,12 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       const Eigen::Vector3d d = points[i] - fit.centre;
       const double dist = d.norm();
       const double r = dist - fit.radius;
-      const Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
+      Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
+      double z = r / sigma_n[i];
+      if (along_ray)
+        z = sphere_internal::AlongRayResidual(points[i], sigma[i], options.viewpoint_mm, fit.centre, fit.radius, &g);
       normal.noalias() += g * g.transpose();
-      chi2 += (r / sigma_n[i]) * (r / sigma_n[i]);
+      chi2 += z * z;
       sum_r2 += r * r;
       worst = std::max(worst, std::abs(r));
     }

@@ -62,4 +62,16 @@ GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std:
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise);
 
+// Ceres fit of sum ((|p_i - v| - t_i) / sigma_i)^2 over `indices`, t_i the distance from the
+// viewpoint v along the ray through p_i to its first intersection with the sphere (the nearest
+// point of the ray to the centre when the ray misses it). No robust loss; runs to rounding level.
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                         const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
+                         const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations);
+
+// Residual (in units of sigma) and its gradient with respect to (centre, radius) of FitAlongRay's
+// model for one point.
+double AlongRayResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vector3d& viewpoint,
+                        const Eigen::Vector3d& centre, double radius, Eigen::Vector4d* gradient);
+
 }  // namespace ramtk::vision::sphere_internal

@@ -3,6 +3,7 @@
 
 #include <ceres/ceres.h>
 
+#include <cmath>
 #include <memory>
 
 #include "sphere_fit_internal.h"
@@ -73,7 +74,92 @@ class SphereResiduals final : public ceres::CostFunction {
   const std::vector<int>& indices_;
 };
 
+// The along-ray residuals of every indexed point in one block (FitAlongRay).
+class AlongRayResiduals final : public ceres::CostFunction {
+ public:
+  AlongRayResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                    const std::vector<int>& indices, const Eigen::Vector3d& viewpoint)
+      : points_(points), sigma_(sigma), indices_(indices), viewpoint_(viewpoint) {
+    set_num_residuals(static_cast<int>(indices.size()));
+    mutable_parameter_block_sizes()->push_back(3);
+    mutable_parameter_block_sizes()->push_back(1);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::Vector3d c(parameters[0][0], parameters[0][1], parameters[0][2]);
+    const double radius = parameters[1][0];
+    Eigen::Vector4d g;
+    for (size_t k = 0; k < indices_.size(); ++k) {
+      const int i = indices_[k];
+      residuals[k] = AlongRayResidual(points_[i], sigma_[i], viewpoint_, c, radius, &g);
+      if (!std::isfinite(residuals[k])) return false;
+      if (jacobians != nullptr) {
+        if (jacobians[0] != nullptr)
+          for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = g[a];
+        if (jacobians[1] != nullptr) jacobians[1][k] = g[3];
+      }
+    }
+    return true;
+  }
+
+ private:
+  const std::vector<Eigen::Vector3d>& points_;
+  const std::vector<double>& sigma_;
+  const std::vector<int>& indices_;
+  Eigen::Vector3d viewpoint_;
+};
+
 }  // namespace
+
+double AlongRayResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vector3d& viewpoint,
+                        const Eigen::Vector3d& centre, double radius, Eigen::Vector4d* gradient) {
+  // Ray x(t) = v + t u; |x(t) - c| = R at t = b - sqrt(b^2 - |w|^2 + R^2), w = c - v, b = u.w.
+  const Eigen::Vector3d ray = p - viewpoint;
+  const double length = ray.norm();
+  const Eigen::Vector3d u = ray / length;
+  const Eigen::Vector3d w = centre - viewpoint;
+  const double b = u.dot(w);
+  const double disc = b * b - w.squaredNorm() + radius * radius;
+  if (disc <= 0) {  // the ray misses the sphere: its nearest point to the centre (continuous at 0)
+    if (gradient) *gradient << -u / sigma, 0.0;
+    return (length - b) / sigma;
+  }
+  const double root = std::sqrt(disc);
+  const double t = b - root;
+  if (gradient) {
+    // dt/dc = u - (b u - w) / root, dt/dR = -R / root; the residual is (length - t) / sigma.
+    const Eigen::Vector3d dt_dc = u - (b * u - w) / root;
+    *gradient << -dt_dc / sigma, radius / (root * sigma);
+  }
+  return (length - t) / sigma;
+}
+
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                         const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
+                         const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations) {
+  double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
+  double radius = radius0;
+  ceres::Problem problem;
+  problem.AddResidualBlock(new AlongRayResiduals(points, sigma, indices, viewpoint), nullptr, centre, &radius);
+  if (fix_radius) problem.SetParameterBlockConstant(&radius);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.function_tolerance = 1e-12;
+  solver_options.gradient_tolerance = 1e-14;
+  solver_options.parameter_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  GeometricFit fit;
+  fit.centre = Eigen::Vector3d(centre[0], centre[1], centre[2]);
+  fit.radius = radius;
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.initial_cost = summary.initial_cost;
+  fit.final_cost = summary.final_cost;
+  fit.converged = summary.termination_type == ceres::CONVERGENCE;
+  return fit;
+}
 
 GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
