@@ -4,6 +4,7 @@
 #include <ceres/ceres.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "sphere_fit_internal.h"
@@ -34,52 +35,24 @@ class SphereResidual final : public ceres::SizedCostFunction<1, 3, 1> {
   double inv_sigma_;
 };
 
+// Distance along the normal over sigma, and its gradient with respect to (centre, radius).
+double NormalResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vector3d& c, double radius,
+                      Eigen::Vector4d* gradient) {
+  const Eigen::Vector3d d = p - c;
+  const double n = d.norm();
+  if (!(n > 0)) return std::numeric_limits<double>::quiet_NaN();
+  if (gradient) *gradient << -d / (n * sigma), -1.0 / sigma;
+  return (n - radius) / sigma;
+}
+
 // All points in one residual block (no robust loss): one evaluation call per iteration instead
-// of one per point.
-class SphereResiduals final : public ceres::CostFunction {
+// of one per point. Residuals along the normal, or along the rays from `viewpoint` when given.
+class PointResiduals final : public ceres::CostFunction {
  public:
-  SphereResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
-                  const std::vector<int>& indices)
-      : points_(points), sigma_(sigma), indices_(indices) {
-    set_num_residuals(static_cast<int>(indices.size()));
-    mutable_parameter_block_sizes()->push_back(3);
-    mutable_parameter_block_sizes()->push_back(1);
-  }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Eigen::Vector3d c(parameters[0][0], parameters[0][1], parameters[0][2]);
-    const double radius = parameters[1][0];
-    for (size_t k = 0; k < indices_.size(); ++k) {
-      const int i = indices_[k];
-      const Eigen::Vector3d d = points_[i] - c;
-      const double n = d.norm();
-      if (!(n > 0)) return false;
-      const double inv_sigma = 1.0 / sigma_[i];
-      residuals[k] = (n - radius) * inv_sigma;
-      if (jacobians != nullptr) {
-        if (jacobians[0] != nullptr) {
-          const double f = -inv_sigma / n;
-          jacobians[0][3 * k + 0] = f * d.x();
-          jacobians[0][3 * k + 1] = f * d.y();
-          jacobians[0][3 * k + 2] = f * d.z();
-        }
-        if (jacobians[1] != nullptr) jacobians[1][k] = -inv_sigma;
-      }
-    }
-    return true;
-  }
-
- private:
-  const std::vector<Eigen::Vector3d>& points_;
-  const std::vector<double>& sigma_;
-  const std::vector<int>& indices_;
-};
-
-// The along-ray residuals of every indexed point in one block (FitAlongRay).
-class AlongRayResiduals final : public ceres::CostFunction {
- public:
-  AlongRayResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
-                    const std::vector<int>& indices, const Eigen::Vector3d& viewpoint)
-      : points_(points), sigma_(sigma), indices_(indices), viewpoint_(viewpoint) {
+  PointResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+                 const std::vector<int>& indices, const Eigen::Vector3d* viewpoint)
+      : points_(points), sigma_(sigma), indices_(indices), along_ray_(viewpoint != nullptr) {
+    if (viewpoint) viewpoint_ = *viewpoint;
     set_num_residuals(static_cast<int>(indices.size()));
     mutable_parameter_block_sizes()->push_back(3);
     mutable_parameter_block_sizes()->push_back(1);
@@ -90,7 +63,8 @@ class AlongRayResiduals final : public ceres::CostFunction {
     Eigen::Vector4d g;
     for (size_t k = 0; k < indices_.size(); ++k) {
       const int i = indices_[k];
-      residuals[k] = AlongRayResidual(points_[i], sigma_[i], viewpoint_, c, radius, &g);
+      residuals[k] = along_ray_ ? AlongRayResidual(points_[i], sigma_[i], viewpoint_, c, radius, &g)
+                                : NormalResidual(points_[i], sigma_[i], c, radius, &g);
       if (!std::isfinite(residuals[k])) return false;
       if (jacobians != nullptr) {
         if (jacobians[0] != nullptr)
@@ -105,8 +79,35 @@ class AlongRayResiduals final : public ceres::CostFunction {
   const std::vector<Eigen::Vector3d>& points_;
   const std::vector<double>& sigma_;
   const std::vector<int>& indices_;
-  Eigen::Vector3d viewpoint_;
+  bool along_ray_;
+  Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
 };
+
+// Solves a sphere problem over (centre, radius) and collects the result. A start-and-classify
+// pass stops at 1e-7 relative change of the cost; a `precise` (final) fit runs to rounding level
+// (noise-free data must come back exact).
+GeometricFit SolveSphere(ceres::Problem* problem, double* centre, double* radius, bool fix_radius,
+                         int max_iterations, bool precise) {
+  if (fix_radius) problem->SetParameterBlockConstant(radius);
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  solver_options.max_num_iterations = max_iterations;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  solver_options.function_tolerance = precise ? 1e-12 : 1e-7;
+  solver_options.gradient_tolerance = precise ? 1e-14 : 1e-10;
+  solver_options.parameter_tolerance = precise ? 1e-12 : 1e-8;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, problem, &summary);
+  GeometricFit fit;
+  fit.centre = Eigen::Vector3d(centre[0], centre[1], centre[2]);
+  fit.radius = *radius;
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.initial_cost = summary.initial_cost;
+  fit.final_cost = summary.final_cost;
+  fit.converged = summary.termination_type == ceres::CONVERGENCE;
+  return fit;
+}
 
 }  // namespace
 
@@ -139,26 +140,8 @@ GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
   double radius = radius0;
   ceres::Problem problem;
-  problem.AddResidualBlock(new AlongRayResiduals(points, sigma, indices, viewpoint), nullptr, centre, &radius);
-  if (fix_radius) problem.SetParameterBlockConstant(&radius);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = max_iterations;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  solver_options.function_tolerance = 1e-12;
-  solver_options.gradient_tolerance = 1e-14;
-  solver_options.parameter_tolerance = 1e-12;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  GeometricFit fit;
-  fit.centre = Eigen::Vector3d(centre[0], centre[1], centre[2]);
-  fit.radius = radius;
-  fit.iterations = static_cast<int>(summary.iterations.size());
-  fit.initial_cost = summary.initial_cost;
-  fit.final_cost = summary.final_cost;
-  fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  return fit;
+  problem.AddResidualBlock(new PointResiduals(points, sigma, indices, &viewpoint), nullptr, centre, &radius);
+  return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, true);
 }
 
 GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
@@ -174,34 +157,12 @@ GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std:
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   if (loss == SphereLoss::kNone) {
-    problem.AddResidualBlock(new SphereResiduals(points, sigma, indices), nullptr, centre, &radius);
+    problem.AddResidualBlock(new PointResiduals(points, sigma, indices, nullptr), nullptr, centre, &radius);
   } else {
     for (int i : indices)
       problem.AddResidualBlock(new SphereResidual(points[i], 1.0 / sigma[i]), loss_function.get(), centre, &radius);
   }
-  if (fix_radius) problem.SetParameterBlockConstant(&radius);
-
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = max_iterations;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  // A start-and-classify pass stops at 1e-7 relative change of the cost; the final fit runs to
-  // rounding level (noise-free data must come back exact).
-  solver_options.function_tolerance = precise ? 1e-12 : 1e-7;
-  solver_options.gradient_tolerance = precise ? 1e-14 : 1e-10;
-  solver_options.parameter_tolerance = precise ? 1e-12 : 1e-8;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-
-  GeometricFit fit;
-  fit.centre = Eigen::Vector3d(centre[0], centre[1], centre[2]);
-  fit.radius = radius;
-  fit.iterations = static_cast<int>(summary.iterations.size());
-  fit.initial_cost = summary.initial_cost;
-  fit.final_cost = summary.final_cost;
-  fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  return fit;
+  return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, precise);
 }
 
 }  // namespace ramtk::vision::sphere_internal
