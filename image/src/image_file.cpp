@@ -11,14 +11,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 
 #include "fast_codecs.h"
 #include "oiio_backend.h"
 #include "ramtk/core/error.h"
-#include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 
 namespace ramtk::image {
