@@ -276,10 +276,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                       s.monitoring_compensated_truth_mm});
   for (int c = 1; c < monitoring.NumCycles(); ++c) {
     s.cycle_time_s.push_back(monitoring.cycles[c].time_s);
-    const auto rms = [](const Eigen::MatrixXd& m, int col) { return std::sqrt(m.col(col).squaredNorm() / m.rows()); };
-    s.monitoring_before_mm.push_back(rms(img.before, c));
-    s.monitoring_after_mm.push_back(rms(img.after, c));
-    s.monitoring_after_truth_mm.push_back(rms(tru.after, c));
+    const auto col_rms = [](const Eigen::MatrixXd& m, int col) { return std::sqrt(m.col(col).squaredNorm() / m.rows()); };
+    s.monitoring_before_mm.push_back(col_rms(img.before, c));
+    s.monitoring_after_mm.push_back(col_rms(img.after, c));
+    s.monitoring_after_truth_mm.push_back(col_rms(tru.after, c));
   }
   // What the vision stage adds to the monitoring residual, against what remains with perfect centres.
   const double vision_part =

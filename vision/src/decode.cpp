@@ -282,17 +282,24 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
     uniform = uniform && f.type() == frames[0].type() && f.channels() == 1 &&
               (f.depth() == CV_8U || f.depth() == CV_16U || f.depth() == CV_32F);
   }
-  if (options.reference_path || !uniform) {
-    if (uniform && frames[0].depth() == CV_32F) {
-      return options.reference_path ? DecodeFramesReference(m, frames, full_scale, options, camera)
-                                    : detail::DecodeFramesFast(m, frames, full_scale, options, camera);
-    }
+  if (!options.reference_path && uniform) return detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+  DecodedCamera out;
+  if (uniform && frames[0].depth() == CV_32F) {
+    out = options.reference_path ? DecodeFramesReference(m, frames, full_scale, options, camera)
+                                 : detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+  } else {
     std::vector<cv::Mat> as_float(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i) frames[i].convertTo(as_float[i], CV_32F);
-    return options.reference_path ? DecodeFramesReference(m, as_float, full_scale, options, camera)
-                                  : detail::DecodeFramesFast(m, as_float, full_scale, options, camera);
+    out = options.reference_path ? DecodeFramesReference(m, as_float, full_scale, options, camera)
+                                 : detail::DecodeFramesFast(m, as_float, full_scale, options, camera);
   }
-  return detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+  if (!options.keep_diagnostic_maps) {
+    out.wrapped.release();
+    out.background.release();
+    out.sigma_phase.release();
+    out.fit_residual.release();
+  }
+  return out;
 }
 
 DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& camera, const DecodeOptions& options) {

@@ -66,9 +66,13 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
   std::fill(mk, mk + width, uchar(255));
   std::vector<uchar> dark(width, 0), sat(width, 0), low(width, 0);
   float* phi = out->wrapped.ptr<float>(y);
-  float* a_row = out->background.ptr<float>(y);
+  // Without the diagnostic maps (FastDecodeOutput), A and the residual live in row buffers.
+  thread_local std::vector<float> a_buffer, res_buffer;
+  if (out->background.empty()) a_buffer.resize(width);
+  if (out->fit_residual.empty()) res_buffer.resize(width);
+  float* a_row = out->background.empty() ? a_buffer.data() : out->background.ptr<float>(y);
   float* b_row = out->modulation.ptr<float>(y);
-  float* res_row = out->fit_residual.ptr<float>(y);
+  float* res_row = out->fit_residual.empty() ? res_buffer.data() : out->fit_residual.ptr<float>(y);
   float* coord = out->coordinate.ptr<float>(y);
   const int n_fine = in.steps[0];
   std::vector<float> res_ss(width);
@@ -217,9 +221,10 @@ float WrappedPhase(float s, float c) {
 void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCounts* counts) {
   const cv::Size size(in.width, in.height);
   out->wrapped.create(size, CV_32F);
-  out->background.create(size, CV_32F);
+  // The heterodyne unwrap reads the residual map after all rows.
+  if (in.keep_diagnostic_maps) out->background.create(size, CV_32F);
   out->modulation.create(size, CV_32F);
-  out->fit_residual.create(size, CV_32F);
+  if (in.keep_diagnostic_maps || in.heterodyne) out->fit_residual.create(size, CV_32F);
   out->coordinate.create(size, CV_32F);
   out->mask.create(size, CV_8U);
   out->coarse_wrapped.clear();
@@ -321,6 +326,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   if (brightest < options.dark_fraction * full_scale)
     throw InputError({where, 0, "cameras." + camera}, "all images are dark: projector off or wrong exposure?");
   in.heterodyne = ps_block->type == BlockType::kHeterodyne;
+  in.keep_diagnostic_maps = options.keep_diagnostic_maps;
   in.complementary = gc_block && gc_block->complementary;
   if (in.heterodyne || !gc_block) in.gray_frames.clear();
   in.phase_at_origin_rad = ps_block->phase_at_origin_rad;
@@ -432,31 +438,37 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   const double ripple = PhaseRipple(options, coord, mask, n, sum.period_px);
   sum.phase_ripple_rad = ripple;
   sum.median_sigma_phase_rad = std::sqrt(sum.median_sigma_phase_rad * sum.median_sigma_phase_rad + ripple * ripple);
-  out.sigma_phase.create(mask.size(), CV_32F);
+  if (options.keep_diagnostic_maps) out.sigma_phase.create(mask.size(), CV_32F);
   out.sigma_coordinate.create(mask.size(), CV_32F);
+  const bool keep_sp = options.keep_diagnostic_maps;
   const double to_px = sum.period_px / (2 * CV_PI);
   tbb::parallel_for(tbb::blocked_range<int>(0, mask.rows, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
       const uchar* mk = mask.ptr<uchar>(y);
       const float* b = fo.modulation.ptr<float>(y);
       float* c = coord.ptr<float>(y);
-      float* sp = out.sigma_phase.ptr<float>(y);
+      float* sp = keep_sp ? out.sigma_phase.ptr<float>(y) : nullptr;
       float* sc = out.sigma_coordinate.ptr<float>(y);
       for (int x = 0; x < mask.cols; ++x) {
         if (!mk[x]) {
-          c[x] = sp[x] = sc[x] = kNaN;
+          c[x] = sc[x] = kNaN;
+          if (sp) sp[x] = kNaN;
           continue;
         }
-        sp[x] = b[x] > 0 ? static_cast<float>(std::hypot(k_sigma / b[x], ripple)) : std::numeric_limits<float>::infinity();
-        sc[x] = static_cast<float>(sp[x] * to_px);
+        const float s =
+            b[x] > 0 ? static_cast<float>(std::hypot(k_sigma / b[x], ripple)) : std::numeric_limits<float>::infinity();
+        if (sp) sp[x] = s;
+        sc[x] = static_cast<float>(s * to_px);
       }
     }
   });
   out.coordinate = coord;
-  out.wrapped = fo.wrapped;
-  out.background = fo.background;
   out.modulation = fo.modulation;
-  out.fit_residual = fo.fit_residual;
+  if (options.keep_diagnostic_maps) {
+    out.wrapped = fo.wrapped;
+    out.background = fo.background;
+    out.fit_residual = fo.fit_residual;
+  }
   out.mask = mask;
   Report(options, "done", 4, 4);
   return out;

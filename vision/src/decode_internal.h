@@ -22,9 +22,12 @@ struct FastDecodeInput {
   double period = 0;                               // finest period, projector px
   int extent = 0;                                  // projector px along the coded direction
   float b_min = 0, saturation = 0, dark = 0;       // thresholds, DN
+  bool keep_diagnostic_maps = true;                // false: no background / fit_residual maps
 };
 
 struct FastDecodeOutput {
+  // background and fit_residual are empty without FastDecodeInput::keep_diagnostic_maps
+  // (fit_residual is kept for the heterodyne unwrap).
   cv::Mat wrapped, background, modulation, fit_residual, coordinate, mask;
   std::vector<cv::Mat> coarse_wrapped;  // heterodyne: wrapped phase of frequencies 1.. (0 where masked)
 };

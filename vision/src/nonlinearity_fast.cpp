@@ -1,8 +1,10 @@
-// The same ripple estimator as CorrectPhaseNonlinearity (nonlinearity.cpp), organised for speed:
-// only the bounding box of the mask is processed (every pixel the fit uses has its whole window
-// inside it), the basis functions are evaluated at valid pixels only (one sincos, the higher
-// orders by angle addition) and stored as float, the box filters of the basis run in parallel,
-// and the normal equations are accumulated per row in parallel without per-pixel allocation.
+// The same ripple estimator as CorrectPhaseNonlinearity (nonlinearity.cpp), organised for speed
+// and memory: only the bounding box of the mask is processed (every pixel the fit uses has its
+// whole window inside it), in strips of rows whose buffers are a few window heights deep (not
+// maps of the box: 12 basis maps of a 1.3 Mpx frame were 60 MB), the basis functions are
+// evaluated at valid pixels only (one sincos, the higher orders by angle addition) and stored as
+// float, the box filters of the basis run in parallel, and the normal equations are accumulated
+// per row in parallel without per-pixel allocation.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -35,29 +37,80 @@ struct Normal {
   }
 };
 
-// High-passed phase at every pixel (CV_64F): clean - box(clean) / den, with clean = the phase
-// where the mask is set and 0 elsewhere. Computed in place in the window sum (no extra image).
-cv::Mat HighPass(const cv::Mat& phase, const cv::Mat& mask, const cv::Mat& den, int w) {
-  cv::Mat clean(phase.size(), CV_64F);
-  tbb::parallel_for(tbb::blocked_range<int>(0, phase.rows, 32), [&](const tbb::blocked_range<int>& r) {
+// One strip of output rows [y0, y1) of the box with the rows its windows reach, [a, b) =
+// [y0 - h, y1 + h) clipped to the box. Window sums are taken by box filters on views of the
+// strip's rows [y0, y1) inside buffers holding [a, b): without BORDER_ISOLATED, OpenCV's filters
+// read the rows around a view from its parent buffer, so the sums equal those over the whole box
+// (zeros beyond the box, as the reference's zero border). Memory is a few rows deep, not the box.
+struct Strip {
+  int y0 = 0, y1 = 0, a = 0, b = 0;
+  cv::Rect Rows(int width) const { return {0, y0 - a, width, y1 - y0}; }  // [y0, y1) inside [a, b)
+};
+
+// Valid pixels per window (exact integers in float), rows [y0, y1).
+void StripDen(const cv::Mat& mask, const Strip& st, int w, cv::Mat* mf, cv::Mat* den) {
+  mask.rowRange(st.a, st.b).convertTo(*mf, CV_32F, 1.0 / 255.0);
+  cv::boxFilter((*mf)(st.Rows(mask.cols)), *den, CV_32F, cv::Size(w, w), cv::Point(-1, -1), false,
+                cv::BORDER_CONSTANT);
+}
+
+// High-passed phase on rows [y0, y1) (CV_64F): clean - box(clean) / den, with clean = the phase
+// where the mask is set and 0 elsewhere.
+void StripHighPass(const cv::Mat& phase, const cv::Mat& mask, const cv::Mat& den, const Strip& st, int w,
+                   cv::Mat* clean, cv::Mat* hp) {
+  clean->create(st.b - st.a, phase.cols, CV_64F);
+  tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
       const float* p = phase.ptr<float>(y);
       const uchar* m = mask.ptr<uchar>(y);
-      double* c = clean.ptr<double>(y);
+      double* c = clean->ptr<double>(y - st.a);
       for (int x = 0; x < phase.cols; ++x) c[x] = m[x] ? static_cast<double>(p[x]) : 0.0;
     }
   });
-  cv::Mat hp;
-  cv::boxFilter(clean, hp, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  tbb::parallel_for(tbb::blocked_range<int>(0, phase.rows, 32), [&](const tbb::blocked_range<int>& r) {
+  cv::boxFilter((*clean)(st.Rows(phase.cols)), *hp, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false,
+                cv::BORDER_CONSTANT);
+  tbb::parallel_for(tbb::blocked_range<int>(st.y0, st.y1, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
-      const double* c = clean.ptr<double>(y);
-      const float* d = den.ptr<float>(y);
-      double* h = hp.ptr<double>(y);
+      const double* c = clean->ptr<double>(y - st.a);
+      const float* d = den.ptr<float>(y - st.y0);
+      double* h = hp->ptr<double>(y - st.y0);
       for (int x = 0; x < phase.cols; ++x) h[x] = c[x] - h[x] / std::max(static_cast<double>(d[x]), 1e-6);
     }
   });
-  return hp;
+}
+
+// The ripple basis sin/cos(m N phi_wrapped), m = 1..orders, at valid pixels (0 elsewhere), of
+// rows [a, b) into `basis` (one CV_32F buffer per function), and its window sums on [y0, y1).
+void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orders, const Strip& st, int w,
+                std::vector<cv::Mat>* basis, std::vector<cv::Mat>* bsum) {
+  const int nb = 2 * orders;
+  for (cv::Mat& b : *basis) b.create(st.b - st.a, wrapped.cols, CV_32F);
+  tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      const float* p = wrapped.ptr<float>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < wrapped.cols; ++x) {
+        if (!m[x]) {
+          for (int i = 0; i < nb; ++i) (*basis)[i].ptr<float>(y - st.a)[x] = 0.0f;
+          continue;
+        }
+        const double a = static_cast<double>(steps) * p[x];
+        const double s1 = std::sin(a), c1 = std::cos(a);
+        double s = s1, c = c1;
+        for (int o = 0; o < orders; ++o) {
+          (*basis)[2 * o].ptr<float>(y - st.a)[x] = static_cast<float>(s);
+          (*basis)[2 * o + 1].ptr<float>(y - st.a)[x] = static_cast<float>(c);
+          const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
+          s = sn;
+          c = cn;
+        }
+      }
+    }
+  });
+  tbb::parallel_for(0, nb, [&](int i) {
+    cv::boxFilter((*basis)[i](st.Rows(wrapped.cols)), (*bsum)[i], CV_32F, cv::Size(w, w), cv::Point(-1, -1), false,
+                  cv::BORDER_CONSTANT);
+  });
 }
 
 }  // namespace
@@ -89,95 +142,71 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   cv::Mat abs_phase = abs_phase_full(box);
   const cv::Mat wrapped = wrapped_full(box), mask = mask_full(box);
   const int nb = 2 * options.orders, terms = nb + 1;
-  cv::Mat mf;
-  mask.convertTo(mf, CV_32F, 1.0 / 255.0);
-  cv::Mat den;  // valid pixels per window (exact integers in float)
-  cv::boxFilter(mf, den, CV_32F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   const float full = static_cast<float>(w * w - 0.5);
+  const int half = w / 2;
+  constexpr int kStripRows = 64;
+  std::vector<Strip> strips;
+  for (int y0 = 0; y0 < box.height; y0 += kStripRows) {
+    Strip st;
+    st.y0 = y0;
+    st.y1 = std::min(box.height, y0 + kStripRows);
+    st.a = std::max(0, y0 - half);
+    st.b = std::min(box.height, st.y1 + half);
+    strips.push_back(st);
+  }
+  // The strip buffers, reused from strip to strip.
+  cv::Mat mf, den, clean, hp;
   std::vector<cv::Mat> basis(nb), bsum(nb);
-  for (cv::Mat& b : basis) b = cv::Mat::zeros(box.size(), CV_32F);
-  tbb::parallel_for(tbb::blocked_range<int>(0, box.height, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y < r.end(); ++y) {
-      const float* p = wrapped.ptr<float>(y);
-      const uchar* m = mask.ptr<uchar>(y);
-      for (int x = 0; x < box.width; ++x) {
-        if (!m[x]) continue;
-        const double a = static_cast<double>(steps) * p[x];
-        const double s1 = std::sin(a), c1 = std::cos(a);
-        double s = s1, c = c1;
-        for (int o = 0; o < options.orders; ++o) {
-          basis[2 * o].ptr<float>(y)[x] = static_cast<float>(s);
-          basis[2 * o + 1].ptr<float>(y)[x] = static_cast<float>(c);
-          const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
-          s = sn;
-          c = cn;
-        }
-      }
-    }
-  });
-  tbb::parallel_for(0, nb, [&](int i) {
-    cv::boxFilter(basis[i], bsum[i], CV_32F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-  });
 
-  // Normal equations over the pixels whose whole window is valid and whose high-pass is small.
-  auto accumulate = [&](const cv::Mat& hp, bool design, int y_begin, int y_end) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<int>(y_begin, y_end, 16), Normal{},
-        [&](const tbb::blocked_range<int>& r, Normal acc) {
-          double row[kMaxTerms];
-          for (int y = r.begin(); y < r.end(); ++y) {
-            const double* h = hp.ptr<double>(y);
-            const float* d = den.ptr<float>(y);
-            const uchar* m = mask.ptr<uchar>(y);
-            for (int x = 0; x < box.width; ++x) {
-              if (!m[x] || d[x] < full || !(std::abs(h[x]) < options.outlier_rad)) continue;
-              acc.ss += h[x] * h[x];
-              ++acc.used;
-              if (!design) continue;
-              row[0] = 1.0;
-              const double inv = 1.0 / std::max(static_cast<double>(d[x]), 1e-6);
-              for (int i = 0; i < nb; ++i)
-                row[i + 1] = basis[i].ptr<float>(y)[x] - bsum[i].ptr<float>(y)[x] * inv;
-              for (int i = 0; i < terms; ++i) {
-                for (int j = 0; j <= i; ++j) acc.ata[i][j] += row[i] * row[j];
-                acc.atb[i] += row[i] * h[x];
+  // Normal equations over the pixels whose whole window is valid and whose high-pass is small,
+  // per band of rows (the ripple's jackknife test, detail::RippleBand). With `design` false only
+  // the sum of squares and the count.
+  auto sweep = [&](bool design) {
+    std::vector<Normal> bands(detail::kRippleBands);
+    for (const Strip& st : strips) {
+      StripDen(mask, st, w, &mf, &den);
+      StripHighPass(abs_phase, mask, den, st, w, &clean, &hp);
+      if (design) StripBasis(wrapped, mask, steps, options.orders, st, w, &basis, &bsum);
+      // Row by row in parallel; each row adds to its own band (rows of one band are contiguous).
+      const std::vector<Normal> rows = tbb::parallel_reduce(
+          tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
+          [&](const tbb::blocked_range<int>& r, std::vector<Normal> acc) {
+            double row[kMaxTerms];
+            for (int y = r.begin(); y < r.end(); ++y) {
+              Normal& nk = acc[detail::RippleBand(y, box.height)];
+              const double* h = hp.ptr<double>(y - st.y0);
+              const float* d = den.ptr<float>(y - st.y0);
+              const uchar* m = mask.ptr<uchar>(y);
+              for (int x = 0; x < box.width; ++x) {
+                if (!m[x] || d[x] < full || !(std::abs(h[x]) < options.outlier_rad)) continue;
+                nk.ss += h[x] * h[x];
+                ++nk.used;
+                if (!design) continue;
+                row[0] = 1.0;
+                const double inv = 1.0 / std::max(static_cast<double>(d[x]), 1e-6);
+                for (int i = 0; i < nb; ++i)
+                  row[i + 1] = basis[i].ptr<float>(y - st.a)[x] - bsum[i].ptr<float>(y - st.y0)[x] * inv;
+                for (int i = 0; i < terms; ++i) {
+                  for (int j = 0; j <= i; ++j) nk.ata[i][j] += row[i] * row[j];
+                  nk.atb[i] += row[i] * h[x];
+                }
               }
             }
-          }
-          return acc;
-        },
-        [&](Normal a, const Normal& b) {
-          a.Add(b, terms);
-          return a;
-        });
+            return acc;
+          },
+          [&](std::vector<Normal> a, const std::vector<Normal>& b) {
+            for (int k = 0; k < detail::kRippleBands; ++k) a[k].Add(b[k], terms);
+            return a;
+          });
+      for (int k = 0; k < detail::kRippleBands; ++k) bands[k].Add(rows[k], terms);
+    }
+    return bands;
   };
 
   for (int pass = 0; pass < options.passes; ++pass) {
-    const cv::Mat hp = HighPass(abs_phase, mask, den, w);
-    // Per band of rows on the first pass (the ripple's jackknife test), else in one go.
+    const std::vector<Normal> bands = sweep(true);
     Normal ne;
-    std::vector<Eigen::MatrixXd> band_ata;
-    std::vector<Eigen::VectorXd> band_atb;
-    if (pass == 0) {
-      int y0 = 0;
-      for (int k = 0; k < detail::kRippleBands; ++k) {
-        int y1 = y0;
-        while (y1 < box.height && detail::RippleBand(y1, box.height) == k) ++y1;
-        const Normal nk = accumulate(hp, true, y0, y1);
-        ne.Add(nk, terms);
-        Eigen::MatrixXd a(terms, terms);
-        Eigen::VectorXd b(terms);
-        for (int i = 0; i < terms; ++i) {
-          for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
-          b[i] = nk.atb[i];
-        }
-        band_ata.push_back(a);
-        band_atb.push_back(b);
-        y0 = y1;
-      }
-    } else {
-      ne = accumulate(hp, true, 0, box.height);
-    }
+    for (const Normal& nk : bands) ne.Add(nk, terms);
     est.pixels_used = ne.used;
     est.passes = pass + 1;
     if (ne.used < options.min_pixels) break;
@@ -194,17 +223,39 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
       est.cos_rad[o] += coef[2 + 2 * o];
     }
     if (pass == 0) {
+      std::vector<Eigen::MatrixXd> band_ata;
+      std::vector<Eigen::VectorXd> band_atb;
+      for (const Normal& nk : bands) {
+        Eigen::MatrixXd a(terms, terms);
+        Eigen::VectorXd b(terms);
+        for (int i = 0; i < terms; ++i) {
+          for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
+          b[i] = nk.atb[i];
+        }
+        band_ata.push_back(a);
+        band_atb.push_back(b);
+      }
       est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
       if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
+    // Subtract the ripple (the basis again: one sincos per pixel).
     tbb::parallel_for(tbb::blocked_range<int>(0, box.height, 16), [&](const tbb::blocked_range<int>& r) {
       for (int y = r.begin(); y < r.end(); ++y) {
         float* p = abs_phase.ptr<float>(y);
+        const float* wr = wrapped.ptr<float>(y);
         const uchar* m = mask.ptr<uchar>(y);
         for (int x = 0; x < box.width; ++x) {
           if (!m[x]) continue;
-          double ripple = 0;
-          for (int i = 0; i < nb; ++i) ripple += coef[1 + i] * basis[i].ptr<float>(y)[x];
+          const double a = static_cast<double>(steps) * wr[x];
+          const double s1 = std::sin(a), c1 = std::cos(a);
+          double s = s1, c = c1, ripple = 0;
+          for (int o = 0; o < options.orders; ++o) {
+            // As float, as the stored basis the reference and the fit use.
+            ripple += coef[1 + 2 * o] * static_cast<float>(s) + coef[2 + 2 * o] * static_cast<float>(c);
+            const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
+            s = sn;
+            c = cn;
+          }
           p[x] = static_cast<float>(p[x] - ripple);
         }
       }
@@ -212,7 +263,8 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     est.applied = true;
   }
   if (est.applied) {
-    const Normal after = accumulate(HighPass(abs_phase, mask, den, w), false, 0, box.height);
+    Normal after;
+    for (const Normal& nk : sweep(false)) after.Add(nk, terms);
     est.residual_rms_after_rad = after.used ? std::sqrt(after.ss / after.used) : 0;
   }
   double r2 = 0;

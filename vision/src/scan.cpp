@@ -47,6 +47,8 @@ ScanOptions::ScanOptions() {
   // (second order in the phase noise, >= 3 um along the ray at 60-80 deg on the simulated ball,
   // bench/vision_scan_bench limb); below 60 deg it stays under 1 um (docs/scan.md).
   sphere.max_view_angle_deg = 60;
+  // The scan reads only the coordinate, its sigma, the modulation and the mask.
+  decode.keep_diagnostic_maps = false;
 }
 
 void ScanOptions::Validate() const {
@@ -83,9 +85,14 @@ std::string ScanSummary::BriefReport() const {
   return s.str();
 }
 
-ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
-                       double period, const ScanOptions& options, const std::string& calibration_path) {
-  options.Validate();
+namespace {
+
+// ScanDecoded on cameras it may release: each map is dropped as soon as no later stage reads it
+// (the right camera after matching, the left one and the matches after triangulation), so the
+// sphere fit does not run beside them. Memory is returned only where the caller holds no other
+// reference to the maps (cv::Mat counts them).
+ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCamera left, DecodedCamera right,
+                                double period, const ScanOptions& options, const std::string& calibration_path) {
   ScanResult result;
   ScanSummary& sum = result.summary;
   sum.calibration = calibration_path;
@@ -100,7 +107,8 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   auto t0 = std::chrono::steady_clock::now();
   StereoMatchOptions mo = options.match;
   mo.progress = {};
-  const StereoMatch match = MatchStereo(calibration, left, right, period, mo, calibration_path);
+  StereoMatch match = MatchStereo(calibration, left, right, period, mo, calibration_path);
+  right = DecodedCamera();
   sum.match = match.summary;
   sum.match_s = Seconds(t0);
   if (!Report(options, "match", 3, 5)) {
@@ -111,6 +119,8 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   t0 = std::chrono::steady_clock::now();
   TriangulationOptions to = options.triangulation;
   result.cloud = TriangulateMatches(calibration, left, match, to, &sum.triangulation, &result.depth);
+  left = DecodedCamera();
+  match = StereoMatch();
   sum.triangulate_s = Seconds(t0);
   if (!Report(options, "triangulate", 4, 5)) {
     sum.termination = "cancelled";
@@ -193,6 +203,14 @@ ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera
   return result;
 }
 
+}  // namespace
+
+ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
+                       double period, const ScanOptions& options, const std::string& calibration_path) {
+  options.Validate();
+  return ScanDecodedReleasing(calibration, left, right, period, options, calibration_path);
+}
+
 namespace {
 
 ScanResult Cancelled() {
@@ -203,8 +221,10 @@ ScanResult Cancelled() {
 
 // Decodes the windows of both cameras' frames and runs the rest of the pipeline on them; the
 // cloud's pixels and the depth image are returned in full-frame pixels.
+// The frames are taken by value: each camera's are dropped once decoded (pass them with
+// std::move on their last use to free them).
 ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration& calibration,
-                               const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames,
                                double full_scale, const ScanWindows& windows, const ScanOptions& options,
                                const std::string& calibration_path) {
   const ScanWindows full = FullFrameWindows(calibration);
@@ -213,14 +233,20 @@ ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration&
   auto t0 = std::chrono::steady_clock::now();
   DecodeOptions dopt = options.decode;
   dopt.progress = {};
-  const DecodedCamera left = DecodeFrames(m, whole ? left_frames : CropFrames(left_frames, windows.left),
-                                          full_scale, dopt, options.left_camera);
+  auto decode = [&](std::vector<cv::Mat>* frames, const cv::Rect& window, const std::string& camera) {
+    if (!whole) *frames = CropFrames(*frames, window);
+    DecodedCamera d = DecodeFrames(m, *frames, full_scale, dopt, camera);
+    std::vector<cv::Mat>().swap(*frames);
+    return d;
+  };
+  DecodedCamera left = decode(&left_frames, windows.left, options.left_camera);
   if (!Report(options, "decode " + options.left_camera, 1, 5)) return Cancelled();
-  const DecodedCamera right = DecodeFrames(m, whole ? right_frames : CropFrames(right_frames, windows.right),
-                                           full_scale, dopt, options.right_camera);
+  DecodedCamera right = decode(&right_frames, windows.right, options.right_camera);
   const double decode_s = Seconds(t0);
   if (!Report(options, "decode " + options.right_camera, 2, 5)) return Cancelled();
-  ScanResult result = ScanDecoded(cropped, left, right, left.summary.period_px, options, calibration_path);
+  const double period = left.summary.period_px;
+  ScanResult result =
+      ScanDecodedReleasing(cropped, std::move(left), std::move(right), period, options, calibration_path);
   result.summary.decode_s = decode_s;
   result.summary.windows = windows;
   if (!whole) {
@@ -274,10 +300,12 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
 
 }  // namespace
 
-ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibration,
-                      const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
-                      double full_scale, const ScanOptions& options, const std::string& calibration_path) {
-  options.Validate();
+namespace {
+
+// ScanFrames on frames it may drop once they are no longer needed (ScanWindowsOfFrames).
+ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration,
+                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames,
+                               double full_scale, const ScanOptions& options, const std::string& calibration_path) {
   for (const auto* frames : {&left_frames, &right_frames}) {
     const CameraIntrinsics& k = frames == &left_frames ? calibration.left : calibration.right;
     for (const cv::Mat& f : *frames)
@@ -329,17 +357,21 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
     r.summary.width = calibration.left.width, r.summary.height = calibration.left.height;
     return r;
   }
-  ScanResult result =
-      ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows, options, calibration_path);
   const bool windowed = !(windows.left == full.left && windows.right == full.right);
+  // The frames are needed again only for a fall-back to the full frame.
+  const bool last_use = !windowed || !roi.fall_back_to_full;
+  ScanResult result = last_use ? ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames),
+                                                     full_scale, windows, options, calibration_path)
+                               : ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows,
+                                                     options, calibration_path);
   if (windowed && result.summary.termination == "no sphere found" && roi.fall_back_to_full) {
     fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
                                                               ? std::string()
                                                               : ": " + result.summary.spheres.no_sphere_reason);
     const double windowed_s = result.summary.decode_s + result.summary.match_s + result.summary.triangulate_s +
                               result.summary.fit_s;
-    result = ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, full, options,
-                                 calibration_path);
+    result = ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames), full_scale, full,
+                                 options, calibration_path);
     result.summary.roi_s = roi_s + windowed_s;
   } else {
     result.summary.roi_s = roi_s;
@@ -350,6 +382,15 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
   }
   result.summary.roi_source = source;
   return result;
+}
+
+}  // namespace
+
+ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibration,
+                      const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
+                      double full_scale, const ScanOptions& options, const std::string& calibration_path) {
+  options.Validate();
+  return ScanFramesReleasing(m, calibration, left_frames, right_frames, full_scale, options, calibration_path);
 }
 
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
@@ -385,8 +426,9 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
                      std::to_string(stacks[1].bits_per_sample) + "-bit images beside " +
                          std::to_string(stacks[0].bits_per_sample) + "-bit ones of camera " + options.left_camera);
   const double load_s = Seconds(t0);
-  ScanResult result = ScanFrames(m, calibration, stacks[0].frames, stacks[1].frames, stacks[0].full_scale, options,
-                                 calib_path);
+  const double full_scale = stacks[0].full_scale;
+  ScanResult result = ScanFramesReleasing(m, calibration, std::move(stacks[0].frames), std::move(stacks[1].frames),
+                                          full_scale, options, calib_path);
   result.summary.set = manifest_path;
   result.summary.load_s = load_s;
   return result;

@@ -59,6 +59,7 @@ struct Pass {
   double lr_sigma_factor = 0;
   double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
   bool full_search = false;  // StereoMatchOptions::full_search
+  bool keep_tangent = true;  // fill PassResult::tu, tv (the back pass does not need them)
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -446,8 +447,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   out->u = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->v = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->sigma = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-  out->tu = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-  out->tv = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  // The back pass (validator) feeds only u, v and sigma to the left-right check.
+  if (p.keep_tangent) {
+    out->tu = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+    out->tv = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
+  }
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
   // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
   // start as good as the left neighbour's). The blocks do not depend on the thread count, so
@@ -533,8 +537,10 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
           out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
           out->sigma.at<float>(y, x) = static_cast<float>(speed * sigma_w);
-          out->tu.at<float>(y, x) = static_cast<float>(d.x() / speed);
-          out->tv.at<float>(y, x) = static_cast<float>(d.y() / speed);
+          if (p.keep_tangent) {
+            out->tu.at<float>(y, x) = static_cast<float>(d.x() / speed);
+            out->tv.at<float>(y, x) = static_cast<float>(d.y() / speed);
+          }
         }
         out->noisy += noisy;
         out->no_match += no_match;
@@ -697,6 +703,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   if (lr) {
     Pass rl = make_pass(false);
     rl.lr_tolerance = 0;
+    rl.keep_tangent = false;
     if (!RunPass(rl, &back, options, "match right->left")) {
       sum.termination = "cancelled";
       return result;

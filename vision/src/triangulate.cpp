@@ -64,21 +64,38 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   const int W = match.right_u.cols, H = match.right_u.rows;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cv::Mat z(H, W, CV_32F, cv::Scalar(nan));
-  cv::Mat px(H, W, CV_32F, cv::Scalar(nan)), py = px.clone(), pz = px.clone(), ps = px.clone();
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
-  cv::Mat gap_rejected(H, 1, CV_32S, cv::Scalar(0));
   const Mat3 Rt = calibration.right_from_left.linear().transpose();
   const Vec3 c = -Rt * calibration.right_from_left.translation();
   const CameraIntrinsics& lc = calibration.left;
   const CameraIntrinsics& rc = calibration.right;
+  // The points are written straight into the cloud's arrays, row-major: each row's matched
+  // pixels get slots from a prefix sum, and the slots of points dropped for their ray gap are
+  // squeezed out afterwards (no per-pixel maps of x, y, z and sigma, no growing vectors).
+  std::vector<std::size_t> first(static_cast<std::size_t>(H) + 1, 0);
+  for (int y = 0; y < H; ++y) {
+    const float* u = match.right_u.ptr<float>(y);
+    std::size_t n = 0;
+    for (int x = 0; x < W; ++x) n += std::isfinite(u[x]) ? 1 : 0;
+    first[y + 1] = first[y] + n;
+  }
+  const std::size_t slots = first[H];
+  PointCloud cloud;
+  cloud.points_in_left.resize(slots);
+  cloud.sigma_mm.resize(slots);
+  cloud.quality.resize(slots);
+  if (options.keep_pixels) cloud.left_pixels.resize(slots);
+  std::vector<uchar> kept(slots, 0);
   cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
       // Undistortion warm-started from the neighbour (left) and from the point itself (the
       // right ray's +-h offsets): the same rays to 1e-15 in fewer Gauss-Newton steps.
       Vec2 left_ideal_prev(std::numeric_limits<double>::quiet_NaN(), 0);
+      std::size_t slot = first[y];
       for (int x = 0; x < W; ++x) {
         const float u = match.right_u.at<float>(y, x), v = match.right_v.at<float>(y, x);
         if (!std::isfinite(u)) continue;
+        const std::size_t k = slot++;
         const Vec2 lp(x, y), rp(u, v);
         const Vec2 ln = Normalized(lc, lp);
         const Vec2 left_ideal = UndistortNormalized(lc.distortion, ln,
@@ -90,10 +107,7 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
         const Vec3 dr = Rt * Vec3(right_ideal.x(), right_ideal.y(), 1.0).normalized();
         double gap = 0;
         const Vec3 X = MidpointOfRays(dl, dr, c, &gap);
-        if (!(gap <= options.max_ray_gap_mm) || !X.allFinite()) {
-          ++gap_rejected.at<int>(y);
-          continue;
-        }
+        if (!(gap <= options.max_ray_gap_mm) || !X.allFinite()) continue;
         // Triangulation Jacobian along the epipolar tangent (central difference, 1e-3 px).
         const Vec2 t(match.tangent_u.at<float>(y, x), match.tangent_v.at<float>(y, x));
         const double h = 1e-3;
@@ -102,30 +116,36 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
         const Vec3 Xa = MidpointOfRays(dl, dra, c, nullptr);
         const Vec3 Xb = MidpointOfRays(dl, drb, c, nullptr);
         const double dXds = ((Xb - Xa) / (2 * h)).norm();
-        px.at<float>(y, x) = static_cast<float>(X.x());
-        py.at<float>(y, x) = static_cast<float>(X.y());
-        pz.at<float>(y, x) = static_cast<float>(X.z());
-        ps.at<float>(y, x) = static_cast<float>(dXds * match.sigma_px.at<float>(y, x));
+        kept[k] = 1;
+        cloud.points_in_left[k] = X.cast<float>();
+        cloud.sigma_mm[k] = static_cast<float>(dXds * match.sigma_px.at<float>(y, x));
+        cloud.quality[k] = static_cast<float>(left.modulation.at<float>(y, x) / sigma_i);
+        if (options.keep_pixels) cloud.left_pixels[k] = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y));
         z.at<float>(y, x) = static_cast<float>(X.z());
       }
     }
   });
-  PointCloud cloud;
   TriangulationSummary sum;
   sum.depth_min_mm = std::numeric_limits<double>::infinity();
   sum.depth_max_mm = -sum.depth_min_mm;
-  for (int y = 0; y < H; ++y) {
-    sum.rejected_gap += gap_rejected.at<int>(y);
-    for (int x = 0; x < W; ++x) {
-      if (!std::isfinite(pz.at<float>(y, x))) continue;
-      cloud.points_in_left.emplace_back(px.at<float>(y, x), py.at<float>(y, x), pz.at<float>(y, x));
-      cloud.sigma_mm.push_back(ps.at<float>(y, x));
-      cloud.quality.push_back(static_cast<float>(left.modulation.at<float>(y, x) / sigma_i));
-      if (options.keep_pixels) cloud.left_pixels.emplace_back(static_cast<float>(x), static_cast<float>(y));
-      sum.depth_min_mm = std::min<double>(sum.depth_min_mm, pz.at<float>(y, x));
-      sum.depth_max_mm = std::max<double>(sum.depth_max_mm, pz.at<float>(y, x));
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < slots; ++k) {
+    if (!kept[k]) {
+      ++sum.rejected_gap;
+      continue;
     }
+    cloud.points_in_left[n] = cloud.points_in_left[k];
+    cloud.sigma_mm[n] = cloud.sigma_mm[k];
+    cloud.quality[n] = cloud.quality[k];
+    if (options.keep_pixels) cloud.left_pixels[n] = cloud.left_pixels[k];
+    sum.depth_min_mm = std::min<double>(sum.depth_min_mm, cloud.points_in_left[n].z());
+    sum.depth_max_mm = std::max<double>(sum.depth_max_mm, cloud.points_in_left[n].z());
+    ++n;
   }
+  cloud.points_in_left.resize(n);
+  cloud.sigma_mm.resize(n);
+  cloud.quality.resize(n);
+  if (options.keep_pixels) cloud.left_pixels.resize(n);
   sum.points = static_cast<long>(cloud.size());
   if (cloud.size() == 0) sum.depth_min_mm = sum.depth_max_mm = 0;
   std::vector<float> s = cloud.sigma_mm;

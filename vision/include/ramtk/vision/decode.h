@@ -48,6 +48,11 @@ struct DecodeOptions {
   // Fast path: the harmonic ratios (a diagnostic, not used for the coordinate) are averaged
   // over every harmonic_stride-th pixel in x and y (1 = all, as the reference path).
   int harmonic_stride = 2;
+  // Keep the diagnostic maps (DecodedCamera::wrapped, background, sigma_phase, fit_residual).
+  // false: they are left empty and, on the fast path, never allocated; a scan needs only the
+  // coordinate, its sigma, the modulation and the mask (ScanOptions() sets false). The
+  // summary's figures do not change.
+  bool keep_diagnostic_maps = true;
   // Called after each stage; returning false stops the decode (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
@@ -96,13 +101,14 @@ struct DecodeSummary {
 
 struct DecodedCamera {
   cv::Mat coordinate;        // CV_32F projector coordinate (px along the coded direction), NaN invalid
-  cv::Mat wrapped;           // CV_32F wrapped LS phase of the finest block (rad)
-  cv::Mat background;        // CV_32F A (DN)
+  cv::Mat wrapped;           // CV_32F wrapped LS phase of the finest block (rad) (*)
+  cv::Mat background;        // CV_32F A (DN) (*)
   cv::Mat modulation;        // CV_32F B (DN)
   cv::Mat mask;              // CV_8U 255 = valid
-  cv::Mat sigma_phase;       // CV_32F sigma_phi (rad), NaN invalid
+  cv::Mat sigma_phase;       // CV_32F sigma_phi (rad), NaN invalid (*)
   cv::Mat sigma_coordinate;  // CV_32F sigma of the coordinate (projector px), NaN invalid
-  cv::Mat fit_residual;      // CV_32F per-pixel RMS residual of the sinusoid fit (DN); 0 for N = 3
+  cv::Mat fit_residual;      // CV_32F per-pixel RMS residual of the sinusoid fit (DN); 0 for N = 3 (*)
+  // (*) empty when DecodeOptions::keep_diagnostic_maps is false.
   DecodeSummary summary;
 };
 
