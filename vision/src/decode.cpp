@@ -277,8 +277,7 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
   // One sample type and size for the whole set (else everything as float).
   bool uniform = true;
   for (const cv::Mat& f : frames) {
-    if (f.size() != frames[0].size())
-      throw InputError({where, 0, "cameras." + camera}, "the images differ in size");
+    if (f.size() != frames[0].size()) throw InputError({where, 0, "cameras." + camera}, "the images differ in size");
     uniform = uniform && f.type() == frames[0].type() && f.channels() == 1 &&
               (f.depth() == CV_8U || f.depth() == CV_16U || f.depth() == CV_32F);
   }

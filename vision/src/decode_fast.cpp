@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 #include <type_traits>
 
 #include "decode_internal.h"
@@ -17,7 +18,6 @@
 #include "ramtk/core/log.h"
 #include "ramtk/vision/nonlinearity.h"
 #include "ramtk/vision/unwrap.h"
-#include <opencv2/imgproc.hpp>
 
 namespace ramtk::vision::detail {
 namespace {
@@ -79,8 +79,8 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
   // Coarser frequencies (heterodyne) first, the finest last so its sums stay in the buffers.
   for (int f = static_cast<int>(in.ps_frames.size()) - 1; f >= 0; --f) {
     const int n = in.steps[f];
-    AccumulateRow<T, Acc>(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(),
-                          s.data(), c.data(), sum.data(), sum2.data(), top.data());
+    AccumulateRow<T, Acc>(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(), s.data(),
+                          c.data(), sum.data(), sum2.data(), top.data());
     for (int x = 0; x < width; ++x) {
       const double amp2 = static_cast<double>(s[x]) * s[x] + static_cast<double>(c[x]) * c[x];
       const float b = static_cast<float>(2.0 / n * std::sqrt(amp2));
@@ -91,8 +91,7 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
         const double mean = static_cast<double>(sum[x]) / n;
         a_row[x] = static_cast<float>(mean);
         b_row[x] = b;
-        res_ss[x] = static_cast<float>(
-            std::max(0.0, static_cast<double>(sum2[x]) - n * mean * mean - 2.0 / n * amp2));
+        res_ss[x] = static_cast<float>(std::max(0.0, static_cast<double>(sum2[x]) - n * mean * mean - 2.0 / n * amp2));
         res_row[x] = n > 3 ? std::sqrt(res_ss[x] / (n - 3)) : 0.0f;
       }
     }

@@ -50,8 +50,7 @@ struct Strip {
 // Valid pixels per window (exact integers in float), rows [y0, y1).
 void StripDen(const cv::Mat& mask, const Strip& st, int w, cv::Mat* mf, cv::Mat* den) {
   mask.rowRange(st.a, st.b).convertTo(*mf, CV_32F, 1.0 / 255.0);
-  cv::boxFilter((*mf)(st.Rows(mask.cols)), *den, CV_32F, cv::Size(w, w), cv::Point(-1, -1), false,
-                cv::BORDER_CONSTANT);
+  cv::boxFilter((*mf)(st.Rows(mask.cols)), *den, CV_32F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
 }
 
 // High-passed phase on rows [y0, y1) (CV_64F): clean - box(clean) / den, with clean = the phase

@@ -1,9 +1,6 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
-#include "ramtk/report/gnuplot.h"
-#include "ramtk/vision/scan_report.h"
-
 #include <unistd.h>
 
 #include <chrono>
@@ -15,11 +12,13 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
-#include "ramtk/core/outputs.h"
 #include "ramtk/core/log.h"
+#include "ramtk/core/outputs.h"
+#include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
 #include "ramtk/vision/manifest.h"
+#include "ramtk/vision/scan_report.h"
 
 namespace ramtk::vision {
 namespace fs = std::filesystem;
@@ -171,8 +170,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
           const Eigen::Vector3d p = result.cloud.points_in_left[i].cast<double>();
           const Eigen::Vector3d normal = (p - r.centre_mm).normalized();
           const double c = normal.dot((p - so.viewpoint_mm).normalized());
-          const double ratio =
-              so.noise_model != PointNoiseModel::kIsotropic ? so.perpendicular_sigma_ratio : 1.0;
+          const double ratio = so.noise_model != PointNoiseModel::kIsotropic ? so.perpendicular_sigma_ratio : 1.0;
           const double sigma_n = result.cloud.sigma_mm[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1 - c * c));
           if (!(sigma_n > 0)) continue;
           px.push_back(result.cloud.left_pixels[i]);
@@ -224,8 +222,8 @@ ScanResult Cancelled() {
 // The frames are taken by value: each camera's are dropped once decoded (pass them with
 // std::move on their last use to free them).
 ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration& calibration,
-                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames,
-                               double full_scale, const ScanWindows& windows, const ScanOptions& options,
+                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames, double full_scale,
+                               const ScanWindows& windows, const ScanOptions& options,
                                const std::string& calibration_path) {
   const ScanWindows full = FullFrameWindows(calibration);
   const bool whole = windows.left == full.left && windows.right == full.right;
@@ -281,9 +279,9 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
   o.max_sphere_variance_factor = std::numeric_limits<double>::max();
   // The coarse ball has ~1/stride^2 of the points; a few dozen fix its centre to ~0.1 mm.
   o.sphere.min_points = std::min(o.sphere.min_points, 50);
-  const ScanResult r = ScanWindowsOfFrames(m, coarse, SubsampleFrames(left_frames, stride),
-                                           SubsampleFrames(right_frames, stride), full_scale,
-                                           FullFrameWindows(coarse), o, "");
+  const ScanResult r =
+      ScanWindowsOfFrames(m, coarse, SubsampleFrames(left_frames, stride), SubsampleFrames(right_frames, stride),
+                          full_scale, FullFrameWindows(coarse), o, "");
   std::vector<Sphere> spheres;
   for (const SphereResult& s : r.summary.spheres.spheres) {
     Sphere sp;
@@ -304,16 +302,16 @@ namespace {
 
 // ScanFrames on frames it may drop once they are no longer needed (ScanWindowsOfFrames).
 ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration,
-                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames,
-                               double full_scale, const ScanOptions& options, const std::string& calibration_path) {
+                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames, double full_scale,
+                               const ScanOptions& options, const std::string& calibration_path) {
   for (const auto* frames : {&left_frames, &right_frames}) {
     const CameraIntrinsics& k = frames == &left_frames ? calibration.left : calibration.right;
     for (const cv::Mat& f : *frames)
       if (f.cols != k.width || f.rows != k.height)
         throw InputError({calibration_path, 0, "image_size"},
-                         "a frame is " + std::to_string(f.cols) + "x" + std::to_string(f.rows) + ", the calibration's " +
-                             (frames == &left_frames ? "left" : "right") + " camera " + std::to_string(k.width) + "x" +
-                             std::to_string(k.height));
+                         "a frame is " + std::to_string(f.cols) + "x" + std::to_string(f.rows) +
+                             ", the calibration's " + (frames == &left_frames ? "left" : "right") + " camera " +
+                             std::to_string(k.width) + "x" + std::to_string(k.height));
   }
   const ScanRoiOptions& roi = options.roi;
   const ScanWindows full = FullFrameWindows(calibration);
@@ -368,8 +366,8 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
     fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
                                                               ? std::string()
                                                               : ": " + result.summary.spheres.no_sphere_reason);
-    const double windowed_s = result.summary.decode_s + result.summary.match_s + result.summary.triangulate_s +
-                              result.summary.fit_s;
+    const double windowed_s =
+        result.summary.decode_s + result.summary.match_s + result.summary.triangulate_s + result.summary.fit_s;
     result = ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames), full_scale, full,
                                  options, calibration_path);
     result.summary.roi_s = roi_s + windowed_s;
@@ -476,7 +474,12 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["roi"] = {{"source", s.roi_source},
               {"left", {s.windows.left.x, s.windows.left.y, s.windows.left.width, s.windows.left.height}},
               {"right", {s.windows.right.x, s.windows.right.y, s.windows.right.width, s.windows.right.height}}};
-  j["seconds"] = {{"load", s.load_s}, {"roi", s.roi_s}, {"decode", s.decode_s}, {"match", s.match_s}, {"triangulate", s.triangulate_s}, {"fit", s.fit_s}};
+  j["seconds"] = {{"load", s.load_s},
+                  {"roi", s.roi_s},
+                  {"decode", s.decode_s},
+                  {"match", s.match_s},
+                  {"triangulate", s.triangulate_s},
+                  {"fit", s.fit_s}};
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
 }

@@ -42,7 +42,7 @@ std::string FormatVec(const Eigen::Vector3d& v, const char* fmt) {
 
 // The sigma of a point's distance to the sphere surface (along the normal at the point).
 struct NormalSigma {
-  const std::vector<Eigen::Vector3d>& points;
+  const std::vector<Eigen::Vector3f>& points;
   const std::vector<double>& sigma;  // as given (or 1 when unweighted)
   const SphereFitOptions& options;
   bool along_sight;
@@ -53,8 +53,8 @@ struct NormalSigma {
         (*out)[i] = sigma[i];
         continue;
       }
-      const Eigen::Vector3d sight = (points[i] - options.viewpoint_mm).normalized();
-      const Eigen::Vector3d normal = (points[i] - centre).normalized();
+      const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
+      const Eigen::Vector3d normal = (points[i].cast<double>() - centre).normalized();
       const double c = sight.dot(normal);
       const double ratio = options.perpendicular_sigma_ratio;
       (*out)[i] = sigma[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1.0 - c * c));
@@ -63,11 +63,11 @@ struct NormalSigma {
 };
 
 // Robust (MAD) scale of the normalised residuals of `indices`.
-double RobustScale(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma_n,
+double RobustScale(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma_n,
                    const std::vector<int>& indices, const Eigen::Vector3d& centre, double radius) {
   std::vector<double> z;
   z.reserve(indices.size());
-  for (int i : indices) z.push_back(std::abs((points[i] - centre).norm() - radius) / sigma_n[i]);
+  for (int i : indices) z.push_back(std::abs((points[i].cast<double>() - centre).norm() - radius) / sigma_n[i]);
   return 1.4826 * Median(std::move(z));
 }
 
@@ -110,12 +110,13 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
   SphereFitSummary summary;
   summary.input_points = static_cast<int>(points_mm.size());
   const int n = static_cast<int>(points_mm.size());
-  std::vector<Eigen::Vector3d> points(points_mm.size());
+  // The points are read as given (float; each use casts to double, exactly): a double copy of
+  // a thesis frame's 6.4 M points was 150 MB.
+  const std::vector<Eigen::Vector3f>& points = points_mm;
   std::vector<double> sigma(points_mm.size(), 1.0);
   std::vector<int> active;
   active.reserve(points_mm.size());
   for (int i = 0; i < n; ++i) {
-    points[i] = points_mm[i].cast<double>();
     if (!points[i].allFinite()) continue;
     if (weighted) {
       if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0))
@@ -170,7 +171,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     // Points near the candidate: the RANSAC band and a wider shell the robust fit sorts out.
     std::vector<int> in_band, near;
     for (int i : active) {
-      const double r = std::abs((points[i] - candidate.centre).norm() - candidate.radius);
+      const double r = std::abs((points[i].cast<double>() - candidate.centre).norm() - candidate.radius);
       if (r <= 5 * band) near.push_back(i);
       if (r <= band) in_band.push_back(i);
     }
@@ -194,7 +195,8 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     scale = std::max(RobustScale(points, sigma_n, near, rough.centre, rough.radius), min_scale);
     std::vector<int> inliers;
     for (int i : near)
-      if (std::abs((points[i] - rough.centre).norm() - rough.radius) / sigma_n[i] <= options.outlier_threshold * scale)
+      if (std::abs((points[i].cast<double>() - rough.centre).norm() - rough.radius) / sigma_n[i] <=
+          options.outlier_threshold * scale)
         inliers.push_back(i);
     if (static_cast<int>(inliers.size()) < options.min_points) {
       summary.no_sphere_reason = "the robust fit keeps " + std::to_string(inliers.size()) +
@@ -209,8 +211,8 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       const double min_cos = std::cos(options.max_view_angle_deg * M_PI / 180.0);
       std::vector<int> kept;
       for (int i : inliers) {
-        const Eigen::Vector3d sight = (points[i] - options.viewpoint_mm).normalized();
-        Eigen::Vector3d normal = (points[i] - rough.centre).normalized();
+        const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
+        Eigen::Vector3d normal = (points[i].cast<double>() - rough.centre).normalized();
         if (along_ray) {
           // The angle where the point's ray meets the sphere: it depends on the ray only, not on
           // how far along it the noise put the point. A cut on the noisy point's own normal keeps
@@ -235,11 +237,11 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     }
     // Final: weighted least squares on the inliers (distances along the normal, or along the rays).
     const GeometricFit fit =
-        along_ray ? sphere_internal::FitAlongRay(points, sigma, inliers, options.viewpoint_mm, rough.centre,
-                                                 rough.radius, options.fix_radius, options.max_solver_iterations)
-                  : sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius,
-                                                  options.fix_radius, SphereLoss::kNone, 1.0,
-                                                  options.max_solver_iterations, true);
+        along_ray
+            ? sphere_internal::FitAlongRay(points, sigma, inliers, options.viewpoint_mm, rough.centre, rough.radius,
+                                           options.fix_radius, options.max_solver_iterations)
+            : sphere_internal::FitGeometric(points, sigma_n, inliers, rough.centre, rough.radius, options.fix_radius,
+                                            SphereLoss::kNone, 1.0, options.max_solver_iterations, true);
     if (!fit.converged) {
       RAMTK_LOG(kWarning) << "sphere fit: Ceres did not report convergence";
     }
@@ -259,13 +261,14 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
     double chi2 = 0, sum_r2 = 0, worst = 0;
     for (int i : inliers) {
-      const Eigen::Vector3d d = points[i] - fit.centre;
+      const Eigen::Vector3d d = points[i].cast<double>() - fit.centre;
       const double dist = d.norm();
       const double r = dist - fit.radius;
       Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
       double z = r / sigma_n[i];
       if (along_ray)
-        z = sphere_internal::AlongRayResidual(points[i], sigma[i], options.viewpoint_mm, fit.centre, fit.radius, &g);
+        z = sphere_internal::AlongRayResidual(points[i].cast<double>(), sigma[i], options.viewpoint_mm, fit.centre,
+                                              fit.radius, &g);
       normal.noalias() += g * g.transpose();
       chi2 += z * z;
       sum_r2 += r * r;

@@ -2,6 +2,7 @@
 // Internals of FindSpheres shared by sphere_fit*.cpp (not installed).
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -14,11 +15,46 @@ namespace ramtk::vision::sphere_internal {
 
 // Points hashed into cubic cells of edge `cell_mm`; the 27-cell neighbourhood of a cell holds
 // every point within cell_mm of any point of that cell.
+// The point indices in the 27 cells around one grid cell, in a fixed order (cells by offset,
+// each cell's points in insertion order), as views of the grid's cells: no copy, so a cloud of
+// millions of points does not hold each index 27 times (400 MB on a thesis frame).
+class CellNeighbourhood {
+ public:
+  std::size_t size() const { return size_; }
+  // The k-th index (k < size()).
+  int operator[](std::size_t k) const {
+    int c = 0;
+    while (k >= start_[c + 1]) ++c;
+    return (*cells_[c])[k - start_[c]];
+  }
+  // Calls f(index) for the elements k = first, first + stride, ... (stride >= 1).
+  template <class F>
+  void ForEachStrided(std::size_t first, std::size_t stride, F&& f) const {
+    std::size_t k = first;
+    for (int c = 0; c < count_; ++c) {
+      const std::vector<int>& v = *cells_[c];
+      for (; k < start_[c + 1]; k += stride) f(v[k - start_[c]]);
+    }
+  }
+  template <class F>
+  void ForEach(F&& f) const {
+    ForEachStrided(0, 1, f);
+  }
+
+ private:
+  friend class PointGrid;
+  std::array<const std::vector<int>*, 27> cells_{};
+  std::array<std::size_t, 28> start_{};
+  int count_ = 0;
+  std::size_t size_ = 0;
+};
+
 class PointGrid {
  public:
-  PointGrid(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double cell_mm);
-  // Indices (into the point array) in the 27 cells around the cell of `x`. Cached per cell.
-  const std::vector<int>& Neighbourhood(const Eigen::Vector3d& x);
+  PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double cell_mm);
+  // Indices (into the point array) in the 27 cells around the cell of `x`. Cached per cell
+  // (the view, not the indices); valid while the grid lives.
+  const CellNeighbourhood& Neighbourhood(const Eigen::Vector3d& x);
 
  private:
   int64_t Key(const Eigen::Vector3d& x) const;
@@ -26,7 +62,7 @@ class PointGrid {
   double cell_;
   Eigen::Vector3d origin_;
   std::unordered_map<int64_t, std::vector<int>> cells_;
-  std::unordered_map<int64_t, std::vector<int>> cache_;
+  std::unordered_map<int64_t, CellNeighbourhood> cache_;
 };
 
 struct Candidate {
@@ -40,11 +76,11 @@ struct Candidate {
 };
 
 // RANSAC over the `active` points: 4-point samples from a neighbourhood, radius gate, LO step.
-Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double band_mm,
+Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double band_mm,
                         double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng);
 
 // Least-squares algebraic (Kasa) sphere through the indexed points; false if degenerate.
-bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
+bool FitAlgebraic(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
                   double* radius);
 
 struct GeometricFit {
@@ -58,14 +94,14 @@ struct GeometricFit {
 // Ceres fit of sum rho((|p_i - c| - R) / sigma_i) over `indices`; loss scale in units of the
 // normalised residual (ignored for SphereLoss::kNone). sigma indexed like points. `precise`: run
 // to rounding level, else stop at a relative cost change of 1e-7.
-GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise);
 
 // Ceres fit of sum ((|p_i - v| - t_i) / sigma_i)^2 over `indices`, t_i the distance from the
 // viewpoint v along the ray through p_i to its first intersection with the sphere (the nearest
 // point of the ray to the centre when the ray misses it). No robust loss; runs to rounding level.
-GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
                          const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
                          const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations);
 

@@ -45,39 +45,46 @@ int64_t PointGrid::Key(const Eigen::Vector3d& x) const {
               static_cast<int64_t>(std::floor(g.z())));
 }
 
-PointGrid::PointGrid(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double cell_mm)
-    : cell_(cell_mm), origin_(active.empty() ? Eigen::Vector3d::Zero() : points[active.front()]) {
-  for (int i : active) cells_[Key(points[i])].push_back(i);
+PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double cell_mm)
+    : cell_(cell_mm),
+      origin_(active.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
+                             : Eigen::Vector3d(points[active.front()].cast<double>())) {
+  for (int i : active) cells_[Key(points[i].cast<double>())].push_back(i);
 }
 
-const std::vector<int>& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
+const CellNeighbourhood& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
   const Eigen::Vector3d g = (x - origin_) / cell_;
   const int64_t ci = static_cast<int64_t>(std::floor(g.x())), cj = static_cast<int64_t>(std::floor(g.y())),
                 ck = static_cast<int64_t>(std::floor(g.z()));
   const int64_t key = Pack(ci, cj, ck);
   auto cached = cache_.find(key);
   if (cached != cache_.end()) return cached->second;
-  std::vector<int>& out = cache_[key];
+  CellNeighbourhood& out = cache_[key];
   for (int64_t di = -1; di <= 1; ++di)
     for (int64_t dj = -1; dj <= 1; ++dj)
       for (int64_t dk = -1; dk <= 1; ++dk) {
         auto it = cells_.find(Pack(ci + di, cj + dj, ck + dk));
-        if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        if (it == cells_.end() || it->second.empty()) continue;
+        out.cells_[out.count_] = &it->second;
+        out.start_[out.count_] = out.size_;
+        out.size_ += it->second.size();
+        ++out.count_;
       }
+  out.start_[out.count_] = out.size_;
   return out;
 }
 
-bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
+bool FitAlgebraic(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& indices, Eigen::Vector3d* centre,
                   double* radius) {
   if (indices.size() < 4) return false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (int i : indices) mean += points[i];
+  for (int i : indices) mean += points[i].cast<double>();
   mean /= static_cast<double>(indices.size());
   // |q|^2 = 2 q.x + d with q = p - mean, x the centre offset and d = R^2 - |x|^2.
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   Eigen::Vector4d atb = Eigen::Vector4d::Zero();
   for (int i : indices) {
-    const Eigen::Vector3d q = points[i] - mean;
+    const Eigen::Vector3d q = points[i].cast<double>() - mean;
     const Eigen::Vector4d row(2 * q.x(), 2 * q.y(), 2 * q.z(), 1.0);
     ata.noalias() += row * row.transpose();
     atb += row * q.squaredNorm();
@@ -95,16 +102,17 @@ bool FitAlgebraic(const std::vector<Eigen::Vector3d>& points, const std::vector<
 namespace {
 
 // Points of `pool` within `band` of the sphere surface.
-void CollectInliers(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& pool,
+void CollectInliers(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool,
                     const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
   out->clear();
-  for (int i : pool)
-    if (std::abs((points[i] - centre).norm() - radius) <= band) out->push_back(i);
+  pool.ForEach([&](int i) {
+    if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band) out->push_back(i);
+  });
 }
 
 }  // namespace
 
-Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& active, double band_mm,
+Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double band_mm,
                         double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng) {
   Candidate best;
   if (active.size() < 4) {
@@ -122,13 +130,13 @@ Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::v
   int it = 0;
   for (; it < options.max_iterations && (it < options.min_iterations || it < needed); ++it) {
     const int i0 = active[pick_active(rng)];
-    const std::vector<int>& nb = grid.Neighbourhood(points[i0]);
+    const CellNeighbourhood& nb = grid.Neighbourhood(points[i0].cast<double>());
     if (nb.size() < 4) continue;
     std::uniform_int_distribution<size_t> pick_nb(0, nb.size() - 1);
-    Eigen::Vector3d s[4] = {points[i0], {}, {}, {}};
+    Eigen::Vector3d s[4] = {points[i0].cast<double>(), {}, {}, {}};
     bool spread = true;
     for (int k = 1; k < 4 && spread; ++k) {
-      s[k] = points[nb[pick_nb(rng)]];
+      s[k] = points[nb[pick_nb(rng)]].cast<double>();
       for (int j = 0; j < k; ++j) spread = spread && (s[k] - s[j]).squaredNorm() >= min_sep2;
     }
     if (!spread) continue;
@@ -138,11 +146,12 @@ Candidate FindCandidate(const std::vector<Eigen::Vector3d>& points, const std::v
     if (radius < radius_lo || radius > radius_hi) continue;
     ++best.radius_ok_samples;
     // Score on a strided subset of the points around the candidate centre.
-    const std::vector<int>& around = grid.Neighbourhood(centre);
+    const CellNeighbourhood& around = grid.Neighbourhood(centre);
     const size_t stride = std::max<size_t>(1, around.size() / static_cast<size_t>(options.max_scoring_points));
     int count = 0;
-    for (size_t k = rng() % stride; k < around.size(); k += stride)
-      if (std::abs((points[around[k]] - centre).norm() - radius) <= band_mm) ++count;
+    around.ForEachStrided(rng() % stride, stride, [&](int i) {
+      if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band_mm) ++count;
+    });
     const double estimate = static_cast<double>(count) * static_cast<double>(stride);
     if (estimate <= best.inliers) continue;
     // Local optimisation: algebraic refits on the full inlier set while it grows.

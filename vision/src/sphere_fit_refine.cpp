@@ -49,7 +49,7 @@ double NormalResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vecto
 // of one per point. Residuals along the normal, or along the rays from `viewpoint` when given.
 class PointResiduals final : public ceres::CostFunction {
  public:
-  PointResiduals(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+  PointResiduals(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
                  const std::vector<int>& indices, const Eigen::Vector3d* viewpoint)
       : points_(points), sigma_(sigma), indices_(indices), along_ray_(viewpoint != nullptr) {
     if (viewpoint) viewpoint_ = *viewpoint;
@@ -63,8 +63,8 @@ class PointResiduals final : public ceres::CostFunction {
     Eigen::Vector4d g;
     for (size_t k = 0; k < indices_.size(); ++k) {
       const int i = indices_[k];
-      residuals[k] = along_ray_ ? AlongRayResidual(points_[i], sigma_[i], viewpoint_, c, radius, &g)
-                                : NormalResidual(points_[i], sigma_[i], c, radius, &g);
+      residuals[k] = along_ray_ ? AlongRayResidual(points_[i].cast<double>(), sigma_[i], viewpoint_, c, radius, &g)
+                                : NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
       if (!std::isfinite(residuals[k])) return false;
       if (jacobians != nullptr) {
         if (jacobians[0] != nullptr)
@@ -76,7 +76,7 @@ class PointResiduals final : public ceres::CostFunction {
   }
 
  private:
-  const std::vector<Eigen::Vector3d>& points_;
+  const std::vector<Eigen::Vector3f>& points_;
   const std::vector<double>& sigma_;
   const std::vector<int>& indices_;
   bool along_ray_;
@@ -86,8 +86,8 @@ class PointResiduals final : public ceres::CostFunction {
 // Solves a sphere problem over (centre, radius) and collects the result. A start-and-classify
 // pass stops at 1e-7 relative change of the cost; a `precise` (final) fit runs to rounding level
 // (noise-free data must come back exact).
-GeometricFit SolveSphere(ceres::Problem* problem, double* centre, double* radius, bool fix_radius,
-                         int max_iterations, bool precise) {
+GeometricFit SolveSphere(ceres::Problem* problem, double* centre, double* radius, bool fix_radius, int max_iterations,
+                         bool precise) {
   if (fix_radius) problem->SetParameterBlockConstant(radius);
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
@@ -134,7 +134,7 @@ double AlongRayResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vec
   return (length - t) / sigma;
 }
 
-GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
                          const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
                          const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations) {
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
@@ -144,7 +144,7 @@ GeometricFit FitAlongRay(const std::vector<Eigen::Vector3d>& points, const std::
   return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, true);
 }
 
-GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& sigma,
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise) {
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
@@ -160,7 +160,8 @@ GeometricFit FitGeometric(const std::vector<Eigen::Vector3d>& points, const std:
     problem.AddResidualBlock(new PointResiduals(points, sigma, indices, nullptr), nullptr, centre, &radius);
   } else {
     for (int i : indices)
-      problem.AddResidualBlock(new SphereResidual(points[i], 1.0 / sigma[i]), loss_function.get(), centre, &radius);
+      problem.AddResidualBlock(new SphereResidual(points[i].cast<double>(), 1.0 / sigma[i]), loss_function.get(),
+                               centre, &radius);
   }
   return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, precise);
 }

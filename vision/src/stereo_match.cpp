@@ -58,8 +58,8 @@ struct Pass {
   double lr_tolerance = 0;
   double lr_sigma_factor = 0;
   double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
-  bool full_search = false;  // StereoMatchOptions::full_search
-  bool keep_tangent = true;  // fill PassResult::tu, tv (the back pass does not need them)
+  bool full_search = false;                 // StereoMatchOptions::full_search
+  bool keep_tangent = true;                 // fill PassResult::tu, tv (the back pass does not need them)
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -75,7 +75,7 @@ struct Matcher {
   const Pass& p;
   Vec3 a = Vec3::Zero();  // R * ideal ray of the source pixel (z = 1 in the source frame)
   double c_src = 0;
-  double w_lo = 0, w_hi = 0;  // this pixel's search range: the pass's, clipped to the image
+  double w_lo = 0, w_hi = 0;           // this pixel's search range: the pass's, clipped to the image
   double speed_k = 0, step_per_k = 0;  // Speed(w) = speed_k / q_z(w)^2; step_px / speed_k (SetRange)
 
   // Narrows [lo, hi] to where g(w) = (ac + tc w) / (az + tz w) lies in [b0, b1]; g is monotonic
@@ -174,7 +174,8 @@ struct Matcher {
     if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
     const int tx = static_cast<int>(std::floor(std::floor(u) / Pass::kTile));
     const int ty = static_cast<int>(std::floor(std::floor(v) / Pass::kTile));
-    if (tx < -Pass::kDilate || ty < -Pass::kDilate || tx >= p.tiles_x + Pass::kDilate || ty >= p.tiles_y + Pass::kDilate)
+    if (tx < -Pass::kDilate || ty < -Pass::kDilate || tx >= p.tiles_x + Pass::kDilate ||
+        ty >= p.tiles_y + Pass::kDilate)
       return 2;
     const int cx = std::clamp(tx, 0, p.tiles_x - 1), cy = std::clamp(ty, 0, p.tiles_y - 1);
     const std::size_t t = static_cast<std::size_t>(cy) * p.tiles_x + cx;
@@ -368,8 +369,8 @@ struct Matcher {
       if (ws.size() < 2) break;
       Vec2 pix_b = Vec2::Zero();
       const int sign_b = NearSign(Pixel(ws.back(), &pix_b), pix_b);
-      const bool clear = sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) &&
-                         (pix_b - pix_a).norm() <= kMaxChordPx;
+      const bool clear =
+          sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) && (pix_b - pix_a).norm() <= kMaxChordPx;
       if (!clear) {
         std::size_t k0 = 1;
         if (!prev_fine) {
@@ -584,7 +585,8 @@ std::string StereoMatchSummary::BriefReport() const {
   s.precision(3);
   s << "match " << termination << ": " << matched << " of " << left_valid << " left px matched ("
     << (left_valid ? 100.0 * matched / left_valid : 0.0) << "%; rejected " << rejected_noisy << " noisy, "
-    << rejected_no_match << " no match, " << rejected_lr << " left-right), median sigma " << median_sigma_px << " px";
+    << rejected_no_match << " no match, " << rejected_lr << " left-right; " << full_searches
+    << " full searches), median sigma " << median_sigma_px << " px";
   return s.str();
 }
 

@@ -98,8 +98,8 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
         const std::size_t k = slot++;
         const Vec2 lp(x, y), rp(u, v);
         const Vec2 ln = Normalized(lc, lp);
-        const Vec2 left_ideal = UndistortNormalized(lc.distortion, ln,
-                                                    std::isfinite(left_ideal_prev.x()) ? left_ideal_prev : ln);
+        const Vec2 left_ideal =
+            UndistortNormalized(lc.distortion, ln, std::isfinite(left_ideal_prev.x()) ? left_ideal_prev : ln);
         left_ideal_prev = left_ideal;
         const Vec3 dl = Vec3(left_ideal.x(), left_ideal.y(), 1.0).normalized();
         const Vec2 rn = Normalized(rc, rp);
