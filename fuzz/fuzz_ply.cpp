@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   RAMTK_FUZZ_BODY({
     const auto cloud = ramtk::vision::ReadPly(path);
-    cloud.Validate(path);
+    cloud.Check(path);
     (void)ramtk::vision::PlyBytes(cloud);
   });
 }

@@ -18,8 +18,9 @@ namespace ramtk::tools {
 namespace {
 
 int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_override, bool html, bool force) {
-  given.Validate();
-  if (html && given.output_folder.empty()) throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
+  ThrowIfInvalid(given.Validate(), "DiagnoseOptions");
+  if (html && given.output_folder.empty())
+    throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
   // The output folder is written as a unit (issue 17): everything goes into a temporary sibling
   // that replaces --out only when the report is complete; an error or an interruption leaves the
   // old folder as it was.

@@ -32,7 +32,7 @@ int RunDecode(const DecodeCommandOptions& opt) {
   options.min_modulation_fraction = opt.min_modulation;
   options.intensity_sigma_dn = opt.sigma_intensity;
   options.correct_nonlinearity = !opt.no_nonlinearity;
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "DecodeOptions");
   const FringeManifest m = ReadFringeManifest(opt.manifest);
   CheckOutputAgainstInputs(opt.out, m.InputFiles(), "--out");
   std::vector<std::string> cameras;

@@ -70,7 +70,7 @@ int RunPatterns(const PatternsCommandOptions& opt) {
   }
   m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
   m.cameras["projector"].resize(m.ImageCount());
-  m.Validate();
+  m.Check();
   WritePatternSet(opt.out, m, opt.bits, opt.force);
   std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out
             << "\n";

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <iostream>
+#include <map>
 #include <memory>
 
 #include "commands.h"
 #include "ramtk/core/error.h"
-#include "ramtk/core/outputs.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/scan_batch.h"
@@ -38,9 +38,9 @@ struct ScanCommandOptions {
   bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
-  std::string shard;                          // "K/N": scan only shard K of N of the batch
-  bool report = false;                        // also write report.html
-  std::string roi = "full";                   // full, auto, or a predicted centre X,Y,Z (mm)
+  std::string shard;                                       // "K/N": scan only shard K of N of the batch
+  bool report = false;                                     // also write report.html
+  std::string roi = "full";                                // full, auto, or a predicted centre X,Y,Z (mm)
   double roi_margin = vision::ScanRoiOptions{}.margin_mm;  // mm added to the ball radius for the window
   int roi_stride = 0;                                      // coarse pass stride (0 = automatic)
 };
@@ -80,7 +80,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.roi = ParseScanRoi(opt.roi);
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
   std::vector<std::string> inputs = {opt.batch, opt.calib, opt.truth};
@@ -244,10 +244,11 @@ int RunMerge(const MergeCommandOptions& opt) {
     const std::string name = entry.path().filename().string();
     int k = 0, n = 0;
     char tail[8] = {0};
-    if (std::sscanf(name.c_str(), "results.shard-%d-of-%d.%7s", &k, &n, tail) != 3 || std::string(tail) != "csv") continue;
+    if (std::sscanf(name.c_str(), "results.shard-%d-of-%d.%7s", &k, &n, tail) != 3 || std::string(tail) != "csv")
+      continue;
     if (count != 0 && n != count)
-      throw InputError({entry.path().string(), 0, "--out"}, "shards of " + std::to_string(count) + " and of " +
-                                                               std::to_string(n) + " in one folder");
+      throw InputError({entry.path().string(), 0, "--out"},
+                       "shards of " + std::to_string(count) + " and of " + std::to_string(n) + " in one folder");
     count = n;
     files[k] = entry.path().string();
   }

@@ -1,3 +1,4 @@
+#include "ramtk/core/error.h"
 #include "ramtk/calib/board.h"
 
 #include <algorithm>
@@ -189,8 +190,7 @@ BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, int min_
 }
 
 BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, const BoardDetectOptions& options) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "BoardDetectOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "BoardDetectOptions");
   BoardDetection d;
   const std::vector<cv::Point3f> all = BoardObjectPoints(board);
   const cv::Size pattern(board.cols, board.rows);

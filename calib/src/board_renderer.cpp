@@ -61,9 +61,8 @@ std::string BoardRenderOptions::Validate() const {
 
 BoardRenderer::BoardRenderer(const BoardSpec& board, const PinholeCamera& camera, const BoardRenderOptions& options)
     : board_(board), camera_(camera), options_(options) {
-  std::string bad = board.Validate();
-  if (bad.empty()) bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "BoardRenderer"}, bad);
+  ThrowIfInvalid(board.Validate(), "board");
+  ThrowIfInvalid(options.Validate(), "BoardRenderOptions");
   const int s = options.supersample;
   const int w = camera.image_size.width * s, h = camera.image_size.height * s;
   // Undistort every sub-pixel by Newton's method on OpenCV's distortion model (cv::undistortPoints'

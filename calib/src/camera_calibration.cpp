@@ -65,8 +65,7 @@ std::string CameraCalibrationSummary::BriefReport() const {
 
 CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in, cv::Size image_size,
                                         const CameraCalibrationOptions& options, CameraCalibrationSummary* summary) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "CameraCalibrationOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "CameraCalibrationOptions");
   CameraCalibrationSummary local;
   CameraCalibrationSummary& s = summary ? *summary : local;
   s = CameraCalibrationSummary();

@@ -116,8 +116,7 @@ void CheckRotationsExciteTwoAxes(const std::vector<Isometry3>& flange) {
 
 HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeOptions& options,
                                    HandEyeSummary* summary) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "HandEyeOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "HandEyeOptions");
   if (static_cast<int>(obs.size()) < options.min_poses) {
     throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least " +
                                            std::to_string(options.min_poses) + " are needed");

@@ -136,7 +136,7 @@ namespace {
 std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x_init,
                                            const Isometry3& z_init, double rms_rotation_deg, double rms_translation_mm,
                                            const EyeInHandRefineOptions& options, bool stand, EyeInHandRefinement* out) {
-  if (const std::string bad = options.Validate(); !bad.empty()) throw InputError({"", 0, "EyeInHandRefineOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "EyeInHandRefineOptions");
   if (obs.size() < 3)
     throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least 3 are needed");
   for (const FlangeCameraObservation& o : obs)

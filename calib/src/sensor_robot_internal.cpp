@@ -41,8 +41,7 @@ void FillSummaryResiduals(const SensorRobotCalibration& c, double outlier_factor
 
 PoseSetDiagnostics CheckPoseSetOrThrow(const kinematics::RobotModel& model, const std::vector<BallObservation>& obs,
                                        const PoseSetCheckOptions& checks) {
-  const std::string bad = checks.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "checks"}, bad);
+  ThrowIfInvalid(checks.Validate(), "checks");
   Vec3 ball = Vec3::Zero();
   if (static_cast<int>(obs.size()) >= std::max(checks.min_poses, 4)) {
     ball = SolveSensorRobotLinear(model, obs).ball_in_flange;

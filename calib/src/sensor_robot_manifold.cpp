@@ -73,8 +73,7 @@ std::string SensorRobotOptions::Validate() const {
 SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
                                             const std::vector<BallObservation>& obs, const SensorRobotOptions& options,
                                             SensorRobotSummary* summary) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "SensorRobotOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "SensorRobotOptions");
   SensorRobotSummary local;
   SensorRobotSummary& s = summary ? *summary : local;
   s = SensorRobotSummary();

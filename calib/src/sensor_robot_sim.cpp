@@ -27,8 +27,7 @@ std::string SensorRobotSimOptions::Validate() const {
 }
 
 SensorRobotSimulation SimulateSensorRobot(const kinematics::RobotModel& model, const SensorRobotSimOptions& options) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "SensorRobotSimOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "SensorRobotSimOptions");
   SensorRobotSimulation sim;
   sim.sensor_from_base = options.sensor_from_base;
   sim.ball_in_flange = options.ball_in_flange;

@@ -59,8 +59,7 @@ SensorRobotCalibration CalibrateSensorRobotThesis(const kinematics::RobotModel& 
                                                   const std::vector<BallObservation>& obs,
                                                   const ThesisCalibrationOptions& options,
                                                   SensorRobotSummary* summary) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "ThesisCalibrationOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "ThesisCalibrationOptions");
   SensorRobotSummary local;
   SensorRobotSummary& s = summary ? *summary : local;
   s = SensorRobotSummary();

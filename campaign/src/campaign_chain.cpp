@@ -136,8 +136,7 @@ std::string CampaignSummary::BriefReport() const {
 
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
                                        const std::string& out_dir) {
-  const std::string bad = options.Validate();
-  if (!bad.empty()) throw InputError({"", 0, "CampaignOptions"}, bad);
+  ThrowIfInvalid(options.Validate(), "CampaignOptions");
   CampaignSummary s;
   s.out_dir = out_dir;
   const internal::CampaignFiles files = internal::SimulateCampaignFiles(model, options, out_dir, &s.render_s);

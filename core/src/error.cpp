@@ -17,6 +17,24 @@ static std::string Compose(const InputLocation& where, const std::string& messag
   return loc.empty() ? message : loc + ": " + message;
 }
 
+OptionsProblem SplitOptionsProblem(const std::string& problem) {
+  const std::size_t colon = problem.find(": ");
+  if (colon == std::string::npos || colon == 0) return {"", problem};
+  for (std::size_t i = 0; i < colon; ++i) {
+    const char c = problem[i];
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+                    c == '.' || c == '[' || c == ']';
+    if (!ok) return {"", problem};
+  }
+  return {problem.substr(0, colon), problem.substr(colon + 2)};
+}
+
+void ThrowIfInvalid(const std::string& problem, const std::string& options_name) {
+  if (problem.empty()) return;
+  OptionsProblem p = SplitOptionsProblem(problem);
+  throw InputError({"", 0, p.field.empty() ? options_name : p.field}, p.message);
+}
+
 InputError::InputError(InputLocation where, const std::string& message)
     : std::runtime_error(Compose(where, message)), where_(std::move(where)), message_(message) {}
 

@@ -30,11 +30,12 @@ bool HasColumn(const std::string& header, const std::string& name) {
 
 }  // namespace
 
-void DiagnoseOptions::Validate() const {
-  if (data.empty()) throw InputError({"", 0, "data"}, "no data file given");
-  if (folds < 2) throw InputError({"", 0, "folds"}, "cross-validation needs at least 2 folds");
-  if (noise < 0.0) throw InputError({"", 0, "noise"}, "must be >= 0");
-  if (!(alpha > 0.0 && alpha < 0.5)) throw InputError({"", 0, "alpha"}, "must be in (0, 0.5)");
+std::string DiagnoseOptions::Validate() const {
+  if (data.empty()) return "data: no data file given";
+  if (folds < 2) return "folds: cross-validation needs at least 2 folds";
+  if (noise < 0.0) return "noise: must be >= 0";
+  if (!(alpha > 0.0 && alpha < 0.5)) return "alpha: must be in (0, 0.5)";
+  return "";
 }
 
 DataKind DetectKind(const std::string& path) {

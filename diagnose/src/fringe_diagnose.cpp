@@ -139,16 +139,16 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
                        " DN: RMS of residual differences between neighbouring pixels along the fringes / sqrt(2) (" +
                        std::to_string(pairs) + " pairs)" +
                        (options.noise > 0 ? "; replaced by --noise " + Fixed(options.noise, 3) + " DN" : ""));
-  d.findings.push_back("noise-level function (variance vs model intensity I, " + std::to_string(nlf.bins) +
-                       " level bins, " + std::to_string(nlf.pairs) + " neighbour differences): a + b*I with a = " +
-                       Fixed(nlf.a, 3) + " +- " + Fixed(nlf.sigma_a, 3) + " DN^2 (read noise), b = " +
-                       Fixed(nlf.b, 4) + " +- " + Fixed(nlf.sigma_b, 4) + " DN (shot noise, DN per electron)" +
-                       (nlf.super_poisson ? ", c = " + Fixed(nlf.c, 6) + " +- " + Fixed(nlf.sigma_c, 6) + " per DN (I^2)"
-                                          : "") +
-                       "; I^2 term of a quadratic fit " + Fixed(nlf.quadratic_c, 6) + " +- " + Fixed(nlf.sigma_c, 6) +
-                       " (" + Fixed(100 * nlf.quadratic_share, 1) + "% of the variance at I = " +
-                       Fixed(nlf.top_level, 0) + " DN); noise floor (RMS of sigma(I)) " + Fixed(floor, 3) + " DN" +
-                       (options.noise > 0 ? " (not used: --noise)" : ""));
+  d.findings.push_back(
+      "noise-level function (variance vs model intensity I, " + std::to_string(nlf.bins) + " level bins, " +
+      std::to_string(nlf.pairs) + " neighbour differences): a + b*I with a = " + Fixed(nlf.a, 3) + " +- " +
+      Fixed(nlf.sigma_a, 3) + " DN^2 (read noise), b = " + Fixed(nlf.b, 4) + " +- " + Fixed(nlf.sigma_b, 4) +
+      " DN (shot noise, DN per electron)" +
+      (nlf.super_poisson ? ", c = " + Fixed(nlf.c, 6) + " +- " + Fixed(nlf.sigma_c, 6) + " per DN (I^2)" : "") +
+      "; I^2 term of a quadratic fit " + Fixed(nlf.quadratic_c, 6) + " +- " + Fixed(nlf.sigma_c, 6) + " (" +
+      Fixed(100 * nlf.quadratic_share, 1) + "% of the variance at I = " + Fixed(nlf.top_level, 0) +
+      " DN); noise floor (RMS of sigma(I)) " + Fixed(floor, 3) + " DN" +
+      (options.noise > 0 ? " (not used: --noise)" : ""));
   if (fit.censored)
     d.findings.push_back(std::to_string(fit.range_refitted) +
                          " pixels come within 4 sigma(I) of 0: fitted against the mean of the noisy value clamped "
@@ -298,7 +298,7 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
 }
 
 Diagnosis DiagnoseFringe(const DiagnoseOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "DiagnoseOptions");
   const vision::FringeManifest manifest = vision::ReadFringeManifest(options.data);
   if (manifest.cameras.empty()) throw InputError({options.data, 0, "cameras"}, "the manifest lists no camera");
   std::string camera = manifest.cameras.count("left") ? "left" : manifest.cameras.begin()->first;

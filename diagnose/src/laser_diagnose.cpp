@@ -21,7 +21,7 @@ bool IsCalibrationPoints(const std::string& path) {
 }  // namespace
 
 Diagnosis DiagnoseLaser(const DiagnoseOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "DiagnoseOptions");
   if (IsCalibrationPoints(options.data))
     return DiagnoseSensorPoints(tcf::ReadSensorCalibrationPoints(options.data), options);
   if (options.with.empty())

@@ -91,9 +91,9 @@ std::vector<NamedTest> StructureTests(const robot_detail::RowSet& rs, const std:
       std::vector<double> comp(n);
       for (int i = 0; i < n; ++i) comp[i] = res[i][a];
       const std::string label = std::string(axis[a]) + " vs " + name;
-      tests.push_back({angle ? HarmonicTrendTest(comp, {sigma_eff}, v, 2, label)
-                             : TrendTest(comp, {sigma_eff}, v, 2, label),
-                       name});
+      tests.push_back(
+          {angle ? HarmonicTrendTest(comp, {sigma_eff}, v, 2, label) : TrendTest(comp, {sigma_eff}, v, 2, label),
+           name});
     }
   }
   // Ljung–Box in time order only for a static model: per-cycle fits leave residuals whose
@@ -145,14 +145,14 @@ double LambdaWith(const RobotDiagnoseInput& in, const thermal::ThermalExperiment
 }  // namespace
 
 Diagnosis DiagnoseRobot(const DiagnoseOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "DiagnoseOptions");
   return DiagnoseRobotData(ReadRobotDiagnoseInput(options), options);
 }
 
 Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions& options) {
   DiagnoseOptions checked = options;  // in-memory data needs no file name
   if (checked.data.empty()) checked.data = in.ball_path.empty() ? "(in memory)" : in.ball_path;
-  checked.Validate();
+  ThrowIfInvalid(checked.Validate(), "DiagnoseOptions");
   const robot_detail::RowSet rs = robot_detail::BuildRows(in);
   Diagnosis d;
   d.kind = DataKind::kRobot;
@@ -265,8 +265,7 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     for (CandidateFit& c : d.candidates)
       for (const auto& e : evaluated)
         if (e.fit.effect == c.effect) {
-          const Eigen::VectorXd sc =
-              robot_detail::Signature(rs.rows, ctx.base, ctx.base_cv.full, e.design, e.cv.full);
+          const Eigen::VectorXd sc = robot_detail::Signature(rs.rows, ctx.base, ctx.base_cv.full, e.design, e.cv.full);
           const double den = sc.norm() * sig_chosen.norm();
           c.signature_cos = den > 0 ? std::abs(sc.dot(sig_chosen)) / den : 0.0;
         }
@@ -275,9 +274,9 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     // Out-of-catalogue honesty: after fitting the chosen extension, does a structure test still find
     // dependence on a measured variable? Then the name would claim too much.
     std::vector<Eigen::Vector3d> after(n);
-    for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
-    const double fitted_after =
-        chosen_eval->design.ns + static_cast<double>(chosen_eval->design.np) * rs.num_cycles;
+    for (int i = 0; i < n; ++i)
+      after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
+    const double fitted_after = chosen_eval->design.ns + static_cast<double>(chosen_eval->design.np) * rs.num_cycles;
     const double sigma_after = sigma * std::sqrt(std::max(0.05, 1.0 - fitted_after / (3.0 * n)));
     std::vector<NamedTest> rest = StructureTests(rs, after, sigma_after, chosen_eval->design.np == 0);
     std::vector<double> rp;
@@ -293,8 +292,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       d.partial = {chosen.effect};
       d.findings.push_back("after fitting '" + chosen.effect + "' (" + Num(100 * d.excess_removed, 3) +
                            "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
-                           remaining.front().test.Describe() + "): structure outside the catalogue, '" +
-                           chosen.effect + "' explains it only in part");
+                           remaining.front().test.Describe() + "): structure outside the catalogue, '" + chosen.effect +
+                           "' explains it only in part");
     } else {
       // Look-alikes: candidates with a material gain whose held-out error is not worse than the
       // chosen one's by more than kSeparationZ standard errors of the per-pose scatter.
@@ -324,7 +323,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
           continue;
         }
         if (nested >= kNestedShare) {
-          d.findings.push_back("'" + e.fit.effect + "' and '" + chosen.effect + "' are nested (" + Num(100 * nested, 3) +
+          d.findings.push_back("'" + e.fit.effect + "' and '" + chosen.effect + "' are nested (" +
+                               Num(100 * nested, 3) +
                                "% of the smaller one's columns lie in the larger one): the penalised held-out score "
                                "decides");
           continue;

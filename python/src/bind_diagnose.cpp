@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include "numpy_convert.h"
+#include "ramtk/core/error.h"
 #include "ramtk/diagnose/diagnose.h"
 #include "ramtk/diagnose/fringe.h"
 #include "ramtk/diagnose/laser.h"
@@ -14,8 +15,8 @@ namespace ramtk::python {
 void BindDiagnose(py::module_& m) {
   m.def(
       "diagnose",
-      [](const std::string& data, const std::string& model, const std::vector<std::string>& with, const std::string& out,
-         int folds, double noise, double alpha, std::uint64_t seed) {
+      [](const std::string& data, const std::string& model, const std::vector<std::string>& with,
+         const std::string& out, int folds, double noise, double alpha, std::uint64_t seed) {
         diagnose::DiagnoseOptions o;
         o.data = data;
         o.model = model;
@@ -25,7 +26,7 @@ void BindDiagnose(py::module_& m) {
         o.noise = noise;
         o.alpha = alpha;
         o.seed = seed;
-        o.Validate();
+        ThrowIfInvalid(o.Validate(), "DiagnoseOptions");
         diagnose::Diagnosis result;
         {
           py::gil_scoped_release release;

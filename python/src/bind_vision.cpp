@@ -89,7 +89,7 @@ void BindVision(py::module_& m) {
         o.intensity_sigma_dn = intensity_sigma_dn;
         o.correct_nonlinearity = correct_nonlinearity;
         o.noise_from_neighbours = noise_from_neighbours;
-        o.Validate();
+        ThrowIfInvalid(o.Validate(), "DecodeOptions");
         vision::DecodedCamera d;
         {
           py::gil_scoped_release release;
@@ -118,7 +118,7 @@ void BindVision(py::module_& m) {
         o.sphere.max_spheres = max_spheres;
         o.match.min_depth_mm = min_depth_mm;
         o.match.max_depth_mm = max_depth_mm;
-        o.Validate();
+        ThrowIfInvalid(o.Validate(), "ScanOptions");
         vision::ScanResult r;
         {
           py::gil_scoped_release release;
@@ -172,7 +172,7 @@ void BindVision(py::module_& m) {
         o.max_spheres = max_spheres;
         o.seed = seed;
         o.min_points = min_points;
-        o.Validate();
+        ThrowIfInvalid(o.Validate(), "SphereFitOptions");
         vision::SphereFitSummary s;
         {
           py::gil_scoped_release release;
@@ -190,15 +190,17 @@ void BindVision(py::module_& m) {
   py::class_<vision::StereoCalibration>(m, "StereoCalibration",
                                         "A stereo calibration (the file of `ramtk calib cameras`, OpenCV YAML / JSON)")
       .def_static("read", &vision::ReadStereoCalibration, py::arg("path"))
-      .def("write", [](const vision::StereoCalibration& c, const std::string& path) { vision::WriteStereoCalibration(path, c); },
-           py::arg("path"), "Writes YAML, or JSON when the path ends in .json (atomically)")
+      .def(
+          "write",
+          [](const vision::StereoCalibration& c, const std::string& path) { vision::WriteStereoCalibration(path, c); },
+          py::arg("path"), "Writes YAML, or JSON when the path ends in .json (atomically)")
       .def_property_readonly("left_K", [](const vision::StereoCalibration& c) { return ToArray(c.left.K()); })
       .def_property_readonly("right_K", [](const vision::StereoCalibration& c) { return ToArray(c.right.K()); })
-      .def_property_readonly("image_size",
-                             [](const vision::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
-      .def_property_readonly("right_from_left",
-                             [](const vision::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
-                             "4×4, translation in mm")
+      .def_property_readonly(
+          "image_size", [](const vision::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
+      .def_property_readonly(
+          "right_from_left", [](const vision::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
+          "4×4, translation in mm")
       .def_readonly("rms_px", &vision::StereoCalibration::rms_px)
       .def_readonly("parameter_std", &vision::StereoCalibration::parameter_std);
 

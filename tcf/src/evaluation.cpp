@@ -62,7 +62,7 @@ std::string EvaluationOptions::Validate() const {
 }
 
 std::vector<MethodAccuracy> EvaluateMethods(const EvaluationOptions& opt) {
-  if (const std::string err = opt.Validate(); !err.empty()) throw InputError({"", 0, "EvaluationOptions"}, err);
+  ThrowIfInvalid(opt.Validate(), "EvaluationOptions");
   std::vector<MethodAccuracy> rows;
   std::vector<double> tcp_ss(opt.methods.size(), 0.0), axis_ss(opt.methods.size(), 0.0),
       sig_ss(opt.methods.size(), 0.0);

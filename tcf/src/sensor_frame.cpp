@@ -1,4 +1,5 @@
 // Sensor-frame calibration of the cross-laser device, thesis eqs. (4-15)..(4-27).
+#include "ramtk/core/error.h"
 #include "ramtk/tcf/sensor_frame.h"
 
 #include <cmath>
@@ -46,7 +47,7 @@ BeamPoints BeamPointsFromFlangePositions(const std::map<std::string, Vec3>& flan
 }
 
 SensorFrame CalibrateSensorFrame(const BeamPoints& pts, const SensorFrameOptions& options, const std::string& source) {
-  if (const std::string err = options.Validate(); !err.empty()) throw InputError({"", 0, "SensorFrameOptions"}, err);
+  ThrowIfInvalid(options.Validate(), "SensorFrameOptions");
   const Vec3 d1 = pts.b - pts.a;  // (m1, n1, p1) of eq. (4-17)
   const Vec3 d2 = pts.d - pts.c;  // (m2, n2, p2) of eq. (4-18)
   if (d1.norm() < options.min_point_separation_mm)

@@ -77,7 +77,7 @@ std::string TcfSimulationOptions::Validate() const {
 }
 
 TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
-  if (const std::string err = opt.Validate(); !err.empty()) throw InputError({"", 0, "TcfSimulationOptions"}, err);
+  ThrowIfInvalid(opt.Validate(), "TcfSimulationOptions");
   const DeviceEffects& fx = opt.effects;
   std::mt19937_64 rng(opt.seed);
   std::normal_distribution<double> normal(0.0, 1.0);

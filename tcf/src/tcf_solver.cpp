@@ -371,7 +371,7 @@ AxisEstimate EstimateToolAxisFromCircles(const std::vector<BeamEvent>& events, c
 
 TcfSummary SolveTcf(const std::vector<BeamEvent>& events_in, const ProgrammedMotion& motion, const SensorFrame& sensor,
                     const TcfSolverOptions& options, const std::string& log_path) {
-  if (const std::string err = options.Validate(); !err.empty()) throw InputError({"", 0, "TcfSolverOptions"}, err);
+  ThrowIfInvalid(options.Validate(), "TcfSolverOptions");
   CheckAlternation(events_in, log_path);
   // Glitches: blocked intervals shorter than min_blocked_duration_s (dust, receiver chatter) are
   // dropped with their clear event; alternation is kept.

@@ -117,6 +117,42 @@ TEST(ThermalPredictor, OfflineTemperatureModelBeatsHoldLast) {
   }
 }
 
+// The library's scoring (used by `ramtk thermal predict`) against the sum written out above, and
+// its temperature reader against this file's, on a simulated run; with the prediction equal to
+// the reference the score is zero, and hold-last equal to it zeroes the other figure.
+TEST(ThermalPredictor, LibraryScoreAgreesWithTheSumWrittenOut) {
+  const auto& e = Thesis(1);
+  const std::vector<int> params = e.sim.drifting_params;
+  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
+  IdentificationOptions id;
+  id.params = params;
+  const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
+  Eigen::MatrixXd temps, lib_temps;
+  std::vector<double> times, lib_times;
+  Temperatures(e.experiment.ball, &temps, &times);
+  std::vector<int> all;
+  for (int c = 0; c < e.experiment.ball.NumCycles(); ++c) all.push_back(c);
+  CycleTemperatures(e.experiment.ball, all, &lib_temps, &lib_times);
+  EXPECT_EQ(lib_temps, temps);
+  EXPECT_EQ(lib_times, times);
+  DriftPredictorOptions po;
+  po.window_every = 10;
+  const DriftPrediction pred = PredictDrift(x, temps, times, params, po);
+  const MonitoringModel mon(Kr150(), e.sim.setup, e.experiment.monitoring);
+  const PredictionScore score = ScorePredictionOnMonitoring(mon, pred, e.sim.true_delta_x);
+  const Errors written = Score(e, pred);
+  EXPECT_NEAR(score.hold_last_rms_mm, written.hold, 1e-12 * written.hold);
+  EXPECT_NEAR(score.predicted_rms_mm, written.predicted, 1e-12 * written.predicted);
+  EXPECT_GT(score.samples, 0);
+  const PredictionScore self = ScorePredictionOnMonitoring(mon, pred, pred.predicted);
+  EXPECT_EQ(self.predicted_rms_mm, 0.0);
+  EXPECT_GT(self.hold_last_rms_mm, 0.0);
+  Eigen::MatrixXd bad_temps = temps;
+  CycleSeries no_temps = e.experiment.ball;
+  no_temps.cycles[1].extra.erase("temp_j3");
+  EXPECT_THROW(CycleTemperatures(no_temps, all, &bad_temps, &lib_times), InputError);
+}
+
 // With no process noise and the same window covariance every time, the Kalman filter's estimate
 // is the model plus the equally weighted mean of the window offsets — what PredictDrift's offline
 // mode computes by a different route.

@@ -187,8 +187,9 @@ TEST_F(BadInput, PeriodInPixelsIsConvertedToCycles) {
 TEST(DecodeOptions, ValidateNamesTheField) {
   DecodeOptions o;
   o.saturation_fraction = 1.5;
+  EXPECT_EQ(SplitOptionsProblem(o.Validate()).field, "saturation_fraction");
   try {
-    o.Validate();
+    ThrowIfInvalid(o.Validate(), "DecodeOptions");
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().field, "saturation_fraction");
@@ -303,8 +304,8 @@ TEST_F(ImageLoading, EveryFormatGivesTheWrittenValues) {
 
 TEST_F(ImageLoading, HostileHeaderIsRefusedBeforeAllocation) {
   // A 33-byte PNG whose header claims 1 000 000 x 1 000 000 pixels.
-  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
-                               0x00, 0x0f, 0x42, 0x40, 0x00, 0x0f, 0x42, 0x40, 8, 0, 0, 0, 0, 0, 0, 0, 0};
+  const unsigned char png[] = {0x89, 'P',  'N',  'G',  '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R', 0x00,
+                               0x0f, 0x42, 0x40, 0x00, 0x0f, 0x42, 0x40, 8,    0, 0, 0, 0,  0,   0,   0,   0};
   std::ofstream(Path("huge.png"), std::ios::binary).write(reinterpret_cast<const char*>(png), sizeof(png));
   try {
     int bits = 0;

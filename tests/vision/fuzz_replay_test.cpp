@@ -55,7 +55,7 @@ bool Replay(const std::string& name, const std::string& text) {
       const fs::path path = fs::path(RAMTK_TEST_OUTPUT_DIR) / "fuzz_replay.ply";
       fs::create_directories(path.parent_path());
       std::ofstream(path, std::ios::binary) << text;
-      ramtk::vision::ReadPly(path.string()).Validate(path.string());
+      ramtk::vision::ReadPly(path.string()).Check(path.string());
     } else if (name.rfind("fuzz_stereo_calibration-", 0) == 0) {
       (void)ramtk::vision::ParseStereoCalibration(text, "/fuzz/calibration.yml");
     } else if (name.rfind("fuzz_image-", 0) == 0) {

@@ -127,16 +127,16 @@ TEST(SimSensor, SoftKneeIsLinearBelowTheKneeAndTheAlgebraicClipAbove) {
     previous = got;
   }
   o.soft_knee_fraction = 1.0;
-  EXPECT_THROW(o.Validate(), InputError);
+  EXPECT_NE(o.Validate(), "");
 }
 
 TEST(SimSensor, BadOptionsAreRejected) {
   SensorOptions o;
   o.bits = 9;
-  EXPECT_THROW(o.Validate(), InputError);
+  EXPECT_NE(o.Validate(), "");
   o.bits = 8;
   o.full_well_electrons = 0;
-  EXPECT_THROW(o.Validate(), InputError);
+  EXPECT_NE(o.Validate(), "");
 }
 
 }  // namespace

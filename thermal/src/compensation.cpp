@@ -28,8 +28,7 @@ RobotModel ModelWithDrift(const RobotModel& model, const ParamVector& delta_x) {
 std::vector<JointVector> CompensateTaughtPoses(const RobotModel& model, const ParamVector& delta_x,
                                                const std::vector<JointVector>& taught,
                                                const CompensationOptions& options, CompensationSummary* summary) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "CompensationOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "CompensationOptions");
   const RobotModel warm = ModelWithDrift(model, delta_x);
   std::vector<JointVector> out;
   CompensationSummary s;

@@ -48,8 +48,7 @@ std::vector<std::vector<Mat3>> CycleSeries::DifferenceCovariances(double robot_n
 
 CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::string& path,
                         const CycleOptions& options) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "CycleOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "CycleOptions");
   const char* index_name = set.kind == kinematics::MeasurementKind::kBall ? "pose" : "point";
   CycleSeries series;
   series.path = path;

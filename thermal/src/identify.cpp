@@ -100,8 +100,7 @@ DriftModel::DriftModel(const RobotModel& model, const ThermalSetup& setup, const
 
 Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const IdentificationOptions& options,
                                   IdentificationSummary* summary) const {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "IdentificationOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "IdentificationOptions");
   std::vector<int> params = options.params.empty() ? model_.FreeParams() : options.params;
   std::vector<int> poses = options.poses;
   if (poses.empty()) {

@@ -81,8 +81,7 @@ Eigen::MatrixXd RidgeFit(const Eigen::MatrixXd& identified, const Eigen::MatrixX
 TemperatureDriftModel FitTemperatureModel(const Eigen::MatrixXd& identified, const Eigen::MatrixXd& temperatures,
                                           const std::vector<double>& times_s, const std::vector<int>& params,
                                           const TemperatureModelOptions& options, const std::vector<int>& use) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "TemperatureModelOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "TemperatureModelOptions");
   if (identified.cols() != temperatures.cols()) {
     throw InputError({"", 0, "temperatures"}, "temperature columns do not match the identified cycles");
   }
@@ -120,8 +119,7 @@ DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::Mat
                              const std::vector<double>& times_s, const std::vector<int>& params,
                              const DriftPredictorOptions& options, const TemperatureDriftModel* offline,
                              DriftPredictionSummary* summary) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "DriftPredictorOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "DriftPredictorOptions");
   const int cycles = static_cast<int>(identified.cols());
   if (temperatures.cols() != cycles || static_cast<int>(times_s.size()) != cycles) {
     throw InputError({"", 0, "temperatures"}, "temperature columns or times do not match the cycles");
@@ -195,8 +193,7 @@ DriftPrediction KalmanPredictDrift(const Eigen::MatrixXd& identified, const Eige
                                    const Eigen::MatrixXd& temperatures, const std::vector<double>& times_s,
                                    const std::vector<int>& params, const KalmanDriftOptions& options,
                                    const TemperatureDriftModel* model) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "KalmanDriftOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "KalmanDriftOptions");
   const int cycles = static_cast<int>(identified.cols());
   const int k = static_cast<int>(params.size());
   if (temperatures.cols() != cycles || static_cast<int>(times_s.size()) != cycles) {
@@ -246,6 +243,41 @@ DriftPrediction KalmanPredictDrift(const Eigen::MatrixXd& identified, const Eige
     }
   }
   return out;
+}
+
+void CycleTemperatures(const CycleSeries& series, const std::vector<int>& columns, Eigen::MatrixXd* temperatures,
+                       std::vector<double>* times_s) {
+  temperatures->resize(kinematics::kNumJoints, static_cast<Eigen::Index>(columns.size()));
+  times_s->clear();
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const Cycle& cycle = series.cycles[columns[c]];
+    times_s->push_back(cycle.time_s);
+    for (int j = 0; j < kinematics::kNumJoints; ++j) {
+      const std::string name = "temp_j" + std::to_string(j + 1);
+      const auto it = cycle.extra.find(name);
+      if (it == cycle.extra.end()) throw InputError({series.path, 1, name}, "the predictor needs temperature columns");
+      (*temperatures)(j, static_cast<Eigen::Index>(c)) = it->second;
+    }
+  }
+}
+
+PredictionScore ScorePredictionOnMonitoring(const MonitoringModel& monitoring, const DriftPrediction& prediction,
+                                            const Eigen::MatrixXd& reference) {
+  double sq_pred = 0, sq_hold = 0;
+  PredictionScore score;
+  for (int c = 0; c < monitoring.NumCycles(); ++c) {
+    if (prediction.is_window[c]) continue;
+    for (int k = 0; k < monitoring.NumPoints(); ++k) {
+      sq_pred += (monitoring.Jacobian(k) * (prediction.predicted.col(c) - reference.col(c))).squaredNorm();
+      sq_hold += (monitoring.Jacobian(k) * (prediction.hold_last.col(c) - reference.col(c))).squaredNorm();
+      ++score.samples;
+    }
+  }
+  if (score.samples > 0) {
+    score.predicted_rms_mm = std::sqrt(sq_pred / score.samples);
+    score.hold_last_rms_mm = std::sqrt(sq_hold / score.samples);
+  }
+  return score;
 }
 
 }  // namespace ramtk::thermal

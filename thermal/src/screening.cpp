@@ -132,8 +132,7 @@ Eigen::VectorXd HeldoutPoseErrors(const ThermalExperiment& experiment, const Ide
 }
 
 ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const ScreeningOptions& options) {
-  const std::string problem = options.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "ScreeningOptions"}, problem);
+  ThrowIfInvalid(options.Validate(), "ScreeningOptions");
   Scorer scorer(experiment, options.identification.poses);
   ScreeningSummary summary;
   const bool from_heldout = options.keep == 0;

@@ -251,8 +251,7 @@ Vec3 ToolSensorReading(const RobotModel& warm_model, const ThermalSetup& setup, 
 }
 
 ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOptions& o) {
-  const std::string problem = o.Validate();
-  if (!problem.empty()) throw InputError({"", 0, "ThermalSimOptions"}, problem);
+  ThrowIfInvalid(o.Validate(), "ThermalSimOptions");
   std::mt19937_64 rng(o.seed);
   ThermalSimResult r;
   r.setup = o.setup;

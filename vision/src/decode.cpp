@@ -34,19 +34,18 @@ bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, 
 
 }  // namespace
 
-void DecodeOptions::Validate() const {
-  auto in01 = [](double v, const char* field) {
-    if (!(v >= 0 && v <= 1)) throw InputError({"", 0, field}, "expected a fraction in [0, 1]");
-  };
-  in01(min_modulation_fraction, "min_modulation_fraction");
-  in01(saturation_fraction, "saturation_fraction");
-  in01(dark_fraction, "dark_fraction");
-  if (!std::isfinite(intensity_sigma_dn)) throw InputError({"", 0, "intensity_sigma_dn"}, "must be finite");
-  if (!(max_order_residual > 0 && max_order_residual < 0.5))
-    throw InputError({"", 0, "max_order_residual"}, "expected a value in (0, 0.5)");
-  if (correct_nonlinearity) nonlinearity.Validate();
-  if (harmonic_stride < 1) throw InputError({"", 0, "harmonic_stride"}, "must be >= 1");
-  if (noise_stride < 1) throw InputError({"", 0, "noise_stride"}, "must be >= 1");
+std::string DecodeOptions::Validate() const {
+  for (const auto& [v, field] :
+       {std::pair{min_modulation_fraction, "min_modulation_fraction"},
+        std::pair{saturation_fraction, "saturation_fraction"}, std::pair{dark_fraction, "dark_fraction"}})
+    if (!(v >= 0 && v <= 1)) return std::string(field) + ": expected a fraction in [0, 1]";
+  if (!std::isfinite(intensity_sigma_dn)) return "intensity_sigma_dn: must be finite";
+  if (!(max_order_residual > 0 && max_order_residual < 0.5)) return "max_order_residual: expected a value in (0, 0.5)";
+  if (correct_nonlinearity)
+    if (const std::string p = nonlinearity.Validate(); !p.empty()) return "nonlinearity." + p;
+  if (harmonic_stride < 1) return "harmonic_stride: must be >= 1";
+  if (noise_stride < 1) return "noise_stride: must be >= 1";
+  return "";
 }
 
 std::string DecodeSummary::BriefReport() const {
@@ -268,8 +267,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
 
 DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
                            const DecodeOptions& options, const std::string& camera) {
-  options.Validate();
-  m.Validate();
+  ThrowIfInvalid(options.Validate(), "DecodeOptions");
+  m.Check();
   const std::string where = m.path.empty() ? camera : m.path;
   if (static_cast<int>(frames.size()) != m.ImageCount())
     throw InputError({where, 0, "cameras." + camera}, "the sequence needs " + std::to_string(m.ImageCount()) +
@@ -302,7 +301,7 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
 }
 
 DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& camera, const DecodeOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "DecodeOptions");
   const auto it = manifest.cameras.find(camera);
   if (it == manifest.cameras.end()) {
     std::string names;

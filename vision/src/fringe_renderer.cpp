@@ -185,18 +185,17 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks
   return frames;
 }
 
-void RenderOptions::Validate() const {
-  if (supersampling < 1 || supersampling > 16) throw InputError({"", 0, "supersampling"}, "must be in 1..16");
-  if (!(ambient >= 0.0 && std::isfinite(ambient))) throw InputError({"", 0, "ambient"}, "must be >= 0");
-  if (!(projector_gamma > 0.0 && std::isfinite(projector_gamma)))
-    throw InputError({"", 0, "projector_gamma"}, "must be > 0");
-  if (!(projector_blur_px >= 0.0 && projector_blur_px < 100.0))
-    throw InputError({"", 0, "projector_blur_px"}, "must be in [0, 100)");
+std::string RenderOptions::Validate() const {
+  if (supersampling < 1 || supersampling > 16) return "supersampling: must be in 1..16";
+  if (!(ambient >= 0.0 && std::isfinite(ambient))) return "ambient: must be >= 0";
+  if (!(projector_gamma > 0.0 && std::isfinite(projector_gamma))) return "projector_gamma: must be > 0";
+  if (!(projector_blur_px >= 0.0 && projector_blur_px < 100.0)) return "projector_blur_px: must be in [0, 100)";
+  return "";
 }
 
 RenderedView RenderView(const Scene& scene, const PinholeView& camera, const PinholeView& projector,
                         const std::vector<PatternFrame>& frames, const RenderOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "RenderOptions");
   const int width = camera.intrinsics.width, height = camera.intrinsics.height;
   if (width <= 0 || height <= 0) throw InputError({"", 0, "camera.width"}, "camera image size must be positive");
   const int n = options.supersampling;
@@ -284,7 +283,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
           double sum = ambient_term;
           for (int s = 0; s < samples; ++s) {
             if (sub[s].cosine <= 0.0) continue;
-            double p = phase ? 0.5 + 0.5 * modulation * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
+            double p = phase        ? 0.5 + 0.5 * modulation * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
                        : blur > 0.0 ? BlurredGrayBit(sub[s].coord, extent, frame.bits, shift, blur)
                                     : static_cast<double>((gray[s] >> shift) & 1);
             if (options.projector_gamma != 1.0 && p > 0.0) p = std::pow(p, options.projector_gamma);
@@ -304,20 +303,20 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
   return out;
 }
 
-void SensorOptions::Validate() const {
-  if (bits != 8 && bits != 10 && bits != 12 && bits != 16) throw InputError({"", 0, "bits"}, "must be 8, 10, 12 or 16");
-  if (!(exposure > 0.0 && std::isfinite(exposure))) throw InputError({"", 0, "exposure"}, "must be > 0");
-  if (!(full_well_electrons > 0.0)) throw InputError({"", 0, "full_well_electrons"}, "must be > 0");
-  if (!(read_noise_electrons >= 0.0)) throw InputError({"", 0, "read_noise_electrons"}, "must be >= 0");
-  if (!(blur_sigma_px >= 0.0 && blur_sigma_px < 100.0))
-    throw InputError({"", 0, "blur_sigma_px"}, "must be in [0, 100)");
+std::string SensorOptions::Validate() const {
+  if (bits != 8 && bits != 10 && bits != 12 && bits != 16) return "bits: must be 8, 10, 12 or 16";
+  if (!(exposure > 0.0 && std::isfinite(exposure))) return "exposure: must be > 0";
+  if (!(full_well_electrons > 0.0)) return "full_well_electrons: must be > 0";
+  if (!(read_noise_electrons >= 0.0)) return "read_noise_electrons: must be >= 0";
+  if (!(blur_sigma_px >= 0.0 && blur_sigma_px < 100.0)) return "blur_sigma_px: must be in [0, 100)";
   if (!(soft_knee_fraction == 0.0 || (soft_knee_fraction > 0.0 && soft_knee_fraction < 1.0)))
-    throw InputError({"", 0, "soft_knee_fraction"}, "must be 0 (linear) or in (0, 1)");
+    return "soft_knee_fraction: must be 0 (linear) or in (0, 1)";
+  return "";
 }
 
 cv::Mat ApplySensor(const cv::Mat& radiance, double gain, const SensorOptions& o, std::uint64_t seed,
                     std::uint64_t stream) {
-  o.Validate();
+  ThrowIfInvalid(o.Validate(), "SensorOptions");
   CV_Assert(radiance.type() == CV_32F);
   const double max_value = o.MaxValue();
   cv::Mat mean;

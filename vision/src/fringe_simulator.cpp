@@ -37,10 +37,6 @@ Isometry3 LookAt(const Vec3& centre, const Vec3& target) {
   return view_from_left;
 }
 
-void CheckMagnitude(bool ok, const std::string& where, const std::string& name, const std::string& rule) {
-  if (!ok) throw InputError({"", 0, where}, "effect " + name + ": magnitude " + rule);
-}
-
 json Vec3Json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 json IntrinsicsJson(const CameraIntrinsics& c) {
@@ -130,15 +126,13 @@ void FringeEffects::Set(const std::string& name, double m, const std::string& wh
   } else if (name == "lens_distortion_unmodelled") {
     lens_distortion_unmodelled = m;
   } else {
-    throw InputError({"", 0, where}, "unknown effect '" + name +
-                                         "' (known: projector_nonlinearity, phase_shift_error, intensity_drift, "
-                                         "saturation, defocus, camera_defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
+    throw InputError(
+        {"", 0, where},
+        "unknown effect '" + name +
+            "' (known: projector_nonlinearity, phase_shift_error, intensity_drift, "
+            "saturation, defocus, camera_defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
   }
-  try {
-    Validate();
-  } catch (const InputError& e) {
-    throw InputError({"", 0, where}, e.message());
-  }
+  if (const std::string p = Validate(); !p.empty()) throw InputError({"", 0, where}, SplitOptionsProblem(p).message);
 }
 
 std::map<std::string, double> FringeEffects::ByName() const {
@@ -153,7 +147,12 @@ std::map<std::string, double> FringeEffects::ByName() const {
           {"lens_distortion_unmodelled", lens_distortion_unmodelled}};
 }
 
-void FringeEffects::Validate() const {
+std::string FringeEffects::Validate() const {
+  std::string problem;  // the first one
+  auto CheckMagnitude = [&problem](bool ok, const std::string& where, const std::string& name,
+                                   const std::string& rule) {
+    if (!ok && problem.empty()) problem = where + ": effect " + name + ": magnitude " + rule;
+  };
   const std::string w = "effects";
   CheckMagnitude(projector_nonlinearity > 0.0 && projector_nonlinearity <= 10.0, w, "projector_nonlinearity",
                  "(gamma) must be in (0, 10]");
@@ -169,22 +168,28 @@ void FringeEffects::Validate() const {
   CheckMagnitude(ambient_light >= 0.0 && ambient_light <= 100.0, w, "ambient_light", "must be in [0, 100]");
   CheckMagnitude(std::abs(lens_distortion_unmodelled) <= 1.0, w, "lens_distortion_unmodelled",
                  "(extra k1) must be in [-1, 1]");
+  return problem;
 }
 
-void FringeSimulationConfig::Validate() const {
-  effects.Validate();
-  sensor.Validate();
+std::string FringeSimulationConfig::Validate() const {
+  if (std::string p = effects.Validate(); !p.empty()) return p;  // its fields are named effects*
+  if (std::string p = sensor.Validate(); !p.empty()) return "sensor." + p;
   RenderOptions ro;
   ro.supersampling = supersampling;
-  ro.Validate();
-  ExpandSequence(sequence);
-  if (sequence.empty()) throw InputError({"", 0, "sequence"}, "the pattern sequence is empty");
+  if (std::string p = ro.Validate(); !p.empty()) return p;
+  try {
+    ExpandSequence(sequence);
+  } catch (const InputError& e) {
+    return "sequence: " + e.message();
+  }
+  if (sequence.empty()) return "sequence: the pattern sequence is empty";
   for (const CameraIntrinsics* c : {&cameras.left, &cameras.right, &projector.intrinsics})
     if (c->width <= 0 || c->height <= 0 || !(c->fx > 0) || !(c->fy > 0))
-      throw InputError({"", 0, "cameras"}, "image sizes and focal lengths must be positive");
-  if (scene.ObjectCount() == 0) throw InputError({"", 0, "scene"}, "the scene is empty");
+      return "cameras: image sizes and focal lengths must be positive";
+  if (scene.ObjectCount() == 0) return "scene: the scene is empty";
   for (const Sphere& s : scene.spheres)
-    if (!(s.radius > 0.0)) throw InputError({"", 0, "scene.spheres"}, "sphere radius must be positive");
+    if (!(s.radius > 0.0)) return "scene.spheres: sphere radius must be positive";
+  return "";
 }
 
 FringeSimulationConfig ScaleCameraWindows(FringeSimulationConfig c, double scale) {
@@ -295,7 +300,7 @@ PinholeView RenderedCameraView(const FringeSimulationConfig& config, int camera)
 StereoCalibration WrittenCalibration(const FringeSimulationConfig& config) { return config.cameras; }
 
 SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera, const ProgressCallback& progress) {
-  config.Validate();
+  ThrowIfInvalid(config.Validate(), "FringeSimulationConfig");
   std::vector<PatternFrame> frames = ExpandSequence(config.sequence);
   const EffectRealisation fx = RealiseEffects(config, frames);
   for (std::size_t i = 0; i < frames.size(); ++i) frames[i].shift_error_rad = fx.shift_errors_rad[i];
@@ -330,7 +335,7 @@ std::string FringeSimulationSummary::BriefReport() const {
 FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, const std::string& out_dir,
                                           bool overwrite, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
-  config.Validate();
+  ThrowIfInvalid(config.Validate(), "FringeSimulationConfig");
   // Written into a sibling temporary folder, moved into place when complete (core/outputs.h).
   StagedFolder staged(out_dir, overwrite, "--out");
   const fs::path tmp = staged.path();

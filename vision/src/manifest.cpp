@@ -142,7 +142,7 @@ std::vector<std::string> FringeManifest::InputFiles() const {
   return out;
 }
 
-void FringeManifest::Validate() const {
+void FringeManifest::Check() const {
   if (projector_width <= 0 || projector_height <= 0) Fail(path, "projector", "width and height must be positive");
   if (projector_width > kMaxProjectorSide || projector_height > kMaxProjectorSide) {
     Fail(path, "projector",
@@ -246,7 +246,7 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
     }
     m.cameras[name] = list;
   }
-  m.Validate();
+  m.Check();
   return m;
 }
 

@@ -84,28 +84,27 @@ cv::Mat MaskedMean(const cv::Mat& v, const cv::Mat& mf, const cv::Mat& den, int 
 
 }  // namespace
 
-void NonlinearityOptions::Validate() const {
-  if (orders < 1 || orders > 6) throw InputError({"", 0, "orders"}, "expected 1..6");
-  if (passes < 1 || passes > 10) throw InputError({"", 0, "passes"}, "expected 1..10");
-  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0))
-    throw InputError({"", 0, "window_px"}, "expected 0 or an odd number >= 3");
-  if (!(outlier_rad > 0)) throw InputError({"", 0, "outlier_rad"}, "must be positive");
-  if (!(min_ripple_t2 >= 0)) throw InputError({"", 0, "min_ripple_t2"}, "must be >= 0");
+std::string NonlinearityOptions::Validate() const {
+  if (orders < 1 || orders > 6) return "orders: expected 1..6";
+  if (passes < 1 || passes > 10) return "passes: expected 1..10";
+  if (window_px != 0 && (window_px < 3 || window_px % 2 == 0)) return "window_px: expected 0 or an odd number >= 3";
+  if (!(outlier_rad > 0)) return "outlier_rad: must be positive";
+  if (!(min_ripple_t2 >= 0)) return "min_ripple_t2: must be >= 0";
+  return "";
 }
 
 std::string NonlinearityEstimate::BriefReport() const {
   std::ostringstream s;
   s << "nonlinearity (N=" << steps << "): " << (applied ? "corrected" : "not corrected") << " (ripple T² " << ripple_t2
-    << "), s1 "
-    << (sin_rad.empty() ? 0.0 : sin_rad[0]) << " rad, ripple RMS " << ripple_rms_rad << " rad, equivalent gamma "
-    << equivalent_gamma << ", high-pass RMS " << residual_rms_before_rad << " -> " << residual_rms_after_rad
-    << " rad over " << pixels_used << " px";
+    << "), s1 " << (sin_rad.empty() ? 0.0 : sin_rad[0]) << " rad, ripple RMS " << ripple_rms_rad
+    << " rad, equivalent gamma " << equivalent_gamma << ", high-pass RMS " << residual_rms_before_rad << " -> "
+    << residual_rms_after_rad << " rad over " << pixels_used << " px";
   return s.str();
 }
 
 NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
                                               int steps, const NonlinearityOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
   NonlinearityEstimate est;
   est.steps = steps;
   est.sin_rad.assign(options.orders, 0.0);

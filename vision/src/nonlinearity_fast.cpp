@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "nonlinearity_internal.h"
+#include "ramtk/core/error.h"
 #include "ramtk/vision/nonlinearity.h"
 
 namespace ramtk::vision {
@@ -117,7 +118,7 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
 NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
                                                   const cv::Mat& mask_full, int steps,
                                                   const NonlinearityOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
   NonlinearityEstimate est;
   est.steps = steps;
   est.sin_rad.assign(options.orders, 0.0);

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "ramtk/core/outputs.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/vision/image_io.h"
 
 namespace ramtk::vision {
@@ -88,7 +88,7 @@ void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bi
   }
   manifest.cameras["projector"] = names;
   manifest.path.clear();
-  manifest.Validate();
+  manifest.Check();
   const std::vector<cv::Mat> images = QuantisePatterns(GeneratePatterns(manifest), bits);
   StagedFolder staged(out_dir, overwrite, "--out");
   for (std::size_t i = 0; i < images.size(); ++i) WriteImage((staged.path() / names[i]).string(), images[i]);

@@ -85,7 +85,7 @@ struct PlyElement {
 
 }  // namespace
 
-void PointCloud::Validate(const std::string& where) const {
+void PointCloud::Check(const std::string& where) const {
   if (!sigma_mm.empty() && sigma_mm.size() != points_in_left.size())
     throw InputError({where, 0, "sigma"}, "has " + std::to_string(sigma_mm.size()) + " values for " +
                                               std::to_string(points_in_left.size()) + " points");
@@ -95,7 +95,7 @@ void PointCloud::Validate(const std::string& where) const {
 }
 
 std::string PlyBytes(const PointCloud& cloud, const std::string& comment) {
-  cloud.Validate();
+  cloud.Check();
   std::ostringstream h;
   h << "ply\nformat binary_little_endian 1.0\n";
   h << "comment ramtk point cloud: x y z in mm in the left-camera frame";
@@ -122,7 +122,7 @@ std::string PlyBytes(const PointCloud& cloud, const std::string& comment) {
 }
 
 void WritePly(const std::string& path, const PointCloud& cloud, const std::string& comment) {
-  cloud.Validate(path);
+  cloud.Check(path);
   WriteFileAtomically(path, PlyBytes(cloud, comment));
 }
 

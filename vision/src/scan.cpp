@@ -50,17 +50,19 @@ ScanOptions::ScanOptions() {
   decode.keep_diagnostic_maps = false;
 }
 
-void ScanOptions::Validate() const {
+std::string ScanOptions::Validate() const {
   if (left_camera.empty() || right_camera.empty() || left_camera == right_camera)
-    throw InputError({"", 0, "left_camera/right_camera"}, "need two different camera names");
-  decode.Validate();
-  match.Validate();
-  triangulation.Validate();
-  if (fit_spheres) sphere.Validate();
-  roi.Validate();
+    return "left_camera: the left and right camera names must differ and not be empty";
+  if (std::string p = decode.Validate(); !p.empty()) return "decode." + p;
+  if (std::string p = match.Validate(); !p.empty()) return "match." + p;
+  if (std::string p = triangulation.Validate(); !p.empty()) return "triangulation." + p;
+  if (fit_spheres)
+    if (std::string p = sphere.Validate(); !p.empty()) return "sphere." + p;
+  if (std::string p = roi.Validate(); !p.empty()) return p;  // its fields are named roi.*
   if (roi.mode != ScanRoiOptions::Mode::kFull && !fit_spheres)
-    throw InputError({"", 0, "roi"}, "a window around the ball needs the sphere fit (fit_spheres)");
-  if (!(max_sphere_variance_factor >= 1)) throw InputError({"", 0, "max_sphere_variance_factor"}, "must be >= 1");
+    return "roi: a window around the ball needs the sphere fit (fit_spheres)";
+  if (!(max_sphere_variance_factor >= 1)) return "max_sphere_variance_factor: must be >= 1";
+  return "";
 }
 
 std::string ScanSummary::BriefReport() const {
@@ -205,7 +207,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
 
 ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                        double period, const ScanOptions& options, const std::string& calibration_path) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
   return ScanDecodedReleasing(calibration, left, right, period, options, calibration_path);
 }
 
@@ -387,12 +389,12 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
 ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibration,
                       const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
                       double full_scale, const ScanOptions& options, const std::string& calibration_path) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
   return ScanFramesReleasing(m, calibration, left_frames, right_frames, full_scale, options, calibration_path);
 }
 
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
   const FringeManifest m = ReadFringeManifest(manifest_path);
   for (const std::string& cam : {options.left_camera, options.right_camera})
     if (!m.cameras.count(cam))

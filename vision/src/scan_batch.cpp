@@ -5,10 +5,10 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
-#include <cstdlib>
-#include <map>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <sstream>
 
@@ -58,7 +58,8 @@ std::vector<std::size_t> ShardPositions(std::size_t num_sets, const ScanShard& s
                                              std::to_string(shard.count));
   }
   std::vector<std::size_t> out;
-  for (std::size_t i = static_cast<std::size_t>(shard.index - 1); i < num_sets; i += static_cast<std::size_t>(shard.count))
+  for (std::size_t i = static_cast<std::size_t>(shard.index - 1); i < num_sets;
+       i += static_cast<std::size_t>(shard.count))
     out.push_back(i);
   return out;
 }
@@ -109,7 +110,7 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
     sets.push_back(all_entries[p].set);
     predicted.push_back(all_entries[p].predicted_centre_in_left_mm);
   }
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
   if (parallel_sets < 1) throw InputError({"", 0, "--jobs"}, "must be >= 1");
   std::error_code ec;
   fs::create_directories(out_dir, ec);

@@ -27,8 +27,8 @@ cv::Rect2d SilhouetteBox(const CameraIntrinsics& camera, const Vec3& centre, dou
     const double theta = M_PI * b / nb;
     for (int a = 0; a < na; ++a) {
       const double phi = 2 * M_PI * a / na;
-      const Vec3 p = centre + radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
-                                            std::cos(theta));
+      const Vec3 p =
+          centre + radius * Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
       const Vec2 px = ProjectPoint(camera, p);
       x0 = std::min(x0, px.x()), x1 = std::max(x1, px.x());
       y0 = std::min(y0, px.y()), y1 = std::max(y1, px.y());
@@ -51,17 +51,17 @@ cv::Rect ClipToFrame(const cv::Rect2d& box, int margin_px, const CameraIntrinsic
 
 }  // namespace
 
-void ScanRoiOptions::Validate() const {
+std::string ScanRoiOptions::Validate() const {
   if (mode == Mode::kPredicted) {
     if (predicted_centres_in_left_mm.empty())
-      throw InputError({"", 0, "roi.predicted_centres_in_left_mm"}, "a predicted window needs at least one centre");
+      return "roi.predicted_centres_in_left_mm: a predicted window needs at least one centre";
     for (const Vec3& c : predicted_centres_in_left_mm)
-      if (!c.allFinite()) throw InputError({"", 0, "roi.predicted_centres_in_left_mm"}, "must be finite");
+      if (!c.allFinite()) return "roi.predicted_centres_in_left_mm: must be finite";
   }
-  if (coarse_stride < 0 || coarse_stride > 64)
-    throw InputError({"", 0, "roi.coarse_stride"}, "must be 0 (automatic) or 1..64");
-  if (!(margin_mm >= 0 && margin_mm <= 1000)) throw InputError({"", 0, "roi.margin_mm"}, "must be in [0, 1000] mm");
-  if (margin_px < 0 || margin_px > 10000) throw InputError({"", 0, "roi.margin_px"}, "must be in [0, 10000] px");
+  if (coarse_stride < 0 || coarse_stride > 64) return "roi.coarse_stride: must be 0 (automatic) or 1..64";
+  if (!(margin_mm >= 0 && margin_mm <= 1000)) return "roi.margin_mm: must be in [0, 1000] mm";
+  if (margin_px < 0 || margin_px > 10000) return "roi.margin_px: must be in [0, 10000] px";
+  return "";
 }
 
 ScanRoiOptions ParseScanRoi(const std::string& text) {

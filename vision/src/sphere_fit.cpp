@@ -19,10 +19,6 @@ namespace {
 using sphere_internal::Candidate;
 using sphere_internal::GeometricFit;
 
-void Require(bool ok, const char* field, const std::string& message) {
-  if (!ok) throw InputError({"", 0, field}, message);
-}
-
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
@@ -73,7 +69,11 @@ double RobustScale(const std::vector<Eigen::Vector3f>& points, const std::vector
 
 }  // namespace
 
-void SphereFitOptions::Validate() const {
+std::string SphereFitOptions::Validate() const {
+  std::string problem;  // the first one
+  auto Require = [&problem](bool ok, const char* field, const std::string& message) {
+    if (!ok && problem.empty()) problem = std::string(field) + ": " + message;
+  };
   Require(std::isfinite(radius_mm) && radius_mm >= 0, "radius_mm", "must be >= 0 (0 = unknown)");
   Require(!fix_radius || radius_mm > 0, "fix_radius", "needs radius_mm > 0");
   Require(std::isfinite(radius_tolerance_mm) && radius_tolerance_mm > 0, "radius_tolerance_mm", "must be > 0");
@@ -96,13 +96,14 @@ void SphereFitOptions::Validate() const {
           "max_view_angle_deg", "must be in [0, 90] (0 = off)");
   Require(max_robust_points >= 100, "max_robust_points", "must be >= 100");
   Require(max_solver_iterations >= 1, "max_solver_iterations", "must be >= 1");
+  return problem;
 }
 
 Eigen::Vector3d SphereResult::CentreSigma() const { return centre_covariance_mm2.diagonal().cwiseMax(0).cwiseSqrt(); }
 
 SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, const std::vector<float>& sigma_mm,
                              const SphereFitOptions& options) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "SphereFitOptions");
   const bool weighted = !sigma_mm.empty();
   if (weighted && sigma_mm.size() != points_mm.size())
     throw InputError({"", 0, "sigma_mm"}, "has " + std::to_string(sigma_mm.size()) + " values for " +

@@ -567,17 +567,16 @@ void CheckSize(const CameraIntrinsics& cam, const DecodedCamera& d, const std::s
 
 }  // namespace
 
-void StereoMatchOptions::Validate() const {
-  if (!(min_depth_mm > 0)) throw InputError({"", 0, "min_depth_mm"}, "must be > 0");
-  if (!(max_depth_mm > min_depth_mm)) throw InputError({"", 0, "max_depth_mm"}, "must be > min_depth_mm");
-  if (!std::isfinite(lr_tolerance_px)) throw InputError({"", 0, "lr_tolerance_px"}, "must be finite");
-  if (!(lr_sigma_factor >= 0 && std::isfinite(lr_sigma_factor)))
-    throw InputError({"", 0, "lr_sigma_factor"}, "must be >= 0 and finite");
-  if (!(max_sigma_periods > 0)) throw InputError({"", 0, "max_sigma_periods"}, "must be > 0");
-  if (!(max_cell_span_periods > 0 && max_cell_span_periods <= 1))
-    throw InputError({"", 0, "max_cell_span_periods"}, "must be in (0, 1]");
-  if (!(max_modulation_ratio > 1)) throw InputError({"", 0, "max_modulation_ratio"}, "must be > 1");
-  if (!(search_step_px > 0 && search_step_px <= 4)) throw InputError({"", 0, "search_step_px"}, "must be in (0, 4]");
+std::string StereoMatchOptions::Validate() const {
+  if (!(min_depth_mm > 0)) return "min_depth_mm: must be > 0";
+  if (!(max_depth_mm > min_depth_mm)) return "max_depth_mm: must be > min_depth_mm";
+  if (!std::isfinite(lr_tolerance_px)) return "lr_tolerance_px: must be finite";
+  if (!(lr_sigma_factor >= 0 && std::isfinite(lr_sigma_factor))) return "lr_sigma_factor: must be >= 0 and finite";
+  if (!(max_sigma_periods > 0)) return "max_sigma_periods: must be > 0";
+  if (!(max_cell_span_periods > 0 && max_cell_span_periods <= 1)) return "max_cell_span_periods: must be in (0, 1]";
+  if (!(max_modulation_ratio > 1)) return "max_modulation_ratio: must be > 1";
+  if (!(search_step_px > 0 && search_step_px <= 4)) return "search_step_px: must be in (0, 4]";
+  return "";
 }
 
 std::string StereoMatchSummary::BriefReport() const {
@@ -592,7 +591,7 @@ std::string StereoMatchSummary::BriefReport() const {
 
 StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                         double period, const StereoMatchOptions& options, const std::string& calibration_path) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "StereoMatchOptions");
   CheckSize(calibration.left, left, "left", calibration_path);
   CheckSize(calibration.right, right, "right", calibration_path);
   if (!(period > 0)) throw InputError({"", 0, "period"}, "the fringe period must be > 0");

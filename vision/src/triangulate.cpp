@@ -46,8 +46,9 @@ Vec3 TriangulateMidpoint(const StereoCalibration& calibration, const Vec2& left_
   return MidpointOfRays(dl, dr, -R.transpose() * T, gap_mm);
 }
 
-void TriangulationOptions::Validate() const {
-  if (!(max_ray_gap_mm > 0)) throw InputError({"", 0, "max_ray_gap_mm"}, "must be > 0");
+std::string TriangulationOptions::Validate() const {
+  if (!(max_ray_gap_mm > 0)) return "max_ray_gap_mm: must be > 0";
+  return "";
 }
 
 std::string TriangulationSummary::BriefReport() const {
@@ -60,7 +61,7 @@ std::string TriangulationSummary::BriefReport() const {
 
 PointCloud TriangulateMatches(const StereoCalibration& calibration, const DecodedCamera& left, const StereoMatch& match,
                               const TriangulationOptions& options, TriangulationSummary* summary, cv::Mat* depth) {
-  options.Validate();
+  ThrowIfInvalid(options.Validate(), "TriangulationOptions");
   const int W = match.right_u.cols, H = match.right_u.rows;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cv::Mat z(H, W, CV_32F, cv::Scalar(nan));

@@ -27,6 +27,19 @@ class InputError : public std::runtime_error {
   std::string message_;
 };
 
+// The options contract. Every Options struct has `std::string Validate() const`: "" when the
+// options are usable, else one problem, "field: what is wrong". A nested struct's problem is
+// prefixed with its member name ("decode.nonlinearity.orders: expected 1..6").
+// A problem split into its leading field name (letters, digits, '_', '.', '[', ']') and the rest;
+// the field is "" when the problem does not start with one.
+struct OptionsProblem {
+  std::string field, message;
+};
+OptionsProblem SplitOptionsProblem(const std::string& problem);
+// Throws InputError({"", 0, field}, message) for a non-empty problem; `options_name` is the field
+// when the problem names none.
+void ThrowIfInvalid(const std::string& problem, const std::string& options_name);
+
 // Formats a location as "file:line: field 'name'" (parts that are empty are left out).
 std::string FormatLocation(const InputLocation& where);
 

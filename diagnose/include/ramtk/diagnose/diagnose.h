@@ -37,7 +37,7 @@ struct DiagnoseOptions {
   ProgressCallback progress;
 
   // Throws InputError naming the field when a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 // Which kind of data a file holds, from its extension and header; throws InputError naming the

@@ -18,6 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/thermal/cycles.h"
+#include "ramtk/thermal/monitoring.h"
+
 namespace ramtk::thermal {
 
 struct TemperatureModelOptions {
@@ -89,5 +92,22 @@ DriftPrediction KalmanPredictDrift(const Eigen::MatrixXd& identified, const Eige
                                    const Eigen::MatrixXd& temperatures, const std::vector<double>& times_s,
                                    const std::vector<int>& params, const KalmanDriftOptions& options = {},
                                    const TemperatureDriftModel* model = nullptr);
+
+// Joint temperatures (kNumJoints × columns.size(), °C, from the extra columns temp_j1..temp_j6 of
+// each cycle) and the cycle times of the cycles `columns` of a series. InputError naming the file
+// and the missing column otherwise.
+void CycleTemperatures(const CycleSeries& series, const std::vector<int>& columns, Eigen::MatrixXd* temperatures,
+                       std::vector<double>* times_s);
+
+// A prediction scored on the monitoring points of the cycles between windows: RMS 3-D error of
+// the prediction and of hold-last against `reference` (30 × cycles, e.g. the every-cycle
+// identification; it carries that identification's own noise).
+struct PredictionScore {
+  double predicted_rms_mm = 0.0;
+  double hold_last_rms_mm = 0.0;
+  int samples = 0;  // monitoring points × scored cycles
+};
+PredictionScore ScorePredictionOnMonitoring(const MonitoringModel& monitoring, const DriftPrediction& prediction,
+                                            const Eigen::MatrixXd& reference);
 
 }  // namespace ramtk::thermal

@@ -56,7 +56,7 @@ struct DecodeOptions {
   // Called after each stage; returning false stops the decode (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct DecodeSummary {

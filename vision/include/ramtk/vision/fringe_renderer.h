@@ -92,7 +92,7 @@ struct RenderOptions {
   bool shadows = true;                                         // trace projector shadow rays
   ProgressCallback progress;                                   // called from worker threads (serialised), rows done
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 // Radiance images of one camera and its per-pixel ground truth.
@@ -124,7 +124,7 @@ struct SensorOptions {
   double soft_knee_fraction = 0.0;
   bool noise = true;                   // add shot and read noise
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
   int MaxValue() const { return (1 << bits) - 1; }
 };
 

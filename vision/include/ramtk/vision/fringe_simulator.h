@@ -40,7 +40,7 @@ struct FringeEffects {
   // All effects by catalogue name, with their current magnitudes.
   std::map<std::string, double> ByName() const;
   // Throws InputError for an out-of-range magnitude.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 // Everything that defines a simulated stereo fringe set.
@@ -57,7 +57,7 @@ struct FringeSimulationConfig {
   std::uint64_t seed = 1;                                      // seeds every random draw (effects and noise)
 
   // Throws InputError naming the field for invalid values.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 // Presets: "thesis" — 3312×2488 cameras (f = 4700 px), a 912×1140 projector, ~700 mm working

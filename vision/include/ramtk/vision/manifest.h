@@ -67,8 +67,9 @@ struct FringeManifest {
   // calibration file (resolved), so that commands can refuse outputs that would overwrite them.
   std::vector<std::string> InputFiles() const;
   // Throws InputError (file = path, field = the offending key) if the manifest is inconsistent:
-  // bad counts, unsupported block combination, image count != sequence length.
-  void Validate() const;
+  // bad counts, unsupported block combination, image count != sequence length. (A check of data
+  // read from a file; options structs use the Validate() contract of core/error.h.)
+  void Check() const;
 };
 
 // Largest projector side accepted (pixels): well above any real projector (4K is 3840), small

@@ -38,7 +38,7 @@ struct NonlinearityOptions {
   // "Projector nonlinearity on small balls"). 0 disables the test.
   double min_ripple_t2 = 25.2;
   // Throws InputError naming the field when a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct NonlinearityEstimate {

@@ -19,8 +19,8 @@ struct PointCloud {
 
   std::size_t size() const { return points_in_left.size(); }
   // Throws InputError (field "sigma" / "quality") if an optional array is neither empty nor of
-  // the cloud's size.
-  void Validate(const std::string& where = "") const;
+  // the cloud's size. (A check of data; options structs use the Validate() contract of core/error.h.)
+  void Check(const std::string& where = "") const;
 };
 
 // The PLY file's bytes (header + binary little-endian body) for a cloud.

@@ -51,7 +51,7 @@ struct ScanOptions {
 
   ScanOptions();
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct ScanSummary {

@@ -39,7 +39,7 @@ struct ScanRoiOptions {
   // instead (logged and recorded in ScanSummary::roi_source). false: report "no sphere found".
   bool fall_back_to_full = true;
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 // "full", "auto" or "X,Y,Z" (a predicted centre, mm) -> options; InputError (field --roi)

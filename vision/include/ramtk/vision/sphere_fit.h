@@ -103,7 +103,7 @@ struct SphereFitOptions {
   // Called after each sphere; returning false stops the search (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct SphereResult {

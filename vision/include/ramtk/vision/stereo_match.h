@@ -57,7 +57,7 @@ struct StereoMatchOptions {
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct StereoMatchSummary {

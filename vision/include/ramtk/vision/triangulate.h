@@ -24,7 +24,7 @@ struct TriangulationOptions {
   double max_ray_gap_mm = 0.01;
   // Keep each point's left pixel in PointCloud::left_pixels.
   bool keep_pixels = true;
-  void Validate() const;
+  std::string Validate() const;
 };
 
 struct TriangulationSummary {
