@@ -1,0 +1,140 @@
+// ramtk calib cameras: single or stereo camera calibration from board images (ramtk::calib).
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/calib/camera_calibration.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
+#include "ramtk/image/image_file.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct CamerasCommandOptions {
+  std::string left;      // folder (or single image) of left-camera views
+  std::string right;     // folder of right-camera views; empty → single camera
+  std::string board;     // board description, e.g. chessboard:9x6:25
+  std::string output;    // calibration YAML
+  std::string coverage;  // PNG picture; default: output with _coverage.png
+  double outlier_factor = 3.0;
+  double outlier_min_px = 0.25;
+  bool free_k3 = false;
+};
+
+std::vector<std::string> ListImages(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  if (!fs::is_directory(dir)) throw InputError({dir, 0, ""}, "not a folder of images");
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".png" || ext == ".bmp" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff") {
+      files.push_back(e.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError({dir, 0, ""}, "no images (png, bmp, jpg, tif) in the folder");
+  return files;
+}
+
+std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+int RunCameras(const CamerasCommandOptions& opt) {
+  // --board is the description itself or a file holding it (first line that is not a comment).
+  std::string board_text = opt.board;
+  InputLocation board_where{"", 0, "--board"};
+  if (std::filesystem::is_regular_file(opt.board)) {
+    const std::string contents = ReadTextFile(opt.board);
+    std::size_t start = 0;
+    int line = 0;
+    board_text.clear();
+    while (start <= contents.size() && board_text.empty()) {
+      const std::size_t end = std::min(contents.find('\n', start), contents.size());
+      std::string l = contents.substr(start, end - start);
+      ++line;
+      l.erase(0, l.find_first_not_of(" \t\r"));
+      l.erase(l.find_last_not_of(" \t\r") + 1);
+      if (!l.empty() && l[0] != '#') {
+        board_text = l;
+        board_where = {opt.board, line, "board"};
+      }
+      start = end + 1;
+    }
+    if (board_text.empty()) throw InputError({opt.board, 0, "board"}, "no board description in the file");
+  }
+  const calib::BoardSpec board = calib::ParseBoardSpec(board_text, board_where);
+  calib::CameraCalibrationOptions co;
+  co.outlier_factor = opt.outlier_factor;
+  co.outlier_min_px = opt.outlier_min_px;
+  co.fix_k3 = !opt.free_k3;
+  const std::string bad = co.Validate();
+  if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
+  const std::vector<std::string> left_files = ListImages(opt.left);
+  cv::Size size;
+  std::vector<calib::RejectedView> not_found;
+  std::vector<calib::ViewPoints> left = calib::DetectBoardInImages(left_files, board, &size, &not_found);
+  const std::string coverage_path =
+      !opt.coverage.empty() ? opt.coverage
+                            : std::filesystem::path(opt.output).replace_extension("").string() + "_coverage.png";
+  calib::CameraCalibrationSummary summary;
+  std::string yaml;
+  cv::Mat picture;
+  if (opt.right.empty()) {
+    const calib::CameraCalibrationResult r = calib::CalibrateCamera(left, size, co, &summary);
+    yaml = calib::CameraCalibrationYaml(r, board);
+    picture = calib::DrawCoverage(r, left);
+  } else {
+    const std::vector<std::string> right_files = ListImages(opt.right);
+    if (right_files.size() != left_files.size()) {
+      throw InputError({opt.right, 0, "--right"}, std::to_string(right_files.size()) + " images, but " +
+                                                      std::to_string(left_files.size()) + " in " + opt.left);
+    }
+    cv::Size right_size = size;
+    std::vector<calib::ViewPoints> right = calib::DetectBoardInImages(right_files, board, &right_size, &not_found);
+    const calib::StereoCalibrationResult st = calib::CalibrateStereo(left, right, size, co, &summary);
+    yaml = calib::StereoCalibrationYaml(st, board);
+    cv::hconcat(calib::DrawCoverage(st.left, left), calib::DrawCoverage(st.right, right), picture);
+  }
+  const std::vector<unsigned char> png = image::EncodePng(picture, coverage_path);
+  WriteFileAtomically(opt.output, yaml);
+  WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
+  std::printf("%s\n", summary.BriefReport().c_str());
+  for (const calib::RejectedView& r : not_found)
+    std::printf("skipped %s: %s\n", ShortName(r.name).c_str(), r.reason.c_str());
+  for (const calib::RejectedView& r : summary.rejected) {
+    std::printf("rejected %s: %s\n", r.name.c_str(), r.reason.c_str());
+  }
+  std::printf("wrote %s and %s\n", opt.output.c_str(), coverage_path.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
+  {
+    auto opt = std::make_shared<CamerasCommandOptions>();
+    CLI::App* sub = calib->add_subcommand("cameras", "Single or stereo camera calibration from board images");
+    sub->add_option("--left", opt->left, "Folder of (left) camera images, sorted by name")->required();
+    sub->add_option("--right", opt->right, "Folder of right camera images (same count and order); stereo if given");
+    sub->add_option("--board", opt->board,
+                    "Board: chessboard:9x6:25 | circles:7x5:25 | acircles:4x11:20 | charuco:10x7:25:18[:DICT_5X5_100] "
+                    "(COLSxROWS, then mm), or a file holding that text")
+        ->required();
+    sub->add_option("--output", opt->output, "Calibration YAML (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...)")
+        ->required();
+    sub->add_option("--coverage", opt->coverage, "Coverage/residual picture (PNG); default <output>_coverage.png");
+    sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");
+    sub->add_option("--outlier-min-px", opt->outlier_min_px, "... and above this RMS (px)");
+    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
+    sub->callback([opt, exit_code]() { *exit_code = RunCameras(*opt); });
+  }
+}
+
+}  // namespace ramtk::tools
