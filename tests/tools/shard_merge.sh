@@ -32,7 +32,10 @@ PY
   echo "set$i/manifest.json" >>batch.txt
 done
 
-"$RAMTK" scan --batch batch.txt --out single --jobs 1 -q >/dev/null || fail "single run"
+"$RAMTK" scan --batch batch.txt --out single --jobs 1 -q >single.txt || fail "single run"
+# -q: only the totals line on stdout, not the 12 result rows (they are in results.csv).
+[ "$(wc -l <single.txt)" = 1 ] || fail "scan --batch -q printed $(wc -l <single.txt) lines"
+grep -q "^scanned 12 sets" single.txt || fail "scan --batch -q did not print its totals"
 
 if command -v parallel >/dev/null; then
   # The one-liner of docs/cluster.md.
