@@ -93,10 +93,10 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
   }
   for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("wrote %s\n", opt.output_path.c_str());
-  if (summary.termination != calib::SensorRobotTermination::kConverged) {
+  if (summary.termination != Termination::kSuccess) {
     // The result file is written for diagnosis, but it is not a solution: say so, exit 3.
     std::fprintf(stderr, "ramtk: error: the calibration did not converge (%s); %s holds the last iterate\n",
-                 calib::TerminationName(summary.termination), opt.output_path.c_str());
+                 calib::SensorRobotTerminationText(summary.termination), opt.output_path.c_str());
     return kExitNoSolution;
   }
   return kExitOk;

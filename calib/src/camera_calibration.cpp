@@ -58,8 +58,8 @@ std::string CameraCalibrationSummary::BriefReport() const {
   char buf[400];
   std::snprintf(buf, sizeof(buf),
                 "%s: %d rounds, %d views used, %zu rejected, RMS %.4f px (first round %.4f px), worst view %s %.4f px",
-                termination.c_str(), rounds, used_views, rejected.size(), final_rms_px, initial_rms_px,
-                worst_view.c_str(), worst_view_rms_px);
+                message.c_str(), rounds, used_views, rejected.size(), final_rms_px, initial_rms_px, worst_view.c_str(),
+                worst_view_rms_px);
   return buf;
 }
 
@@ -121,7 +121,8 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
     }
     break;
   }
-  s.termination = "converged";
+  s.termination = Termination::kSuccess;
+  s.message = "converged";
   s.final_rms_px = r.rms_px;
   s.used_views = static_cast<int>(r.view_names.size());
   s.rejected = r.rejected;

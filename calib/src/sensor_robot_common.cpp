@@ -13,10 +13,7 @@
 #include "ramtk/kinematics/forward.h"
 
 namespace ramtk::calib {
-namespace {
-
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<BallObservation> BallObservationsFromMeasurements(const kinematics::RobotMeasurementSet& set,
                                                               const std::string& path) {
@@ -62,16 +59,15 @@ std::string PoseSetCheckOptions::Validate() const {
   return "";
 }
 
-const char* TerminationName(SensorRobotTermination t) {
+const char* SensorRobotTerminationText(Termination t) {
   switch (t) {
-    case SensorRobotTermination::kConverged:
+    case Termination::kSuccess:
       return "converged";
-    case SensorRobotTermination::kNoConvergence:
+    case Termination::kNoConvergence:
       return "no_convergence";
-    case SensorRobotTermination::kFailed:
+    default:
       return "failed";
   }
-  return "?";
 }
 
 std::string SensorRobotSummary::BriefReport() const {
@@ -79,7 +75,7 @@ std::string SensorRobotSummary::BriefReport() const {
   std::snprintf(buf, sizeof(buf),
                 "%s: %s after %d iterations, cost %.6g -> %.6g, RMS %.4f mm, worst %.4f mm (index %d), %zu outliers, "
                 "%d poses, rotation spread %.1f deg, condition number %.3g",
-                method.c_str(), TerminationName(termination), iterations, initial_cost, final_cost, rms_mm,
+                method.c_str(), SensorRobotTerminationText(termination), iterations, initial_cost, final_cost, rms_mm,
                 max_residual_mm, worst_pose, outliers.size(), diagnostics.num_poses, diagnostics.rotation_spread_deg,
                 diagnostics.condition_number);
   return std::string(buf) + (weighted ? ", each centre weighted by its covariance" : "");

@@ -65,7 +65,7 @@ std::string SensorRobotResultJson(const SensorRobotCalibration& c, const SensorR
   j["rms_mm"] = c.rms_mm;
   j["max_residual_mm"] = c.max_residual_mm;
   nlohmann::json sj;
-  sj["termination"] = TerminationName(s.termination);
+  sj["termination"] = SensorRobotTerminationText(s.termination);
   sj["iterations"] = s.iterations;
   sj["initial_cost"] = s.initial_cost;
   sj["final_cost"] = s.final_cost;

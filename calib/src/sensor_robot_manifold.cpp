@@ -48,8 +48,8 @@ std::vector<Mat3> CentreWeights(const std::vector<BallObservation>& obs, double 
   for (const BallObservation& o : obs) {
     const Eigen::LLT<Mat3> llt(o.covariance_mm2 + robot);
     if (llt.info() != Eigen::Success) {
-      throw InputError({"", o.line, "cov_xx..cov_yz"}, "the centre covariance of pose " + std::to_string(o.pose) +
-                                                            " is not positive definite");
+      throw InputError({"", o.line, "cov_xx..cov_yz"},
+                       "the centre covariance of pose " + std::to_string(o.pose) + " is not positive definite");
     }
     const Mat3 l_inv = llt.matrixL().solve(Mat3::Identity());
     w.push_back(std::sqrt(mean_variance) * l_inv);
@@ -97,10 +97,10 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
     ceres::LossFunction* loss = nullptr;
     if (options.loss == RobustLoss::kHuber) loss = new ceres::HuberLoss(options.loss_scale_mm);
     if (options.loss == RobustLoss::kCauchy) loss = new ceres::CauchyLoss(options.loss_scale_mm);
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BallResidual, 3, 4, 3, 3>(
-                                 new BallResidual{f.linear(), f.translation(), o.ball_in_sensor,
-                                                  s.weighted ? weights[i] : Mat3::Identity()}),
-                             loss, q.coeffs().data(), t.data(), ball.data());
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<BallResidual, 3, 4, 3, 3>(new BallResidual{
+            f.linear(), f.translation(), o.ball_in_sensor, s.weighted ? weights[i] : Mat3::Identity()}),
+        loss, q.coeffs().data(), t.data(), ball.data());
   }
   problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
   ceres::Solver::Options so;
@@ -117,9 +117,9 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE      ? SensorRobotTermination::kConverged
-                  : cs.termination_type == ceres::NO_CONVERGENCE ? SensorRobotTermination::kNoConvergence
-                                                                 : SensorRobotTermination::kFailed;
+  s.termination = cs.termination_type == ceres::CONVERGENCE      ? Termination::kSuccess
+                  : cs.termination_type == ceres::NO_CONVERGENCE ? Termination::kNoConvergence
+                                                                 : Termination::kFailure;
 
   SensorRobotCalibration c;
   c.sensor_from_base.linear() = q.normalized().toRotationMatrix();

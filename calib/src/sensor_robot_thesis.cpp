@@ -118,9 +118,9 @@ SensorRobotCalibration CalibrateSensorRobotThesis(const kinematics::RobotModel& 
   s.iterations = static_cast<int>(cs.iterations.size()) - 1;
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE      ? SensorRobotTermination::kConverged
-                  : cs.termination_type == ceres::NO_CONVERGENCE ? SensorRobotTermination::kNoConvergence
-                                                                 : SensorRobotTermination::kFailed;
+  s.termination = cs.termination_type == ceres::CONVERGENCE      ? Termination::kSuccess
+                  : cs.termination_type == ceres::NO_CONVERGENCE ? Termination::kNoConvergence
+                                                                 : Termination::kFailure;
 
   Mat3 rs_t;
   rs_t << k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8];

@@ -1,11 +1,10 @@
 #include "ramtk/kinematics/inverse.h"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
-
-#include <Eigen/Cholesky>
 
 #include "ramtk/core/units.h"
 
@@ -28,13 +27,18 @@ double ScaledCost(const Vec6& e, double length_scale) {
   return e.head<3>().squaredNorm() + length_scale * length_scale * e.tail<3>().squaredNorm();
 }
 
-const char* TerminationName(InverseKinematicsTermination t) {
+// The words of the report for the three ways the solver ends.
+const char* IkTerminationText(Termination t) {
   switch (t) {
-    case InverseKinematicsTermination::kConverged: return "converged";
-    case InverseKinematicsTermination::kUnreachable: return "unreachable";
-    case InverseKinematicsTermination::kMaxIterations: return "max iterations";
+    case Termination::kSuccess:
+      return "converged";
+    case Termination::kNoResult:
+      return "unreachable";
+    case Termination::kNoConvergence:
+      return "max iterations";
+    default:
+      return ramtk::TerminationName(t);
   }
-  return "?";
 }
 
 }  // namespace
@@ -42,10 +46,13 @@ const char* TerminationName(InverseKinematicsTermination t) {
 std::string InverseKinematicsOptions::Validate() const {
   if (!(position_tolerance_mm > 0)) return "position_tolerance_mm must be > 0";
   if (!(rotation_tolerance_rad > 0)) return "rotation_tolerance_rad must be > 0";
-  if (!(reach_position_tolerance_mm >= position_tolerance_mm)) return "reach_position_tolerance_mm must be >= position_tolerance_mm";
-  if (!(reach_rotation_tolerance_rad >= rotation_tolerance_rad)) return "reach_rotation_tolerance_rad must be >= rotation_tolerance_rad";
+  if (!(reach_position_tolerance_mm >= position_tolerance_mm))
+    return "reach_position_tolerance_mm must be >= position_tolerance_mm";
+  if (!(reach_rotation_tolerance_rad >= rotation_tolerance_rad))
+    return "reach_rotation_tolerance_rad must be >= rotation_tolerance_rad";
   if (!(length_scale_mm > 0)) return "length_scale_mm must be > 0";
-  if (!(min_damping > 0 && min_damping <= initial_damping && initial_damping <= max_damping)) return "need 0 < min_damping <= initial_damping <= max_damping";
+  if (!(min_damping > 0 && min_damping <= initial_damping && initial_damping <= max_damping))
+    return "need 0 < min_damping <= initial_damping <= max_damping";
   if (max_iterations < 1) return "max_iterations must be >= 1";
   if (!(max_step_rad > 0)) return "max_step_rad must be > 0";
   if (max_restarts < 0) return "max_restarts must be >= 0";
@@ -57,8 +64,8 @@ std::string InverseKinematicsSummary::BriefReport() const {
   char buf[256];
   std::snprintf(buf, sizeof(buf),
                 "IK %s after %d iterations (%d restarts): position %.3g -> %.3g mm, rotation %.3g -> %.3g deg",
-                TerminationName(termination), iterations, restarts, initial_position_error_mm, final_position_error_mm,
-                RadToDeg(initial_rotation_error_rad), RadToDeg(final_rotation_error_rad));
+                IkTerminationText(termination), iterations, restarts, initial_position_error_mm,
+                final_position_error_mm, RadToDeg(initial_rotation_error_rad), RadToDeg(final_rotation_error_rad));
   return buf;
 }
 
@@ -122,11 +129,11 @@ InverseKinematicsSummary Descend(const RobotModel& model, const Isometry3& targe
   const bool within_reach = summary.final_position_error_mm <= options.reach_position_tolerance_mm &&
                             summary.final_rotation_error_rad <= options.reach_rotation_tolerance_rad;
   if (within_reach) {
-    summary.termination = InverseKinematicsTermination::kConverged;
+    summary.termination = Termination::kSuccess;
   } else if (stalled) {
-    summary.termination = InverseKinematicsTermination::kUnreachable;
+    summary.termination = Termination::kNoResult;
   } else {
-    summary.termination = InverseKinematicsTermination::kMaxIterations;
+    summary.termination = Termination::kNoConvergence;
   }
   return summary;
 }

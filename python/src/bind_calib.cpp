@@ -35,7 +35,7 @@ void BindCalib(py::module_& m) {
         d["rotation_std_arcsec"] = ToArray(r.RotationStdArcsec()).attr("ravel")();
         d["translation_std_mm"] = ToArray(r.TranslationStdMm()).attr("ravel")();
         d["ball_std_mm"] = ToArray(r.BallStdMm()).attr("ravel")();
-        d["converged"] = summary.termination != calib::SensorRobotTermination::kFailed;
+        d["converged"] = summary.termination != Termination::kFailure;
         d["report"] = summary.BriefReport();
         return d;
       },

@@ -28,7 +28,8 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
     std::snprintf(r, sizeof r, "%s/right%02d.jpg", kData, i);
     if (fs::exists(l) && fs::exists(r)) left_paths.push_back(l), right_paths.push_back(r);
   }
-  if (left_paths.size() < 10) GTEST_SKIP() << "opencv-doc's stereo chessboard images are not installed (" << kData << ")";
+  if (left_paths.size() < 10)
+    GTEST_SKIP() << "opencv-doc's stereo chessboard images are not installed (" << kData << ")";
   const BoardSpec board = ParseBoardSpec("chessboard:9x6:25", {"test", 0, "board"});
   cv::Size size_l, size_r;
   std::vector<RejectedView> missed_l, missed_r;
@@ -41,7 +42,7 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
   CameraCalibrationOptions options;
   CameraCalibrationSummary summary;
   const StereoCalibrationResult ours = CalibrateStereo(left, right, size_l, options, &summary);
-  ASSERT_EQ(summary.termination, "converged");
+  ASSERT_EQ(summary.termination, Termination::kSuccess);
 
   // The peer: OpenCV's cv::stereoCalibrate from scratch (its own intrinsic initialisation, no
   // CALIB_FIX_INTRINSIC) on the same corners, k3 fixed as ours. (OpenCV 4.6 returns the per-camera
@@ -54,23 +55,24 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
     image_r.push_back(right[i].image_points);
   }
   cv::Mat k1, d1, k2, d2, r, t, e, f;
-  const double peer_rms = cv::stereoCalibrate(object, image_l, image_r, k1, d1, k2, d2, size_l, r, t, e, f,
-                                              cv::CALIB_FIX_K3);
+  const double peer_rms =
+      cv::stereoCalibrate(object, image_l, image_r, k1, d1, k2, d2, size_l, r, t, e, f, cv::CALIB_FIX_K3);
   std::cout << "ramtk: left RMS " << ours.left.rms_px << " px, right " << ours.right.rms_px << " px, stereo "
             << ours.rms_px << " px; OpenCV joint stereoCalibrate RMS " << peer_rms << " px\n";
 
   // Intrinsics: OpenCV's joint estimate within 3 of our reported sigma (fx fy cx cy k1 k2 p1 p2).
   auto check = [](const CameraCalibrationResult& c, const cv::Mat& k, const cv::Mat& d, const char* name) {
-    const double ours_v[8] = {c.camera_matrix(0, 0), c.camera_matrix(1, 1), c.camera_matrix(0, 2), c.camera_matrix(1, 2),
-                              c.distortion[0],       c.distortion[1],       c.distortion[2],       c.distortion[3]};
+    const double ours_v[8] = {c.camera_matrix(0, 0), c.camera_matrix(1, 1), c.camera_matrix(0, 2),
+                              c.camera_matrix(1, 2), c.distortion[0],       c.distortion[1],
+                              c.distortion[2],       c.distortion[3]};
     const double peer_v[8] = {k.at<double>(0, 0), k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2),
                               d.at<double>(0),    d.at<double>(1),    d.at<double>(2),    d.at<double>(3)};
     const char* names[8] = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2"};
     for (int i = 0; i < 8; ++i) {
       const double sigma = c.std_intrinsics[i];
       ASSERT_GT(sigma, 0) << name << " " << names[i];
-      std::cout << name << " " << names[i] << ": ramtk " << ours_v[i] << " +- " << sigma << ", OpenCV joint " << peer_v[i]
-                << " (" << (peer_v[i] - ours_v[i]) / sigma << " sigma)\n";
+      std::cout << name << " " << names[i] << ": ramtk " << ours_v[i] << " +- " << sigma << ", OpenCV joint "
+                << peer_v[i] << " (" << (peer_v[i] - ours_v[i]) / sigma << " sigma)\n";
       EXPECT_LT(std::abs(peer_v[i] - ours_v[i]), 3 * sigma) << name << " " << names[i];
     }
   };

@@ -56,7 +56,7 @@ TEST(SensorRobot, NoiseFreeDataGiveTruthForAllEstimators) {
     EXPECT_LT(e.ball_um, 1e-3);
     EXPECT_LT(c->rms_mm, 1e-6);
   }
-  EXPECT_EQ(s.termination, SensorRobotTermination::kConverged);
+  EXPECT_EQ(s.termination, Termination::kSuccess);
   std::printf("%s\n", s.BriefReport().c_str());
   EXPECT_TRUE(s.warnings.empty()) << s.BriefReport();
 }

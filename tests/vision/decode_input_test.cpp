@@ -223,10 +223,10 @@ TEST(DecodeProgress, CallbackSeesStagesAndCanCancel) {
     stages.push_back(p.stage);
     return true;
   };
-  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, "ok");
+  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, Termination::kSuccess);
   EXPECT_EQ(stages, (std::vector<std::string>{"phase", "unwrap", "nonlinearity", "done"}));
   opt.progress = [](const Progress& p) { return p.stage != "unwrap"; };
-  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, "cancelled");
+  EXPECT_EQ(DecodeFrames(m, frames, 255.0, opt).summary.termination, Termination::kCancelled);
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ TEST(ScanBallBar, CentreDistanceAgainstTheSimulatorTruth) {
   ScanOptions o;
   o.sphere.max_spheres = 2;
   const ScanResult r = ScanDecoded(WrittenCalibration(c), s.left, s.right, s.period, o);
-  ASSERT_EQ(r.summary.termination, "ok") << r.summary.BriefReport();
+  ASSERT_EQ(r.summary.termination, Termination::kSuccess) << r.summary.BriefReport();
   ASSERT_EQ(r.summary.spheres.spheres.size(), 2u);
   const std::vector<Sphere> truth = c.scene.spheres;
   const std::vector<int> match = MatchTruthSpheres(r.summary.spheres, truth);

@@ -80,7 +80,7 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
   const DecodedStereo& s = SmallSet();
   const StereoCalibration calib = SmallCalibration();
   const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
-  ASSERT_EQ(match.summary.termination, "ok");
+  ASSERT_EQ(match.summary.termination, Termination::kSuccess);
   TriangulationSummary tsum;
   cv::Mat depth;
   const PointCloud cloud = TriangulateMatches(calib, s.left, match, {}, &tsum, &depth);

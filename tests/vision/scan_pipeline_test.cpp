@@ -21,7 +21,7 @@ TEST(ScanPipeline, BallCentreAndRadiusAgainstTheSimulatorTruth) {
   c.seed = 3;
   const auto s = SimulateAndDecode(c);
   const ScanResult r = ScanDecoded(WrittenCalibration(c), s.left, s.right, s.period, ScanOptions{});
-  ASSERT_EQ(r.summary.termination, "ok") << r.summary.BriefReport();
+  ASSERT_EQ(r.summary.termination, Termination::kSuccess) << r.summary.BriefReport();
   ASSERT_EQ(r.summary.spheres.spheres.size(), 1u);
   const SphereResult& ball = r.summary.spheres.spheres[0];
   const Vec3 err = ball.centre_mm - c.scene.spheres[0].centre_in_left;
@@ -76,7 +76,7 @@ TEST(ScanPipeline, NoBallGivesNoSphereFoundNotACentre) {
   c.supersampling = 1;
   const auto s = SimulateAndDecode(c);
   const ScanResult r = ScanDecoded(WrittenCalibration(c), s.left, s.right, s.period, ScanOptions{});
-  EXPECT_EQ(r.summary.termination, "no sphere found");
+  EXPECT_EQ(r.summary.termination, Termination::kNoResult);
   EXPECT_TRUE(r.summary.spheres.spheres.empty());
   EXPECT_FALSE(r.summary.spheres.no_sphere_reason.empty());
   EXPECT_GT(r.cloud.size(), 50000u);  // the plane itself is reconstructed

@@ -2,6 +2,8 @@
 // against the full camera's projection, the window of a centred sphere against its closed-form
 // silhouette, and windowed scans of a wide rendered frame against the whole-frame scan of the
 // same images and against the simulator's truth.
+#include "ramtk/vision/scan_roi.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,7 +13,6 @@
 #include "ramtk/core/error.h"
 #include "ramtk/vision/camera_model.h"
 #include "ramtk/vision/scan.h"
-#include "ramtk/vision/scan_roi.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {
@@ -193,7 +194,7 @@ TEST(ScanRoiPipeline, AWrongPredictionFallsBackToTheFullFrameOrSaysNoSphere) {
   EXPECT_LT((r.summary.spheres.spheres[0].centre_mm - Vec3(0, 0, 700)).norm(), 0.005);
   roi.fall_back_to_full = false;
   const ScanResult none = ScanWide(roi);
-  EXPECT_EQ(none.summary.termination, "no sphere found");
+  EXPECT_EQ(none.summary.termination, Termination::kNoResult);
   EXPECT_TRUE(none.summary.spheres.spheres.empty());
 }
 

@@ -138,7 +138,7 @@ TEST(FindSpheres, BallBarCentreDistance) {
   o.max_spheres = 2;
   const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
   ASSERT_EQ(s.spheres.size(), 2u) << s.BriefReport();
-  EXPECT_EQ(s.termination, "ok");
+  EXPECT_EQ(s.termination, Termination::kSuccess);
   // Match found spheres to the truth by proximity.
   const SphereResult& a = (s.spheres[0].centre_mm - ca).norm() < 1 ? s.spheres[0] : s.spheres[1];
   const SphereResult& b = (s.spheres[0].centre_mm - ca).norm() < 1 ? s.spheres[1] : s.spheres[0];
@@ -205,7 +205,7 @@ TEST(FindSpheres, PlaneAndClutterAloneIsNoSphere) {
   SphereFitOptions o = BallOptions(cloud);
   const SphereFitSummary s = FindSpheres(cloud.points, cloud.sigma, o);
   EXPECT_TRUE(s.spheres.empty()) << s.BriefReport();
-  EXPECT_EQ(s.termination, "no sphere found");
+  EXPECT_EQ(s.termination, Termination::kNoResult);
   EXPECT_FALSE(s.no_sphere_reason.empty());
   // The plane alone: no 4-point sample gives a sphere anywhere near the prior radius.
   SynthCloud plane;

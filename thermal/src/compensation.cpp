@@ -14,7 +14,7 @@ std::string CompensationSummary::BriefReport() const {
   std::snprintf(buf, sizeof(buf),
                 "compensation %s: %d poses, %d IK iterations, flange RMS %.4f -> %.2e mm (worst %.2e), "
                 "max joint change %.4f deg",
-                termination.c_str(), poses, iterations, initial_rms_position_error_mm, final_rms_position_error_mm,
+                message.c_str(), poses, iterations, initial_rms_position_error_mm, final_rms_position_error_mm,
                 worst_final_position_error_mm, max_joint_change_deg);
   return buf;
 }
@@ -51,9 +51,10 @@ std::vector<JointVector> CompensateTaughtPoses(const RobotModel& model, const Pa
     s.initial_rms_position_error_mm = std::sqrt(initial_sq / s.poses);
     s.final_rms_position_error_mm = std::sqrt(final_sq / s.poses);
   }
-  s.termination = s.converged == s.poses ? "converged"
-                                         : std::to_string(s.poses - s.converged) + " of " + std::to_string(s.poses) +
-                                               " poses not converged";
+  s.termination = s.converged == s.poses ? Termination::kSuccess : Termination::kPartial;
+  s.message = s.converged == s.poses
+                  ? "converged"
+                  : std::to_string(s.poses - s.converged) + " of " + std::to_string(s.poses) + " poses not converged";
   if (summary != nullptr) *summary = s;
   return out;
 }

@@ -34,7 +34,7 @@ std::string IdentificationSummary::BriefReport() const {
   std::snprintf(buf, sizeof(buf),
                 "identification %s: %zu params, %d poses (%d equations), rank %d, cond %.3g, %d cycles, "
                 "cost %.4g -> %.4g mm^2, RMS %.4f mm, worst %.4f mm",
-                termination.c_str(), params.size(), num_poses, num_equations, rank, condition_number, num_cycles,
+                message.c_str(), params.size(), num_poses, num_equations, rank, condition_number, num_cycles,
                 initial_cost, final_cost, rms_residual_mm, worst_residual_mm);
   return std::string(buf) + (weighted ? ", each centre difference weighted by its covariance" : "");
 }
@@ -47,8 +47,8 @@ Eigen::MatrixXd SolveWeighted(const Eigen::MatrixXd& a, const Eigen::MatrixXd& y
                               const IdentificationOptions& options) {
   const auto& cov = options.difference_covariance_mm2;
   if (static_cast<Eigen::Index>(cov.size()) != y.cols()) {
-    throw InputError({"", 0, "difference_covariance_mm2"}, "has " + std::to_string(cov.size()) +
-                                                               " cycles, the differences " + std::to_string(y.cols()));
+    throw InputError({"", 0, "difference_covariance_mm2"},
+                     "has " + std::to_string(cov.size()) + " cycles, the differences " + std::to_string(y.cols()));
   }
   const int m = static_cast<int>(poses.size());
   const Eigen::Index k = a.cols();
@@ -58,14 +58,13 @@ Eigen::MatrixXd SolveWeighted(const Eigen::MatrixXd& a, const Eigen::MatrixXd& y
   for (Eigen::Index c = 0; c < y.cols(); ++c) {
     for (int i = 0; i < m; ++i) {
       if (poses[i] >= static_cast<int>(cov[c].size())) {
-        throw InputError({"", 0, "difference_covariance_mm2"}, "cycle " + std::to_string(c) + " lacks pose position " +
-                                                                   std::to_string(poses[i]));
+        throw InputError({"", 0, "difference_covariance_mm2"},
+                         "cycle " + std::to_string(c) + " lacks pose position " + std::to_string(poses[i]));
       }
       const Eigen::LLT<Mat3> llt(cov[c][poses[i]]);
       if (llt.info() != Eigen::Success) {
-        throw InputError({"", 0, "difference_covariance_mm2"},
-                         "not positive definite at cycle " + std::to_string(c) + ", pose position " +
-                             std::to_string(poses[i]));
+        throw InputError({"", 0, "difference_covariance_mm2"}, "not positive definite at cycle " + std::to_string(c) +
+                                                                   ", pose position " + std::to_string(poses[i]));
       }
       aw.middleRows(3 * i, 3) = llt.matrixL().solve(a.middleRows(3 * i, 3));
       yw.segment<3>(3 * i) = llt.matrixL().solve(Vec3(y.block<3, 1>(3 * i, c)));
@@ -182,7 +181,8 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
       }
       out.null_space.push_back(combo);
     }
-    out.termination = dropped == 0 ? "solved" : "rank deficient (" + std::to_string(dropped) + " dropped)";
+    out.termination = dropped == 0 ? Termination::kSuccess : Termination::kPartial;
+    out.message = dropped == 0 ? "solved" : "rank deficient (" + std::to_string(dropped) + " dropped)";
     out.weighted = weighted;
     const Eigen::MatrixXd residual = y - a * x_sub;
     out.num_cycles = static_cast<int>(y.cols());
@@ -232,9 +232,8 @@ std::vector<Eigen::MatrixXd> DriftModel::WeightedCovariances(const Identificatio
                          "cycle " + std::to_string(c) + " lacks pose position " + std::to_string(pose));
       const Eigen::LLT<Mat3> llt(cov[c][pose]);
       if (llt.info() != Eigen::Success)
-        throw InputError({"", 0, "difference_covariance_mm2"},
-                         "not positive definite at cycle " + std::to_string(c) + ", pose position " +
-                             std::to_string(pose));
+        throw InputError({"", 0, "difference_covariance_mm2"}, "not positive definite at cycle " + std::to_string(c) +
+                                                                   ", pose position " + std::to_string(pose));
       Eigen::MatrixXd a(3, k);
       for (Eigen::Index j = 0; j < k; ++j) a.col(j) = a_full_.block(3 * pose, params[j], 3, 1);
       const Eigen::MatrixXd aw = llt.matrixL().solve(a);  // C^-1/2 A

@@ -27,7 +27,7 @@ std::string DriftPredictionSummary::BriefReport() const {
   char buf[240];
   std::snprintf(buf, sizeof(buf),
                 "drift prediction %s: %d windows, %d cycles predicted by the temperature model (lag %.0f s)",
-                termination.c_str(), windows, predicted_cycles, lag_s);
+                message.c_str(), windows, predicted_cycles, lag_s);
   return buf;
 }
 
@@ -178,7 +178,8 @@ DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::Mat
     ++s.predicted_cycles;
   }
   s.windows = static_cast<int>(windows.size());
-  s.termination = offline != nullptr ? "offline model" : "online model";
+  s.termination = Termination::kSuccess;
+  s.message = offline != nullptr ? "offline model" : "online model";
   if (summary != nullptr) *summary = s;
   return out;
 }

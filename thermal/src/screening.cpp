@@ -50,7 +50,7 @@ AcfResult AutocorrelationTest(const Eigen::VectorXd& series, const AcfOptions& o
 std::string ScreeningSummary::BriefReport() const {
   char buf[300];
   std::snprintf(buf, sizeof(buf), "screening %s: %d steps, %d lambda evaluations, lambda %.2f%% -> %.2f%%, kept %s",
-                termination.c_str(), iterations, lambda_evaluations, initial_lambda, final_lambda,
+                message.c_str(), iterations, lambda_evaluations, initial_lambda, final_lambda,
                 ParamListToString(selected).c_str());
   return buf;
 }
@@ -165,9 +165,11 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     summary.steps.push_back(step);
     path.push_back(current);
     if (done) break;
-    if (options.progress && !options.progress({"screening", summary.steps.size(),
-                                               summary.steps.size() + current.size() - static_cast<std::size_t>(target)})) {
-      summary.termination = "cancelled";
+    if (options.progress &&
+        !options.progress({"screening", summary.steps.size(),
+                           summary.steps.size() + current.size() - static_cast<std::size_t>(target)})) {
+      summary.termination = Termination::kCancelled;
+      summary.message = "cancelled";
       break;
     }
     // (4) try removing each element of S.
@@ -202,7 +204,7 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     removed = best;
     ++summary.iterations;
   }
-  if (from_heldout && summary.termination != "cancelled") {
+  if (from_heldout && summary.termination != Termination::kCancelled) {
     // Held-out error of every set on the path; keep the smallest one not worse than the best
     // beyond heldout_z standard errors of the paired per-pose differences.
     const Eigen::MatrixXd y_all = experiment.ball.DifferencesFromReference({});
@@ -242,8 +244,9 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     o.params = current;
     scorer.Score(o, options.lambda, &x_ball);
   }
-  if (summary.termination != "cancelled") {
-    summary.termination = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "");
+  if (summary.termination != Termination::kCancelled) {
+    summary.termination = Termination::kSuccess;
+    summary.message = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "");
   }
   summary.selected = current;
   summary.final_lambda = lambda;

@@ -51,8 +51,8 @@ std::string DecodeOptions::Validate() const {
 std::string DecodeSummary::BriefReport() const {
   std::ostringstream s;
   s.precision(4);
-  s << "decode " << (camera.empty() ? "" : camera + " ") << termination << ": " << width << "x" << height
-    << ", N=" << steps << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels
+  s << "decode " << (camera.empty() ? "" : camera + " ") << message << ": " << width << "x" << height << ", N=" << steps
+    << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels
     << " px; masked: " << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, "
     << unwrap_rejected << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS "
     << fit_residual_rms_dn << " DN (phase " << phase_residual_rms_rad << " rad), ";
@@ -117,7 +117,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   sum.steps = fine.steps;
   sum.period_px = extent / ps_block->cycles[0];
   if (!Report(options, "phase", 1, 4)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return out;
   }
   cv::Mat mask(fine.wrapped.size(), CV_8U, cv::Scalar(255));
@@ -175,7 +176,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   // Count corrected edges on valid pixels only.
   sum.edge_corrections = unwrapped.corrected;
   if (!Report(options, "unwrap", 2, 4)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return out;
   }
 
@@ -230,7 +232,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     sum.final_cost = sum.nonlinearity.residual_rms_after_rad;
   }
   if (!Report(options, "nonlinearity", 3, 4)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return out;
   }
 
@@ -318,7 +321,7 @@ DecodedCamera DecodeCamera(const FringeManifest& manifest, const std::string& ca
 std::string DecodeSummaryToJson(const DecodeSummary& s) {
   nlohmann::json j;
   j["camera"] = s.camera;
-  j["termination"] = s.termination;
+  j["termination"] = s.message;
   j["width"] = s.width;
   j["height"] = s.height;
   j["steps"] = s.steps;

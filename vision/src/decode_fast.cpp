@@ -376,7 +376,8 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   sum.unwrap_rejected = counts.unwrap_rejected;
   sum.edge_corrections = counts.corrected;
   if (!Report(options, "phase", 1, 4) || !Report(options, "unwrap", 2, 4)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return out;
   }
 
@@ -430,7 +431,8 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     sum.final_cost = sum.nonlinearity.residual_rms_after_rad;
   }
   if (!Report(options, "nonlinearity", 3, 4)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return out;
   }
 

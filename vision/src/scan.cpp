@@ -69,8 +69,8 @@ std::string ScanSummary::BriefReport() const {
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(4);
-  s << "scan " << termination << ": " << triangulation.points << " points";
-  if (termination == "cancelled") return s.str();
+  s << "scan " << message << ": " << triangulation.points << " points";
+  if (termination == Termination::kCancelled) return s.str();
   if (spheres.spheres.empty()) {
     if (!spheres.no_sphere_reason.empty()) s << "; " << spheres.no_sphere_reason;
     return s.str();
@@ -113,7 +113,8 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   sum.match = match.summary;
   sum.match_s = Seconds(t0);
   if (!Report(options, "match", 3, 5)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return result;
   }
 
@@ -124,7 +125,8 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   match = StereoMatch();
   sum.triangulate_s = Seconds(t0);
   if (!Report(options, "triangulate", 4, 5)) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return result;
   }
 
@@ -133,7 +135,8 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     SphereFitOptions so = options.sphere;
     so.progress = {};
     if (result.cloud.size() < static_cast<std::size_t>(so.min_points)) {
-      sum.spheres.termination = "no sphere found";
+      sum.spheres.termination = Termination::kNoResult;
+      sum.spheres.message = "no sphere found";
       sum.spheres.input_points = static_cast<int>(result.cloud.size());
       sum.spheres.no_sphere_reason = "too few points: the cloud has " + std::to_string(result.cloud.size()) +
                                      ", a sphere needs at least " + std::to_string(so.min_points);
@@ -189,13 +192,17 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     }
     if (kept.size() != sum.spheres.spheres.size()) {
       if (kept.empty()) {
-        sum.spheres.termination = "no sphere found";
+        sum.spheres.termination = Termination::kNoResult;
+        sum.spheres.message = "no sphere found";
         sum.spheres.no_sphere_reason = why;
       }
     }
     sum.spheres.spheres = kept;
     sum.fit_s = Seconds(t0);
-    if (sum.spheres.spheres.empty()) sum.termination = "no sphere found";
+    if (sum.spheres.spheres.empty()) {
+      sum.termination = Termination::kNoResult;
+      sum.message = "no sphere found";
+    }
     Report(options, "fit", 5, 5);
   }
   RAMTK_LOG(kDebug) << sum.match.BriefReport();
@@ -215,7 +222,8 @@ namespace {
 
 ScanResult Cancelled() {
   ScanResult r;
-  r.summary.termination = "cancelled";
+  r.summary.termination = Termination::kCancelled;
+  r.summary.message = "cancelled";
   return r;
 }
 
@@ -349,8 +357,10 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
   const double roi_s = Seconds(t0);
   if (!fallback_why.empty() && !roi.fall_back_to_full) {
     ScanResult r;
-    r.summary.termination = "no sphere found";
-    r.summary.spheres.termination = "no sphere found";
+    r.summary.termination = Termination::kNoResult;
+    r.summary.message = "no sphere found";
+    r.summary.spheres.termination = Termination::kNoResult;
+    r.summary.spheres.message = "no sphere found";
     r.summary.spheres.no_sphere_reason = fallback_why;
     r.summary.roi_source = source;
     r.summary.roi_s = roi_s;
@@ -364,7 +374,7 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
                                                      full_scale, windows, options, calibration_path)
                                : ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows,
                                                      options, calibration_path);
-  if (windowed && result.summary.termination == "no sphere found" && roi.fall_back_to_full) {
+  if (windowed && result.summary.termination == Termination::kNoResult && roi.fall_back_to_full) {
     fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
                                                               ? std::string()
                                                               : ": " + result.summary.spheres.no_sphere_reason);
@@ -463,7 +473,7 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
     if (s.calibration_parameter_std.size() == 24) j["calibration_parameter_std_order"] = kCalibParameterStdOrder;
   }
   j["frame"] = kScanFrame;
-  j["termination"] = s.termination;
+  j["termination"] = s.message;
   j["image_size"] = {s.width, s.height};
   j["decode"] = {{"left", s.left.BriefReport()}, {"right", s.right.BriefReport()}};
   j["match"] = {{"left_valid", s.match.left_valid},           {"matched", s.match.matched},

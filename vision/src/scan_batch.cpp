@@ -139,7 +139,7 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
         WriteScanOutputs(dir, r, overwrite);
         row.out_dir = dir;
         row.points = r.summary.triangulation.points;
-        row.status = r.summary.termination;
+        row.status = r.summary.message;
         row.message = r.summary.spheres.no_sphere_reason;
         if (!r.summary.spheres.spheres.empty()) {
           row.has_sphere = true;

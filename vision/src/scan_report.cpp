@@ -51,9 +51,10 @@ report::Figure SphereResidualFigure(const ScanResult& result, int k, size_t max_
     if (count[b] >= 20) mean.x.push_back(2.0 * b + 1.0), mean.y.push_back(sum[b] / count[b]);
   report::Figure f;
   f.id = "sphere" + std::to_string(k) + "_residual";
-  f.caption = "Distance of each inlier to the fitted sphere against the angle between the surface normal and the "
-              "line of sight (0° faces the camera); grey band ± the median predicted point σ. A trend towards the "
-              "limb is a view-angle bias.";
+  f.caption =
+      "Distance of each inlier to the fitted sphere against the angle between the surface normal and the "
+      "line of sight (0° faces the camera); grey band ± the median predicted point σ. A trend towards the "
+      "limb is a view-angle bias.";
   report::Panel p;
   p.title = "sphere " + std::to_string(k + 1) + ": radial residual vs view angle";
   p.x_label = "angle between normal and line of sight (deg)";
@@ -69,21 +70,20 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
   const ScanSummary& s = result.summary;
   report::HtmlReport html("Scan: " + (s.set.empty() ? std::string("in-memory set") : s.set));
   html.Paragraph(s.BriefReport());
-  html.KeyValues({{"set", s.set},
-                  {"calibration", s.calibration},
-                  {"image size (px)", std::to_string(s.width) + " × " + std::to_string(s.height)},
-                  {"termination", s.termination},
-                  {"points", std::to_string(s.triangulation.points)},
-                  {"median point σ (µm)", Fixed(s.triangulation.median_sigma_mm * 1000.0, 2)},
-                  {"depth range (mm)", Fixed(s.triangulation.depth_min_mm, 1) + " – " +
-                                           Fixed(s.triangulation.depth_max_mm, 1)},
-                  {"frame", kScanFrame},
-                  {"calibration RMS (px)", std::isfinite(s.calibration_rms_px) ? Fixed(s.calibration_rms_px, 4)
-                                                                               : "not in the file"},
-                  {"calibration σ", s.calibration_parameter_std.empty()
-                                        ? "not in the file"
-                                        : std::to_string(s.calibration_parameter_std.size()) +
-                                              " parameter standard deviations (summary.json)"}});
+  html.KeyValues(
+      {{"set", s.set},
+       {"calibration", s.calibration},
+       {"image size (px)", std::to_string(s.width) + " × " + std::to_string(s.height)},
+       {"termination", s.message},
+       {"points", std::to_string(s.triangulation.points)},
+       {"median point σ (µm)", Fixed(s.triangulation.median_sigma_mm * 1000.0, 2)},
+       {"depth range (mm)", Fixed(s.triangulation.depth_min_mm, 1) + " – " + Fixed(s.triangulation.depth_max_mm, 1)},
+       {"frame", kScanFrame},
+       {"calibration RMS (px)",
+        std::isfinite(s.calibration_rms_px) ? Fixed(s.calibration_rms_px, 4) : "not in the file"},
+       {"calibration σ", s.calibration_parameter_std.empty() ? "not in the file"
+                                                             : std::to_string(s.calibration_parameter_std.size()) +
+                                                                   " parameter standard deviations (summary.json)"}});
 
   html.Section("Spheres");
   if (s.spheres.spheres.empty()) {
@@ -143,11 +143,11 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
                           "B median " + Fixed(d->median_modulation_dn, 1) + " DN, σφ median " +
                               Fmt(d->median_sigma_phase_rad, 3) + " rad, σI random " +
                               Fmt(d->sigma_intensity_random_dn, 3) + " DN"});
-  stage_rows.push_back({"match", Fixed(s.match_s, 2), std::to_string(s.match.matched) + " of " + std::to_string(s.match.left_valid),
-                        "rejected: noisy " + std::to_string(s.match.rejected_noisy) + ", no match " +
-                            std::to_string(s.match.rejected_no_match) + ", left–right " +
-                            std::to_string(s.match.rejected_lr) + "; median σ " + Fmt(s.match.median_sigma_px, 3) +
-                            " px"});
+  stage_rows.push_back(
+      {"match", Fixed(s.match_s, 2), std::to_string(s.match.matched) + " of " + std::to_string(s.match.left_valid),
+       "rejected: noisy " + std::to_string(s.match.rejected_noisy) + ", no match " +
+           std::to_string(s.match.rejected_no_match) + ", left–right " + std::to_string(s.match.rejected_lr) +
+           "; median σ " + Fmt(s.match.median_sigma_px, 3) + " px"});
   stage_rows.push_back({"triangulate", Fixed(s.triangulate_s, 2), std::to_string(s.triangulation.points) + " points",
                         "median σ " + Fixed(s.triangulation.median_sigma_mm * 1000.0, 2) + " µm"});
   stage_rows.push_back({"fit", Fixed(s.fit_s, 2), std::to_string(s.spheres.spheres.size()) + " sphere(s)", ""});

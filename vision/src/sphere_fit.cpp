@@ -294,16 +294,20 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     summary.spheres.push_back(std::move(result));
     if (options.progress &&
         !options.progress({"sphere fit", summary.spheres.size(), static_cast<size_t>(options.max_spheres)})) {
-      summary.termination = "cancelled";
+      summary.termination = Termination::kCancelled;
+      summary.message = "cancelled";
       break;
     }
   }
   summary.unassigned_points = static_cast<int>(active.size());
-  if (summary.termination != "cancelled") {
-    if (summary.spheres.empty())
-      summary.termination = "no sphere found";
-    else if (static_cast<int>(summary.spheres.size()) < options.max_spheres)
-      summary.termination = "partial";
+  if (summary.termination != Termination::kCancelled) {
+    if (summary.spheres.empty()) {
+      summary.termination = Termination::kNoResult;
+      summary.message = "no sphere found";
+    } else if (static_cast<int>(summary.spheres.size()) < options.max_spheres) {
+      summary.termination = Termination::kPartial;
+      summary.message = "partial";
+    }
   }
   return summary;
 }
@@ -327,7 +331,8 @@ std::string SphereFitSummary::BriefReport() const {
     const CentreDistance d = ComputeCentreDistance(spheres[0], spheres[1]);
     out += "; centre distance " + Format("%.4f", d.distance_mm) + " ± " + Format("%.2f", d.sigma_mm * 1000.0) + " um";
   }
-  if (!no_sphere_reason.empty() && termination != "ok") out += " (" + termination + ": " + no_sphere_reason + ")";
+  if (!no_sphere_reason.empty() && termination != Termination::kSuccess)
+    out += " (" + message + ": " + no_sphere_reason + ")";
   return out;
 }
 

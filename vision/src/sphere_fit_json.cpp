@@ -18,7 +18,7 @@ std::string SphereFitToJson(const SphereFitSummary& summary, const std::string& 
   j["version"] = 1;
   j["frame"] = frame;
   j["units"] = "mm";
-  j["termination"] = summary.termination;
+  j["termination"] = summary.message;
   j["no_sphere_reason"] = summary.no_sphere_reason;
   j["input_points"] = summary.input_points;
   j["unassigned_points"] = summary.unassigned_points;

@@ -582,7 +582,7 @@ std::string StereoMatchOptions::Validate() const {
 std::string StereoMatchSummary::BriefReport() const {
   std::ostringstream s;
   s.precision(3);
-  s << "match " << termination << ": " << matched << " of " << left_valid << " left px matched ("
+  s << "match " << message << ": " << matched << " of " << left_valid << " left px matched ("
     << (left_valid ? 100.0 * matched / left_valid : 0.0) << "%; rejected " << rejected_noisy << " noisy, "
     << rejected_no_match << " no match, " << rejected_lr << " left-right; " << full_searches
     << " full searches), median sigma " << median_sigma_px << " px";
@@ -706,7 +706,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     rl.lr_tolerance = 0;
     rl.keep_tangent = false;
     if (!RunPass(rl, &back, options, "match right->left")) {
-      sum.termination = "cancelled";
+      sum.termination = Termination::kCancelled;
+      sum.message = "cancelled";
       return result;
     }
   }
@@ -720,7 +721,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   }
   PassResult fwd;
   if (!RunPass(lrp, &fwd, options, "match left->right")) {
-    sum.termination = "cancelled";
+    sum.termination = Termination::kCancelled;
+    sum.message = "cancelled";
     return result;
   }
   result.right_u = fwd.u;

@@ -10,6 +10,7 @@
 
 #include "ramtk/calib/board.h"
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 
 namespace ramtk::calib {
 
@@ -59,7 +60,8 @@ struct CameraCalibrationResult {
 };
 
 struct CameraCalibrationSummary {
-  std::string termination;      // "converged" or the reason for failure
+  Termination termination = Termination::kNotRun;
+  std::string message;          // "converged" or the reason for failure
   int rounds = 0;               // calibrations run (1 + one per rejected view)
   double initial_rms_px = 0.0;  // first round, all views
   double final_rms_px = 0.0;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "ramtk/core/rotation.h"
+#include "ramtk/core/termination.h"
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/kinematics/robot_model.h"
 
@@ -102,12 +103,13 @@ struct PoseSetDiagnostics {
 PoseSetDiagnostics DiagnosePoseSet(const kinematics::RobotModel& model, const std::vector<BallObservation>& obs,
                                    const Vec3& ball_in_flange, const PoseSetCheckOptions& options);
 
-enum class SensorRobotTermination { kConverged, kNoConvergence, kFailed };
-const char* TerminationName(SensorRobotTermination t);
+// The words the result file uses for a sensor-robot fit's end (docs/formats.md): kSuccess
+// "converged", kNoConvergence "no_convergence", anything else "failed".
+const char* SensorRobotTerminationText(Termination t);
 
 struct SensorRobotSummary {
-  std::string method;  // "thesis" or "manifold"
-  SensorRobotTermination termination = SensorRobotTermination::kFailed;
+  std::string method;                               // "thesis" or "manifold"
+  Termination termination = Termination::kFailure;  // kSuccess, kNoConvergence or kFailure
   int iterations = 0;
   double initial_cost = 0.0;  // ½Σ|r|² of the solver's own objective at the start
   double final_cost = 0.0;

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "ramtk/core/termination.h"
 #include "ramtk/kinematics/jacobian.h"
 
 namespace ramtk::kinematics {
@@ -38,23 +39,19 @@ struct InverseKinematicsOptions {
   std::string Validate() const;
 };
 
-enum class InverseKinematicsTermination {
-  kConverged,       // within the tolerances
-  kUnreachable,     // the solver stalled at a pose farther from the target than the reach tolerances
-  kMaxIterations,   // ran out of iterations while still improving
-};
-
 struct InverseKinematicsSummary {
-  InverseKinematicsTermination termination = InverseKinematicsTermination::kMaxIterations;
+  // kSuccess: within the tolerances; kNoResult: unreachable (the solver stalled at a pose farther
+  // from the target than the reach tolerances); kNoConvergence: out of iterations while improving.
+  Termination termination = Termination::kNoConvergence;
   JointVector q_controller = JointVector::Zero();  // rad; the best solution found
-  int iterations = 0;  // over all starts
-  int restarts = 0;    // starts after the first
+  int iterations = 0;                              // over all starts
+  int restarts = 0;                                // starts after the first
   double initial_position_error_mm = 0.0;
   double initial_rotation_error_rad = 0.0;
   double final_position_error_mm = 0.0;
   double final_rotation_error_rad = 0.0;
 
-  bool Converged() const { return termination == InverseKinematicsTermination::kConverged; }
+  bool Converged() const { return termination == Termination::kSuccess; }
   // One line: termination, iterations, initial -> final errors (mm, deg).
   std::string BriefReport() const;
 };

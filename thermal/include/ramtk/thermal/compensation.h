@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/core/termination.h"
 #include "ramtk/kinematics/inverse.h"
 #include "ramtk/thermal/identify.h"
 
@@ -18,8 +19,9 @@ struct CompensationOptions {
 };
 
 struct CompensationSummary {
-  std::string termination = "not run";  // "converged", "k of n poses not converged"
-  int iterations = 0;                   // IK iterations over all poses
+  Termination termination = Termination::kNotRun;  // kSuccess, or kPartial when poses did not converge
+  std::string message = "not run";                 // "converged", "k of n poses not converged"
+  int iterations = 0;                              // IK iterations over all poses
   int poses = 0;
   int converged = 0;
   double initial_rms_position_error_mm = 0.0;  // warm model at the taught joints vs taught flange

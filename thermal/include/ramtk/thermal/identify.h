@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/core/termination.h"
 #include "ramtk/kinematics/robot_model.h"
 #include "ramtk/thermal/cycles.h"
 #include "ramtk/thermal/setup.h"
@@ -48,9 +49,10 @@ struct NullCombination {
 };
 
 struct IdentificationSummary {
-  std::string termination = "not run";  // "solved", "rank deficient (k dropped)"
-  int iterations = 0;                   // 1 for the direct solve
-  std::vector<int> params;              // identified parameters
+  Termination termination = Termination::kNotRun;  // kSuccess, or kPartial when parameters were dropped
+  std::string message = "not run";                 // "solved", "rank deficient (k dropped)"
+  int iterations = 0;                              // 1 for the direct solve
+  std::vector<int> params;                         // identified parameters
   int num_poses = 0;
   int num_equations = 0;
   Eigen::VectorXd singular_values;    // equilibrated A, descending

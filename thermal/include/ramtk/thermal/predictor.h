@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/core/termination.h"
 #include "ramtk/thermal/cycles.h"
 #include "ramtk/thermal/monitoring.h"
 
@@ -54,10 +55,11 @@ struct DriftPredictorOptions {
 };
 
 struct DriftPredictionSummary {
-  std::string termination = "not run";
-  int windows = 0;           // windows used in all
-  int predicted_cycles = 0;  // cycles between windows predicted by a model (not held)
-  double lag_s = 0.0;        // low-pass time constant of the (last) model
+  Termination termination = Termination::kNotRun;
+  std::string message = "not run";  // "offline model" or "online model"
+  int windows = 0;                  // windows used in all
+  int predicted_cycles = 0;         // cycles between windows predicted by a model (not held)
+  double lag_s = 0.0;               // low-pass time constant of the (last) model
   std::string BriefReport() const;
 };
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 #include "ramtk/thermal/monitoring.h"
 
 namespace ramtk::thermal {
@@ -85,15 +86,16 @@ struct ScreeningStep {
 };
 
 struct ScreeningSummary {
-  std::string termination = "not run";  // "kept n", "kept n (held-out)", "cancelled"
-  int iterations = 0;                   // elimination steps
+  Termination termination = Termination::kNotRun;  // kSuccess or kCancelled
+  std::string message = "not run";                 // "kept n", "kept n (held-out)", "cancelled"
+  int iterations = 0;                              // elimination steps
   int lambda_evaluations = 0;
   double initial_lambda = 0.0;  // % with every candidate
   double final_lambda = 0.0;    // % with the selected set
   std::vector<ScreeningStep> steps;
   std::vector<int> selected;
-  bool count_from_heldout = false;  // the kept count was chosen by held-out error (keep = 0)
-  int best_heldout_card = 0;        // size of the set with the lowest held-out error
+  bool count_from_heldout = false;   // the kept count was chosen by held-out error (keep = 0)
+  int best_heldout_card = 0;         // size of the set with the lowest held-out error
   Eigen::MatrixXd selected_delta_x;  // 30 × monitoring cycles, identified with `selected`
   // 30 × ball cycles identified with every candidate: the per-parameter curves of Figs. 3-3/3-4
   // that the first autocorrelation test looks at.

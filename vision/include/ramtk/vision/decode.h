@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/nonlinearity.h"
 
@@ -60,21 +61,22 @@ struct DecodeOptions {
 };
 
 struct DecodeSummary {
-  std::string camera;                 // camera name from the manifest
-  std::string termination = "ok";     // "ok" or "cancelled"
-  int width = 0, height = 0;          // camera image size
-  int steps = 0;                      // N of the (finest) phase-shift block
-  double period_px = 0;               // finest fringe period, projector px
-  long valid_pixels = 0;              // pixels with an absolute coordinate
-  double valid_fraction = 0;          // valid_pixels / all pixels
-  long outliers = 0;                  // invalid pixels (all causes below)
-  long low_modulation = 0;            // masked: B below threshold
-  long saturated = 0;                 // masked: a saturated sample
-  long dark = 0;                      // masked: dark pixel
-  long unwrap_rejected = 0;           // masked: order not determined
-  long edge_corrections = 0;          // pixels whose period order was corrected at a code edge
-  double sigma_intensity_dn = 0;      // sigma_I used for sigma_phi
-  double fit_residual_rms_dn = 0;     // RMS intensity residual of the sinusoid fit (valid px, N > 3)
+  std::string camera;                               // camera name from the manifest
+  Termination termination = Termination::kSuccess;  // kSuccess or kCancelled
+  std::string message = "ok";                       // "ok" or "cancelled"
+  int width = 0, height = 0;                        // camera image size
+  int steps = 0;                                    // N of the (finest) phase-shift block
+  double period_px = 0;                             // finest fringe period, projector px
+  long valid_pixels = 0;                            // pixels with an absolute coordinate
+  double valid_fraction = 0;                        // valid_pixels / all pixels
+  long outliers = 0;                                // invalid pixels (all causes below)
+  long low_modulation = 0;                          // masked: B below threshold
+  long saturated = 0;                               // masked: a saturated sample
+  long dark = 0;                                    // masked: dark pixel
+  long unwrap_rejected = 0;                         // masked: order not determined
+  long edge_corrections = 0;                        // pixels whose period order was corrected at a code edge
+  double sigma_intensity_dn = 0;                    // sigma_I used for sigma_phi
+  double fit_residual_rms_dn = 0;                   // RMS intensity residual of the sinusoid fit (valid px, N > 3)
   // The residual split (DecodeOptions::noise_from_neighbours; 0 when not estimated): its random
   // (pixel-independent) part and the rest, sqrt(total^2 - random^2), both DN per degree of freedom.
   double sigma_intensity_random_dn = 0;

@@ -3,12 +3,13 @@
 // projector coordinates of both cameras -> stereo matches -> a point cloud in the left-camera
 // frame with per-point sigma -> the sphere(s) in it (ball centres, ball_in_left_camera).
 
-#include <opencv2/core.hpp>
 #include <limits>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/point_cloud.h"
 #include "ramtk/vision/scan_roi.h"
@@ -55,14 +56,15 @@ struct ScanOptions {
 };
 
 struct ScanSummary {
-  std::string termination = "ok";  // "ok", "no sphere found" or "cancelled"
-  std::string set;                 // manifest path ("" for in-memory sets)
-  std::string calibration;         // calibration path used
+  Termination termination = Termination::kSuccess;  // kSuccess, kNoResult or kCancelled
+  std::string message = "ok";                       // "ok", "no sphere found" or "cancelled"
+  std::string set;                                  // manifest path ("" for in-memory sets)
+  std::string calibration;                          // calibration path used
   // The calibration session's own figures, carried from the file when it has them (NaN / empty
   // otherwise): reprojection RMS and parameter standard deviations (stereo_calibration.h).
   double calibration_rms_px = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> calibration_parameter_std;
-  int width = 0, height = 0;       // left image size
+  int width = 0, height = 0;  // left image size
   // The windows decoded and matched (full-frame pixels; the whole frames without --roi) and how
   // they were chosen: "full", "auto (coarse pass, stride S)", "predicted", possibly followed by
   // "; fell back to the full frame: WHY".

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 
 namespace ramtk::vision {
 
@@ -134,9 +135,11 @@ struct SphereResult {
 
 struct SphereFitSummary {
   std::vector<SphereResult> spheres;  // strongest first; empty = no sphere found
-  // Why the search stopped: "ok" (max_spheres found), "no sphere found", "cancelled". With
-  // fewer spheres than max_spheres, no_sphere_reason says why the next one was not found.
-  std::string termination = "ok";
+  // Why the search stopped: kSuccess "ok" (max_spheres found), kPartial "partial" (fewer, at
+  // least one), kNoResult "no sphere found", kCancelled "cancelled". With fewer spheres than
+  // max_spheres, no_sphere_reason says why the next one was not found.
+  Termination termination = Termination::kSuccess;
+  std::string message = "ok";
   std::string no_sphere_reason;
   int input_points = 0;
   int unassigned_points = 0;       // points not in any sphere

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/termination.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/stereo_calibration.h"
 
@@ -61,14 +62,15 @@ struct StereoMatchOptions {
 };
 
 struct StereoMatchSummary {
-  std::string termination = "ok";  // "ok" or "cancelled"
-  long left_valid = 0;             // left pixels with a decoded coordinate
-  long matched = 0;                // left pixels with an accepted match
-  long rejected_noisy = 0;         // left sigma above max_sigma_periods
-  long rejected_no_match = 0;      // no crossing within the depth range
-  long rejected_lr = 0;            // a crossing was found but failed the modulation or left-right check
-  long full_searches = 0;          // pixels searched over the whole depth range (no warm start)
-  double median_sigma_px = 0;      // median match sigma along the epipolar curve, right px
+  Termination termination = Termination::kSuccess;  // kSuccess or kCancelled
+  std::string message = "ok";                       // "ok" or "cancelled"
+  long left_valid = 0;                              // left pixels with a decoded coordinate
+  long matched = 0;                                 // left pixels with an accepted match
+  long rejected_noisy = 0;                          // left sigma above max_sigma_periods
+  long rejected_no_match = 0;                       // no crossing within the depth range
+  long rejected_lr = 0;        // a crossing was found but failed the modulation or left-right check
+  long full_searches = 0;      // pixels searched over the whole depth range (no warm start)
+  double median_sigma_px = 0;  // median match sigma along the epipolar curve, right px
   std::string BriefReport() const;
 };
 
