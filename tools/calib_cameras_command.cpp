@@ -1,6 +1,5 @@
 // ramtk calib cameras: single or stereo camera calibration from board images (ramtk::calib).
 
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -27,56 +26,17 @@ struct CamerasCommandOptions {
   bool free_k3 = false;
 };
 
-std::vector<std::string> ListImages(const std::string& dir) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  if (!fs::is_directory(dir)) throw InputError({dir, 0, ""}, "not a folder of images");
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext == ".png" || ext == ".bmp" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff") {
-      files.push_back(e.path().string());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError({dir, 0, ""}, "no images (png, bmp, jpg, tif) in the folder");
-  return files;
-}
-
 std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 int RunCameras(const CamerasCommandOptions& opt) {
-  // --board is the description itself or a file holding it (first line that is not a comment).
-  std::string board_text = opt.board;
-  InputLocation board_where{"", 0, "--board"};
-  if (std::filesystem::is_regular_file(opt.board)) {
-    const std::string contents = ReadTextFile(opt.board);
-    std::size_t start = 0;
-    int line = 0;
-    board_text.clear();
-    while (start <= contents.size() && board_text.empty()) {
-      const std::size_t end = std::min(contents.find('\n', start), contents.size());
-      std::string l = contents.substr(start, end - start);
-      ++line;
-      l.erase(0, l.find_first_not_of(" \t\r"));
-      l.erase(l.find_last_not_of(" \t\r") + 1);
-      if (!l.empty() && l[0] != '#') {
-        board_text = l;
-        board_where = {opt.board, line, "board"};
-      }
-      start = end + 1;
-    }
-    if (board_text.empty()) throw InputError({opt.board, 0, "board"}, "no board description in the file");
-  }
-  const calib::BoardSpec board = calib::ParseBoardSpec(board_text, board_where);
+  const calib::BoardSpec board = calib::ReadBoardSpecArgument(opt.board);
   calib::CameraCalibrationOptions co;
   co.outlier_factor = opt.outlier_factor;
   co.outlier_min_px = opt.outlier_min_px;
   co.fix_k3 = !opt.free_k3;
   const std::string bad = co.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
-  const std::vector<std::string> left_files = ListImages(opt.left);
+  const std::vector<std::string> left_files = calib::ListBoardImages(opt.left);
   cv::Size size;
   std::vector<calib::RejectedView> not_found;
   std::vector<calib::ViewPoints> left = calib::DetectBoardInImages(left_files, board, &size, &not_found);
@@ -91,7 +51,7 @@ int RunCameras(const CamerasCommandOptions& opt) {
     yaml = calib::CameraCalibrationYaml(r, board);
     picture = calib::DrawCoverage(r, left);
   } else {
-    const std::vector<std::string> right_files = ListImages(opt.right);
+    const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
     if (right_files.size() != left_files.size()) {
       throw InputError({opt.right, 0, "--right"}, std::to_string(right_files.size()) + " images, but " +
                                                       std::to_string(left_files.size()) + " in " + opt.left);

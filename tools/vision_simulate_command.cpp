@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
 #include "ramtk/vision/fringe_simulator.h"
@@ -27,10 +28,11 @@ struct SimulateFringeOptions {
   std::string direction = "vertical";  // fringe direction
   std::string calibration;             // cameras from a stereo calibration file instead of the preset
   std::string sequence;                // pattern sequence spec ("" = the preset's)
-  double phase_at_origin_deg = std::numeric_limits<double>::quiet_NaN();  // phase at projector pixel 0 of every phase block (NaN: keep)
-  bool no_noise = false;               // noiseless images
-  bool force = false;                  // replace an existing output folder
-  bool quiet = false;                  // no progress on stderr
+  double phase_at_origin_deg =
+      std::numeric_limits<double>::quiet_NaN();  // phase at projector pixel 0 of every phase block (NaN: keep)
+  bool no_noise = false;                         // noiseless images
+  bool force = false;                            // replace an existing output folder
+  bool quiet = false;                            // no progress on stderr
 };
 
 // "ps:12:64,cgc:7" → blocks. Items: ps:STEPS:CYCLES (phase shift), gc:BITS (Gray code),
@@ -77,7 +79,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
   }
   vision::FringeSimulationConfig config =
       opt.calibration.empty() ? vision::MakeFringePreset(opt.preset, ball)
-                              : vision::MakeFringeConfigForCalibration(vision::ReadStereoCalibration(opt.calibration));
+                              : vision::MakeFringeConfigForCalibration(camera::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
   if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
   if (std::isfinite(opt.phase_at_origin_deg)) {
@@ -136,8 +138,10 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--seed", opt->seed, "Random seed (recorded in the output)")->capture_default_str();
   sub->add_option("--effect", opt->effects,
                   "Effect name=magnitude, repeatable: projector_nonlinearity (gamma), phase_shift_error (deg), "
-                  "intensity_drift (relative), saturation (exposure factor), defocus (projector blur sigma, projector px), camera_defocus (camera blur sigma, px), "
-                  "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1), soft_knee_response (knee, fraction of full scale)");
+                  "intensity_drift (relative), saturation (exposure factor), defocus (projector blur sigma, projector "
+                  "px), camera_defocus (camera blur sigma, px), "
+                  "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1), soft_knee_response (knee, "
+                  "fraction of full scale)");
   sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
   sub->add_option(

@@ -1,15 +1,17 @@
-#include "ramtk/core/error.h"
 #include "ramtk/calib/board.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "board_internal.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/core/parse.h"
 
 namespace ramtk::calib {
@@ -151,6 +153,40 @@ BoardSpec ParseBoardSpec(const std::string& text, const InputLocation& where) {
   const std::string bad = b.Validate();
   if (!bad.empty()) throw InputError(where, bad);
   return b;
+}
+
+BoardSpec ReadBoardSpecArgument(const std::string& text_or_path, const std::string& option) {
+  if (!std::filesystem::is_regular_file(text_or_path)) return ParseBoardSpec(text_or_path, {"", 0, option});
+  const std::string contents = ReadTextFile(text_or_path);
+  std::size_t start = 0;
+  int line = 0;
+  while (start < contents.size()) {
+    const std::size_t end = std::min(contents.find('\n', start), contents.size());
+    std::string l = contents.substr(start, end - start);
+    ++line;
+    l.erase(0, l.find_first_not_of(" \t\r"));
+    l.erase(l.find_last_not_of(" \t\r") + 1);
+    if (!l.empty() && l[0] != '#') return ParseBoardSpec(l, {text_or_path, line, "board"});
+    start = end + 1;
+  }
+  throw InputError({text_or_path, 0, "board"}, "no board description in the file");
+}
+
+std::vector<std::string> ListBoardImages(const std::string& folder) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(folder)) throw InputError({folder, 0, ""}, "not a folder of images");
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".png" || ext == ".bmp" || ext == ".jpg" || ext == ".jpeg" || ext == ".tif" || ext == ".tiff") {
+      files.push_back(e.path().string());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError({folder, 0, ""}, "no images (png, bmp, jpg, tif) in the folder");
+  return files;
 }
 
 std::vector<cv::Point3f> BoardObjectPoints(const BoardSpec& board) {

@@ -8,32 +8,11 @@
 #include <random>
 
 #include "board_internal.h"
+#include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 
 namespace ramtk::calib {
 namespace {
-
-// Normalized undistorted (x, y) whose distortion is (xd, yd): Newton on OpenCV's model.
-cv::Vec2d UndistortNormalized(double xd, double yd, const cv::Vec<double, 5>& c) {
-  const double k1 = c[0], k2 = c[1], p1 = c[2], p2 = c[3], k3 = c[4];
-  double x = xd, y = yd;
-  for (int it = 0; it < 50; ++it) {
-    const double r2 = x * x + y * y;
-    const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const double dr = k1 + r2 * (2 * k2 + 3 * k3 * r2);  // d radial / d r2
-    const double fx = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x) - xd;
-    const double fy = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y - yd;
-    const double a = radial + 2 * x * x * dr + 2 * p1 * y + 6 * p2 * x;
-    const double b = 2 * x * y * dr + 2 * p1 * x + 2 * p2 * y;
-    const double d = radial + 2 * y * y * dr + 6 * p1 * y + 2 * p2 * x;
-    const double det = a * d - b * b;
-    const double dx = (d * fx - b * fy) / det, dy = (a * fy - b * fx) / det;
-    x -= dx;
-    y -= dy;
-    if (std::abs(dx) + std::abs(dy) < 1e-15) break;
-  }
-  return cv::Vec2d(x, y);
-}
 
 // Sub-pixel sample offset in [0, 1) along one axis of cell (x, y): the cell centre, or with
 // jitter a fixed hash of the cell (the same in every render and in the self-check).
@@ -59,26 +38,26 @@ std::string BoardRenderOptions::Validate() const {
   return "";
 }
 
-BoardRenderer::BoardRenderer(const BoardSpec& board, const PinholeCamera& camera, const BoardRenderOptions& options)
+BoardRenderer::BoardRenderer(const BoardSpec& board, const camera::CameraIntrinsics& camera,
+                             const BoardRenderOptions& options)
     : board_(board), camera_(camera), options_(options) {
   ThrowIfInvalid(board.Validate(), "board");
   ThrowIfInvalid(options.Validate(), "BoardRenderOptions");
   const int s = options.supersample;
-  const int w = camera.image_size.width * s, h = camera.image_size.height * s;
-  // Undistort every sub-pixel by Newton's method on OpenCV's distortion model (cv::undistortPoints'
-  // fixed-point iteration is far slower at this accuracy).
+  if (camera.width < 1 || camera.height < 1) throw InputError({"", 0, "camera"}, "image size must be positive");
+  const int w = camera.width * s, h = camera.height * s;
+  // Undistort every sub-pixel by Gauss-Newton on OpenCV's distortion model (camera::UndistortNormalized;
+  // cv::undistortPoints' fixed-point iteration is far slower at this accuracy).
   rays_.create(h, w, CV_64FC2);
-  const cv::Matx33d& k = camera.camera_matrix;
-  const cv::Vec<double, 5>& dist = camera.distortion;
   cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& range) {
     for (int y = range.start; y < range.end; ++y) {
       cv::Vec2d* row = rays_.ptr<cv::Vec2d>(y);
       for (int x = 0; x < w; ++x) {
         const double u = (x + SampleOffset(x, y, 0, options.jitter)) / s - 0.5;
         const double v = (y + SampleOffset(x, y, 1, options.jitter)) / s - 0.5;
-        const double yd = (v - k(1, 2)) / k(1, 1);
-        const double xd = (u - k(0, 2) - k(0, 1) * yd) / k(0, 0);
-        row[x] = UndistortNormalized(xd, yd, dist);
+        const camera::Vec2 ideal =
+            camera::UndistortNormalized(camera.distortion, {(u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy});
+        row[x] = cv::Vec2d(ideal.x(), ideal.y());
       }
     }
   });
@@ -94,7 +73,8 @@ BoardRenderer::BoardRenderer(const BoardSpec& board, const PinholeCamera& camera
     }
   }
   std::vector<cv::Point2d> back;
-  cv::projectPoints(check, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera.camera_matrix, camera.distortion, back);
+  cv::projectPoints(check, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera::CameraMatrix(camera),
+                    camera::DistortionCoefficients(camera), back);
   for (std::size_t i = 0; i < back.size(); ++i) {
     ray_map_error_px_ = std::max(ray_map_error_px_, cv::norm(back[i] - expected[i]));
   }
@@ -189,12 +169,12 @@ cv::Mat BoardRenderer::Render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, std:
   const cv::Matx33d h(r(0, 0), r(0, 1), tvec[0], r(1, 0), r(1, 1), tvec[1], r(2, 0), r(2, 1), tvec[2]);
   const cv::Matx33d hinv = h.inv();
   const int s = options_.supersample;
-  cv::Mat ideal(camera_.image_size, CV_64F);
+  cv::Mat ideal(camera::ImageSize(camera_), CV_64F);
   std::mt19937_64 rng(noise_seed * 0x9E3779B97F4A7C15ULL + 12345);
   std::normal_distribution<double> gauss(0.0, 1.0);
-  cv::parallel_for_(cv::Range(0, camera_.image_size.height), [&](const cv::Range& rows) {
+  cv::parallel_for_(cv::Range(0, camera_.height), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
-      for (int x = 0; x < camera_.image_size.width; ++x) {
+      for (int x = 0; x < camera_.width; ++x) {
         double sum = 0.0;
         for (int sy = 0; sy < s; ++sy) {
           const cv::Vec2d* row = rays_.ptr<cv::Vec2d>(y * s + sy);
@@ -213,7 +193,7 @@ cv::Mat BoardRenderer::Render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, std:
   });
   // Noise drawn in a fixed order after the parallel part, so images do not depend on threads.
   if (options_.blur_sigma_px > 0.0) cv::GaussianBlur(ideal, ideal, cv::Size(0, 0), options_.blur_sigma_px);
-  cv::Mat out(camera_.image_size, CV_8U);
+  cv::Mat out(camera::ImageSize(camera_), CV_8U);
   for (int y = 0; y < out.rows; ++y) {
     for (int x = 0; x < out.cols; ++x) {
       out.at<unsigned char>(y, x) =

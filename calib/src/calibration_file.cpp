@@ -1,4 +1,5 @@
-// Stereo / single-camera calibration files: OpenCV FileStorage YAML with the standard keys.
+// Stereo / single-camera calibration files: the rig's keys from ramtk::camera's writer, then the
+// calibration session's details.
 #include <opencv2/core/persistence.hpp>
 
 #include "ramtk/calib/camera_calibration.h"
@@ -6,61 +7,49 @@
 namespace ramtk::calib {
 namespace {
 
-void WriteCamera(cv::FileStorage& fs, const CameraCalibrationResult& c, const std::string& suffix) {
-  fs << ("K" + suffix) << cv::Mat(c.camera_matrix);
-  fs << ("D" + suffix) << cv::Mat(c.distortion, true).reshape(1, 1);
-  fs << ("std_intrinsics" + suffix) << cv::Mat(c.std_intrinsics, true).reshape(1, 1);
+void WriteRejected(cv::FileStorage& fs, const std::string& key, const std::vector<RejectedView>& rejected) {
+  fs << key << "[";
+  for (const RejectedView& r : rejected)
+    fs << "{"
+       << "name" << r.name << "reason" << r.reason << "}";
+  fs << "]";
+}
+
+// One camera's single-camera fit: rms<suffix>, per_view_errors<suffix>, views<suffix>, rejected_views<suffix>.
+void WriteSession(cv::FileStorage& fs, const CameraCalibrationResult& c, const std::string& suffix) {
   fs << ("rms" + suffix) << c.rms_px;
   fs << ("per_view_errors" + suffix) << cv::Mat(c.per_view_rms_px, true);
   fs << ("views" + suffix) << "[";
   for (const std::string& n : c.view_names) fs << n;
   fs << "]";
-  fs << ("rejected_views" + suffix) << "[";
-  for (const RejectedView& r : c.rejected)
-    fs << "{"
-       << "name" << r.name << "reason" << r.reason << "}";
-  fs << "]";
+  WriteRejected(fs, "rejected_views" + suffix, c.rejected);
 }
 
 }  // namespace
 
 std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const BoardSpec& board) {
-  cv::FileStorage fs("calibration.yml",
-                     cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-  fs.writeComment(
-      "ramtk stereo calibration: x_right = R * x_left + T (mm); std_intrinsics order fx fy cx cy k1 k2 p1 p2 k3");
-  fs << "image_size" << st.left.image_size;
-  fs << "board" << board.ToString();
-  WriteCamera(fs, st.left, "1");
-  WriteCamera(fs, st.right, "2");
-  fs << "R" << cv::Mat(st.rotation);
-  fs << "T" << cv::Mat(st.translation);
-  fs << "std_R" << cv::Mat(cv::Vec3d(st.std_rt[0], st.std_rt[1], st.std_rt[2])).reshape(1, 1);  // rotation vector, rad
-  fs << "std_T" << cv::Mat(cv::Vec3d(st.std_rt[3], st.std_rt[4], st.std_rt[5])).reshape(1, 1);  // mm
-  fs << "rms" << st.rms_px;
-  cv::Mat per_pair(static_cast<int>(st.per_pair_rms_px.size()), 2, CV_64F);
-  for (int i = 0; i < per_pair.rows; ++i) {
-    per_pair.at<double>(i, 0) = st.per_pair_rms_px[i][0];
-    per_pair.at<double>(i, 1) = st.per_pair_rms_px[i][1];
-  }
-  fs << "per_view_errors" << per_pair;
-  fs << "rejected_pairs"
-     << "[";
-  for (const RejectedView& r : st.rejected_pairs)
-    fs << "{"
-       << "name" << r.name << "reason" << r.reason << "}";
-  fs << "]";
-  return fs.releaseAndGetString();
+  return camera::StereoCalibrationText(st.rig, false,
+                                       "ramtk stereo calibration: x_right = R * x_left + T (mm); parameter_std order " +
+                                           std::string(camera::kCalibParameterStdOrder),
+                                       [&](cv::FileStorage& fs) {
+                                         fs << "board" << board.ToString();
+                                         WriteSession(fs, st.left, "1");
+                                         WriteSession(fs, st.right, "2");
+                                         WriteRejected(fs, "rejected_pairs", st.rejected_pairs);
+                                       });
 }
 
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board) {
-  cv::FileStorage fs("calibration.yml",
-                     cv::FileStorage::WRITE | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
-  fs.writeComment("ramtk single-camera calibration; std_intrinsics order fx fy cx cy k1 k2 p1 p2 k3");
-  fs << "image_size" << camera.image_size;
-  fs << "board" << board.ToString();
-  WriteCamera(fs, camera, "1");
-  return fs.releaseAndGetString();
+  return camera::CameraCalibrationText(
+      camera.intrinsics, camera.rms_px, camera.per_view_rms_px, camera.std_intrinsics,
+      "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3", [&](cv::FileStorage& fs) {
+        fs << "board" << board.ToString();
+        fs << "views1"
+           << "[";
+        for (const std::string& n : camera.view_names) fs << n;
+        fs << "]";
+        WriteRejected(fs, "rejected_views1", camera.rejected);
+      });
 }
 
 }  // namespace ramtk::calib

@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/image/image_file.h"
@@ -75,7 +76,6 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
   }
   const int max_rejections = static_cast<int>(options.max_rejected_fraction * views.size());
   CameraCalibrationResult r;
-  r.image_size = image_size;
   while (true) {
     if (static_cast<int>(views.size()) < options.min_views) {
       throw InputError({"", 0, "views"}, std::to_string(views.size()) + " usable views; at least " +
@@ -102,9 +102,8 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
       views.erase(views.begin() + worst);
       continue;
     }
-    r.camera_matrix = cv::Matx33d(k);
-    r.distortion.assign(d.begin<double>(), d.end<double>());
-    r.distortion.resize(5, 0.0);
+    r.intrinsics = camera::IntrinsicsFromOpenCv(cv::Matx33d(k), std::vector<double>(d.begin<double>(), d.end<double>()),
+                                                image_size);
     r.std_intrinsics.assign(std_in.begin<double>(), std_in.begin<double>() + 9);
     r.per_view_rms_px = rms;
     r.view_names.clear();
@@ -186,12 +185,13 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       il.push_back(p.l);
       ir.push_back(p.r);
     }
-    cv::Mat k1(st.left.camera_matrix), k2(st.right.camera_matrix);
-    cv::Mat d1(st.left.distortion, true), d2(st.right.distortion, true);
+    cv::Mat k1(camera::CameraMatrix(st.left.intrinsics)), k2(camera::CameraMatrix(st.right.intrinsics));
+    cv::Mat d1(camera::DistortionCoefficients(st.left.intrinsics), true);
+    cv::Mat d2(camera::DistortionCoefficients(st.right.intrinsics), true);
     cv::Mat rot, tr, e, f, per_view;
     // Joint refinement of both cameras and the rig from the single-camera starts.
-    st.rms_px = cv::stereoCalibrate(obj, il, ir, k1, d1, k2, d2, image_size, rot, tr, e, f, per_view,
-                                    cv::CALIB_USE_INTRINSIC_GUESS | options.OpenCvFlags(), kCriteria);
+    st.rig.rms_px = cv::stereoCalibrate(obj, il, ir, k1, d1, k2, d2, image_size, rot, tr, e, f, per_view,
+                                        cv::CALIB_USE_INTRINSIC_GUESS | options.OpenCvFlags(), kCriteria);
     ++rounds;
     std::vector<double> worst_of_pair;
     for (int i = 0; i < per_view.rows; ++i) {
@@ -206,31 +206,43 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       pairs.erase(pairs.begin() + worst);
       continue;
     }
-    st.rotation = cv::Matx33d(rot);
-    st.translation = cv::Vec3d(tr);
-    st.left.camera_matrix = cv::Matx33d(k1);
-    st.right.camera_matrix = cv::Matx33d(k2);
-    st.left.distortion.assign(d1.begin<double>(), d1.end<double>());
-    st.right.distortion.assign(d2.begin<double>(), d2.end<double>());
-    st.left.distortion.resize(5, 0.0);
-    st.right.distortion.resize(5, 0.0);
-    if (!internal::StereoExtrinsicStd(obj, il, ir, st.left.camera_matrix, st.left.distortion, st.right.camera_matrix,
-                                      st.right.distortion, st.rotation, st.translation, options.fix_k3, &st.std_rt,
-                                      &st.left.std_intrinsics, &st.right.std_intrinsics)) {
+    st.rig.left = camera::IntrinsicsFromOpenCv(cv::Matx33d(k1),
+                                               std::vector<double>(d1.begin<double>(), d1.end<double>()), image_size);
+    st.rig.right = camera::IntrinsicsFromOpenCv(cv::Matx33d(k2),
+                                                std::vector<double>(d2.begin<double>(), d2.end<double>()), image_size);
+    const cv::Matx33d rotation(rot);
+    const cv::Vec3d translation(tr);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) st.rig.right_from_left.linear()(i, j) = rotation(i, j);
+      st.rig.right_from_left.translation()(i) = translation[i];
+    }
+    const cv::Vec<double, 5> dl = camera::DistortionCoefficients(st.rig.left);
+    const cv::Vec<double, 5> dr = camera::DistortionCoefficients(st.rig.right);
+    cv::Vec6d std_rt;
+    std::vector<double> std_left, std_right;
+    st.rig.parameter_std.clear();
+    if (internal::StereoExtrinsicStd(obj, il, ir, camera::CameraMatrix(st.rig.left), {dl.val, dl.val + 5},
+                                     camera::CameraMatrix(st.rig.right), {dr.val, dr.val + 5}, rotation, translation,
+                                     options.fix_k3, &std_rt, &std_left, &std_right)) {
+      st.rig.parameter_std = std_left;
+      st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_right.begin(), std_right.end());
+      st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_rt.val, std_rt.val + 6);
+    } else {
       RAMTK_LOG(kWarning) << "stereo calibration: standard deviations could not be computed";
     }
     st.pair_names.clear();
-    st.per_pair_rms_px.clear();
+    st.rig.per_view_errors_px.clear();
     for (int i = 0; i < per_view.rows; ++i) {
       st.pair_names.push_back(pairs[i].name);
-      st.per_pair_rms_px.emplace_back(per_view.at<double>(i, 0), per_view.at<double>(i, 1));
+      st.rig.per_view_errors_px.push_back(per_view.at<double>(i, 0));
+      st.rig.per_view_errors_px.push_back(per_view.at<double>(i, 1));
     }
     break;
   }
   if (summary) {
     *summary = sl;
     summary->rounds = sl.rounds + sr.rounds + rounds;
-    summary->final_rms_px = st.rms_px;
+    summary->final_rms_px = st.rig.rms_px;
     summary->used_views = static_cast<int>(st.pair_names.size());
     summary->rejected.insert(summary->rejected.end(), sr.rejected.begin(), sr.rejected.end());
     summary->rejected.insert(summary->rejected.end(), st.rejected_pairs.begin(), st.rejected_pairs.end());
@@ -269,7 +281,7 @@ std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& path
 }
 
 cv::Mat DrawCoverage(const CameraCalibrationResult& cam, const std::vector<ViewPoints>& views, double residual_scale) {
-  cv::Mat img(cam.image_size, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat img(camera::ImageSize(cam.intrinsics), CV_8UC3, cv::Scalar(255, 255, 255));
   cv::rectangle(img, cv::Rect(0, 0, img.cols, img.rows), cv::Scalar(0, 0, 0), 1);
   for (const ViewPoints& v : views) {
     const auto it = std::find(cam.view_names.begin(), cam.view_names.end(), v.name);
@@ -279,7 +291,8 @@ cv::Mat DrawCoverage(const CameraCalibrationResult& cam, const std::vector<ViewP
     }
     const std::size_t i = static_cast<std::size_t>(it - cam.view_names.begin());
     std::vector<cv::Point2f> proj;
-    cv::projectPoints(v.object_points, cam.rvecs[i], cam.tvecs[i], cam.camera_matrix, cam.distortion, proj);
+    cv::projectPoints(v.object_points, cam.rvecs[i], cam.tvecs[i], camera::CameraMatrix(cam.intrinsics),
+                      camera::DistortionCoefficients(cam.intrinsics), proj);
     cv::Mat hue(1, 1, CV_8UC3,
                 cv::Scalar(static_cast<int>(170 * i / std::max<std::size_t>(1, cam.view_names.size())), 200, 200));
     cv::cvtColor(hue, hue, cv::COLOR_HSV2BGR);

@@ -3,6 +3,7 @@
 
 #include <random>
 
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/vision/fringe_simulator.h"
 
 namespace ramtk::diagnose {
@@ -18,9 +19,9 @@ struct EffectRange {
 // Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,
 // a few percent lamp/exposure drift over the sequence, 50–120 % over-exposure (the brightest
 // surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px camera
-// defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of full scale (the scene's brightest samples reach ~70 %;
-// a knee above ~40 % bends them by less than the per-pixel fit leaves visible), ambient light 5–20 %
-// of projector white, an extra k1 of a poorly calibrated lens.
+// defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of
+// full scale (the scene's brightest samples reach ~70 %; a knee above ~40 % bends them by less than the per-pixel fit
+// leaves visible), ambient light 5–20 % of projector white, an extra k1 of a poorly calibrated lens.
 const EffectRange kRanges[] = {
     {"projector_nonlinearity", 1.3, 2.2, false, true},
     {"phase_shift_error", 1.5, 5.0, false, true},
@@ -54,7 +55,7 @@ HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
 HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   vision::FringeSimulationConfig config = vision::MakeFringePreset("small");
   // Half resolution: the same view on a 320×256 sensor (pixel centres at integers).
-  vision::CameraIntrinsics& cam = config.cameras.left;
+  camera::CameraIntrinsics& cam = config.cameras.left;
   cam.fx *= 0.5, cam.fy *= 0.5;
   cam.cx = (cam.cx + 0.5) * 0.5 - 0.5, cam.cy = (cam.cy + 0.5) * 0.5 - 0.5;
   cam.width /= 2, cam.height /= 2;

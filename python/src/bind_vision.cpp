@@ -8,13 +8,13 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "numpy_convert.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/fringe_simulator.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/sphere_fit.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::python {
 namespace {
@@ -187,22 +187,22 @@ void BindVision(py::module_& m) {
       "Finds up to `max_spheres` spheres in an N×3 cloud (mm): list of dicts with centre_mm, radius_mm, "
       "centre_covariance_mm2, rms_mm, num_points");
 
-  py::class_<vision::StereoCalibration>(m, "StereoCalibration",
+  py::class_<camera::StereoCalibration>(m, "StereoCalibration",
                                         "A stereo calibration (the file of `ramtk calib cameras`, OpenCV YAML / JSON)")
-      .def_static("read", &vision::ReadStereoCalibration, py::arg("path"))
+      .def_static("read", &camera::ReadStereoCalibration, py::arg("path"))
       .def(
           "write",
-          [](const vision::StereoCalibration& c, const std::string& path) { vision::WriteStereoCalibration(path, c); },
+          [](const camera::StereoCalibration& c, const std::string& path) { camera::WriteStereoCalibration(path, c); },
           py::arg("path"), "Writes YAML, or JSON when the path ends in .json (atomically)")
-      .def_property_readonly("left_K", [](const vision::StereoCalibration& c) { return ToArray(c.left.K()); })
-      .def_property_readonly("right_K", [](const vision::StereoCalibration& c) { return ToArray(c.right.K()); })
+      .def_property_readonly("left_K", [](const camera::StereoCalibration& c) { return ToArray(c.left.K()); })
+      .def_property_readonly("right_K", [](const camera::StereoCalibration& c) { return ToArray(c.right.K()); })
       .def_property_readonly(
-          "image_size", [](const vision::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
+          "image_size", [](const camera::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
       .def_property_readonly(
-          "right_from_left", [](const vision::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
+          "right_from_left", [](const camera::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
           "4×4, translation in mm")
-      .def_readonly("rms_px", &vision::StereoCalibration::rms_px)
-      .def_readonly("parameter_std", &vision::StereoCalibration::parameter_std);
+      .def_readonly("rms_px", &camera::StereoCalibration::rms_px)
+      .def_readonly("parameter_std", &camera::StereoCalibration::parameter_std);
 
   m.def(
       "simulate_fringe",

@@ -17,7 +17,7 @@ using testing::TruthCamera;
 BoardSpec Chessboard() { return ParseBoardSpec("chessboard:9x6:20", {}); }
 
 TEST(BoardRenderer, RaysReprojectExactlyAndCornersAreUnbiased) {
-  const PinholeCamera cam = TruthCamera();
+  const camera::CameraIntrinsics cam = TruthCamera();
   BoardRenderOptions ro;
   ro.noise_sigma = 0.0;
   const auto t0 = std::chrono::steady_clock::now();
@@ -37,7 +37,8 @@ TEST(BoardRenderer, RaysReprojectExactlyAndCornersAreUnbiased) {
       const BoardDetection d = DetectBoard(img, Chessboard(), o);
       ASSERT_TRUE(d.found) << d.reason;
       std::vector<cv::Point2f> truth;
-      cv::projectPoints(d.object_points, rv[v], tv[v], cam.camera_matrix, cam.distortion, truth);
+      cv::projectPoints(d.object_points, rv[v], tv[v], camera::CameraMatrix(cam), camera::DistortionCoefficients(cam),
+                        truth);
       cv::Point2f mean(0, 0);
       for (std::size_t i = 0; i < truth.size(); ++i) {
         sum2 += std::pow(cv::norm(truth[i] - d.image_points[i]), 2);
@@ -64,7 +65,8 @@ struct Session {
   std::vector<cv::Vec3d> rvecs, tvecs;
 };
 
-Session RenderSession(const BoardSpec& board, const PinholeCamera& cam, int count, unsigned seed, double noise) {
+Session RenderSession(const BoardSpec& board, const camera::CameraIntrinsics& cam, int count, unsigned seed,
+                      double noise) {
   BoardRenderOptions ro;
   ro.noise_sigma = noise;
   const BoardRenderer renderer(board, cam, ro);
@@ -82,13 +84,10 @@ Session RenderSession(const BoardSpec& board, const PinholeCamera& cam, int coun
 
 // Normalized errors (estimate − truth)/σ_reported of fx fy cx cy k1 k2 p1 p2 and of every view's
 // rvec and tvec.
-void CollectZ(const CameraCalibrationResult& r, const PinholeCamera& truth, const Session& s,
+void CollectZ(const CameraCalibrationResult& r, const camera::CameraIntrinsics& truth, const Session& s,
               std::vector<double>* z_intr, std::vector<double>* z_extr) {
-  const double t[8] = {truth.camera_matrix(0, 0), truth.camera_matrix(1, 1), truth.camera_matrix(0, 2),
-                       truth.camera_matrix(1, 2), truth.distortion[0],       truth.distortion[1],
-                       truth.distortion[2],       truth.distortion[3]};
-  const double e[8] = {r.camera_matrix(0, 0), r.camera_matrix(1, 1), r.camera_matrix(0, 2), r.camera_matrix(1, 2),
-                       r.distortion[0],       r.distortion[1],       r.distortion[2],       r.distortion[3]};
+  const std::vector<double> t = testing::IntrinsicValues(truth);
+  const std::vector<double> e = testing::IntrinsicValues(r.intrinsics);
   for (int i = 0; i < 8; ++i) z_intr->push_back((e[i] - t[i]) / r.std_intrinsics[i]);
   for (std::size_t v = 0; v < r.view_names.size(); ++v) {
     const int idx = std::stoi(r.view_names[v].substr(4));
@@ -100,19 +99,19 @@ void CollectZ(const CameraCalibrationResult& r, const PinholeCamera& truth, cons
 }
 
 TEST(CameraCalibration, RecoversTruthWithinReportedStdAtTwoNoiseLevels) {
-  const PinholeCamera cam = TruthCamera();
+  const camera::CameraIntrinsics cam = TruthCamera();
   for (double noise : {1.0, 8.0}) {
     std::vector<double> z_intr, z_extr;
     double mean_std_fx = 0.0;
     for (unsigned seed = 1; seed <= 3; ++seed) {
       const Session s = RenderSession(Chessboard(), cam, 12, seed, noise);
       CameraCalibrationSummary sum;
-      const CameraCalibrationResult r = CalibrateCamera(s.views, cam.image_size, {}, &sum);
+      const CameraCalibrationResult r = CalibrateCamera(s.views, camera::ImageSize(cam), {}, &sum);
       std::printf(
           "noise %.1f seed %u: %s; fx %.3f±%.3f fy %.3f±%.3f cx %.3f±%.3f cy %.3f±%.3f k1 %.5f±%.5f k2 %.4f±%.4f\n",
-          noise, seed, sum.BriefReport().c_str(), r.camera_matrix(0, 0), r.std_intrinsics[0], r.camera_matrix(1, 1),
-          r.std_intrinsics[1], r.camera_matrix(0, 2), r.std_intrinsics[2], r.camera_matrix(1, 2), r.std_intrinsics[3],
-          r.distortion[0], r.std_intrinsics[4], r.distortion[1], r.std_intrinsics[5]);
+          noise, seed, sum.BriefReport().c_str(), r.intrinsics.fx, r.std_intrinsics[0], r.intrinsics.fy,
+          r.std_intrinsics[1], r.intrinsics.cx, r.std_intrinsics[2], r.intrinsics.cy, r.std_intrinsics[3],
+          r.intrinsics.distortion.k1, r.std_intrinsics[4], r.intrinsics.distortion.k2, r.std_intrinsics[5]);
       CollectZ(r, cam, s, &z_intr, &z_extr);
       mean_std_fx += r.std_intrinsics[0] / 3;
     }
@@ -132,13 +131,13 @@ TEST(CameraCalibration, RecoversTruthWithinReportedStdAtTwoNoiseLevels) {
 }
 
 TEST(CameraCalibration, OutlierViewIsRejectedWithTheReason) {
-  const PinholeCamera cam = TruthCamera();
+  const camera::CameraIntrinsics cam = TruthCamera();
   Session s = RenderSession(Chessboard(), cam, 12, 4, 1.0);
   // A view whose corners were mis-detected: every other corner off by 2 px.
   for (std::size_t i = 0; i < s.views[5].image_points.size(); i += 2)
     s.views[5].image_points[i] += cv::Point2f(2.0f, -1.5f);
   CameraCalibrationSummary sum;
-  const CameraCalibrationResult r = CalibrateCamera(s.views, cam.image_size, {}, &sum);
+  const CameraCalibrationResult r = CalibrateCamera(s.views, camera::ImageSize(cam), {}, &sum);
   ASSERT_EQ(r.rejected.size(), 1u) << sum.BriefReport();
   EXPECT_EQ(r.rejected[0].name, "view5");
   EXPECT_NE(r.rejected[0].reason.find("x median"), std::string::npos) << r.rejected[0].reason;
@@ -147,9 +146,9 @@ TEST(CameraCalibration, OutlierViewIsRejectedWithTheReason) {
 }
 
 TEST(CameraCalibration, TooFewViewsIsAnError) {
-  const PinholeCamera cam = TruthCamera();
+  const camera::CameraIntrinsics cam = TruthCamera();
   const Session s = RenderSession(Chessboard(), cam, 3, 6, 1.0);
-  EXPECT_THROW(CalibrateCamera(s.views, cam.image_size, {}), InputError);
+  EXPECT_THROW(CalibrateCamera(s.views, camera::ImageSize(cam), {}), InputError);
 }
 
 TEST(BoardSpecParse, TextFormsAndErrors) {

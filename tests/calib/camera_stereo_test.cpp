@@ -7,13 +7,16 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "camera_test_util.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/file_io.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::calib {
 namespace {
 
 using testing::RandomBoardPoses;
+using testing::RigRotation;
+using testing::RigStdRt;
+using testing::RigTranslation;
 using testing::TruthCamera;
 using testing::TruthStereo;
 
@@ -38,7 +41,9 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   cv::Vec3d t_true;
   TruthStereo(&r_true, &t_true);
   cv::Vec3d dr;
-  cv::Rodrigues(st.rotation * r_true.t(), dr);
+  cv::Rodrigues(RigRotation(st) * r_true.t(), dr);
+  const cv::Vec3d translation = RigTranslation(st);
+  const cv::Vec6d std_rt = RigStdRt(st);
   // Noise-derived bound: the per-view extrinsic σ of both cameras, averaged over the pairs.
   double var_t = 0.0, var_r = 0.0;
   for (std::size_t i = 0; i < st.left.std_extrinsics.size(); ++i) {
@@ -53,7 +58,7 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   // scales T.
   double angle_var = 0.0, scale_var = 0.0, distance = 0.0;
   for (const CameraCalibrationResult* c : {&st.left, &st.right}) {
-    const double f = c->camera_matrix(0, 0);
+    const double f = c->intrinsics.fx;
     angle_var += (std::pow(c->std_intrinsics[2], 2) + std::pow(c->std_intrinsics[3], 2)) / (f * f);
     scale_var += std::pow(c->std_intrinsics[0] / f, 2);
   }
@@ -64,28 +69,29 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   std::printf(
       "%s\nstereo RMS %.4f px; |dR| %.4f deg (sigma %.4f), |dT| %.4f mm (sigma %.4f per axis), T = (%.3f, %.3f, "
       "%.3f)\n",
-      sum.BriefReport().c_str(), st.rms_px, cv::norm(dr) * 180 / CV_PI, sigma_r * 180 / CV_PI,
-      cv::norm(st.translation - t_true), sigma_t, st.translation[0], st.translation[1], st.translation[2]);
+      sum.BriefReport().c_str(), st.rig.rms_px, cv::norm(dr) * 180 / CV_PI, sigma_r * 180 / CV_PI,
+      cv::norm(translation - t_true), sigma_t, translation[0], translation[1], translation[2]);
   EXPECT_EQ(st.pair_names.size(), 12u);
   EXPECT_LT(cv::norm(dr), 5.0 * sigma_r);
-  EXPECT_LT(cv::norm(st.translation - t_true), 5.0 * sigma_t);
+  EXPECT_LT(cv::norm(translation - t_true), 5.0 * sigma_t);
   // The σ the tool reports for R and T (joint Jacobian, intrinsics included): each component of
   // the error within 3.5σ, and of the size of the hand-propagated σ above.
   std::printf(
       "reported std: R (deg) %.4f %.4f %.4f, T (mm) %.4f %.4f %.4f; errors R %.4f %.4f %.4f, T %.4f %.4f %.4f\n",
-      st.std_rt[0] * 180 / CV_PI, st.std_rt[1] * 180 / CV_PI, st.std_rt[2] * 180 / CV_PI, st.std_rt[3], st.std_rt[4],
-      st.std_rt[5], dr[0] * 180 / CV_PI, dr[1] * 180 / CV_PI, dr[2] * 180 / CV_PI, st.translation[0] - t_true[0],
-      st.translation[1] - t_true[1], st.translation[2] - t_true[2]);
+      std_rt[0] * 180 / CV_PI, std_rt[1] * 180 / CV_PI, std_rt[2] * 180 / CV_PI, std_rt[3], std_rt[4], std_rt[5],
+      dr[0] * 180 / CV_PI, dr[1] * 180 / CV_PI, dr[2] * 180 / CV_PI, translation[0] - t_true[0],
+      translation[1] - t_true[1], translation[2] - t_true[2]);
   for (int k = 0; k < 3; ++k) {
-    EXPECT_LT(std::abs(dr[k]), 3.5 * st.std_rt[k]) << k;
-    EXPECT_LT(std::abs(st.translation[k] - t_true[k]), 3.5 * st.std_rt[3 + k]) << k;
+    EXPECT_LT(std::abs(dr[k]), 3.5 * std_rt[k]) << k;
+    EXPECT_LT(std::abs(translation[k] - t_true[k]), 3.5 * std_rt[3 + k]) << k;
   }
   // The file: standard keys, read back with cv::FileStorage as any OpenCV user would.
   const std::string path = ::testing::TempDir() + "/stereo.yml";
   WriteFileAtomically(path, StereoCalibrationYaml(st, board));
   cv::FileStorage fs(path, cv::FileStorage::READ);
   ASSERT_TRUE(fs.isOpened());
-  cv::Mat k1, d1, k2, d2, r, t, pve, std1;
+  cv::Mat k1, d1, k2, d2, r, t;
+  std::vector<double> pve, std_all;
   cv::Size size;
   fs["K1"] >> k1;
   fs["D1"] >> d1;
@@ -94,18 +100,20 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
   fs["R"] >> r;
   fs["T"] >> t;
   fs["image_size"] >> size;
-  fs["per_view_errors"] >> pve;
-  fs["std_intrinsics1"] >> std1;
+  fs["per_view_errors_px"] >> pve;
+  fs["parameter_std"] >> std_all;
   EXPECT_EQ(size, cv::Size(640, 480));
-  EXPECT_LT(cv::norm(k1 - cv::Mat(st.left.camera_matrix)), 1e-9);
-  EXPECT_LT(cv::norm(k2 - cv::Mat(st.right.camera_matrix)), 1e-9);
+  EXPECT_LT(cv::norm(k1 - cv::Mat(camera::CameraMatrix(st.rig.left))), 1e-9);
+  EXPECT_LT(cv::norm(k2 - cv::Mat(camera::CameraMatrix(st.rig.right))), 1e-9);
   EXPECT_EQ(d1.total(), 5u);
   EXPECT_EQ(d2.total(), 5u);
-  EXPECT_LT(cv::norm(r - cv::Mat(st.rotation)), 1e-9);
-  EXPECT_LT(cv::norm(t - cv::Mat(st.translation)), 1e-9);
-  EXPECT_EQ(pve.rows, 12);
-  EXPECT_EQ(std1.total(), 9u);
-  EXPECT_DOUBLE_EQ(static_cast<double>(fs["rms"]), st.rms_px);
+  EXPECT_LT(cv::norm(r - cv::Mat(RigRotation(st))), 1e-9);
+  EXPECT_LT(cv::norm(t - cv::Mat(translation)), 1e-9);
+  EXPECT_EQ(pve, st.rig.per_view_errors_px);  // left, right per pair
+  EXPECT_EQ(pve.size(), 24u);
+  EXPECT_EQ(std_all, st.rig.parameter_std);
+  EXPECT_EQ(std_all.size(), 24u);
+  EXPECT_DOUBLE_EQ(static_cast<double>(fs["rms_px"]), st.rig.rms_px);
   // Coverage picture: the size of the image, not blank.
   const cv::Mat pic = DrawCoverage(st.left, s.left);
   EXPECT_EQ(pic.size(), cv::Size(640, 480));
@@ -116,7 +124,7 @@ TEST(StereoCalibration, RecoversRigAndWritesTheCalibrationFile) {
 // centroid of a projected circle is not the projected centre, a known bias of circle grids).
 void CheckBoard(const std::string& spec, double z_limit) {
   const BoardSpec board = ParseBoardSpec(spec, {});
-  const PinholeCamera cam = TruthCamera();
+  const camera::CameraIntrinsics cam = TruthCamera();
   BoardRenderOptions ro;
   ro.noise_sigma = 2.0;
   const BoardRenderer renderer(board, cam, ro);
@@ -133,15 +141,14 @@ void CheckBoard(const std::string& spec, double z_limit) {
   }
   EXPECT_GE(found, 10) << spec;
   CameraCalibrationSummary sum;
-  const CameraCalibrationResult r = CalibrateCamera(views, cam.image_size, {}, &sum);
-  const double truth[4] = {cam.camera_matrix(0, 0), cam.camera_matrix(1, 1), cam.camera_matrix(0, 2),
-                           cam.camera_matrix(1, 2)};
-  const double est[4] = {r.camera_matrix(0, 0), r.camera_matrix(1, 1), r.camera_matrix(0, 2), r.camera_matrix(1, 2)};
+  const CameraCalibrationResult r = CalibrateCamera(views, camera::ImageSize(cam), {}, &sum);
+  const std::vector<double> truth = testing::IntrinsicValues(cam);
+  const std::vector<double> est = testing::IntrinsicValues(r.intrinsics);
   std::printf("%s: %s; fx %.3f±%.3f fy %.3f±%.3f cx %.3f±%.3f cy %.3f±%.3f k1 %.4f±%.4f\n", spec.c_str(),
               sum.BriefReport().c_str(), est[0], r.std_intrinsics[0], est[1], r.std_intrinsics[1], est[2],
-              r.std_intrinsics[2], est[3], r.std_intrinsics[3], r.distortion[0], r.std_intrinsics[4]);
+              r.std_intrinsics[2], est[3], r.std_intrinsics[3], est[4], r.std_intrinsics[4]);
   for (int i = 0; i < 4; ++i) EXPECT_LT(std::abs(est[i] - truth[i]), z_limit * r.std_intrinsics[i]) << spec << " " << i;
-  EXPECT_LT(std::abs(r.distortion[0] - cam.distortion[0]), z_limit * r.std_intrinsics[4]) << spec;
+  EXPECT_LT(std::abs(est[4] - truth[4]), z_limit * r.std_intrinsics[4]) << spec;
 }
 
 TEST(CameraCalibration, SymmetricCircleGrid) { CheckBoard("circles:7x5:25", 4.0); }
@@ -151,33 +158,33 @@ TEST(CameraCalibration, Charuco) { CheckBoard("charuco:8x6:25:18:DICT_5X5_100", 
 }  // namespace
 }  // namespace ramtk::calib
 
-// The file `ramtk calib cameras` writes, read by the scan's reader: the session's RMS and every σ
-// survive (issue 18: they used to be dropped), in the order ramtk::vision::kCalibParameterStdOrder names.
+// The file `ramtk calib cameras` writes, read by the scan's reader: the rig, the session's RMS
+// and every σ survive (issue 18: they used to be dropped), in the order
+// ramtk::camera::kCalibParameterStdOrder names.
 TEST(CalibrationFile, SessionFiguresSurviveTheScanReader) {
   ramtk::calib::StereoCalibrationResult st;
-  for (ramtk::calib::CameraCalibrationResult* c : {&st.left, &st.right}) {
-    c->image_size = cv::Size(640, 512);
-    c->camera_matrix = cv::Matx33d(1000, 0, 320, 0, 1000, 256, 0, 0, 1);
-    c->distortion = {0.01, -0.02, 0.0, 0.0, 0.0};
-    c->rms_px = 0.11;
-  }
-  for (int i = 0; i < 9; ++i) st.left.std_intrinsics.push_back(0.1 * (i + 1));
-  for (int i = 0; i < 9; ++i) st.right.std_intrinsics.push_back(0.01 * (i + 1));
-  st.translation = cv::Vec3d(-100, 0.5, 2);
-  st.std_rt = cv::Vec6d(1e-5, 2e-5, 3e-5, 0.004, 0.005, 0.006);
-  st.rms_px = 0.1234;
-  st.per_pair_rms_px = {cv::Vec2d(0.1, 0.2), cv::Vec2d(0.3, 0.4)};
+  st.rig.left = ramtk::camera::IntrinsicsFromOpenCv(cv::Matx33d(1000, 0, 320, 0, 1000, 256, 0, 0, 1),
+                                                    {0.01, -0.02, 0.001, -0.002, 0.003}, cv::Size(640, 512));
+  st.rig.right = ramtk::camera::IntrinsicsFromOpenCv(cv::Matx33d(1010, 0, 318, 0, 1009, 250, 0, 0, 1),
+                                                     {0.02, -0.01, 0.0, 0.0, 0.0}, cv::Size(640, 512));
+  st.rig.right_from_left.linear() = Eigen::AngleAxisd(0.07, ramtk::Vec3(0.1, 1.0, 0.2).normalized()).matrix();
+  st.rig.right_from_left.translation() = ramtk::Vec3(-100, 0.5, 2);
+  st.rig.rms_px = 0.1234;
+  st.rig.per_view_errors_px = {0.1, 0.2, 0.3, 0.4};
+  for (int i = 0; i < 24; ++i) st.rig.parameter_std.push_back(1e-3 * (i + 1));
+  st.left.rms_px = st.right.rms_px = 0.11;
   const std::string path = ::testing::TempDir() + "session_stereo.yml";
-  ramtk::WriteFileAtomically(path, ramtk::calib::StereoCalibrationYaml(st, ramtk::calib::ParseBoardSpec("chessboard:9x6:20", {})));
-  const ramtk::vision::StereoCalibration v = ramtk::vision::ReadStereoCalibration(path);
-  EXPECT_DOUBLE_EQ(v.rms_px, 0.1234);
-  ASSERT_EQ(v.parameter_std.size(), 24u);
-  for (int i = 0; i < 9; ++i) {
-    EXPECT_DOUBLE_EQ(v.parameter_std[i], st.left.std_intrinsics[i]);
-    EXPECT_DOUBLE_EQ(v.parameter_std[9 + i], st.right.std_intrinsics[i]);
+  ramtk::WriteFileAtomically(
+      path, ramtk::calib::StereoCalibrationYaml(st, ramtk::calib::ParseBoardSpec("chessboard:9x6:20", {})));
+  const ramtk::camera::StereoCalibration v = ramtk::camera::ReadStereoCalibration(path);
+  for (const auto& [read, written] : {std::pair{&v.left, &st.rig.left}, std::pair{&v.right, &st.rig.right}}) {
+    EXPECT_EQ(read->K(), written->K());
+    EXPECT_EQ(ramtk::camera::DistortionCoefficients(*read), ramtk::camera::DistortionCoefficients(*written));
+    EXPECT_EQ(read->width, 640);
+    EXPECT_EQ(read->height, 512);
   }
-  for (int i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(v.parameter_std[18 + i], st.std_rt[i]);
-  const std::vector<double> per_view = {0.1, 0.2, 0.3, 0.4};
-  EXPECT_EQ(v.per_view_errors_px, per_view);
-  EXPECT_NEAR(v.right_from_left.translation().x(), -100, 1e-12);
+  EXPECT_LT((v.right_from_left.matrix() - st.rig.right_from_left.matrix()).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_DOUBLE_EQ(v.rms_px, 0.1234);
+  EXPECT_EQ(v.parameter_std, st.rig.parameter_std);
+  EXPECT_EQ(v.per_view_errors_px, st.rig.per_view_errors_px);
 }

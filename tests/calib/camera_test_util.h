@@ -9,18 +9,41 @@
 
 #include "ramtk/calib/board_renderer.h"
 #include "ramtk/calib/camera_calibration.h"
+#include "ramtk/camera/opencv_camera.h"
 
 namespace ramtk::calib::testing {
 
 // A 640×480 camera with moderate barrel distortion (truth for the tests).
-inline PinholeCamera TruthCamera(bool right = false) {
-  PinholeCamera c;
-  c.image_size = cv::Size(640, 480);
-  c.camera_matrix =
+inline camera::CameraIntrinsics TruthCamera(bool right = false) {
+  const cv::Matx33d k =
       right ? cv::Matx33d(760, 0, 315, 0, 758, 246, 0, 0, 1) : cv::Matx33d(750, 0, 328, 0, 752, 236, 0, 0, 1);
-  c.distortion = right ? cv::Vec<double, 5>(-0.15, 0.10, -0.0004, 0.0006, 0.0)
-                       : cv::Vec<double, 5>(-0.12, 0.08, 0.0005, -0.0003, 0.0);
-  return c;
+  const std::vector<double> d = right ? std::vector<double>{-0.15, 0.10, -0.0004, 0.0006, 0.0}
+                                      : std::vector<double>{-0.12, 0.08, 0.0005, -0.0003, 0.0};
+  return camera::IntrinsicsFromOpenCv(k, d, cv::Size(640, 480));
+}
+
+// fx fy cx cy k1 k2 p1 p2 of a camera: the order of OpenCV's stdDeviationsIntrinsics.
+inline std::vector<double> IntrinsicValues(const camera::CameraIntrinsics& c) {
+  return {c.fx, c.fy, c.cx, c.cy, c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2};
+}
+
+// R and T of a calibrated rig in OpenCV's types, and their σ (rotation vector rad, T mm) from
+// parameter_std (kCalibParameterStdOrder: entries 18..23).
+inline cv::Matx33d RigRotation(const StereoCalibrationResult& st) {
+  cv::Matx33d r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r(i, j) = st.rig.right_from_left.linear()(i, j);
+  return r;
+}
+inline cv::Vec3d RigTranslation(const StereoCalibrationResult& st) {
+  const Vec3 t = st.rig.right_from_left.translation();
+  return {t.x(), t.y(), t.z()};
+}
+inline cv::Vec6d RigStdRt(const StereoCalibrationResult& st) {
+  cv::Vec6d s = cv::Vec6d::all(0.0);
+  if (st.rig.parameter_std.size() == 24)
+    for (int k = 0; k < 6; ++k) s[k] = st.rig.parameter_std[18 + k];
+  return s;
 }
 
 // right_from_left of the truth stereo rig: 120 mm baseline, 4° toe-in.
@@ -40,20 +63,20 @@ inline std::vector<cv::Point3f> BoardOutline(const BoardSpec& b) {
 }
 
 inline bool Visible(const std::vector<cv::Point3f>& outline, const cv::Vec3d& r, const cv::Vec3d& t,
-                    const PinholeCamera& cam) {
+                    const camera::CameraIntrinsics& cam) {
   std::vector<cv::Point2f> p;
-  cv::projectPoints(outline, r, t, cam.camera_matrix, cam.distortion, p);
+  cv::projectPoints(outline, r, t, camera::CameraMatrix(cam), camera::DistortionCoefficients(cam), p);
   for (const cv::Point2f& q : p) {
-    if (q.x < 8 || q.y < 8 || q.x > cam.image_size.width - 9 || q.y > cam.image_size.height - 9) return false;
+    if (q.x < 8 || q.y < 8 || q.x > cam.width - 9 || q.y > cam.height - 9) return false;
   }
   return true;
 }
 
 // camera_from_board poses spread over the image: distance 380–560 mm, tilts up to 40°. If
 // `right` is given, poses must also be visible in it (x_right = R·x_left + T).
-inline void RandomBoardPoses(const BoardSpec& board, const PinholeCamera& cam, int count, unsigned seed,
+inline void RandomBoardPoses(const BoardSpec& board, const camera::CameraIntrinsics& cam, int count, unsigned seed,
                              std::vector<cv::Vec3d>* rvecs, std::vector<cv::Vec3d>* tvecs,
-                             const PinholeCamera* right = nullptr, const cv::Matx33d* r_rl = nullptr,
+                             const camera::CameraIntrinsics* right = nullptr, const cv::Matx33d* r_rl = nullptr,
                              const cv::Vec3d* t_rl = nullptr) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -89,7 +112,7 @@ struct StereoImages {
 
 inline StereoImages RenderStereoImages(const BoardSpec& board, const BoardRenderer& left, const BoardRenderer& right,
                                        int count, unsigned pose_seed, std::uint64_t noise_base) {
-  const PinholeCamera cl = TruthCamera(false), cr = TruthCamera(true);
+  const camera::CameraIntrinsics cl = TruthCamera(false), cr = TruthCamera(true);
   cv::Matx33d r_rl;
   cv::Vec3d t_rl;
   TruthStereo(&r_rl, &t_rl);
@@ -136,29 +159,27 @@ inline const char* StereoParameterName(int i) {
 inline void StereoErrors(const StereoCalibrationResult& st, std::vector<double>* error, std::vector<double>* sigma) {
   error->assign(kStereoParameters, 0.0);
   sigma->assign(kStereoParameters, 0.0);
+  // The rig's jointly refined intrinsics with their σ from parameter_std (9 per camera).
   for (int c = 0; c < 2; ++c) {
-    const PinholeCamera truth = TruthCamera(c == 1);
-    const CameraCalibrationResult& r = c == 0 ? st.left : st.right;
-    const double est[8] = {r.camera_matrix(0, 0), r.camera_matrix(1, 1), r.camera_matrix(0, 2), r.camera_matrix(1, 2),
-                           r.distortion[0],       r.distortion[1],       r.distortion[2],       r.distortion[3]};
-    const double tru[8] = {truth.camera_matrix(0, 0), truth.camera_matrix(1, 1), truth.camera_matrix(0, 2),
-                           truth.camera_matrix(1, 2), truth.distortion[0],       truth.distortion[1],
-                           truth.distortion[2],       truth.distortion[3]};
+    const std::vector<double> tru = IntrinsicValues(TruthCamera(c == 1));
+    const std::vector<double> est = IntrinsicValues(c == 0 ? st.rig.left : st.rig.right);
     for (int i = 0; i < 8; ++i) {
       (*error)[8 * c + i] = est[i] - tru[i];
-      (*sigma)[8 * c + i] = r.std_intrinsics[i];
+      (*sigma)[8 * c + i] = st.rig.parameter_std.size() == 24 ? st.rig.parameter_std[9 * c + i] : 0.0;
     }
   }
   cv::Matx33d r_true;
   cv::Vec3d t_true;
   TruthStereo(&r_true, &t_true);
   cv::Vec3d dr;
-  cv::Rodrigues(st.rotation * r_true.t(), dr);
+  cv::Rodrigues(RigRotation(st) * r_true.t(), dr);
+  const cv::Vec3d t = RigTranslation(st);
+  const cv::Vec6d std_rt = RigStdRt(st);
   for (int k = 0; k < 3; ++k) {
     (*error)[16 + k] = dr[k];
-    (*error)[19 + k] = st.translation[k] - t_true[k];
-    (*sigma)[16 + k] = st.std_rt[k];
-    (*sigma)[19 + k] = st.std_rt[3 + k];
+    (*error)[19 + k] = t[k] - t_true[k];
+    (*sigma)[16 + k] = std_rt[k];
+    (*sigma)[19 + k] = std_rt[3 + k];
   }
 }
 

@@ -115,7 +115,7 @@ TEST(HandEye, RenderedBoardImagesThroughPnP) {
   so.max_tilt_deg = 20.0;
   so.seed = 5;
   const SensorRobotSimulation sim = SimulateSensorRobot(model, so);
-  const PinholeCamera cam = testing::TruthCamera();
+  const camera::CameraIntrinsics cam = testing::TruthCamera();
   const BoardSpec board = ParseBoardSpec("chessboard:9x6:20", {});
   // The board faces the camera at the first pose, its centre near the ball.
   const Isometry3 camera_from_flange0 =
@@ -144,8 +144,9 @@ TEST(HandEye, RenderedBoardImagesThroughPnP) {
     const BoardDetection d = DetectBoard(renderer.Render(rvec, tvec, i), board, detect);
     BoardPoseObservation o;
     o.q_controller = sim.observations[i].q_controller;
-    const std::vector<double> dist(cam.distortion.val, cam.distortion.val + 5);
-    if (!CameraFromBoard(d, cam.camera_matrix, dist, &o.camera_from_board)) continue;
+    const cv::Vec<double, 5> coefficients = camera::DistortionCoefficients(cam);
+    const std::vector<double> dist(coefficients.val, coefficients.val + 5);
+    if (!CameraFromBoard(d, camera::CameraMatrix(cam), dist, &o.camera_from_board)) continue;
     pnp_rot2 += std::pow(RotationAngleBetween(o.camera_from_board.linear(), truth.linear()), 2);
     pnp_t2 += (o.camera_from_board.translation() - truth.translation()).squaredNorm();
     obs.push_back(o);

@@ -58,30 +58,32 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
   const double peer_rms =
       cv::stereoCalibrate(object, image_l, image_r, k1, d1, k2, d2, size_l, r, t, e, f, cv::CALIB_FIX_K3);
   std::cout << "ramtk: left RMS " << ours.left.rms_px << " px, right " << ours.right.rms_px << " px, stereo "
-            << ours.rms_px << " px; OpenCV joint stereoCalibrate RMS " << peer_rms << " px\n";
+            << ours.rig.rms_px << " px; OpenCV joint stereoCalibrate RMS " << peer_rms << " px\n";
 
   // Intrinsics: OpenCV's joint estimate within 3 of our reported sigma (fx fy cx cy k1 k2 p1 p2).
-  auto check = [](const CameraCalibrationResult& c, const cv::Mat& k, const cv::Mat& d, const char* name) {
-    const double ours_v[8] = {c.camera_matrix(0, 0), c.camera_matrix(1, 1), c.camera_matrix(0, 2),
-                              c.camera_matrix(1, 2), c.distortion[0],       c.distortion[1],
-                              c.distortion[2],       c.distortion[3]};
+  // Ours: the rig's jointly refined intrinsics and their σ (parameter_std, 9 per camera).
+  ASSERT_EQ(ours.rig.parameter_std.size(), 24u);
+  auto check = [&](int cam, const cv::Mat& k, const cv::Mat& d, const char* name) {
+    const camera::CameraIntrinsics& c = cam == 0 ? ours.rig.left : ours.rig.right;
+    const double ours_v[8] = {c.fx,           c.fy, c.cx, c.cy, c.distortion.k1, c.distortion.k2, c.distortion.p1,
+                              c.distortion.p2};
     const double peer_v[8] = {k.at<double>(0, 0), k.at<double>(1, 1), k.at<double>(0, 2), k.at<double>(1, 2),
                               d.at<double>(0),    d.at<double>(1),    d.at<double>(2),    d.at<double>(3)};
     const char* names[8] = {"fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2"};
     for (int i = 0; i < 8; ++i) {
-      const double sigma = c.std_intrinsics[i];
+      const double sigma = ours.rig.parameter_std[9 * cam + i];
       ASSERT_GT(sigma, 0) << name << " " << names[i];
       std::cout << name << " " << names[i] << ": ramtk " << ours_v[i] << " +- " << sigma << ", OpenCV joint "
                 << peer_v[i] << " (" << (peer_v[i] - ours_v[i]) / sigma << " sigma)\n";
       EXPECT_LT(std::abs(peer_v[i] - ours_v[i]), 3 * sigma) << name << " " << names[i];
     }
   };
-  check(ours.left, k1, d1, "left");
-  check(ours.right, k2, d2, "right");
+  check(0, k1, d1, "left");
+  check(1, k2, d2, "right");
   // RMS no worse: our stereo RMS (both cameras' residuals, intrinsics fixed from the separate
   // calibrations) against the joint fit's. Fixing the 16 intrinsics of ~2 800 residuals can raise
   // the RMS by a few tenths of a percent when they are right; 1 % allows for that.
-  EXPECT_LE(ours.rms_px, 1.01 * peer_rms);
+  EXPECT_LE(ours.rig.rms_px, 1.01 * peer_rms);
 
   // For the record (issue 16): OpenCV's sector-based detector with its accuracy flag, on the same
   // images, calibrated the same way (printed, not asserted: which corners are better on real

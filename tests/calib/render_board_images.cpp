@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(out / "right");
   const BoardSpec board = ParseBoardSpec(argv[2], {});
   const int count = std::atoi(argv[3]);
-  const PinholeCamera cl = testing::TruthCamera(false), cr = testing::TruthCamera(true);
+  const ramtk::camera::CameraIntrinsics cl = testing::TruthCamera(false), cr = testing::TruthCamera(true);
   cv::Matx33d r_rl;
   cv::Vec3d t_rl;
   testing::TruthStereo(&r_rl, &t_rl);
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
     cv::imwrite((out / "right" / name).string(), rr.Render(rv_right, r_rl * tvecs[v] + t_rl, 2 * v + 1));
   }
   std::snprintf(name, sizeof(name), "view_%02d.png", count);
-  const cv::Mat blank(cl.image_size, CV_8U, cv::Scalar(100));
+  const cv::Mat blank(ramtk::camera::ImageSize(cl), CV_8U, cv::Scalar(100));
   cv::imwrite((out / "left" / name).string(), blank);
   cv::imwrite((out / "right" / name).string(), blank);
   std::filesystem::create_directories(out / "blank");

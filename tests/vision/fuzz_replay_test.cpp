@@ -8,16 +8,16 @@
 #include <sstream>
 #include <string>
 
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/tcf/device_io.h"
 #include "ramtk/tcf/sensor_frame.h"
-#include "ramtk/vision/manifest.h"
 #include "ramtk/vision/image_io.h"
+#include "ramtk/vision/manifest.h"
 #include "ramtk/vision/point_cloud.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace fs = std::filesystem;
 
@@ -57,7 +57,7 @@ bool Replay(const std::string& name, const std::string& text) {
       std::ofstream(path, std::ios::binary) << text;
       ramtk::vision::ReadPly(path.string()).Check(path.string());
     } else if (name.rfind("fuzz_stereo_calibration-", 0) == 0) {
-      (void)ramtk::vision::ParseStereoCalibration(text, "/fuzz/calibration.yml");
+      (void)ramtk::camera::ParseStereoCalibration(text, "/fuzz/calibration.yml");
     } else if (name.rfind("fuzz_image-", 0) == 0) {
       const fs::path path = fs::path(RAMTK_TEST_OUTPUT_DIR) / "fuzz_replay_image.png";
       fs::create_directories(path.parent_path());
@@ -92,15 +92,14 @@ TEST(FuzzReplay, EveryReproducerIsParsedOrRejectedAsBadInput) {
 // nlohmann::json throw out_of_range, which escaped the parse_error handler.
 TEST(FuzzReplay, NumberOverflowInManifestIsAnInputError) {
   EXPECT_THROW(ramtk::vision::ParseFringeManifest("1e2222222", "m.json"), ramtk::InputError);
-  EXPECT_THROW(ramtk::vision::ParseFringeManifest("{\"projector\": {\"width\": 1e999}}", "m.json"),
-               ramtk::InputError);
+  EXPECT_THROW(ramtk::vision::ParseFringeManifest("{\"projector\": {\"width\": 1e999}}", "m.json"), ramtk::InputError);
 }
 
 // The stereo calibration finding (fuzz_stereo_calibration, 2026-11-24): a file whose top level is
 // a list made OpenCV's key lookup throw cv::Exception instead of a bad-input error.
 TEST(FuzzReplay, CalibrationWhoseTopLevelIsNotAMapIsAnInputError) {
-  EXPECT_THROW(ramtk::vision::ParseStereoCalibration("%YAML:1.0\n- 1\n- 2\n", "c.yml"), ramtk::InputError);
-  EXPECT_THROW(ramtk::vision::ParseStereoCalibration("[1, 2]", "c.json"), ramtk::InputError);
+  EXPECT_THROW(ramtk::camera::ParseStereoCalibration("%YAML:1.0\n- 1\n- 2\n", "c.yml"), ramtk::InputError);
+  EXPECT_THROW(ramtk::camera::ParseStereoCalibration("[1, 2]", "c.json"), ramtk::InputError);
 }
 
 // The third (same target): a malformed file on which OpenCV's own parser throws
@@ -113,5 +112,5 @@ TEST(FuzzReplay, CalibrationMatrixWithACorruptSizeIsAnInputError) {
   const std::string head = "%YAML:1.0\nK1: !!opencv-matrix\n   rows: ";
   const std::string tail = "\n   cols: 3\n   dt: d\n   data: [ 1., 0., 0., 0., 1., 0., 0., 0., 1. ]\n";
   for (const std::string rows : {"s", "100000000", "2", "-3"})
-    EXPECT_THROW(ramtk::vision::ParseStereoCalibration(head + rows + tail, "c.yml"), ramtk::InputError) << rows;
+    EXPECT_THROW(ramtk::camera::ParseStereoCalibration(head + rows + tail, "c.yml"), ramtk::InputError) << rows;
 }

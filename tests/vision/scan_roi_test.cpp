@@ -10,8 +10,8 @@
 #include <iostream>
 #include <random>
 
+#include "ramtk/camera/camera_model.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/camera_model.h"
 #include "ramtk/vision/scan.h"
 #include "scan_sim.h"
 

@@ -1,9 +1,6 @@
-# Fringe-image simulator: camera model and calibration files against OpenCV and the real
-# caliInfo.yml, ray intersections against closed forms, rendered images against analytic truth,
+# Fringe-image simulator (the camera model and calibration files are tested in tests/camera): ray intersections against closed forms, rendered images against analytic truth,
 # sensor noise against its configured statistics, seeds and written outputs.
 ramtk_add_gtest(vision_sim_tests
-  sim_camera_model_test.cpp
-  sim_stereo_calibration_test.cpp
   sim_scene_test.cpp
   sim_renderer_test.cpp
   sim_sensor_test.cpp

@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <iostream>
 
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_calibration.h"
 #include "ramtk/vision/stereo_match.h"
 #include "scan_sim.h"
 
@@ -56,8 +56,8 @@ void ExpectSameMatches(const Comparison& c) {
   // of best modulation agreement first. Measured at the commit of this test: walk-only 0.52 %,
   // full-only 0.41 %, other crossing 0.09 % of the matches on the simulated set; 0.37 %, 0.003 %,
   // 1 pixel on SLMaster; with run starts seeded from the row above: 0.60 % / 0.56 % / 0.08 %
-  // simulated, 0.45 % / 0.003 % / 1 pixel on SLMaster. Bounds: 1 % / 1 % / 0.2 % -- a regression in either search (a lost
-  // crossing class, a wrong bracket) moves far more pixels than that.
+  // simulated, 0.45 % / 0.003 % / 1 pixel on SLMaster. Bounds: 1 % / 1 % / 0.2 % -- a regression in either search (a
+  // lost crossing class, a wrong bracket) moves far more pixels than that.
   EXPECT_LE(c.walk - c.both, 0.01 * c.full);
   EXPECT_LE(c.full - c.both, 0.01 * c.full);
   EXPECT_LE(c.far, 0.002 * c.full);

@@ -470,7 +470,8 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   if (std::isfinite(s.calibration_rms_px)) j["calibration_rms_px"] = s.calibration_rms_px;
   if (!s.calibration_parameter_std.empty()) {
     j["calibration_parameter_std"] = s.calibration_parameter_std;
-    if (s.calibration_parameter_std.size() == 24) j["calibration_parameter_std_order"] = kCalibParameterStdOrder;
+    if (s.calibration_parameter_std.size() == 24)
+      j["calibration_parameter_std_order"] = camera::kCalibParameterStdOrder;
   }
   j["frame"] = kScanFrame;
   j["termination"] = s.message;

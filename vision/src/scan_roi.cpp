@@ -8,7 +8,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/parse.h"
-#include "ramtk/vision/camera_model.h"
+#include "ramtk/vision/camera.h"
 
 namespace ramtk::vision {
 namespace {

@@ -34,6 +34,12 @@ struct BoardSpec {
 // "chessboard:9x6:25", "circles:4x11:20[:diameter]", "acircles:4x11:20[:diameter]",
 // "charuco:10x7:25:18[:DICT_5X5_100]" (COLSxROWS, then mm). InputError at `where`.
 BoardSpec ParseBoardSpec(const std::string& text, const InputLocation& where);
+// A board given on a command line: the description itself, or a file holding it (its first line
+// that is neither blank nor a '#' comment). Errors name the file and line, or `option`.
+BoardSpec ReadBoardSpecArgument(const std::string& text_or_path, const std::string& option = "--board");
+// The board images of one camera: the PNG, BMP, JPEG and TIFF files of `folder`, sorted by name.
+// InputError if it is not a folder or holds none.
+std::vector<std::string> ListBoardImages(const std::string& folder);
 
 // Every feature of the board in board coordinates (mm, z = 0), in OpenCV's order. For ChArUco,
 // index i is the chessboard corner with id i.

@@ -1,24 +1,17 @@
 #pragma once
-// Renders calibration boards seen by a pinhole camera with lens distortion, for tests with known
-// truth. Each output pixel is the mean of supersample² sub-pixel rays (one per cell of an s×s
-// grid, jittered within its cell by default); a ray is the exact undistorted direction of its
-// sub-pixel position (OpenCV's model, k1 k2 p1 p2 k3), intersected
-// with the board plane. Chessboards and circle grids are evaluated analytically; ChArUco boards
-// are sampled bilinearly from OpenCV's board drawing. Gaussian noise is added with a fixed seed.
+// Renders calibration boards seen by a pinhole camera with lens distortion (camera::CameraIntrinsics), for tests with
+// known truth. Each output pixel is the mean of supersample² sub-pixel rays (one per cell of an s×s grid, jittered
+// within its cell by default); a ray is the exact undistorted direction of its sub-pixel position (OpenCV's model, k1
+// k2 p1 p2 k3), intersected with the board plane. Chessboards and circle grids are evaluated analytically; ChArUco
+// boards are sampled bilinearly from OpenCV's board drawing. Gaussian noise is added with a fixed seed.
 
 #include <cstdint>
 #include <opencv2/core.hpp>
 
 #include "ramtk/calib/board.h"
+#include "ramtk/camera/camera_model.h"
 
 namespace ramtk::calib {
-
-// OpenCV's camera model: K, and distortion (k1, k2, p1, p2, k3).
-struct PinholeCamera {
-  cv::Matx33d camera_matrix = cv::Matx33d::eye();
-  cv::Vec<double, 5> distortion = cv::Vec<double, 5>::all(0.0);
-  cv::Size image_size = cv::Size(640, 480);
-};
 
 struct BoardRenderOptions {
   int supersample = 3;  // sub-pixel rays per axis
@@ -41,7 +34,7 @@ struct BoardRenderOptions {
 class BoardRenderer {
  public:
   // Precomputes the ray of every sub-pixel (a few hundred ms for VGA at supersample 3).
-  BoardRenderer(const BoardSpec& board, const PinholeCamera& camera, const BoardRenderOptions& options);
+  BoardRenderer(const BoardSpec& board, const camera::CameraIntrinsics& camera, const BoardRenderOptions& options);
   // 8-bit grey image of the board at camera_from_board = (rvec, tvec) (Rodrigues, mm). Pixels
   // whose rays miss the board or meet it from behind show the background.
   cv::Mat Render(const cv::Vec3d& rvec, const cv::Vec3d& tvec, std::uint64_t noise_seed) const;
@@ -52,7 +45,7 @@ class BoardRenderer {
   double BoardValue(double x_mm, double y_mm) const;  // 0 = black .. 1 = white; -1 off the board
 
   BoardSpec board_;
-  PinholeCamera camera_;
+  camera::CameraIntrinsics camera_;
   BoardRenderOptions options_;
   cv::Mat rays_;                    // CV_64FC2, (height·s) × (width·s): normalized undistorted x, y
   cv::Mat texture_;                 // ChArUco only: CV_32F in [0, 1]

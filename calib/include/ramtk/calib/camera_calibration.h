@@ -2,13 +2,15 @@
 // Camera calibration sessions: board detections → single-camera and stereo calibration with
 // OpenCV, per-view reprojection errors, automatic rejection of outlier views (with the reason),
 // parameter standard deviations, a picture of image coverage and residuals, and the stereo
-// calibration file of DESIGN.md (OpenCV FileStorage, keys K1 D1 K2 D2 R T image_size).
+// calibration file of DESIGN.md (OpenCV FileStorage, keys K1 D1 K2 D2 R T image_size), written by
+// ramtk::camera's one writer. The camera model is ramtk::camera's (one model for calib and vision).
 
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "ramtk/calib/board.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/progress.h"
 #include "ramtk/core/termination.h"
 
@@ -45,10 +47,8 @@ struct CameraCalibrationOptions {
 };
 
 struct CameraCalibrationResult {
-  cv::Size image_size;
-  cv::Matx33d camera_matrix = cv::Matx33d::eye();
-  std::vector<double> distortion;  // k1 k2 p1 p2 k3
-  double rms_px = 0.0;             // over every point of the used views
+  camera::CameraIntrinsics intrinsics;  // fx fy cx cy, distortion (k1 k2 p1 p2 k3) and image size
+  double rms_px = 0.0;                  // over every point of the used views
   // Standard deviations of fx fy cx cy k1 k2 p1 p2 k3 (OpenCV's stdDeviationsIntrinsics, from
   // the Jacobian scaled by the residual variance); 0 for fixed parameters.
   std::vector<double> std_intrinsics;
@@ -79,16 +79,17 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views, cv
                                         CameraCalibrationSummary* summary = nullptr);
 
 struct StereoCalibrationResult {
-  CameraCalibrationResult left, right;        // each calibrated alone (with its own rejections)
-  cv::Matx33d rotation = cv::Matx33d::eye();  // R: right_from_left (x_right = R·x_left + T)
-  cv::Vec3d translation;                      // T (mm)
-  // Standard deviations of R's rotation vector (rad) and T (mm) from the joint Jacobian of both
-  // cameras' residuals (intrinsics, R, T, board poses), scaled by the residual variance: the
-  // intrinsics' uncertainty is included. Zero if it could not be computed.
-  cv::Vec6d std_rt = cv::Vec6d::all(0.0);
-  double rms_px = 0.0;                     // stereo RMS with the intrinsics fixed
-  std::vector<std::string> pair_names;     // used pairs
-  std::vector<cv::Vec2d> per_pair_rms_px;  // left, right per used pair
+  // The calibrated rig, as `ramtk scan` reads it back: both cameras' intrinsics after the joint
+  // refinement, right_from_left (x_right = R·x_left + T, mm), the stereo RMS, per_view_errors_px
+  // (left, right per used pair) and parameter_std in kCalibParameterStdOrder: both cameras'
+  // intrinsics, R's rotation vector (rad) and T (mm), from the joint Jacobian of both cameras'
+  // residuals (intrinsics, R, T, board poses) scaled by the residual variance; empty if it could
+  // not be computed.
+  camera::StereoCalibration rig;
+  // Each camera calibrated alone first: its views, board poses, rejections, and its single-camera
+  // estimates and σ (the rig's intrinsics are the jointly refined ones).
+  CameraCalibrationResult left, right;
+  std::vector<std::string> pair_names;  // used pairs
   std::vector<RejectedView> rejected_pairs;
 };
 
@@ -106,10 +107,13 @@ std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& path
                                             cv::Size* image_size, std::vector<RejectedView>* rejected,
                                             const ProgressCallback& progress = {});
 
-// The stereo calibration file (OpenCV FileStorage YAML text): K1 D1 K2 D2 R T image_size, plus
-// rms, per_view_errors, std_intrinsics1/2 (fx fy cx cy k1 k2 p1 p2 k3), rejected views.
+// The stereo calibration file (OpenCV FileStorage YAML text, camera::StereoCalibrationText): the
+// rig's keys (image_size K1 D1 K2 D2 R T rms_px per_view_errors_px parameter_std), then the
+// session's: board, and per camera its single-camera fit (rms1, per_view_errors1, views1,
+// rejected_views1, the same with 2) and the rejected pairs.
 std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board);
-// Single camera: K1 D1 image_size rms per_view_errors std_intrinsics1.
+// Single camera (camera::CameraCalibrationText): image_size K1 D1 rms_px per_view_errors_px
+// parameter_std (fx fy cx cy k1 k2 p1 p2 k3), then board, views1, rejected_views1.
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board);
 
 // Coverage and residual picture of one camera: every used feature (a dot per view colour) and

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
-#include "ramtk/vision/camera_model.h"
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/scene.h"
 
 namespace ramtk::vision {
@@ -81,9 +81,9 @@ struct PatternFrame {
 std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks);
 
 struct RenderOptions {
-  int supersampling = 4;                                       // n: n×n rays per camera pixel
-  double ambient = 0.0;                                        // ambient irradiance, fraction of projector white
-  double projector_gamma = 1.0;                                // projector response P^γ
+  int supersampling = 4;         // n: n×n rays per camera pixel
+  double ambient = 0.0;          // ambient irradiance, fraction of projector white
+  double projector_gamma = 1.0;  // projector response P^γ
   // Projector defocus: Gaussian blur std dev in projector pixels across the fringes (along them
   // it changes nothing); 0 = sharp. Applied to the pattern before the response P^γ (exact for
   // γ = 1).
@@ -122,7 +122,7 @@ struct SensorOptions {
   // K = soft_knee_fraction · full scale F reads K + (F − K)·x / sqrt(1 + x²), x = (S − K)/(F − K),
   // an algebraic soft clip that is linear at the knee and approaches F smoothly.
   double soft_knee_fraction = 0.0;
-  bool noise = true;                   // add shot and read noise
+  bool noise = true;  // add shot and read noise
   // Throws InputError naming the field if a value is out of range.
   std::string Validate() const;
   int MaxValue() const { return (1 << bits) - 1; }

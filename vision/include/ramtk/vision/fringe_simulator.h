@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/fringe_renderer.h"
 #include "ramtk/vision/scene.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::vision {
 
@@ -52,9 +52,9 @@ struct FringeSimulationConfig {
   std::vector<PatternBlock> sequence;                          // projected pattern sequence
   FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
   int supersampling = 4;                                       // n×n rays per camera pixel
-  SensorOptions sensor;                                        // bit depth, exposure, noise, (blur is set by `camera_defocus`)
-  FringeEffects effects;                                       // effect magnitudes
-  std::uint64_t seed = 1;                                      // seeds every random draw (effects and noise)
+  SensorOptions sensor;    // bit depth, exposure, noise, (blur is set by `camera_defocus`)
+  FringeEffects effects;   // effect magnitudes
+  std::uint64_t seed = 1;  // seeds every random draw (effects and noise)
 
   // Throws InputError naming the field for invalid values.
   std::string Validate() const;

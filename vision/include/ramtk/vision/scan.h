@@ -10,12 +10,12 @@
 
 #include "ramtk/core/progress.h"
 #include "ramtk/core/termination.h"
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/point_cloud.h"
 #include "ramtk/vision/scan_roi.h"
 #include "ramtk/vision/scene.h"
 #include "ramtk/vision/sphere_fit.h"
-#include "ramtk/vision/stereo_calibration.h"
 #include "ramtk/vision/stereo_match.h"
 #include "ramtk/vision/triangulate.h"
 

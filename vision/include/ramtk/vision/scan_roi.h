@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/scene.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::vision {
 

@@ -20,8 +20,8 @@
 
 #include "ramtk/core/progress.h"
 #include "ramtk/core/termination.h"
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/decode.h"
-#include "ramtk/vision/stereo_calibration.h"
 
 namespace ramtk::vision {
 

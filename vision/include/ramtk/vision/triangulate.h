@@ -5,9 +5,9 @@
 
 #include <opencv2/core.hpp>
 
+#include "ramtk/vision/camera.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/point_cloud.h"
-#include "ramtk/vision/stereo_calibration.h"
 #include "ramtk/vision/stereo_match.h"
 
 namespace ramtk::vision {

@@ -1,5 +1,5 @@
 #pragma once
-// The text of a stereo calibration file as a small tree (internal to vision).
+// The text of a stereo calibration file as a small tree (internal to the camera module).
 //
 // OpenCV writes calibration files in two dialects: YAML with a `%YAML:1.0` first line and
 // `!!opencv-matrix` maps, and JSON with `"type_id": "opencv-matrix"` maps. They used to be read
@@ -12,17 +12,17 @@
 #include <utility>
 #include <vector>
 
-namespace ramtk::vision::internal {
+namespace ramtk::camera::internal {
 
 struct CalibrationNode {
   enum class Kind { kNull, kNumber, kText, kList, kMap };
   Kind kind = Kind::kNull;
-  double number = 0.0;         // kNumber
-  bool integer = false;        // kNumber written without a fraction or exponent
-  std::string text;            // kText
-  std::vector<CalibrationNode> items;                          // kList
-  std::vector<std::pair<std::string, CalibrationNode>> fields; // kMap, in file order
-  int line = 0;                // 1-based line in the file (0 when unknown, e.g. JSON)
+  double number = 0.0;                                          // kNumber
+  bool integer = false;                                         // kNumber written without a fraction or exponent
+  std::string text;                                             // kText
+  std::vector<CalibrationNode> items;                           // kList
+  std::vector<std::pair<std::string, CalibrationNode>> fields;  // kMap, in file order
+  int line = 0;                                                 // 1-based line in the file (0 when unknown, e.g. JSON)
 
   // The field `key` of a map, or nullptr (also for a node that is not a map).
   const CalibrationNode* Find(const std::string& key) const;
@@ -37,4 +37,4 @@ inline constexpr int kMaxCalibrationDepth = 16;                    // nesting of
 // nesting deeper than kMaxCalibrationDepth, a file over kMaxCalibrationFileBytes, or XML.
 CalibrationNode ParseCalibrationTree(const std::string& text, const std::string& path);
 
-}  // namespace ramtk::vision::internal
+}  // namespace ramtk::camera::internal

@@ -1,13 +1,13 @@
 // Camera model against OpenCV as the peer: projection vs cv::projectPoints, back-projection vs
 // cv::undistortPoints (run to convergence), and the round trip pixel → ray → pixel.
+#include "ramtk/camera/camera_model.h"
+
 #include <gtest/gtest.h>
 
 #include <opencv2/calib3d.hpp>
 #include <random>
 
-#include "ramtk/vision/camera_model.h"
-
-namespace ramtk::vision {
+namespace ramtk::camera {
 namespace {
 
 CameraIntrinsics TestCamera(const Distortion& d) {
@@ -100,4 +100,4 @@ TEST(SimCameraModel, BackProjectionMatchesCvUndistortPointsAndRoundTrips) {
 }
 
 }  // namespace
-}  // namespace ramtk::vision
+}  // namespace ramtk::camera

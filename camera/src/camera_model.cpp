@@ -1,15 +1,14 @@
-#include "ramtk/vision/camera_model.h"
+#include "ramtk/camera/camera_model.h"
 
 #include <cmath>
 
-namespace ramtk::vision {
+namespace ramtk::camera {
 
 Mat3 CameraIntrinsics::K() const {
   Mat3 k;
   k << fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;
   return k;
 }
-
 
 Vec2 UndistortNormalized(const Distortion& d, const Vec2& distorted, const Vec2& initial) {
   if (d.IsZero()) return distorted;
@@ -45,4 +44,4 @@ Vec3 PixelRay(const CameraIntrinsics& c, const Vec2& pixel) {
   return PixelRay(c, pixel, Vec2((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy));
 }
 
-}  // namespace ramtk::vision
+}  // namespace ramtk::camera

@@ -1,17 +1,17 @@
-#include "ramtk/vision/stereo_calibration.h"
+#include "ramtk/camera/stereo_calibration.h"
 
 #include <cmath>
 #include <exception>
-#include <utility>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <sstream>
+#include <utility>
 
+#include "calibration_tree.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
-#include "calibration_tree.h"
 
-namespace ramtk::vision {
+namespace ramtk::camera {
 namespace {
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
@@ -140,8 +140,8 @@ CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, 
 }
 
 // Image size [w, h] from image_size / S / image_width+image_height.
-void ReadImageSize(const CalibrationNode& fs, const std::string& path, const std::vector<std::string>& keys,
-                   int* width, int* height) {
+void ReadImageSize(const CalibrationNode& fs, const std::string& path, const std::vector<std::string>& keys, int* width,
+                   int* height) {
   std::vector<double> v;
   int rows = 0, cols = 0;
   for (const std::string& key : keys) {
@@ -159,8 +159,7 @@ void ReadImageSize(const CalibrationNode& fs, const std::string& path, const std
   std::vector<double> w, h;
   if (ReadNumbers(fs.Find("image_width"), path, "image_width", &w, &rows, &cols) &&
       ReadNumbers(fs.Find("image_height"), path, "image_height", &h, &rows, &cols) && w.size() == 1 && h.size() == 1) {
-    if (!(w[0] >= 1 && w[0] <= 1e6 && h[0] >= 1 && h[0] <= 1e6) || w[0] != std::floor(w[0]) ||
-        h[0] != std::floor(h[0]))
+    if (!(w[0] >= 1 && w[0] <= 1e6 && h[0] >= 1 && h[0] <= 1e6) || w[0] != std::floor(w[0]) || h[0] != std::floor(h[0]))
       throw InputError({path, LineOf(fs, "image_width"), "image_width"},
                        "image size must be two positive integers (at most 1000000)");
     *width = static_cast<int>(w[0]);
@@ -210,7 +209,8 @@ StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::stri
   ReadImageSize(fs, path, {"image_size", "S", "imageSize"}, &calib.left.width, &calib.left.height);
   calib.right.width = calib.left.width;
   calib.right.height = calib.left.height;
-  if (fs.Find("image_size2") != nullptr) ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
+  if (fs.Find("image_size2") != nullptr)
+    ReadImageSize(fs, path, {"image_size2"}, &calib.right.width, &calib.right.height);
 
   int rows = 0, cols = 0;
   std::string key;
@@ -224,8 +224,8 @@ StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::stri
   const double ortho = OrthonormalityError(rotation);
   if (!(ortho <= kMaxRotationOrthonormalityError))
     throw InputError({path, LineOf(fs, key), key}, "not a rotation: orthonormality error " + FormatDouble(ortho) +
-                                         " (max(|RᵀR − I|, |det R − 1|) must be below " +
-                                         FormatDouble(kMaxRotationOrthonormalityError) + ")");
+                                                       " (max(|RᵀR − I|, |det R − 1|) must be below " +
+                                                       FormatDouble(kMaxRotationOrthonormalityError) + ")");
   const std::vector<double> t = RequireNumbers(fs, path, {"T", "Tlr"}, &rows, &cols, &key);
   if (t.size() != 3 || std::min(rows, cols) != 1)
     throw InputError({path, LineOf(fs, key), key},
@@ -236,25 +236,27 @@ StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::stri
   const double baseline = calib.right_from_left.translation().norm();
   if (!(baseline >= 1e-3 && baseline <= 1e5)) {
     throw InputError({path, LineOf(fs, key), key}, "stereo baseline |T| = " + FormatDouble(baseline) +
-                                         " mm is not a stereo rig (expected 0.001 .. 100000 mm)");
+                                                       " mm is not a stereo rig (expected 0.001 .. 100000 mm)");
   }
 
   std::vector<double> v;
   if (ReadNumbers(fs.Find("rms_px"), path, "rms_px", &v, &rows, &cols) && v.size() == 1) calib.rms_px = v[0];
-  if (ReadNumbers(fs.Find("per_view_errors_px"), path, "per_view_errors_px", &v, &rows, &cols)) calib.per_view_errors_px = v;
+  if (ReadNumbers(fs.Find("per_view_errors_px"), path, "per_view_errors_px", &v, &rows, &cols))
+    calib.per_view_errors_px = v;
   if (ReadNumbers(fs.Find("parameter_std"), path, "parameter_std", &v, &rows, &cols)) calib.parameter_std = v;
   // The keys `ramtk calib cameras` writes (calib/src/calibration_file.cpp): rms, per_view_errors
   // (left, right per pair) and the σ blocks std_intrinsics1/2, std_R, std_T, which become
   // parameter_std in the order of kCalibParameterStdOrder.
   if (!std::isfinite(calib.rms_px) && ReadNumbers(fs.Find("rms"), path, "rms", &v, &rows, &cols) && v.size() == 1)
     calib.rms_px = v[0];
-  if (calib.per_view_errors_px.empty() && ReadNumbers(fs.Find("per_view_errors"), path, "per_view_errors", &v, &rows, &cols))
+  if (calib.per_view_errors_px.empty() &&
+      ReadNumbers(fs.Find("per_view_errors"), path, "per_view_errors", &v, &rows, &cols))
     calib.per_view_errors_px = v;
   if (calib.parameter_std.empty()) {
     std::vector<double> all, block;
     bool complete = true;
-    for (const auto& [key, n] : {std::pair<const char*, size_t>{"std_intrinsics1", 9}, {"std_intrinsics2", 9},
-                                 {"std_R", 3}, {"std_T", 3}}) {
+    for (const auto& [key, n] :
+         {std::pair<const char*, size_t>{"std_intrinsics1", 9}, {"std_intrinsics2", 9}, {"std_R", 3}, {"std_T", 3}}) {
       if (!ReadNumbers(fs.Find(key), path, key, &block, &rows, &cols) || block.size() != n) {
         complete = false;
         break;
@@ -268,36 +270,67 @@ StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::stri
 
 }  // namespace
 
-void WriteStereoCalibration(const std::string& path, const StereoCalibration& calib) {
-  const bool json = EndsWith(path, ".json");
+namespace {
+
+void WriteCameraKeys(cv::FileStorage& fs, const CameraIntrinsics& c, const std::string& suffix) {
+  const Mat3 kk = c.K();
+  cv::Mat k(3, 3, CV_64F);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) k.at<double>(i, j) = kk(i, j);
+  const Distortion& d = c.distortion;
+  fs << ("K" + suffix) << k << ("D" + suffix) << cv::Mat((cv::Mat_<double>(1, 5) << d.k1, d.k2, d.p1, d.p2, d.k3));
+}
+
+void WriteQualityKeys(cv::FileStorage& fs, double rms_px, const std::vector<double>& per_view_errors_px,
+                      const std::vector<double>& parameter_std) {
+  if (std::isfinite(rms_px)) fs << "rms_px" << rms_px;
+  if (!per_view_errors_px.empty()) fs << "per_view_errors_px" << per_view_errors_px;
+  if (!parameter_std.empty()) fs << "parameter_std" << parameter_std;
+}
+
+cv::FileStorage MemoryStorage(bool json, const std::string& comment) {
   cv::FileStorage fs(json ? ".json" : ".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-  auto camera_matrix = [](const CameraIntrinsics& c) {
-    cv::Mat k(3, 3, CV_64F);
-    const Mat3 kk = c.K();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) k.at<double>(i, j) = kk(i, j);
-    return k;
-  };
-  auto dist = [](const CameraIntrinsics& c) {
-    const Distortion& d = c.distortion;
-    return cv::Mat((cv::Mat_<double>(1, 5) << d.k1, d.k2, d.p1, d.p2, d.k3));
-  };
-  if (!json) fs.writeComment("ramtk stereo calibration: x_in_right = R * x_in_left + T, T in mm, pixels for K");
+  if (!json && !comment.empty()) fs.writeComment(comment);
+  return fs;
+}
+
+}  // namespace
+
+std::string StereoCalibrationText(const StereoCalibration& calib, bool json, const std::string& comment,
+                                  const ExtraCalibrationKeys& extra_keys) {
+  cv::FileStorage fs = MemoryStorage(json, comment);
   fs << "image_size" << cv::Size(calib.left.width, calib.left.height);
   if (calib.right.width != calib.left.width || calib.right.height != calib.left.height)
     fs << "image_size2" << cv::Size(calib.right.width, calib.right.height);
-  fs << "K1" << camera_matrix(calib.left) << "D1" << dist(calib.left);
-  fs << "K2" << camera_matrix(calib.right) << "D2" << dist(calib.right);
+  WriteCameraKeys(fs, calib.left, "1");
+  WriteCameraKeys(fs, calib.right, "2");
   cv::Mat r(3, 3, CV_64F), t(3, 1, CV_64F);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) r.at<double>(i, j) = calib.right_from_left.linear()(i, j);
     t.at<double>(i) = calib.right_from_left.translation()(i);
   }
   fs << "R" << r << "T" << t;
-  if (std::isfinite(calib.rms_px)) fs << "rms_px" << calib.rms_px;
-  if (!calib.per_view_errors_px.empty()) fs << "per_view_errors_px" << calib.per_view_errors_px;
-  if (!calib.parameter_std.empty()) fs << "parameter_std" << calib.parameter_std;
-  WriteFileAtomically(path, fs.releaseAndGetString());
+  WriteQualityKeys(fs, calib.rms_px, calib.per_view_errors_px, calib.parameter_std);
+  if (extra_keys) extra_keys(fs);
+  return fs.releaseAndGetString();
 }
 
-}  // namespace ramtk::vision
+std::string CameraCalibrationText(const CameraIntrinsics& camera, double rms_px,
+                                  const std::vector<double>& per_view_errors_px,
+                                  const std::vector<double>& parameter_std, const std::string& comment,
+                                  const ExtraCalibrationKeys& extra_keys) {
+  cv::FileStorage fs = MemoryStorage(false, comment);
+  fs << "image_size" << cv::Size(camera.width, camera.height);
+  WriteCameraKeys(fs, camera, "1");
+  WriteQualityKeys(fs, rms_px, per_view_errors_px, parameter_std);
+  if (extra_keys) extra_keys(fs);
+  return fs.releaseAndGetString();
+}
+
+void WriteStereoCalibration(const std::string& path, const StereoCalibration& calib) {
+  WriteFileAtomically(path, StereoCalibrationText(calib, EndsWith(path, ".json"),
+                                                  "ramtk stereo calibration: x_in_right = R * x_in_left + T, T in mm, "
+                                                  "pixels for K"));
+}
+
+}  // namespace ramtk::camera

@@ -11,7 +11,7 @@
 
 #include "ramtk/core/error.h"
 
-namespace ramtk::vision::internal {
+namespace ramtk::camera::internal {
 namespace {
 
 using Kind = CalibrationNode::Kind;
@@ -29,8 +29,10 @@ bool ParseYamlNumber(const std::string& s, double* value) {
   if (s.empty()) return false;
   std::string lower;
   for (char c : s) lower += static_cast<char>(c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c);
-  for (const auto& [word, v] : {std::pair<const char*, double>{".inf", HUGE_VAL}, {"+.inf", HUGE_VAL},
-                                {"-.inf", -HUGE_VAL}, {".nan", std::nan("")}}) {
+  for (const auto& [word, v] : {std::pair<const char*, double>{".inf", HUGE_VAL},
+                                {"+.inf", HUGE_VAL},
+                                {"-.inf", -HUGE_VAL},
+                                {".nan", std::nan("")}}) {
     if (lower == word) {
       *value = v;
       return true;
@@ -75,11 +77,9 @@ CalibrationNode FromYaml(const YAML::Node& node, const std::string& path, int de
     case YAML::NodeType::Map:
       out.kind = Kind::kMap;
       for (const auto& kv : node) {
-        if (!kv.first.IsScalar())
-          throw InputError({path, kv.first.Mark().line + 1, ""}, "a key that is not a name");
+        if (!kv.first.IsScalar()) throw InputError({path, kv.first.Mark().line + 1, ""}, "a key that is not a name");
         const std::string key = kv.first.Scalar();
-        if (out.Find(key) != nullptr)
-          throw InputError({path, kv.first.Mark().line + 1, key}, "duplicate key");
+        if (out.Find(key) != nullptr) throw InputError({path, kv.first.Mark().line + 1, key}, "duplicate key");
         out.fields.emplace_back(key, FromYaml(kv.second, path, depth + 1));
       }
       break;
@@ -106,7 +106,8 @@ CalibrationNode FromJson(const nlohmann::json& j, const std::string& path, int d
     for (const auto& item : j) out.items.push_back(FromJson(item, path, depth + 1));
   } else if (j.is_object()) {
     out.kind = Kind::kMap;
-    for (auto it = j.begin(); it != j.end(); ++it) out.fields.emplace_back(it.key(), FromJson(it.value(), path, depth + 1));
+    for (auto it = j.begin(); it != j.end(); ++it)
+      out.fields.emplace_back(it.key(), FromJson(it.value(), path, depth + 1));
   }
   return out;
 }
@@ -152,4 +153,4 @@ CalibrationNode ParseCalibrationTree(const std::string& text, const std::string&
   }
 }
 
-}  // namespace ramtk::vision::internal
+}  // namespace ramtk::camera::internal

@@ -15,7 +15,7 @@
 
 #include "ramtk/core/rotation.h"
 
-namespace ramtk::vision {
+namespace ramtk::camera {
 
 using Vec2 = Eigen::Vector2d;
 
@@ -80,4 +80,4 @@ Vec3 PixelRay(const CameraIntrinsics& camera, const Vec2& pixel);
 // The same, with the ideal normalised coordinates of a nearby pixel as the starting guess.
 Vec3 PixelRay(const CameraIntrinsics& camera, const Vec2& pixel, const Vec2& initial_ideal);
 
-}  // namespace ramtk::vision
+}  // namespace ramtk::camera

@@ -1,7 +1,7 @@
 #pragma once
 // Stereo camera calibration: two pinhole cameras with OpenCV distortion and the rigid transform
 // between them, in OpenCV's calibration files (YAML or JSON): written with cv::FileStorage, read
-// with yaml-cpp / nlohmann-json (vision/src/calibration_tree.h; FileStorage's YAML parser can hang
+// with yaml-cpp / nlohmann-json (camera/src/calibration_tree.h; FileStorage's YAML parser can hang
 // on a damaged file).
 //
 // Read layouts (docs/formats.md, "Stereo calibration"):
@@ -12,14 +12,19 @@
 // R, T follow cv::stereoCalibrate: x_in_right = R·x_in_left + T, T in millimetres.
 // Written with the standard keys (plus rms_px, per_view_errors_px and parameter_std when known).
 
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "ramtk/camera/camera_model.h"
 #include "ramtk/core/rotation.h"
-#include "ramtk/vision/camera_model.h"
 
-namespace ramtk::vision {
+namespace cv {
+class FileStorage;
+}  // namespace cv
+
+namespace ramtk::camera {
 
 // Largest OrthonormalityError accepted for R in a calibration file (stored rotations round to
 // ~1e-16 relative; a file edited by hand or stored with few digits fails this).
@@ -54,4 +59,18 @@ StereoCalibration ParseStereoCalibration(const std::string& text, const std::str
 // file + rename). Throws InputError if the file cannot be written.
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calibration);
 
-}  // namespace ramtk::vision
+// The one writer of calibration files (WriteStereoCalibration and `ramtk calib cameras` use it):
+// image_size [image_size2] K1 D1 K2 D2 R T, then rms_px, per_view_errors_px and parameter_std when
+// known, then whatever `extra_keys` adds (a calibration session's views, rejections, board).
+// `comment` heads a YAML file.
+using ExtraCalibrationKeys = std::function<void(cv::FileStorage&)>;
+std::string StereoCalibrationText(const StereoCalibration& calibration, bool json, const std::string& comment = "",
+                                  const ExtraCalibrationKeys& extra_keys = {});
+// One camera in the same dialect: image_size K1 D1, then rms_px, per_view_errors_px and
+// parameter_std (9 values, fx fy cx cy k1 k2 p1 p2 k3) when known, then `extra_keys`.
+std::string CameraCalibrationText(const CameraIntrinsics& camera, double rms_px,
+                                  const std::vector<double>& per_view_errors_px,
+                                  const std::vector<double>& parameter_std, const std::string& comment = "",
+                                  const ExtraCalibrationKeys& extra_keys = {});
+
+}  // namespace ramtk::camera

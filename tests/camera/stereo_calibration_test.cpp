@@ -1,6 +1,8 @@
 // Stereo calibration files: the real SLMaster caliInfo.yml (values typed from the file, and its
 // own essential matrix E as an independent check of the R, T convention), write/read round trips
 // in YAML and JSON, and malformed files that must name the file and key.
+#include "ramtk/camera/stereo_calibration.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -8,9 +10,8 @@
 #include <fstream>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/stereo_calibration.h"
 
-namespace ramtk::vision {
+namespace ramtk::camera {
 namespace {
 
 namespace fs = std::filesystem;
@@ -177,7 +178,8 @@ TEST(SimStereoCalibration, ReadsWhatOpenCvWritesInBothDialects) {
   // Plain YAML without OpenCV's first line and tags, and plain JSON lists, read the same.
   const std::string plain =
       "image_size: [640, 512]\nK1: [1000, 0, 320, 0, 1000, 256, 0, 0, 1]\nD1: [0, 0, 0, 0, 0]\n"
-      "K2: [1000, 0, 320, 0, 1000, 256, 0, 0, 1]\nD2: [0, 0, 0, 0, 0]\nR: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-200, 0, 0]\n";
+      "K2: [1000, 0, 320, 0, 1000, 256, 0, 0, 1]\nD2: [0, 0, 0, 0, 0]\nR: [1, 0, 0, 0, 1, 0, 0, 0, 1]\nT: [-200, 0, "
+      "0]\n";
   EXPECT_EQ(ReadError(plain), "");
   // Nested lists are matrices by rows; a ragged one is an error on its row.
   std::string nested = plain;
@@ -228,4 +230,4 @@ TEST(SimStereoCalibration, MalformedStructuresAreInputErrors) {
 }
 
 }  // namespace
-}  // namespace ramtk::vision
+}  // namespace ramtk::camera
