@@ -106,12 +106,7 @@ struct SimulateSensorRobotOptions {
   std::string robot_path;
   std::string csv_path;
   std::string truth_path;
-  int poses = 9;
-  double center_noise_mm = 0.010;
-  double repeatability_mm = 0.05;
-  double max_tilt_deg = 35.0;
-  std::uint64_t seed = 1;
-  std::uint64_t noise_seed = 1;
+  calib::SensorRobotSimOptions sim;  // the library's options and defaults, bound to the flags below
 };
 
 int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
@@ -119,19 +114,13 @@ int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
   CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
   CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path}, "--truth");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
-  calib::SensorRobotSimOptions o;
-  o.num_poses = opt.poses;
-  o.center_noise_mm = opt.center_noise_mm;
-  o.repeatability_mm = opt.repeatability_mm;
-  o.max_tilt_deg = opt.max_tilt_deg;
-  o.seed = opt.seed;
-  o.noise_seed = opt.noise_seed;
+  const calib::SensorRobotSimOptions& o = opt.sim;
   const calib::SensorRobotSimulation sim = calib::SimulateSensorRobot(model, o);
   const std::string truth = calib::SensorRobotTruthJson(sim, o);
   kinematics::WriteRobotMeasurements(calib::MeasurementsFromObservations(sim.observations), opt.csv_path);
   WriteFileAtomically(opt.truth_path, truth);
-  std::printf("simulated %d poses (centre noise %.4f mm, repeatability %.4f mm); wrote %s and %s\n", opt.poses,
-              opt.center_noise_mm, opt.repeatability_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
+  std::printf("simulated %d poses (centre noise %.4f mm, repeatability %.4f mm); wrote %s and %s\n", o.num_poses,
+              o.center_noise_mm, o.repeatability_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
   return kExitOk;
 }
 
@@ -171,12 +160,15 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
     sub->add_option("--output", opt->csv_path, "Ball measurement CSV to write")->required();
     sub->add_option("--truth", opt->truth_path, "Truth JSON to write")->required();
-    sub->add_option("--poses", opt->poses, "Number of poses");
-    sub->add_option("--center-noise", opt->center_noise_mm, "Sphere-centre noise per axis (mm, 1 sigma)");
-    sub->add_option("--repeatability", opt->repeatability_mm, "Robot repeatability ISO 9283 RP (mm)");
-    sub->add_option("--max-tilt", opt->max_tilt_deg, "Largest flange tilt from the nominal orientation (deg)");
-    sub->add_option("--seed", opt->seed, "Seed of the pose geometry");
-    sub->add_option("--noise-seed", opt->noise_seed, "Seed of the noise");
+    sub->add_option("--poses", opt->sim.num_poses, "Number of poses")->capture_default_str();
+    sub->add_option("--center-noise", opt->sim.center_noise_mm, "Sphere-centre noise per axis (mm, 1 sigma)")
+        ->capture_default_str();
+    sub->add_option("--repeatability", opt->sim.repeatability_mm, "Robot repeatability ISO 9283 RP (mm)")
+        ->capture_default_str();
+    sub->add_option("--max-tilt", opt->sim.max_tilt_deg, "Largest flange tilt from the nominal orientation (deg)")
+        ->capture_default_str();
+    sub->add_option("--seed", opt->sim.seed, "Seed of the pose geometry")->capture_default_str();
+    sub->add_option("--noise-seed", opt->sim.noise_seed, "Seed of the noise")->capture_default_str();
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateSensorRobot(*opt); });
   }
   RegisterCalibHandEye(app, calib, exit_code);

@@ -23,15 +23,4 @@ std::string FormatPose(const std::string& title, const Isometry3& pose) {
   return buf;
 }
 
-nlohmann::json PoseToJson(const Isometry3& pose) {
-  const Vec3 t = pose.translation();
-  const Mat3 r = pose.linear();
-  const KukaAbc abc = KukaAbcFromRotation(r);
-  nlohmann::json j;
-  j["position_mm"] = {t.x(), t.y(), t.z()};
-  j["rotation"] = {{r(0, 0), r(0, 1), r(0, 2)}, {r(1, 0), r(1, 1), r(1, 2)}, {r(2, 0), r(2, 1), r(2, 2)}};
-  j["kuka_abc_deg"] = {RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c)};
-  return j;
-}
-
 }  // namespace ramtk::tools

@@ -3,13 +3,12 @@
 
 #include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "ramtk/core/json.h"
 #include "ramtk/core/rotation.h"
 
 namespace ramtk::tools {
 
 std::string FormatPose(const std::string& title, const Isometry3& pose);
-nlohmann::json PoseToJson(const Isometry3& pose);
+// JSON output uses ramtk::PoseToJson (core/json.h): position_mm, abc_deg, matrix.
 
 }  // namespace ramtk::tools

@@ -23,33 +23,6 @@ namespace {
 
 using namespace ramtk::tcf;
 
-std::vector<std::string> SplitComma(const std::string& s) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == ',') {
-      if (!cur.empty()) out.push_back(cur);
-      cur.clear();
-    } else if (c != ' ') {
-      cur += c;
-    }
-  }
-  if (!cur.empty()) out.push_back(cur);
-  return out;
-}
-
-void EnableEffects(const std::string& list, DeviceEffects* fx) {
-  for (const std::string& name : SplitComma(list)) {
-    if (name == "all") {
-      for (const std::string& n : DeviceEffects::Names()) fx->Enable(n);
-    } else if (!fx->Enable(name)) {
-      std::string known;
-      for (const std::string& n : DeviceEffects::Names()) known += " " + n;
-      throw InputError({"", 0, "--effects"}, "unknown effect '" + name + "'; known:" + known + " all");
-    }
-  }
-}
-
 // --- calibrate-sensor -------------------------------------------------------------------------
 struct CalibrateSensorOptions {
   std::string points;  // Table 5-3 CSV label,x,y,z
@@ -144,7 +117,7 @@ int RunCompare(const CompareOptions& o) {
   e.first_seed = o.seed;
   e.simulation.repeatability_mm = o.repeatability_mm;
   e.simulation.timing_jitter_s = o.jitter_ms * 1e-3;
-  EnableEffects(o.effects, &e.simulation.effects);
+  e.simulation.effects.EnableList(o.effects);
   if (const std::string err = e.Validate(); !err.empty()) throw InputError({"", 0, "options"}, err);
   std::printf("repeatability %.3f mm (1-sigma per axis), jitter %.3f ms, %d runs, effects: %s\n", o.repeatability_mm,
               o.jitter_ms, o.runs, o.effects.empty() ? "none" : o.effects.c_str());
@@ -184,7 +157,7 @@ int RunSimulate(const SimulateOptions& o) {
   so.seed = o.seed;
   so.repeatability_mm = o.repeatability_mm;
   so.timing_jitter_s = o.jitter_ms * 1e-3;
-  EnableEffects(o.effects, &so.effects);
+  so.effects.EnableList(o.effects);
   if (const std::string err = so.Validate(); !err.empty()) throw InputError({"", 0, "options"}, err);
   const TcfSimulation sim = SimulateTcf(so);
   // Everything is formatted before anything is written.
@@ -194,7 +167,9 @@ int RunSimulate(const SimulateOptions& o) {
   std::error_code ec;
   if (!std::filesystem::is_directory(o.out_dir, ec)) throw InputError({o.out_dir, 0, "--out-dir"}, "is not a folder");
   // The four files as one unit: none of them is replaced unless all were written.
-  WriteFilesAtomically({{d + "laser_log.csv", log}, {d + "motion.json", motion}, {d + "sensor.json", sensor},
+  WriteFilesAtomically({{d + "laser_log.csv", log},
+                        {d + "motion.json", motion},
+                        {d + "sensor.json", sensor},
                         {d + "truth.json", truth}});
   std::cout << "wrote " << sim.events.size() << " events to " << d
             << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
@@ -222,7 +197,9 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   s->add_option("--sensor", sol->sensor, "Sensor frame JSON (ramtk tcf calibrate-sensor)")->required();
   s->add_option("--out", sol->out, "Write the result JSON here");
   s->add_option("--variant", sol->variant, "ramtk | no-self-calibration | thesis | thesis-uncorrected");
-  s->add_flag("--self-calibrate-beta", sol->self_calibrate_beta, "Take beta from the circle phases (without it the sensor file's beta is used, with a warning when the phases disagree by > 5 sigma and 0.1 deg)");
+  s->add_flag("--self-calibrate-beta", sol->self_calibrate_beta,
+              "Take beta from the circle phases (without it the sensor file's beta is used, with a warning when the "
+              "phases disagree by > 5 sigma and 0.1 deg)");
   s->add_option("--timing-sigma-ms", sol->timing_sigma_ms, "1-sigma event timing noise for the uncertainty (ms)");
   s->add_option("--repeatability", sol->repeatability_mm, "Robot repeatability, 1-sigma per axis (mm)");
   s->add_option("--max-tilt", sol->max_tilt_deg, "Device range: largest tool-axis tilt (deg)");

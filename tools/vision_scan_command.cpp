@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <map>
 #include <memory>
 
 #include "commands.h"
@@ -188,7 +187,8 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--truth", opt->truth, "Simulator truth.json: print the centre and radius errors");
   sub->add_option("--jobs", opt->jobs, "Sets scanned at once with --batch")->capture_default_str();
   sub->add_flag("--force", opt->force, "Replace existing outputs");
-  sub->add_flag("-q,--quiet", opt->quiet, "No progress bar; with --batch, no per-set table on stdout (results.csv has it)");
+  sub->add_flag("-q,--quiet", opt->quiet,
+                "No progress bar; with --batch, no per-set table on stdout (results.csv has it)");
   sub->add_flag("--reference-decode", opt->reference_decode,
                 "Decode with the reference implementation (float copies, one pass per stage; same results within "
                 "float rounding, ~20x slower): for comparisons");
@@ -222,63 +222,6 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");
   sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
-}
-
-namespace {
-
-struct MergeCommandOptions {
-  std::string batch;  // the batch list the shards ran
-  std::string out;    // the batch folder holding results.shard-K-of-N.csv
-  bool force = false;
-};
-
-int RunMerge(const MergeCommandOptions& opt) {
-  using namespace vision;
-  namespace fs = std::filesystem;
-  const std::vector<std::string> sets = ReadScanBatchList(opt.batch);
-  // Every results.shard-K-of-N.csv in the folder; they must be 1..N of one N.
-  std::map<int, std::string> files;
-  int count = 0;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(opt.out, ec)) {
-    const std::string name = entry.path().filename().string();
-    int k = 0, n = 0;
-    char tail[8] = {0};
-    if (std::sscanf(name.c_str(), "results.shard-%d-of-%d.%7s", &k, &n, tail) != 3 || std::string(tail) != "csv")
-      continue;
-    if (count != 0 && n != count)
-      throw InputError({entry.path().string(), 0, "--out"},
-                       "shards of " + std::to_string(count) + " and of " + std::to_string(n) + " in one folder");
-    count = n;
-    files[k] = entry.path().string();
-  }
-  if (ec) throw InputError({opt.out, 0, "--out"}, "cannot list the folder: " + ec.message());
-  if (count == 0) throw InputError({opt.out, 0, "--out"}, "no results.shard-K-of-N.csv in the folder");
-  std::vector<std::string> ordered;
-  for (int k = 1; k <= count; ++k) {
-    if (!files.count(k))
-      throw InputError({opt.out + "/" + ShardResultsName({k, count}), 0, "--out"},
-                       "shard " + std::to_string(k) + " of " + std::to_string(count) + " has no results");
-    ordered.push_back(files[k]);
-  }
-  const std::string target = opt.out + "/results.csv";
-  if (fs::exists(target, ec) && !opt.force)
-    throw InputError({target, 0, "--out"}, "exists (pass --force to replace it)");
-  WriteFileAtomically(target, MergeScanShards(sets, ordered));
-  std::cout << "merged " << count << " shards, " << sets.size() << " sets, into " << target << "\n";
-  return kExitOk;
-}
-
-}  // namespace
-
-void RegisterMergeCommand(CLI::App& app, int* exit_code) {
-  auto opt = std::make_shared<MergeCommandOptions>();
-  CLI::App* sub = app.add_subcommand(
-      "merge", "Join the results of `ramtk scan --batch LIST --shard K/N` runs into one results.csv");
-  sub->add_option("--batch", opt->batch, "The batch list the shards ran")->required();
-  sub->add_option("--out", opt->out, "The batch folder with results.shard-K-of-N.csv")->required();
-  sub->add_flag("--force", opt->force, "Replace an existing results.csv");
-  sub->callback([opt, exit_code]() { *exit_code = RunMerge(*opt); });
 }
 
 }  // namespace ramtk::tools

@@ -1,14 +1,14 @@
 #include "ramtk/calib/hand_eye.h"
 
-#include <Eigen/Geometry>
-
 #include <ceres/ceres.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "ramtk/core/ceres_solve.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
@@ -107,9 +107,12 @@ void CheckRotationsExciteTwoAxes(const std::vector<Isometry3>& flange) {
       for (std::size_t j = i + 1; j < axes.size() && !two_axes; ++j)
         two_axes = std::abs(axes[i].dot(axes[j])) < std::cos(DegToRad(5.0));
     if (!two_axes) {
-      throw InputError({"", 0, "poses"}, "the flange orientations do not vary enough (largest rotation from the first "
-                                         "pose " + std::to_string(largest_deg) + " deg): hand-eye needs rotations "
-                                         "of more than 1 deg about at least two axes 5 deg apart");
+      throw InputError({"", 0, "poses"},
+                       "the flange orientations do not vary enough (largest rotation from the first "
+                       "pose " +
+                           std::to_string(largest_deg) +
+                           " deg): hand-eye needs rotations "
+                           "of more than 1 deg about at least two axes 5 deg apart");
     }
   }
 }
@@ -161,22 +164,15 @@ HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& ob
     }
     problem.SetManifold(q_cb.coeffs().data(), new ceres::EigenQuaternionManifold);
     problem.SetManifold(q_fb.coeffs().data(), new ceres::EigenQuaternionManifold);
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = 100;
-    so.function_tolerance = 1e-14;
-    so.parameter_tolerance = 1e-14;
-    so.num_threads = 1;
-    so.logging_type = ceres::SILENT;
     ceres::Solver::Summary cs;
-    ceres::Solve(so, &problem, &cs);
+    ceres::Solve(DenseSolverOptions({100, 1e-14, 1e-14, 1e-10}), &problem, &cs);
     if (cs.IsSolutionUsable()) {
       r.camera_from_base.linear() = q_cb.normalized().toRotationMatrix();
       r.camera_from_base.translation() = t_cb;
       r.flange_from_board.linear() = q_fb.normalized().toRotationMatrix();
       r.flange_from_board.translation() = t_fb;
       s.refined = true;
-      s.iterations = static_cast<int>(cs.iterations.size()) - 1;
+      s.iterations = CeresIterations(cs);
       s.initial_cost = cs.initial_cost;
       s.final_cost = cs.final_cost;
     }

@@ -1,19 +1,19 @@
 #include "ramtk/calib/hand_eye_flange.h"
-#include "ramtk/calib/hand_eye_flange_refine.h"
-#include "ramtk/calib/hand_eye.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
-
 #include <cmath>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/core/eigen.hpp>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <random>
 
+#include "ramtk/calib/hand_eye.h"
+#include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::calib {
@@ -191,8 +191,7 @@ std::vector<FlangeCameraObservation> ReadFlangeCameraObservations(const std::str
         throw InputError({path, t.line_numbers[r], "flange_m00..flange_m22"},
                          "the rotation part is not a rotation (max |R^T R - I| = " + std::to_string(orth) + ")");
       o.base_from_flange.linear() = rot;
-      o.base_from_flange.translation() =
-          scale * Vec3(t.Number(r, m[3]), t.Number(r, m[7]), t.Number(r, m[11]));
+      o.base_from_flange.translation() = scale * Vec3(t.Number(r, m[3]), t.Number(r, m[7]), t.Number(r, m[11]));
     } else {
       o.base_from_flange.translation() = scale * Vec3(t.Number(r, fx), t.Number(r, fy), t.Number(r, fz));
       if (quaternion) {
@@ -212,9 +211,8 @@ std::vector<FlangeCameraObservation> ReadFlangeCameraObservations(const std::str
 }
 
 std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObservation>& obs) {
-  const std::vector<std::string> header = {"pose",     "flange_x", "flange_y", "flange_z", "flange_a", "flange_b",
-                                           "flange_c", "x",        "y",        "z",        "a",        "b",
-                                           "c"};
+  const std::vector<std::string> header = {
+      "pose", "flange_x", "flange_y", "flange_z", "flange_a", "flange_b", "flange_c", "x", "y", "z", "a", "b", "c"};
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     std::vector<std::string> row = {std::to_string(i + 1)};
@@ -227,19 +225,6 @@ std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObserva
   }
   return FormatCsv(header, rows);
 }
-
-namespace {
-nlohmann::json IsometryJson(const Isometry3& t) {
-  nlohmann::json j;
-  nlohmann::json m = nlohmann::json::array();
-  for (int r = 0; r < 4; ++r) m.push_back({t.matrix()(r, 0), t.matrix()(r, 1), t.matrix()(r, 2), t.matrix()(r, 3)});
-  j["matrix"] = m;
-  j["translation_mm"] = {t.translation().x(), t.translation().y(), t.translation().z()};
-  const KukaAbc abc = KukaAbcFromRotation(t.linear());
-  j["kuka_abc_deg"] = {RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c)};
-  return j;
-}
-}  // namespace
 
 std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method,
                                 const EyeInHandRefinement* refinement) {
@@ -254,21 +239,21 @@ std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod m
       for (int k = 0; k < 6; ++k) row.push_back(f.flange_from_camera_covariance(i, k));
       cov.push_back(row);
     }
-    j["refinement"] = {{"converged", f.converged},
-                       {"iterations", f.iterations},
-                       {"noise_sigma_deg", f.sigma_deg},
-                       {"noise_sigma_mm", f.sigma_mm},
-                       {"noise_estimated_from_residuals", f.noise_estimated},
-                       {"flange_from_camera_rotation_sigma_deg",
-                        {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
-                       {"flange_from_camera_translation_sigma_mm",
-                        {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
-                       {"flange_from_camera_covariance",
-                        cov},
-                       {"covariance_order", "rotation vector (rad, flange frame, left perturbation), translation (mm)"}};
+    j["refinement"] = {
+        {"converged", f.converged},
+        {"iterations", f.iterations},
+        {"noise_sigma_deg", f.sigma_deg},
+        {"noise_sigma_mm", f.sigma_mm},
+        {"noise_estimated_from_residuals", f.noise_estimated},
+        {"flange_from_camera_rotation_sigma_deg",
+         {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
+        {"flange_from_camera_translation_sigma_mm",
+         {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
+        {"flange_from_camera_covariance", cov},
+        {"covariance_order", "rotation vector (rad, flange frame, left perturbation), translation (mm)"}};
   }
-  j["flange_from_camera"] = IsometryJson(result.flange_from_camera);
-  j["base_from_board"] = IsometryJson(result.base_from_board);
+  j["flange_from_camera"] = PoseToJson(result.flange_from_camera);
+  j["base_from_board"] = PoseToJson(result.base_from_board);
   j["rotation_residual_deg"] = result.rotation_residual_deg;
   j["translation_residual_mm"] = result.translation_residual_mm;
   j["rms_rotation_deg"] = result.rms_rotation_deg;
@@ -289,12 +274,13 @@ std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod 
   std::string out = buf;
   if (refinement) {
     const EyeInHandRefinement& f = *refinement;
-    std::snprintf(buf, sizeof buf,
-                  "\nrefined (Ceres, SE(3)): sigma t (mm) %.4f %.4f %.4f, rotation (deg) %.5f %.5f %.5f; noise %s %.4f deg, "
-                  "%.4f mm per axis",
-                  f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z(),
-                  f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z(),
-                  f.noise_estimated ? "estimated" : "given", f.sigma_deg, f.sigma_mm);
+    std::snprintf(
+        buf, sizeof buf,
+        "\nrefined (Ceres, SE(3)): sigma t (mm) %.4f %.4f %.4f, rotation (deg) %.5f %.5f %.5f; noise %s %.4f deg, "
+        "%.4f mm per axis",
+        f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z(), f.rotation_sigma_deg.x(),
+        f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z(), f.noise_estimated ? "estimated" : "given", f.sigma_deg,
+        f.sigma_mm);
     out += buf;
   }
   return out;

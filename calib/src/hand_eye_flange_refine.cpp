@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "ramtk/core/ceres_solve.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 
@@ -74,30 +75,26 @@ Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x
   s.tz = z0.translation();
   ceres::Problem problem;
   for (const FlangeCameraObservation& o : obs) {
-    auto* cost = new ceres::AutoDiffCostFunction<PoseResidual, 6, 4, 3, 4, 3>(new PoseResidual{
-        Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
-        Eigen::Quaterniond(o.camera_from_board.linear()).normalized(), o.camera_from_board.translation(),
-        1.0 / sigma_rot_rad, 1.0 / sigma_mm, stand});
+    auto* cost = new ceres::AutoDiffCostFunction<PoseResidual, 6, 4, 3, 4, 3>(
+        new PoseResidual{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
+                         Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
+                         o.camera_from_board.translation(), 1.0 / sigma_rot_rad, 1.0 / sigma_mm, stand});
     problem.AddResidualBlock(cost, nullptr, s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data());
   }
   problem.SetManifold(s.qx.coeffs().data(), new ceres::EigenQuaternionManifold);
   problem.SetManifold(s.qz.coeffs().data(), new ceres::EigenQuaternionManifold);
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = max_iterations;
-  so.function_tolerance = 1e-14;
-  so.parameter_tolerance = 1e-14;
-  so.gradient_tolerance = 1e-16;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
-  ceres::Solve(so, &problem, &s.summary);
+  ceres::Solve(DenseSolverOptions({max_iterations, 1e-14, 1e-14, 1e-16}), &problem, &s.summary);
   s.qx.normalize();
   s.qz.normalize();
   for (const FlangeCameraObservation& o : obs) {
     double r[6];
-    const PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
+    const PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(),
+                          o.base_from_flange.translation(),
                           Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                          o.camera_from_board.translation(), 1.0, 1.0, stand};
+                          o.camera_from_board.translation(),
+                          1.0,
+                          1.0,
+                          stand};
     pr(s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data(), r);
     for (int k = 0; k < 3; ++k) s.rot_ss += r[k] * r[k], s.trans_ss += r[3 + k] * r[3 + k];
   }
@@ -135,7 +132,8 @@ namespace {
 // initial residual RMS for the first weights. Fills *out and returns the refined (x, z).
 std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x_init,
                                            const Isometry3& z_init, double rms_rotation_deg, double rms_translation_mm,
-                                           const EyeInHandRefineOptions& options, bool stand, EyeInHandRefinement* out) {
+                                           const EyeInHandRefineOptions& options, bool stand,
+                                           EyeInHandRefinement* out) {
   ThrowIfInvalid(options.Validate(), "EyeInHandRefineOptions");
   if (obs.size() < 3)
     throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least 3 are needed");
@@ -161,7 +159,7 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
   }
   const Solved s = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, true, stand);
   out->converged = s.summary.termination_type == ceres::CONVERGENCE;
-  out->iterations = static_cast<int>(s.summary.iterations.size()) - 1;
+  out->iterations = CeresIterations(s.summary);
   out->initial_cost = s.summary.initial_cost;
   out->final_cost = s.summary.final_cost;
   out->sigma_deg = RadToDeg(sigma_rot);
@@ -228,7 +226,8 @@ HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, 
   r.translation_residual_mm.clear();
   for (const StandCameraObservation& o : obs) {
     const Isometry3 pred = r.camera_from_base * o.base_from_flange * r.flange_from_board;
-    r.rotation_residual_rad.push_back(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle());
+    r.rotation_residual_rad.push_back(
+        Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle());
     r.translation_residual_mm.push_back((o.camera_from_board.translation() - pred.translation()).norm());
   }
   if (refinement) *refinement = out;

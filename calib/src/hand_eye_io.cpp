@@ -5,24 +5,11 @@
 
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/core/csv.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
 
 namespace ramtk::calib {
-namespace {
-
-nlohmann::json PoseJson(const Isometry3& t) {
-  nlohmann::json j;
-  nlohmann::json m = nlohmann::json::array();
-  for (int r = 0; r < 4; ++r) m.push_back({t.matrix()(r, 0), t.matrix()(r, 1), t.matrix()(r, 2), t.matrix()(r, 3)});
-  j["matrix"] = m;
-  j["translation_mm"] = {t.translation().x(), t.translation().y(), t.translation().z()};
-  const KukaAbc abc = KukaAbcFromRotation(t.linear());
-  j["kuka_abc_deg"] = {RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c)};
-  return j;
-}
-
-}  // namespace
 
 std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path) {
   const CsvTable t = ReadCsv(path);
@@ -60,8 +47,8 @@ std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary&
   nlohmann::json j;
   j["method"] = summary.method;
   j["refined"] = summary.refined;
-  j["camera_from_base"] = PoseJson(result.camera_from_base);
-  j["flange_from_board"] = PoseJson(result.flange_from_board);
+  j["camera_from_base"] = PoseToJson(result.camera_from_base);
+  j["flange_from_board"] = PoseToJson(result.flange_from_board);
   nlohmann::json res = nlohmann::json::array();
   for (std::size_t i = 0; i < result.translation_residual_mm.size(); ++i) {
     res.push_back({{"index", i},

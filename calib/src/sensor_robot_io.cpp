@@ -4,6 +4,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::calib {
@@ -21,15 +22,7 @@ std::string SensorRobotResultJson(const SensorRobotCalibration& c, const SensorR
                                   const std::vector<BallObservation>& obs) {
   nlohmann::json j;
   j["method"] = s.method;
-  nlohmann::json m = nlohmann::json::array();
-  for (int r = 0; r < 4; ++r) {
-    m.push_back({c.sensor_from_base.matrix()(r, 0), c.sensor_from_base.matrix()(r, 1),
-                 c.sensor_from_base.matrix()(r, 2), c.sensor_from_base.matrix()(r, 3)});
-  }
-  j["sensor_from_base"]["matrix"] = m;
-  j["sensor_from_base"]["translation_mm"] = Vec(c.sensor_from_base.translation());
-  const KukaAbc abc = KukaAbcFromRotation(c.sensor_from_base.linear());
-  j["sensor_from_base"]["kuka_abc_deg"] = {RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c)};
+  j["sensor_from_base"] = PoseToJson(c.sensor_from_base);
   j["sensor_from_base"]["orthonormality_error"] = c.orthonormality_error;
   j["ball_in_flange_mm"] = Vec(c.ball_in_flange);
   if (c.has_covariance) {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "ramtk/calib/sensor_robot.h"
+#include "ramtk/core/ceres_solve.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/kinematics/forward.h"
@@ -103,23 +104,14 @@ SensorRobotCalibration CalibrateSensorRobot(const kinematics::RobotModel& model,
         loss, q.coeffs().data(), t.data(), ball.data());
   }
   problem.SetManifold(q.coeffs().data(), new ceres::EigenQuaternionManifold);
-  ceres::Solver::Options so;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = options.function_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.gradient_tolerance = options.gradient_tolerance;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
   ceres::Solver::Summary cs;
-  ceres::Solve(so, &problem, &cs);
-  s.iterations = static_cast<int>(cs.iterations.size()) - 1;
+  ceres::Solve(DenseSolverOptions({options.max_iterations, options.function_tolerance, options.parameter_tolerance,
+                                   options.gradient_tolerance}),
+               &problem, &cs);
+  s.iterations = CeresIterations(cs);
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE      ? Termination::kSuccess
-                  : cs.termination_type == ceres::NO_CONVERGENCE ? Termination::kNoConvergence
-                                                                 : Termination::kFailure;
+  s.termination = TerminationFromCeres(cs);
 
   SensorRobotCalibration c;
   c.sensor_from_base.linear() = q.normalized().toRotationMatrix();

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "ramtk/calib/sensor_robot.h"
+#include "ramtk/core/ceres_solve.h"
 #include "ramtk/core/error.h"
 #include "ramtk/kinematics/forward.h"
 #include "sensor_robot_internal.h"
@@ -103,24 +104,14 @@ SensorRobotCalibration CalibrateSensorRobotThesis(const kinematics::RobotModel& 
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<OrthogonalityPenalty, 6, 12>(
                                new OrthogonalityPenalty{std::sqrt(options.penalty_factor)}),
                            nullptr, k.data());
-  ceres::Solver::Options so;
-  so.minimizer_type = ceres::TRUST_REGION;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = options.function_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.gradient_tolerance = 1e-20;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
   ceres::Solver::Summary cs;
-  ceres::Solve(so, &problem, &cs);
-  s.iterations = static_cast<int>(cs.iterations.size()) - 1;
+  ceres::Solve(
+      DenseSolverOptions({options.max_iterations, options.function_tolerance, options.parameter_tolerance, 1e-20}),
+      &problem, &cs);
+  s.iterations = CeresIterations(cs);
   s.initial_cost = cs.initial_cost;
   s.final_cost = cs.final_cost;
-  s.termination = cs.termination_type == ceres::CONVERGENCE      ? Termination::kSuccess
-                  : cs.termination_type == ceres::NO_CONVERGENCE ? Termination::kNoConvergence
-                                                                 : Termination::kFailure;
+  s.termination = TerminationFromCeres(cs);
 
   Mat3 rs_t;
   rs_t << k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8];

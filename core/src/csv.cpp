@@ -10,6 +10,7 @@
 #include "ramtk/core/parse.h"
 
 namespace ramtk {
+
 std::vector<std::string> SplitCsvLine(const std::string& line);
 
 namespace {
@@ -34,7 +35,8 @@ int CsvTable::Column(const std::string& name, bool required) const {
   for (std::size_t i = 0; i < header.size(); ++i) {
     if (header[i] == name) return static_cast<int>(i);
   }
-  if (required) throw InputError({path, 1, name}, "missing column (header has " + std::to_string(header.size()) + " columns)");
+  if (required)
+    throw InputError({path, 1, name}, "missing column (header has " + std::to_string(header.size()) + " columns)");
   return -1;
 }
 
@@ -92,12 +94,19 @@ CsvTable ParseCsv(const std::string& text, const std::string& path) {
 
 CsvTable ReadCsv(const std::string& path) { return ParseCsv(ReadTextFile(path), path); }
 
-std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                      const std::string& comment) {
   std::string out;
+  std::size_t start = 0;
+  while (!comment.empty() && start <= comment.size()) {
+    const std::size_t end = std::min(comment.find('\n', start), comment.size());
+    out += "# " + comment.substr(start, end - start) + "\n";
+    start = end + 1;
+  }
   auto append_row = [&out](const std::vector<std::string>& cells) {
     for (std::size_t i = 0; i < cells.size(); ++i) {
       if (i) out += ',';
-      out += cells[i];
+      out += CsvQuote(cells[i]);
     }
     out += '\n';
   };
@@ -109,6 +118,12 @@ std::string FormatCsv(const std::vector<std::string>& header, const std::vector<
 std::string FormatFixed(double value, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, value);
+  return buf;
+}
+
+std::string FormatSignificant(double value, int significant) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*g", significant, value);
   return buf;
 }
 

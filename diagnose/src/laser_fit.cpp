@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "ramtk/core/ceres_solve.h"
 #include "ramtk/diagnose/model_selection.h"
 
 namespace ramtk::diagnose::laser_detail {
@@ -92,15 +93,9 @@ FitResult Fit(const ResidualModel& model, const std::vector<int>& free, const st
   ceres::Problem problem(po);
   ResidualModelCost cost(model, free, use, start);
   problem.AddResidualBlock(&cost, nullptr, x.data());
-  ceres::Solver::Options so;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = 100;
-  so.function_tolerance = 1e-12;  // relative cost change: the residuals are mm / deg, fitted to ~1e-4
-  so.parameter_tolerance = 1e-12;
-  so.gradient_tolerance = 1e-14;
-  so.logging_type = ceres::SILENT;
-  so.num_threads = 1;  // candidates and folds are evaluated in parallel by the callers
+  // Relative cost change 1e-12: the residuals are mm / deg, fitted to ~1e-4. One thread: candidates
+  // and folds are evaluated in parallel by the callers.
+  const ceres::Solver::Options so = DenseSolverOptions({100, 1e-12, 1e-12, 1e-14});
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
   out.params = cost.Full(x.data());

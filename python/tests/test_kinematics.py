@@ -18,7 +18,7 @@ def test_fk_matches_the_command(cli, datasets):
     t = ramtk.fk(ramtk.RobotModel.read(str(robot)), q)
     assert t.shape == (4, 4)
     np.testing.assert_allclose(t[:3, 3], expected["base_from_flange"]["position_mm"], atol=1e-9)
-    np.testing.assert_allclose(t[:3, :3], expected["base_from_flange"]["rotation"], atol=1e-12)
+    np.testing.assert_allclose(t, expected["base_from_flange"]["matrix"], atol=1e-12)
     np.testing.assert_allclose(t[3], [0, 0, 0, 1])
 
 

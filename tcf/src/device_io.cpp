@@ -4,9 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "json_pose.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
+#include "ramtk/core/units.h"
 
 namespace ramtk::tcf {
 
@@ -65,13 +66,10 @@ std::vector<BeamEvent> ParseDeviceLog(const std::string& text, const std::string
 std::vector<BeamEvent> ReadDeviceLog(const std::string& path) { return ParseDeviceLog(ReadTextFile(path), path); }
 
 std::string FormatDeviceLog(const std::vector<BeamEvent>& events) {
-  std::string out = "time_s,beam,state\n";
-  char buf[96];
-  for (const BeamEvent& e : events) {
-    std::snprintf(buf, sizeof(buf), "%.7f,%s,%s\n", e.time_s, BeamName(e.beam), BeamStateName(e.state));
-    out += buf;
-  }
-  return out;
+  std::vector<std::vector<std::string>> rows;
+  for (const BeamEvent& e : events)
+    rows.push_back({FormatFixed(e.time_s, 7), BeamName(e.beam), BeamStateName(e.state)});
+  return FormatCsv({"time_s", "beam", "state"}, rows);
 }
 
 void CheckAlternation(const std::vector<BeamEvent>& events, const std::string& path) {
@@ -89,32 +87,31 @@ void CheckAlternation(const std::vector<BeamEvent>& events, const std::string& p
 }
 
 ProgrammedMotion ProgrammedMotionFromJson(const std::string& text, const std::string& path) {
-  using namespace detail;
-  const nlohmann::json j = ParseJson(text, path);
+  const nlohmann::json j = ParseJsonText(text, path);
   ProgrammedMotion m;
   m.source = path;
-  m.tool_radius_mm = NumberFrom(j, "tool_radius_mm", path, "");
+  m.tool_radius_mm = JsonNumberAt(j, "tool_radius_mm", path, "");
   if (!(m.tool_radius_mm >= 0.0)) throw InputError({path, 0, "tool_radius_mm"}, "must be >= 0");
-  const nlohmann::json& circles = Require(j, "circles", path, "");
+  const nlohmann::json& circles = JsonRequire(j, "circles", path, "");
   if (!circles.is_array()) throw InputError({path, 0, "circles"}, "expected an array");
   for (std::size_t i = 0; i < circles.size(); ++i) {
     const nlohmann::json& c = circles[i];
     const std::string w = "circles[" + std::to_string(i) + "].";
     CircleSegment s;
     s.name = c.value("name", "circle" + std::to_string(i));
-    s.start_time_s = NumberFrom(c, "start_time_s", path, w);
-    s.duration_s = NumberFrom(c, "duration_s", path, w);
-    s.base_from_flange_centre = PoseFrom(c, "centre_flange_pose", path, w);
-    s.u_in_base = VecFrom(c, "u_in_base", path, w);
-    s.v_in_base = VecFrom(c, "v_in_base", path, w);
+    s.start_time_s = JsonNumberAt(c, "start_time_s", path, w);
+    s.duration_s = JsonNumberAt(c, "duration_s", path, w);
+    s.base_from_flange_centre = JsonPoseAt(c, "centre_flange_pose", path, w);
+    s.u_in_base = JsonVec3At(c, "u_in_base", path, w);
+    s.v_in_base = JsonVec3At(c, "v_in_base", path, w);
     if (std::abs(s.u_in_base.norm() - 1.0) > 1e-6 || std::abs(s.v_in_base.norm() - 1.0) > 1e-6 ||
         std::abs(s.u_in_base.dot(s.v_in_base)) > 1e-6)
       throw InputError({path, 0, w + "u_in_base"}, "u_in_base and v_in_base must be orthonormal");
-    s.radius_mm = NumberFrom(c, "radius_mm", path, w);
+    s.radius_mm = JsonNumberAt(c, "radius_mm", path, w);
     if (!(s.radius_mm > 0.0)) throw InputError({path, 0, w + "radius_mm"}, "must be > 0");
-    s.angular_speed_rad_s = DegToRad(NumberFrom(c, "angular_speed_deg_s", path, w));
+    s.angular_speed_rad_s = DegToRad(JsonNumberAt(c, "angular_speed_deg_s", path, w));
     if (!(s.angular_speed_rad_s > 0.0)) throw InputError({path, 0, w + "angular_speed_deg_s"}, "must be > 0");
-    const std::string dir = Require(c, "direction", path, w).get<std::string>();
+    const std::string dir = JsonRequire(c, "direction", path, w).get<std::string>();
     if (dir == "ccw") {
       s.direction = 1;
     } else if (dir == "cw") {
@@ -122,7 +119,7 @@ ProgrammedMotion ProgrammedMotionFromJson(const std::string& text, const std::st
     } else {
       throw InputError({path, 0, w + "direction"}, "expected 'ccw' or 'cw', got '" + dir + "'");
     }
-    s.start_angle_rad = DegToRad(NumberFrom(c, "start_angle_deg", path, w));
+    s.start_angle_rad = DegToRad(JsonNumberAt(c, "start_angle_deg", path, w));
     m.circles.push_back(s);
   }
   if (j.contains("lines")) {
@@ -133,10 +130,10 @@ ProgrammedMotion ProgrammedMotionFromJson(const std::string& text, const std::st
       const std::string w = "lines[" + std::to_string(i) + "].";
       LineSegment s;
       s.name = l.value("name", "line" + std::to_string(i));
-      s.start_time_s = NumberFrom(l, "start_time_s", path, w);
-      s.duration_s = NumberFrom(l, "duration_s", path, w);
-      s.base_from_flange_start = PoseFrom(l, "start_flange_pose", path, w);
-      s.velocity_in_base_mm_s = VecFrom(l, "velocity_in_base_mm_s", path, w);
+      s.start_time_s = JsonNumberAt(l, "start_time_s", path, w);
+      s.duration_s = JsonNumberAt(l, "duration_s", path, w);
+      s.base_from_flange_start = JsonPoseAt(l, "start_flange_pose", path, w);
+      s.velocity_in_base_mm_s = JsonVec3At(l, "velocity_in_base_mm_s", path, w);
       m.lines.push_back(s);
     }
   }
@@ -148,8 +145,6 @@ ProgrammedMotion ReadProgrammedMotion(const std::string& path) {
 }
 
 std::string ProgrammedMotionToJson(const ProgrammedMotion& m) {
-  using detail::PoseToJson;
-  using detail::VecToJson;
   nlohmann::json j;
   j["tool_radius_mm"] = m.tool_radius_mm;
   j["circles"] = nlohmann::json::array();
@@ -159,8 +154,8 @@ std::string ProgrammedMotionToJson(const ProgrammedMotion& m) {
     o["start_time_s"] = c.start_time_s;
     o["duration_s"] = c.duration_s;
     o["centre_flange_pose"] = PoseToJson(c.base_from_flange_centre);
-    o["u_in_base"] = VecToJson(c.u_in_base);
-    o["v_in_base"] = VecToJson(c.v_in_base);
+    o["u_in_base"] = Vec3ToJson(c.u_in_base);
+    o["v_in_base"] = Vec3ToJson(c.v_in_base);
     o["radius_mm"] = c.radius_mm;
     o["angular_speed_deg_s"] = RadToDeg(c.angular_speed_rad_s);
     o["direction"] = c.direction > 0 ? "ccw" : "cw";
@@ -174,7 +169,7 @@ std::string ProgrammedMotionToJson(const ProgrammedMotion& m) {
     o["start_time_s"] = l.start_time_s;
     o["duration_s"] = l.duration_s;
     o["start_flange_pose"] = PoseToJson(l.base_from_flange_start);
-    o["velocity_in_base_mm_s"] = VecToJson(l.velocity_in_base_mm_s);
+    o["velocity_in_base_mm_s"] = Vec3ToJson(l.velocity_in_base_mm_s);
     j["lines"].push_back(o);
   }
   return j.dump(2) + "\n";

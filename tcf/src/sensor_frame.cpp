@@ -1,13 +1,14 @@
 // Sensor-frame calibration of the cross-laser device, thesis eqs. (4-15)..(4-27).
-#include "ramtk/core/error.h"
 #include "ramtk/tcf/sensor_frame.h"
 
 #include <cmath>
 #include <cstdio>
 
-#include "json_pose.h"
 #include "ramtk/core/csv.h"
+#include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
+#include "ramtk/core/units.h"
 
 namespace ramtk::tcf {
 
@@ -116,26 +117,24 @@ std::map<std::string, Vec3> ReadSensorCalibrationPoints(const std::string& path)
 }
 
 std::string SensorFrameToJson(const SensorFrame& f) {
-  using detail::VecToJson;
   nlohmann::json j;
-  j["base_from_lasersensor"] = detail::PoseToJson(f.base_from_lasersensor);
+  j["base_from_lasersensor"] = PoseToJson(f.base_from_lasersensor);
   j["beta_deg"] = RadToDeg(f.beta_rad);
   j["beam_gap_mm"] = f.beam_gap_mm;
   j["x_beam_z_mm"] = f.x_beam_z_mm;
   j["y_beam_z_mm"] = f.y_beam_z_mm;
   // Only the intermediate results that were computed (a simulated frame has no beam points).
   nlohmann::json points = nlohmann::json::object(), units = nlohmann::json::object();
-  const std::pair<const char*, const Vec3*> named_points[] = {{"A", &f.a_in_base}, {"B", &f.b_in_base},
-                                                              {"C", &f.c_in_base}, {"D", &f.d_in_base},
-                                                              {"P", &f.p_in_base}, {"Q", &f.q_in_base},
-                                                              {"M", &f.m_in_base}};
+  const std::pair<const char*, const Vec3*> named_points[] = {
+      {"A", &f.a_in_base}, {"B", &f.b_in_base}, {"C", &f.c_in_base}, {"D", &f.d_in_base},
+      {"P", &f.p_in_base}, {"Q", &f.q_in_base}, {"M", &f.m_in_base}};
   for (const auto& [name, v] : named_points) {
-    if (v->allFinite()) points[name] = VecToJson(*v);
+    if (v->allFinite()) points[name] = Vec3ToJson(*v);
   }
   const std::pair<const char*, const Vec3*> named_units[] = {
       {"n_x_axis", &f.n}, {"m_y_beam", &f.m}, {"o_y_prime_axis", &f.o}, {"p_z_axis", &f.p}};
   for (const auto& [name, v] : named_units) {
-    if (v->allFinite()) units[name] = VecToJson(*v);
+    if (v->allFinite()) units[name] = Vec3ToJson(*v);
   }
   j["points_in_base_mm"] = points;
   j["unit_vectors"] = units;
@@ -143,15 +142,15 @@ std::string SensorFrameToJson(const SensorFrame& f) {
 }
 
 SensorFrame SensorFrameFromJson(const std::string& text, const std::string& path) {
-  const nlohmann::json j = detail::ParseJson(text, path);
+  const nlohmann::json j = ParseJsonText(text, path);
   SensorFrame f;
-  f.base_from_lasersensor = detail::PoseFrom(j, "base_from_lasersensor", path, "");
-  f.beta_rad = DegToRad(detail::NumberFrom(j, "beta_deg", path, ""));
+  f.base_from_lasersensor = JsonPoseAt(j, "base_from_lasersensor", path, "");
+  f.beta_rad = DegToRad(JsonNumberAt(j, "beta_deg", path, ""));
   if (!(f.beta_rad > DegToRad(1.0) && f.beta_rad < DegToRad(179.0)))
     throw InputError({path, 0, "beta_deg"}, "must be in (1, 179) degrees");
-  f.beam_gap_mm = j.contains("beam_gap_mm") ? detail::NumberFrom(j, "beam_gap_mm", path, "") : 0.0;
-  f.x_beam_z_mm = j.contains("x_beam_z_mm") ? detail::NumberFrom(j, "x_beam_z_mm", path, "") : 0.0;
-  f.y_beam_z_mm = j.contains("y_beam_z_mm") ? detail::NumberFrom(j, "y_beam_z_mm", path, "") : 0.0;
+  f.beam_gap_mm = j.contains("beam_gap_mm") ? JsonNumberAt(j, "beam_gap_mm", path, "") : 0.0;
+  f.x_beam_z_mm = j.contains("x_beam_z_mm") ? JsonNumberAt(j, "x_beam_z_mm", path, "") : 0.0;
+  f.y_beam_z_mm = j.contains("y_beam_z_mm") ? JsonNumberAt(j, "y_beam_z_mm", path, "") : 0.0;
   const Mat3 r = f.base_from_lasersensor.linear();
   f.n = r.col(0);
   f.o = r.col(1);

@@ -6,8 +6,8 @@
 #include <functional>
 #include <random>
 
-#include "json_pose.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
 #include "ramtk/tcf/geometry.h"
 #include "ramtk/tcf/tcf_solver.h"
@@ -48,6 +48,28 @@ bool DeviceEffects::Enable(const std::string& name) {
   else
     return false;
   return true;
+}
+
+void DeviceEffects::EnableList(const std::string& list, const std::string& option) {
+  std::string name;
+  auto flush = [&] {
+    if (name.empty()) return;
+    if (name == "all") {
+      for (const std::string& n : Names()) Enable(n);
+    } else if (!Enable(name)) {
+      std::string known;
+      for (const std::string& n : Names()) known += " " + n;
+      throw InputError({"", 0, option}, "unknown effect '" + name + "'; known:" + known + " all");
+    }
+    name.clear();
+  };
+  for (char c : list) {
+    if (c == ',')
+      flush();
+    else if (c != ' ')
+      name += c;
+  }
+  flush();
 }
 
 std::vector<std::string> DeviceEffects::Names() {
@@ -276,12 +298,11 @@ std::map<std::string, Vec3> SimulateSensorCalibrationPoints(const TcfTruth& trut
 }
 
 std::string TcfTruthToJson(const TcfTruth& t, const DeviceEffects& fx) {
-  using detail::VecToJson;
   nlohmann::json j;
-  j["flange_from_tcp"] = detail::PoseToJson(t.flange_from_tcp);
-  j["tcp_in_flange_mm"] = VecToJson(t.tcp_in_flange);
-  j["axis_in_flange"] = VecToJson(t.axis_in_flange);
-  j["true_base_from_lasersensor"] = detail::PoseToJson(t.base_from_lasersensor);
+  j["flange_from_tcp"] = PoseToJson(t.flange_from_tcp);
+  j["tcp_in_flange_mm"] = Vec3ToJson(t.tcp_in_flange);
+  j["axis_in_flange"] = Vec3ToJson(t.axis_in_flange);
+  j["true_base_from_lasersensor"] = PoseToJson(t.base_from_lasersensor);
   j["beta_deg"] = RadToDeg(t.beta_rad);
   j["x_beam_z_mm"] = t.x_beam_z_mm;
   j["y_beam_z_mm"] = t.y_beam_z_mm;

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "json_pose.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/units.h"
 #include "ramtk/tcf/geometry.h"
@@ -438,7 +438,8 @@ TcfSummary SolveTcf(const std::vector<BeamEvent>& events_in, const ProgrammedMot
     double speed2 = 0.0;
     for (const LineSegment& l : motion.lines) speed2 += l.velocity_in_base_mm_s.squaredNorm();
     speed2 /= std::max<std::size_t>(1, motion.lines.size());
-    const double expected = std::sqrt(std::pow(options.repeatability_sigma_mm, 2) + speed2 * std::pow(options.timing_sigma_s, 2));
+    const double expected =
+        std::sqrt(std::pow(options.repeatability_sigma_mm, 2) + speed2 * std::pow(options.timing_sigma_s, 2));
     if (expected > 0.0 && s.tip_events > 1) {
       s.tip_noise_ratio = s.tip_rms_mm / expected;
       if (s.tip_noise_ratio > kStructureRatio) {
@@ -475,11 +476,10 @@ TcfSummary SolveTcf(const std::vector<BeamEvent>& events_in, const ProgrammedMot
 }
 
 std::string TcfSummaryToJson(const TcfSummary& s) {
-  using detail::VecToJson;
   nlohmann::json j;
-  j["flange_from_tcp"] = detail::PoseToJson(s.solution.flange_from_tcp);
-  j["tcp_in_flange_mm"] = VecToJson(s.solution.tcp_in_flange);
-  j["axis_in_flange"] = VecToJson(s.solution.axis_in_flange);
+  j["flange_from_tcp"] = PoseToJson(s.solution.flange_from_tcp);
+  j["tcp_in_flange_mm"] = Vec3ToJson(s.solution.tcp_in_flange);
+  j["axis_in_flange"] = Vec3ToJson(s.solution.axis_in_flange);
   j["psi_deg"] = RadToDeg(s.solution.psi_rad);
   j["theta_deg"] = RadToDeg(s.solution.theta_rad);
   j["beta_used_deg"] = RadToDeg(s.beta_used_rad);

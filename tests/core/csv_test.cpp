@@ -5,20 +5,14 @@
 #include <cstdio>
 #include <fstream>
 
+#include "error_message.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 
 namespace ramtk {
 namespace {
 
-std::string Message(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using testing::Message;
 
 TEST(Csv, ParsesHeaderRowsCommentsAndLineNumbers) {
   const CsvTable t = ParseCsv("# comment\nlabel, x ,y\n\nA,1.5,2\nB,-3,4e2\n", "p.csv");
@@ -40,7 +34,10 @@ TEST(Csv, ErrorsNameFileLineAndColumn) {
 }
 
 TEST(Csv, Utf8ByteOrderMarkIsNotPartOfTheFirstColumn) {
-  const CsvTable t = ParseCsv("\xEF\xBB\xBF" "cycle,x\n1,2\n", "bom.csv");
+  const CsvTable t = ParseCsv(
+      "\xEF\xBB\xBF"
+      "cycle,x\n1,2\n",
+      "bom.csv");
   EXPECT_EQ(t.header[0], "cycle");
   EXPECT_EQ(t.Column("cycle"), 0);
   EXPECT_EQ(t.line_numbers[0], 2);

@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <random>
 #include <set>
@@ -141,16 +142,23 @@ TEST(RobotDiagnosis, GravityTorqueIsMinusTheGradientOfThePotentialEnergy) {
   }
 }
 
+// The diagnosis input of a simulated thesis experiment, judged with the traditional (length-only)
+// thermal model.
+RobotDiagnoseInput ThesisInput(const thermal::ThermalSimResult& sim, const std::string& label) {
+  RobotDiagnoseInput in;
+  in.model = Kr150();
+  in.setup = sim.setup, in.has_setup = true;
+  in.ball = sim.ball, in.ball_path = label;
+  in.thermal_params = thermal::TraditionalParams(in.model), in.thermal_label = "traditional";
+  return in;
+}
+
 // ---- the thesis case (§3, §5.1): the traditional length-only model against angular drift ----
 TEST(RobotDiagnosis, ThesisCaseNamesAngleDriftAndTheAnglesToAdd) {
   const thermal::ThermalSimOptions o = thermal::ThesisPreset(1);
   const thermal::ThermalSimResult sim = thermal::SimulateThermal(Kr150(), o);
-  RobotDiagnoseInput in;
-  in.model = Kr150();
-  in.setup = sim.setup, in.has_setup = true;
-  in.ball = sim.ball, in.ball_path = "thesis seed 1";
+  RobotDiagnoseInput in = ThesisInput(sim, "thesis seed 1");
   in.monitoring = sim.monitoring, in.has_monitoring = true, in.monitoring_path = "monitoring";
-  in.thermal_params = thermal::TraditionalParams(in.model), in.thermal_label = "traditional";
   const Diagnosis d = DiagnoseRobotData(in, DiagnoseOptions{});
   EXPECT_EQ(d.cause, "thermal_angle_drift");
   // The simulator's angular drift is α3, α4, β2 (ThesisPreset): exactly these are added.
@@ -218,24 +226,31 @@ namespace ramtk::diagnose {
 namespace {
 
 // The thesis experiment with length drift only: the traditional model is then right, and the
-// diagnosis must say so (no false alarm on 5400 residuals).
-TEST(RobotDiagnosis, ThesisCaseWithLengthDriftOnlyIsWhite) {
-  thermal::ThermalSimOptions o = thermal::ThesisPreset(6);  // seeds 4–15 all pass; 6 once tripped Ljung–Box
-  std::vector<thermal::ParamDrift> lengths;
-  for (const auto& d : o.drifts)
-    if (!kinematics::IsAngleParam(d.param)) lengths.push_back(d);
-  o.drifts = lengths;
-  const thermal::ThermalSimResult sim = thermal::SimulateThermal(Kr150(), o);
-  RobotDiagnoseInput in;
-  in.model = Kr150();
-  in.setup = sim.setup, in.has_setup = true;
-  in.ball = sim.ball, in.ball_path = "thesis seed 6, lengths only";
-  in.thermal_params = thermal::TraditionalParams(in.model), in.thermal_label = "traditional";
-  const Diagnosis d = DiagnoseRobotData(in, DiagnoseOptions{});
-  EXPECT_EQ(d.cause, kNoEffect);
-  std::string findings;
-  for (const auto& f : d.findings) findings += f + "\n";
-  EXPECT_FALSE(d.structure_found) << findings;
+// diagnosis must say so (5400 residuals per experiment). A rate over twelve seeds, not one chosen
+// seed: the diagnoser's tests each run at α = 1e-3 over a few dozen statistics, so an occasional
+// false alarm is expected; more than one in twelve (P ≈ 0.6 % at a 1 % per-experiment rate) is not.
+TEST(RobotDiagnosis, ThesisCaseWithLengthDriftOnlyIsWhiteAtTheFalseAlarmRate) {
+  const int kSeeds = 12;
+  int false_alarms = 0;
+  std::string report;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    thermal::ThermalSimOptions o = thermal::ThesisPreset(seed);
+    std::vector<thermal::ParamDrift> lengths;
+    for (const auto& d : o.drifts)
+      if (!kinematics::IsAngleParam(d.param)) lengths.push_back(d);
+    o.drifts = lengths;
+    const thermal::ThermalSimResult sim = thermal::SimulateThermal(Kr150(), o);
+    const Diagnosis d = DiagnoseRobotData(ThesisInput(sim, "thesis seed " + std::to_string(seed) + ", lengths only"),
+                                          DiagnoseOptions{});
+    if (d.cause != kNoEffect || d.structure_found) {
+      ++false_alarms;
+      report += "seed " + std::to_string(seed) + ": " + d.cause + "\n";
+      for (const auto& f : d.findings) report += "  " + f + "\n";
+    }
+  }
+  std::printf("length-drift-only thesis experiments: %d false alarms in %d seeds\n%s", false_alarms, kSeeds,
+              report.c_str());
+  EXPECT_LE(false_alarms, 1) << report;
 }
 
 }  // namespace

@@ -1,15 +1,6 @@
 // Checks of the independent generators against closed forms and finite differences (issue 15).
 // These test the generators themselves, not ramtk's diagnose.
-#include "common.h"
-#include "fringe_gen.h"
-#include "laser_gen.h"
-#include "mdh.h"
-#include "robot_gen.h"
-
 #include <gtest/gtest.h>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -17,9 +8,18 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "common.h"
+#include "fringe_gen.h"
+#include "laser_gen.h"
+#include "mdh.h"
+#include "robot_gen.h"
 
 namespace indep {
 namespace {
@@ -47,14 +47,15 @@ TEST(IndependentMdh, MatchesRamtkFk) {
     const std::string path = std::string(RAMTK_DATASETS_DIR) + "/robots/" + file;
     const Robot robot = LoadRobot(path);
     for (const auto& q_deg : poses) {
-      if (&q_deg != &poses.front() && file != models.front()) continue;  // one pose on the others: each call starts a process
+      if (&q_deg != &poses.front() && file != models.front())
+        continue;  // one pose on the others: each call starts a process
       std::ostringstream joints;
       for (int i = 0; i < 6; ++i) joints << (i ? "," : "") << q_deg[i];
       const std::string out = RunCommand(std::string("\"") + RAMTK_BINARY + "\" fk --robot \"" + path +
                                          "\" --joints=" + joints.str() + " --json");
       const nlohmann::json j = nlohmann::json::parse(out, nullptr, false);
       ASSERT_FALSE(j.is_discarded()) << out;
-      const nlohmann::json& rot = j["base_from_flange"]["rotation"];
+      const nlohmann::json& rot = j["base_from_flange"]["matrix"];  // 4x4 rows; the rotation is its top-left 3x3
       const nlohmann::json& pos = j["base_from_flange"]["position_mm"];
       Joints q;
       for (int i = 0; i < 6; ++i) q(i) = q_deg[i] * kDeg;
@@ -74,8 +75,8 @@ TEST(IndependentCompliance, GravityTorqueIsMinusEnergyGradient) {
   Rng rng(7);
   for (int trial = 0; trial < 5; ++trial) {
     Joints q;
-    q << rng.Uniform(-1, 1), rng.Uniform(-1.8, -0.5), rng.Uniform(1.0, 2.2), rng.Uniform(-3, 3),
-        rng.Uniform(-2, 2), rng.Uniform(-3, 3);
+    q << rng.Uniform(-1, 1), rng.Uniform(-1.8, -0.5), rng.Uniform(1.0, 2.2), rng.Uniform(-3, 3), rng.Uniform(-2, 2),
+        rng.Uniform(-3, 3);
     const Joints tau = GravityTorque(robot, model, q);
     for (int i = 0; i < 6; ++i) {
       const double h = 1e-6;
@@ -272,7 +273,8 @@ TEST(IndependentLaser, KukaAbcRoundTrip) {
     const Eigen::Vector3d abc(rng.Uniform(-179, 179), rng.Uniform(-89, 89), rng.Uniform(-179, 179));
     const Eigen::Matrix3d r = (Eigen::AngleAxisd(abc.x() * kDeg, Eigen::Vector3d::UnitZ()) *
                                Eigen::AngleAxisd(abc.y() * kDeg, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(abc.z() * kDeg, Eigen::Vector3d::UnitX())).toRotationMatrix();
+                               Eigen::AngleAxisd(abc.z() * kDeg, Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
     EXPECT_LT((KukaAbcDeg(r) - abc).norm(), 1e-9);
   }
 }

@@ -92,15 +92,20 @@ TEST(SensorFrame, Eq53Transform) {
 }
 
 TEST(SensorFrame, Eq54BetaAndItsSign) {
-  // arccos(-0.0376) = 92.15 deg, not the printed 87.85 deg (= 180° − 92.15°).
-  EXPECT_NEAR(RadToDeg(std::acos(-0.0376)), 92.155, 0.001);
+  // Eq. (5-4): β = arccos(n·m) with n·m = −0.0376 is 92.15°, not the printed 87.85°
+  // (= 180° − 92.15°; DESIGN.md errata).
   const SensorFrame f = Table53Frame();
   EXPECT_NEAR(RadToDeg(f.beta_rad), 92.20, 0.01);  // from the raw Table 5-3 data
+  // The sign, from the raw points alone: the beams' directions A→B and C→D meet at an obtuse
+  // angle, so cos β < 0 — the angle the frame reports.
+  const auto raw = BeamPointsFromFlangePositions(ReadSensorCalibrationPoints(kTable53));
+  const double cos_from_points = (raw.b - raw.a).normalized().dot((raw.d - raw.c).normalized());
+  EXPECT_LT(cos_from_points, 0.0);
+  EXPECT_NEAR(std::cos(f.beta_rad), cos_from_points, 1e-12);
   // Convention: β is measured from X_s to the y beam counter-clockwise about Z_s, so the y beam in
   // the sensor frame is (cos β, sin β, 0).
   const Vec3 m_in_sensor = f.base_from_lasersensor.linear().transpose() * f.m;
   EXPECT_LT((m_in_sensor - f.YBeamDirection()).norm(), 1e-12);
-  EXPECT_LT(m_in_sensor.x(), 0.0);  // the y beam leans back towards −X_s: β > 90°
   // Swapping the beams' roles flips Z_s; β stays the same unsigned angle in (0°, 180°).
   const auto p = BeamPointsFromFlangePositions(ReadSensorCalibrationPoints(kTable53));
   const SensorFrame g = CalibrateSensorFrame({p.c, p.d, p.a, p.b});

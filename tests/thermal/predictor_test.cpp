@@ -24,6 +24,25 @@ void Temperatures(const CycleSeries& s, Eigen::MatrixXd* temps, std::vector<doub
   }
 }
 
+// The identification every predictor test starts from: the drift model of experiment `e`, the
+// per-cycle estimate of `params` from `poses` poses (0: every pose), and the housing temperatures.
+struct Identified {
+  DriftModel dm;
+  IdentificationOptions id;
+  Eigen::MatrixXd x;
+  Eigen::MatrixXd temps;
+  std::vector<double> times;
+};
+
+Identified Identify(const SimulatedExperiment& e, const std::vector<int>& params, int poses) {
+  Identified r{DriftModel(Kr150(), e.sim.setup, e.experiment.ball.taught), {}, {}, {}, {}};
+  r.id.params = params;
+  if (poses > 0) r.id.poses = SelectPoses(r.dm, params, poses);
+  r.x = r.dm.Solve(e.experiment.ball.DifferencesFromReference(r.id.poses), r.id);
+  Temperatures(e.experiment.ball, &r.temps, &r.times);
+  return r;
+}
+
 TEST(ThermalPredictor, LowPassOfAStepIsTheFirstOrderResponse) {
   Eigen::MatrixXd temps = Eigen::MatrixXd::Constant(1, 200, 30.0);
   temps(0, 0) = 20.0;
@@ -90,24 +109,18 @@ TEST(ThermalPredictor, OfflineTemperatureModelBeatsHoldLast) {
   EXPECT_LE(model.lag_s, 1200.0);
   for (int seed : {1, 2}) {
     const auto& e = Thesis(seed);
-    const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
-    IdentificationOptions id;
-    id.params = params;
-    id.poses = SelectPoses(dm, params, 6);
-    const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
-    Eigen::MatrixXd temps;
-    std::vector<double> times;
-    Temperatures(e.experiment.ball, &temps, &times);
+    const Identified r = Identify(e, params, 6);
     DriftPredictorOptions po;
     po.window_every = 10;
-    const DriftPrediction offline = PredictDrift(x, temps, times, params, po, &model);
-    const DriftPrediction online = PredictDrift(x, temps, times, params, po);
+    const DriftPrediction offline = PredictDrift(r.x, r.temps, r.times, params, po, &model);
+    const DriftPrediction online = PredictDrift(r.x, r.temps, r.times, params, po);
     // Kalman filter on the same windows, window covariance from the noise model.
     const double sigma_y =
         std::sqrt(2 * (std::pow(e.options.sensor_noise_mm, 2) + std::pow(e.options.repeatability_mm, 2)));
     KalmanDriftOptions ko;
     ko.window_every = 10;
-    const DriftPrediction kalman = KalmanPredictDrift(x, dm.Covariance(id, sigma_y), temps, times, params, ko, &model);
+    const DriftPrediction kalman =
+        KalmanPredictDrift(r.x, r.dm.Covariance(r.id, sigma_y), r.temps, r.times, params, ko, &model);
     const Errors off = Score(e, offline), on = Score(e, online), kf = Score(e, kalman);
     std::cout << "seed " << seed << ": between windows hold-last " << off.hold << " mm, online model " << on.predicted
               << " mm, offline model " << off.predicted << " mm, Kalman " << kf.predicted << " mm\n";
@@ -123,13 +136,12 @@ TEST(ThermalPredictor, OfflineTemperatureModelBeatsHoldLast) {
 TEST(ThermalPredictor, LibraryScoreAgreesWithTheSumWrittenOut) {
   const auto& e = Thesis(1);
   const std::vector<int> params = e.sim.drifting_params;
-  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
-  IdentificationOptions id;
-  id.params = params;
-  const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
-  Eigen::MatrixXd temps, lib_temps;
-  std::vector<double> times, lib_times;
-  Temperatures(e.experiment.ball, &temps, &times);
+  const Identified r = Identify(e, params, 0);
+  const Eigen::MatrixXd& x = r.x;
+  const Eigen::MatrixXd& temps = r.temps;
+  const std::vector<double>& times = r.times;
+  Eigen::MatrixXd lib_temps;
+  std::vector<double> lib_times;
   std::vector<int> all;
   for (int c = 0; c < e.experiment.ball.NumCycles(); ++c) all.push_back(c);
   CycleTemperatures(e.experiment.ball, all, &lib_temps, &lib_times);
@@ -159,23 +171,16 @@ TEST(ThermalPredictor, LibraryScoreAgreesWithTheSumWrittenOut) {
 TEST(ThermalPredictor, KalmanWithoutProcessNoiseIsTheOfflineMeanOffset) {
   const auto& e = Thesis(3);
   const std::vector<int> params = e.sim.drifting_params;
-  const DriftModel dm(Kr150(), e.sim.setup, e.experiment.ball.taught);
-  IdentificationOptions id;
-  id.params = params;
-  id.poses = SelectPoses(dm, params, 6);
-  const Eigen::MatrixXd x = dm.Solve(e.experiment.ball.DifferencesFromReference(id.poses), id);
-  Eigen::MatrixXd temps;
-  std::vector<double> times;
-  Temperatures(e.experiment.ball, &temps, &times);
-  const TemperatureDriftModel model = FitTemperatureModel(x, temps, times, params);
+  const Identified r = Identify(e, params, 6);
+  const TemperatureDriftModel model = FitTemperatureModel(r.x, r.temps, r.times, params);
   DriftPredictorOptions po;
   po.window_every = 7;
   KalmanDriftOptions ko;
   ko.window_every = 7;
   ko.process_ratio_per_hour = 0.0;
-  const DriftPrediction a = PredictDrift(x, temps, times, params, po, &model);
-  const DriftPrediction b = KalmanPredictDrift(x, dm.Covariance(id, 0.035), temps, times, params, ko, &model);
-  for (int c = 1; c < static_cast<int>(times.size()); ++c) {
+  const DriftPrediction a = PredictDrift(r.x, r.temps, r.times, params, po, &model);
+  const DriftPrediction b = KalmanPredictDrift(r.x, r.dm.Covariance(r.id, 0.035), r.temps, r.times, params, ko, &model);
+  for (int c = 1; c < static_cast<int>(r.times.size()); ++c) {
     if (c % 7 == 0) continue;  // windows: the filter blends, the offline mode takes the identification
     for (int p : params) EXPECT_NEAR(b.predicted(p, c), a.predicted(p, c), 1e-9) << c;
   }

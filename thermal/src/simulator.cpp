@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <random>
 
+#include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
@@ -324,27 +325,19 @@ ThermalSimResult SimulateThermal(const RobotModel& model, const ThermalSimOption
 }
 
 std::string TruthTrajectoriesCsv(const ThermalSimResult& result) {
-  std::string out = "# drifting parameters (truth): " + ParamListToString(result.drifting_params) +
-                    "; parameter columns are drifts from the cold model in mm (d, a) and deg (theta, alpha, beta)\n";
-  out += "cycle,time_s";
-  for (int j = 0; j < kNumJoints; ++j) out += ",temp_j" + std::to_string(j + 1);
-  for (int p = 0; p < kNumParams; ++p) out += "," + kinematics::ParamName(p);
-  out += "\n";
-  char buf[64];
+  std::vector<std::string> header = {"cycle", "time_s"};
+  for (int j = 0; j < kNumJoints; ++j) header.push_back("temp_j" + std::to_string(j + 1));
+  for (int p = 0; p < kNumParams; ++p) header.push_back(kinematics::ParamName(p));
+  std::vector<std::vector<std::string>> rows;
   for (int c = 0; c < static_cast<int>(result.cycle_time_s.size()); ++c) {
-    std::snprintf(buf, sizeof(buf), "%d,%.3f", c, result.truth_time_s[c]);
-    out += buf;
-    for (int j = 0; j < kNumJoints; ++j) {
-      std::snprintf(buf, sizeof(buf), ",%.4f", result.true_temperatures_c(j, c));
-      out += buf;
-    }
-    for (int p = 0; p < kNumParams; ++p) {
-      std::snprintf(buf, sizeof(buf), ",%.9g", ToFileUnits(p, result.true_delta_x(p, c)));
-      out += buf;
-    }
-    out += "\n";
+    std::vector<std::string> row = {std::to_string(c), FormatFixed(result.truth_time_s[c], 3)};
+    for (int j = 0; j < kNumJoints; ++j) row.push_back(FormatFixed(result.true_temperatures_c(j, c), 4));
+    for (int p = 0; p < kNumParams; ++p) row.push_back(FormatSignificant(ToFileUnits(p, result.true_delta_x(p, c)), 9));
+    rows.push_back(std::move(row));
   }
-  return out;
+  return FormatCsv(header, rows,
+                   "drifting parameters (truth): " + ParamListToString(result.drifting_params) +
+                       "; parameter columns are drifts from the cold model in mm (d, a) and deg (theta, alpha, beta)");
 }
 
 }  // namespace ramtk::thermal

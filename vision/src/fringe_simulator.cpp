@@ -12,6 +12,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
 #include "ramtk/vision/image_io.h"
@@ -48,12 +49,6 @@ json IntrinsicsJson(const CameraIntrinsics& c) {
           {"width", c.width},
           {"height", c.height},
           {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
-}
-
-json PoseJson(const Isometry3& t) {
-  json rows = json::array();
-  for (int i = 0; i < 3; ++i) rows.push_back({t.linear()(i, 0), t.linear()(i, 1), t.linear()(i, 2)});
-  return {{"rotation", rows}, {"translation_mm", Vec3Json(t.translation())}};
 }
 
 json SequenceJson(const std::vector<PatternBlock>& blocks) {
@@ -384,7 +379,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       const PinholeView view = RenderedCameraView(config, cam);
       truth_cameras.push_back({{"name", names[cam]},
                                {"rendered_intrinsics", IntrinsicsJson(view.intrinsics)},
-                               {"camera_from_left", PoseJson(view.view_from_left)},
+                               {"camera_from_left", PoseToJson(view.view_from_left)},
                                {"files", files}});
       summary.width = sim.images.front().cols;
       summary.height = sim.images.front().rows;
@@ -440,7 +435,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"cameras", truth_cameras},
         {"projector",
          {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
-          {"projector_from_left", PoseJson(config.projector.view_from_left)}}},
+          {"projector_from_left", PoseToJson(config.projector.view_from_left)}}},
         {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
         {"render",
          {{"supersampling", config.supersampling},

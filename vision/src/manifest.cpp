@@ -7,6 +7,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 
 namespace ramtk::vision {
 namespace {
@@ -19,24 +20,6 @@ using nlohmann::json;
   throw InputError({file, 0, field}, message);
 }
 
-const json& Require(const json& j, const char* key, const std::string& file, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) Fail(file, where + key, "required key is missing");
-  return j.at(key);
-}
-
-double GetNumber(const json& j, const std::string& file, const std::string& field) {
-  if (!j.is_number()) Fail(file, field, "expected a number, got " + j.dump());
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) Fail(file, field, "expected a finite number");
-  return v;
-}
-
-int GetInt(const json& j, const std::string& file, const std::string& field) {
-  const double v = GetNumber(j, file, field);
-  if (v != std::floor(v) || std::abs(v) > 1e9) Fail(file, field, "expected an integer, got " + j.dump());
-  return static_cast<int>(v);
-}
-
 bool IsPowerOfTwo(double c) {
   if (c < 1 || c != std::floor(c)) return false;
   const auto n = static_cast<long long>(c);
@@ -45,10 +28,10 @@ bool IsPowerOfTwo(double c) {
 
 SequenceBlock ParseBlock(const json& b, const std::string& file, const std::string& where, int extent) {
   SequenceBlock block;
-  const std::string type = Require(b, "type", file, where).is_string() ? b.at("type").get<std::string>() : "";
+  const std::string type = JsonRequire(b, "type", file, where).is_string() ? b.at("type").get<std::string>() : "";
   if (type == "phase_shift" || type == "heterodyne") {
     block.type = type == "phase_shift" ? BlockType::kPhaseShift : BlockType::kHeterodyne;
-    block.steps = GetInt(Require(b, "steps", file, where), file, where + "steps");
+    block.steps = JsonInt(JsonRequire(b, "steps", file, where), file, where + "steps");
     const bool has_cycles = b.contains("cycles");
     const char* period_key = block.type == BlockType::kPhaseShift ? "period_px" : "periods_px";
     const bool has_period = b.contains(period_key);
@@ -58,11 +41,11 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
     const json& v = b.at(key);
     std::vector<double> values;
     if (block.type == BlockType::kPhaseShift) {
-      values.push_back(GetNumber(v, file, where + key));
+      values.push_back(JsonNumber(v, file, where + key));
     } else {
       if (!v.is_array()) Fail(file, where + key, "expected an array of numbers");
       for (std::size_t i = 0; i < v.size(); ++i)
-        values.push_back(GetNumber(v[i], file, where + key + "[" + std::to_string(i) + "]"));
+        values.push_back(JsonNumber(v[i], file, where + key + "[" + std::to_string(i) + "]"));
     }
     for (double& x : values) {
       if (x <= 0) Fail(file, where + key, "must be positive");
@@ -70,7 +53,7 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
     }
     block.cycles = values;
     if (b.contains("phase_at_origin_deg")) {
-      const double deg = GetNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg");
+      const double deg = JsonNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg");
       // One turn either way covers every convention; beyond it is a corrupt value (1e308 would
       // decode to "valid" pixels without one finite coordinate).
       if (!(std::abs(deg) <= 360.0)) Fail(file, where + "phase_at_origin_deg", "must be within [-360, 360] degrees");
@@ -78,7 +61,7 @@ SequenceBlock ParseBlock(const json& b, const std::string& file, const std::stri
     }
   } else if (type == "gray_code") {
     block.type = BlockType::kGrayCode;
-    block.bits = GetInt(Require(b, "bits", file, where), file, where + "bits");
+    block.bits = JsonInt(JsonRequire(b, "bits", file, where), file, where + "bits");
     if (b.contains("complementary")) {
       if (!b.at("complementary").is_boolean()) Fail(file, where + "complementary", "expected true or false");
       block.complementary = b.at("complementary").get<bool>();
@@ -208,18 +191,14 @@ FringeManifest ReadFringeManifest(const std::string& path) { return ParseFringeM
 
 FringeManifest ParseFringeManifest(const std::string& text, const std::string& path) {
   json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {  // parse_error, or out_of_range for 1e999
-    Fail(path, "", std::string("not valid JSON: ") + e.what());
-  }
+  j = ParseJsonText(text, path);
   FringeManifest m;
   m.path = path;
-  const json& proj = Require(j, "projector", path, "");
-  m.projector_width = GetInt(Require(proj, "width", path, "projector."), path, "projector.width");
-  m.projector_height = GetInt(Require(proj, "height", path, "projector."), path, "projector.height");
+  const json& proj = JsonRequire(j, "projector", path, "");
+  m.projector_width = JsonInt(JsonRequire(proj, "width", path, "projector."), path, "projector.width");
+  m.projector_height = JsonInt(JsonRequire(proj, "height", path, "projector."), path, "projector.height");
   if (m.projector_width <= 0 || m.projector_height <= 0) Fail(path, "projector", "width and height must be positive");
-  const json& dir = Require(j, "direction", path, "");
+  const json& dir = JsonRequire(j, "direction", path, "");
   if (dir == "vertical") {
     m.direction = FringeDirection::kVertical;
   } else if (dir == "horizontal") {
@@ -231,11 +210,11 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
     if (!j.at("calibration").is_string()) Fail(path, "calibration", "expected a file name");
     m.calibration = j.at("calibration").get<std::string>();
   }
-  const json& seq = Require(j, "sequence", path, "");
+  const json& seq = JsonRequire(j, "sequence", path, "");
   if (!seq.is_array()) Fail(path, "sequence", "expected an array of blocks");
   for (std::size_t i = 0; i < seq.size(); ++i)
     m.sequence.push_back(ParseBlock(seq[i], path, "sequence[" + std::to_string(i) + "].", m.Extent()));
-  const json& cams = Require(j, "cameras", path, "");
+  const json& cams = JsonRequire(j, "cameras", path, "");
   if (!cams.is_object()) Fail(path, "cameras", "expected an object {name: [files...]}");
   for (const auto& [name, files] : cams.items()) {
     if (!files.is_array()) Fail(path, "cameras." + name, "expected an array of image files");

@@ -160,23 +160,55 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
 }
 
 std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows) {
-  std::ostringstream s;
-  s.precision(10);
-  s << "set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,rms_mm,num_points,"
-       "num_outliers,seconds,out_dir,message\n";
+  std::vector<std::vector<std::string>> cells;
+  auto number = [](double v) { return FormatSignificant(v, 10); };
   for (const ScanBatchRow& r : rows) {
-    s << CsvQuote(r.set) << "," << r.status << "," << r.points << ",";
+    std::vector<std::string> row = {r.set, r.status, std::to_string(r.points)};
     if (r.has_sphere) {
       const Eigen::Vector3d sig = r.sphere.CentreSigma();
-      s << r.sphere.centre_mm.x() << "," << r.sphere.centre_mm.y() << "," << r.sphere.centre_mm.z() << ","
-        << r.sphere.radius_mm << "," << sig.x() << "," << sig.y() << "," << sig.z() << "," << r.sphere.rms_mm << ","
-        << r.sphere.num_points << "," << r.sphere.num_outliers << ",";
+      for (double v : {r.sphere.centre_mm.x(), r.sphere.centre_mm.y(), r.sphere.centre_mm.z(), r.sphere.radius_mm,
+                       sig.x(), sig.y(), sig.z(), r.sphere.rms_mm})
+        row.push_back(number(v));
+      row.push_back(std::to_string(r.sphere.num_points));
+      row.push_back(std::to_string(r.sphere.num_outliers));
     } else {
-      s << ",,,,,,,,,,";
+      row.resize(row.size() + 10);
     }
-    s << r.seconds << "," << CsvQuote(r.out_dir) << "," << CsvQuote(r.message) << "\n";
+    for (const std::string& cell : {number(r.seconds), r.out_dir, r.message}) row.push_back(cell);
+    cells.push_back(std::move(row));
   }
-  return s.str();
+  return FormatCsv({"set", "status", "points", "x_mm", "y_mm", "z_mm", "radius_mm", "sigma_x_mm", "sigma_y_mm",
+                    "sigma_z_mm", "rms_mm", "num_points", "num_outliers", "seconds", "out_dir", "message"},
+                   cells);
+}
+
+std::vector<std::string> FindShardResults(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::map<int, std::string> files;
+  int count = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    int k = 0, n = 0;
+    char tail[8] = {0};
+    if (std::sscanf(name.c_str(), "results.shard-%d-of-%d.%7s", &k, &n, tail) != 3 || std::string(tail) != "csv")
+      continue;
+    if (count != 0 && n != count)
+      throw InputError({entry.path().string(), 0, "--out"},
+                       "shards of " + std::to_string(count) + " and of " + std::to_string(n) + " in one folder");
+    count = n;
+    files[k] = entry.path().string();
+  }
+  if (ec) throw InputError({folder, 0, "--out"}, "cannot list the folder: " + ec.message());
+  if (count == 0) throw InputError({folder, 0, "--out"}, "no results.shard-K-of-N.csv in the folder");
+  std::vector<std::string> ordered;
+  for (int k = 1; k <= count; ++k) {
+    if (!files.count(k))
+      throw InputError({folder + "/" + ShardResultsName({k, count}), 0, "--out"},
+                       "shard " + std::to_string(k) + " of " + std::to_string(count) + " has no results");
+    ordered.push_back(files[k]);
+  }
+  return ordered;
 }
 
 std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files) {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 
+#include "ramtk/core/ceres_solve.h"
 #include "sphere_fit_internal.h"
 
 namespace ramtk::vision::sphere_internal {
@@ -89,14 +90,8 @@ class PointResiduals final : public ceres::CostFunction {
 GeometricFit SolveSphere(ceres::Problem* problem, double* centre, double* radius, bool fix_radius, int max_iterations,
                          bool precise) {
   if (fix_radius) problem->SetParameterBlockConstant(radius);
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  solver_options.max_num_iterations = max_iterations;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  solver_options.function_tolerance = precise ? 1e-12 : 1e-7;
-  solver_options.gradient_tolerance = precise ? 1e-14 : 1e-10;
-  solver_options.parameter_tolerance = precise ? 1e-12 : 1e-8;
+  const ceres::Solver::Options solver_options = DenseSolverOptions(
+      {max_iterations, precise ? 1e-12 : 1e-7, precise ? 1e-12 : 1e-8, precise ? 1e-14 : 1e-10, true});
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, problem, &summary);
   GeometricFit fit;

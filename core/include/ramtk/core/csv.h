@@ -10,10 +10,10 @@ namespace ramtk {
 
 class CsvTable {
  public:
-  std::string path;                             // for error messages
-  std::vector<std::string> header;              // column names
-  std::vector<std::vector<std::string>> rows;   // cells, each row header.size() long
-  std::vector<int> line_numbers;                // 1-based file line of each row
+  std::string path;                            // for error messages
+  std::vector<std::string> header;             // column names
+  std::vector<std::vector<std::string>> rows;  // cells, each row header.size() long
+  std::vector<int> line_numbers;               // 1-based file line of each row
 
   // Index of column `name`; -1 if absent and not required, else InputError.
   int Column(const std::string& name, bool required = true) const;
@@ -33,7 +33,11 @@ std::string CsvQuote(const std::string& cell);
 
 // A number with a fixed count of decimals ("%.*f"), for CSV cells.
 std::string FormatFixed(double value, int decimals);
-// Header and rows to CSV text (cells are written as given; no quoting).
-std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+// A number with at most `significant` significant digits ("%.*g"), for CSV cells.
+std::string FormatSignificant(double value, int significant);
+// The one CSV writer: an optional comment block (each line prefixed "# "), the header, then the
+// rows; every cell passes through CsvQuote, so text with commas or quotes reads back as written.
+std::string FormatCsv(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                      const std::string& comment = "");
 
 }  // namespace ramtk

@@ -1,6 +1,9 @@
 // Hidden-effect draws for testing the fringe diagnosis: from a seed, one catalogue fringe effect
 // (or none) with a random realistic magnitude, rendered by the vision simulator into a small
 // (320×256, left camera) fringe set whose truth is recorded.
+// A simulator, public on purpose: the tests use it to require that the diagnosis finds what was
+// hidden, and users use it to check the diagnosis on their own model and set-up before trusting it
+// on measured data (docs/diagnose.md, "Hidden-effect simulators").
 #pragma once
 
 #include <cstdint>
@@ -19,7 +22,7 @@ struct HiddenFringeDraw {
   std::string expected = "none";  // the cause a correct diagnosis names: the effect, or "none" for
                                   // effects the ideal intensity model cannot see (ambient light,
                                   // unmodelled lens distortion)
-  double camera_gain = 1.0;        // DN per photo-electron relative to the default sensor (the full
+  double camera_gain = 1.0;       // DN per photo-electron relative to the default sensor (the full
                                   // well is divided by it): shot-noise variance b·I grows with it
 };
 

@@ -8,6 +8,9 @@
 // with the ~3° tool tilt of the programme — below the robot's 0.03 mm repeatability, so the
 // diagnosis answers "none" by design) and tool_axis_rotation (a rotationally symmetric tool
 // turned about its own axis changes no event at all).
+// A simulator, public on purpose: the tests use it to require that the diagnosis finds what was
+// hidden, and users use it to check the diagnosis on their own model and set-up before trusting it
+// on measured data (docs/diagnose.md, "Hidden-effect simulators").
 #pragma once
 
 #include <cstdint>

@@ -3,6 +3,9 @@
 // measurements simulated like the thesis experiment (thermal::SimulateThermal, smaller), and
 // records the truth. The diagnosis then gets the nominal model and the true set-up, as after
 // `ramtk simulate thermal`.
+// A simulator, public on purpose: the tests use it to require that the diagnosis finds what was
+// hidden, and users use it to check the diagnosis on their own model and set-up before trusting it
+// on measured data (docs/diagnose.md, "Hidden-effect simulators").
 #pragma once
 
 #include <cstdint>

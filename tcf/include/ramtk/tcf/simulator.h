@@ -45,6 +45,9 @@ struct DeviceEffects {
 
   // Switches on an effect by its catalogue name; false if the name is unknown.
   bool Enable(const std::string& name);
+  // Switches on every effect of a comma-separated list of names ("all" = every one). InputError
+  // naming `option` and the known names for an unknown one.
+  void EnableList(const std::string& list, const std::string& option = "--effects");
   // All catalogue names of laser-device effects.
   static std::vector<std::string> Names();
 };

@@ -66,6 +66,10 @@ ScanShard ParseScanShard(const std::string& text);
 std::vector<std::size_t> ShardPositions(std::size_t num_sets, const ScanShard& shard);
 // The shard's results file name in the batch folder: results.shard-K-of-N.csv.
 std::string ShardResultsName(const ScanShard& shard);
+// The shard results of a batch folder, results.shard-K-of-N.csv for K = 1..N in that order.
+// InputError if the folder cannot be listed, holds none, holds shards of two different N, or
+// lacks one of them.
+std::vector<std::string> FindShardResults(const std::string& folder);
 // Joins shard results (ScanBatchCsv files) into the single-run results.csv text, rows in list
 // order. InputError naming the file when a header differs, a set of the list is missing, a set
 // appears more often than listed (a shard run twice) or is not in the list.

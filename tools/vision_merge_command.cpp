@@ -1,0 +1,44 @@
+// ramtk merge: the results of `ramtk scan --batch LIST --shard K/N` runs joined into one results.csv.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.h"
+#include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
+#include "ramtk/vision/scan_batch.h"
+
+namespace ramtk::tools {
+namespace {
+
+struct MergeCommandOptions {
+  std::string batch;  // the batch list the shards ran
+  std::string out;    // the batch folder holding results.shard-K-of-N.csv
+  bool force = false;
+};
+
+int RunMerge(const MergeCommandOptions& opt) {
+  const std::vector<std::string> sets = vision::ReadScanBatchList(opt.batch);
+  const std::vector<std::string> shards = vision::FindShardResults(opt.out);
+  const std::string target = opt.out + "/results.csv";
+  std::error_code ec;
+  if (std::filesystem::exists(target, ec) && !opt.force)
+    throw InputError({target, 0, "--out"}, "exists (pass --force to replace it)");
+  WriteFileAtomically(target, vision::MergeScanShards(sets, shards));
+  std::cout << "merged " << shards.size() << " shards, " << sets.size() << " sets, into " << target << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void RegisterMergeCommand(CLI::App& app, int* exit_code) {
+  auto opt = std::make_shared<MergeCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "merge", "Join the results of `ramtk scan --batch LIST --shard K/N` runs into one results.csv");
+  sub->add_option("--batch", opt->batch, "The batch list the shards ran")->required();
+  sub->add_option("--out", opt->out, "The batch folder with results.shard-K-of-N.csv")->required();
+  sub->add_flag("--force", opt->force, "Replace an existing results.csv");
+  sub->callback([opt, exit_code]() { *exit_code = RunMerge(*opt); });
+}
+
+}  // namespace ramtk::tools
