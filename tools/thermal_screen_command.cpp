@@ -11,12 +11,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/parse.h"
-#include "ramtk/core/units.h"
-#include "ramtk/kinematics/robot_io.h"
-#include "ramtk/thermal/compensation.h"
-#include "ramtk/thermal/predictor.h"
 #include "ramtk/thermal/screening.h"
-#include "ramtk/thermal/simulator.h"
 #include "ramtk/thermal/thermal_report.h"
 #include "thermal_inputs.h"
 

@@ -9,6 +9,7 @@
 #include <opencv2/core/eigen.hpp>
 #include <random>
 
+#include "pose_noise.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
@@ -140,12 +141,8 @@ std::vector<FlangeCameraObservation> SimulateFlangeCameraPoses(const std::vector
   for (const Isometry3& bf : base_from_flange) {
     FlangeCameraObservation o;
     o.base_from_flange = bf;
-    o.camera_from_board = (bf * flange_from_camera).inverse() * base_from_board;
-    const Vec3 w(g(rng), g(rng), g(rng));
-    o.camera_from_board.linear() =
-        Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() *
-        o.camera_from_board.linear();
-    o.camera_from_board.translation() += sigma_mm * Vec3(g(rng), g(rng), g(rng));
+    o.camera_from_board =
+        internal::PerturbPose((bf * flange_from_camera).inverse() * base_from_board, sigma_deg, sigma_mm, rng, g);
     obs.push_back(o);
   }
   return obs;

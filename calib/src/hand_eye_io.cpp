@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "pose_noise.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/json.h"
@@ -76,12 +77,8 @@ std::vector<BoardPoseObservation> SimulateBoardPoses(const kinematics::RobotMode
   for (const kinematics::JointVector& q : joints) {
     BoardPoseObservation o;
     o.q_controller = q;
-    o.camera_from_board = camera_from_base * kinematics::BaseFromFlange(model, q) * flange_from_board;
-    const Vec3 w(g(rng), g(rng), g(rng));
-    o.camera_from_board.linear() =
-        Eigen::AngleAxisd(DegToRad(sigma_deg) * w.norm(), w.normalized()).toRotationMatrix() *
-        o.camera_from_board.linear();
-    o.camera_from_board.translation() += sigma_mm * Vec3(g(rng), g(rng), g(rng));
+    o.camera_from_board = internal::PerturbPose(
+        camera_from_base * kinematics::BaseFromFlange(model, q) * flange_from_board, sigma_deg, sigma_mm, rng, g);
     obs.push_back(o);
   }
   return obs;

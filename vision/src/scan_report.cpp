@@ -5,20 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ramtk/core/csv.h"
+
 namespace ramtk::vision {
 namespace {
 
-std::string Fmt(double v, int digits = 4) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
-  return buf;
-}
-
-std::string Fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
+std::string Fmt(double v, int digits = 4) { return FormatSignificant(v, digits); }
 
 }  // namespace
 
@@ -76,11 +68,12 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
        {"image size (px)", std::to_string(s.width) + " × " + std::to_string(s.height)},
        {"termination", s.message},
        {"points", std::to_string(s.triangulation.points)},
-       {"median point σ (µm)", Fixed(s.triangulation.median_sigma_mm * 1000.0, 2)},
-       {"depth range (mm)", Fixed(s.triangulation.depth_min_mm, 1) + " – " + Fixed(s.triangulation.depth_max_mm, 1)},
+       {"median point σ (µm)", FormatFixed(s.triangulation.median_sigma_mm * 1000.0, 2)},
+       {"depth range (mm)",
+        FormatFixed(s.triangulation.depth_min_mm, 1) + " – " + FormatFixed(s.triangulation.depth_max_mm, 1)},
        {"frame", kScanFrame},
        {"calibration RMS (px)",
-        std::isfinite(s.calibration_rms_px) ? Fixed(s.calibration_rms_px, 4) : "not in the file"},
+        std::isfinite(s.calibration_rms_px) ? FormatFixed(s.calibration_rms_px, 4) : "not in the file"},
        {"calibration σ", s.calibration_parameter_std.empty() ? "not in the file"
                                                              : std::to_string(s.calibration_parameter_std.size()) +
                                                                    " parameter standard deviations (summary.json)"}});
@@ -105,10 +98,10 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
     for (size_t k = 0; k < s.spheres.spheres.size(); ++k) {
       const SphereResult& r = s.spheres.spheres[k];
       const Eigen::Vector3d sig = r.CentreSigma() * 1000.0;
-      rows.push_back({std::to_string(k + 1), Fixed(r.centre_mm.x(), 4), Fixed(r.centre_mm.y(), 4),
-                      Fixed(r.centre_mm.z(), 4), Fixed(sig.x(), 2), Fixed(sig.y(), 2), Fixed(sig.z(), 2),
-                      Fixed(r.radius_mm, 4), Fixed(r.rms_mm * 1000.0, 2), std::to_string(r.num_points),
-                      std::to_string(r.num_outliers), Fmt(r.variance_factor, 3)});
+      rows.push_back({std::to_string(k + 1), FormatFixed(r.centre_mm.x(), 4), FormatFixed(r.centre_mm.y(), 4),
+                      FormatFixed(r.centre_mm.z(), 4), FormatFixed(sig.x(), 2), FormatFixed(sig.y(), 2),
+                      FormatFixed(sig.z(), 2), FormatFixed(r.radius_mm, 4), FormatFixed(r.rms_mm * 1000.0, 2),
+                      std::to_string(r.num_points), std::to_string(r.num_outliers), Fmt(r.variance_factor, 3)});
     }
     html.Table({"sphere", "x (mm)", "y (mm)", "z (mm)", "σx (µm)", "σy (µm)", "σz (µm)", "radius (mm)", "RMS (µm)",
                 "inliers", "outliers", "χ²/(n−p)"},
@@ -138,19 +131,21 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
   html.Section("Stages");
   std::vector<std::vector<std::string>> stage_rows;
   for (const DecodeSummary* d : {&s.left, &s.right})
-    stage_rows.push_back({"decode " + d->camera, Fixed(d == &s.left ? s.decode_s : 0.0, 2),
-                          Fixed(100.0 * d->valid_fraction, 1) + "% valid pixels",
-                          "B median " + Fixed(d->median_modulation_dn, 1) + " DN, σφ median " +
+    stage_rows.push_back({"decode " + d->camera, FormatFixed(d == &s.left ? s.decode_s : 0.0, 2),
+                          FormatFixed(100.0 * d->valid_fraction, 1) + "% valid pixels",
+                          "B median " + FormatFixed(d->median_modulation_dn, 1) + " DN, σφ median " +
                               Fmt(d->median_sigma_phase_rad, 3) + " rad, σI random " +
                               Fmt(d->sigma_intensity_random_dn, 3) + " DN"});
-  stage_rows.push_back(
-      {"match", Fixed(s.match_s, 2), std::to_string(s.match.matched) + " of " + std::to_string(s.match.left_valid),
-       "rejected: noisy " + std::to_string(s.match.rejected_noisy) + ", no match " +
-           std::to_string(s.match.rejected_no_match) + ", left–right " + std::to_string(s.match.rejected_lr) +
-           "; median σ " + Fmt(s.match.median_sigma_px, 3) + " px"});
-  stage_rows.push_back({"triangulate", Fixed(s.triangulate_s, 2), std::to_string(s.triangulation.points) + " points",
-                        "median σ " + Fixed(s.triangulation.median_sigma_mm * 1000.0, 2) + " µm"});
-  stage_rows.push_back({"fit", Fixed(s.fit_s, 2), std::to_string(s.spheres.spheres.size()) + " sphere(s)", ""});
+  stage_rows.push_back({"match", FormatFixed(s.match_s, 2),
+                        std::to_string(s.match.matched) + " of " + std::to_string(s.match.left_valid),
+                        "rejected: noisy " + std::to_string(s.match.rejected_noisy) + ", no match " +
+                            std::to_string(s.match.rejected_no_match) + ", left–right " +
+                            std::to_string(s.match.rejected_lr) + "; median σ " + Fmt(s.match.median_sigma_px, 3) +
+                            " px"});
+  stage_rows.push_back({"triangulate", FormatFixed(s.triangulate_s, 2),
+                        std::to_string(s.triangulation.points) + " points",
+                        "median σ " + FormatFixed(s.triangulation.median_sigma_mm * 1000.0, 2) + " µm"});
+  stage_rows.push_back({"fit", FormatFixed(s.fit_s, 2), std::to_string(s.spheres.spheres.size()) + " sphere(s)", ""});
   html.Table({"stage", "wall time (s)", "count", "figures"}, stage_rows);
   html.Paragraph("The decode time covers both cameras.");
   if (!depth_png.empty() && std::filesystem::exists(depth_png)) {
@@ -190,15 +185,16 @@ report::HtmlReport ScanBatchReport(const std::vector<ScanBatchRow>& rows, const 
       sy.x.push_back(x), sy.y.push_back(sig.y());
       sz.x.push_back(x), sz.y.push_back(sig.z());
       rms.x.push_back(x), rms.y.push_back(r.sphere.rms_mm * 1000.0);
-      row.insert(row.end(), {Fixed(r.sphere.centre_mm.x(), 4), Fixed(r.sphere.centre_mm.y(), 4),
-                             Fixed(r.sphere.centre_mm.z(), 4), Fixed(sig.norm(), 2), Fixed(r.sphere.radius_mm, 4)});
+      row.insert(row.end(), {FormatFixed(r.sphere.centre_mm.x(), 4), FormatFixed(r.sphere.centre_mm.y(), 4),
+                             FormatFixed(r.sphere.centre_mm.z(), 4), FormatFixed(sig.norm(), 2),
+                             FormatFixed(r.sphere.radius_mm, 4)});
     } else {
       row.insert(row.end(), {"", "", "", "", ""});
     }
     pts.x.push_back(x), pts.y.push_back(static_cast<double>(r.points));
     secs.x.push_back(x), secs.y.push_back(r.seconds);
     row.push_back(std::to_string(r.points));
-    row.push_back(Fixed(r.seconds, 2));
+    row.push_back(FormatFixed(r.seconds, 2));
     row.push_back(r.message);
     table.push_back(row);
   }
