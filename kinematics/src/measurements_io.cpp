@@ -102,7 +102,7 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
       const auto it = m.extra.find(name);
       const auto text = m.extra_text.find(name);
       if (text != m.extra_text.end()) {
-        cells.push_back(CsvQuote(text->second));
+        cells.push_back(text->second);  // FormatCsv quotes it if needed
       } else if (it == m.extra.end()) {
         cells.push_back("nan");
       } else {
