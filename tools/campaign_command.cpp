@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "ramtk/campaign/campaign.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/kinematics/robot_io.h"
 
 namespace ramtk::tools {
@@ -15,10 +16,11 @@ struct CampaignCommandOptions {
   std::string out_dir;
   campaign::CampaignOptions o;
   bool quiet = false;
-  bool report = false;
+  bool force = false;
 };
 
 int RunCampaign(const CampaignCommandOptions& opt) {
+  CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   campaign::CampaignOptions o = opt.o;
   const std::string bad = o.Validate();
@@ -30,18 +32,20 @@ int RunCampaign(const CampaignCommandOptions& opt) {
       return true;
     };
   }
-  const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir);
+  const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir, opt.force);
+  if (s.cancelled) {
+    std::fprintf(stderr, "cancelled: nothing written to %s\n", opt.out_dir.c_str());
+    return kExitFailure;
+  }
   std::printf("%s", campaign::BudgetMarkdown(s).c_str());
   if (!s.screened.empty())
     std::printf("\nScreening (image-derived centres), Table 5-1 form:\n%s\nTable 5-2 form:\n%s",
                 s.screening_elimination.c_str(), s.screening_comparison.c_str());
   for (const std::string& l : s.left_out) std::printf("left out: %s\n", l.c_str());
-  std::printf("%s\ntimes: render %.1f s, scan %.1f s, chain %.1f s\nwrote %s/budget.json, budget.md, monitoring_error.png\n",
-              s.BriefReport().c_str(), s.render_s, s.scan_s, s.chain_s, opt.out_dir.c_str());
-  if (opt.report) {
-    campaign::CampaignReport(s).Write(opt.out_dir + "/report.html");
-    std::printf("wrote %s/report.html\n", opt.out_dir.c_str());
-  }
+  std::printf(
+      "%s\ntimes: render %.1f s, scan %.1f s, chain %.1f s\nwrote %s/budget.json, budget.md, monitoring_error.png\n",
+      s.BriefReport().c_str(), s.render_s, s.scan_s, s.chain_s, opt.out_dir.c_str());
+  if (o.html_report) std::printf("wrote %s/report.html\n", opt.out_dir.c_str());
   return kExitOk;
 }
 
@@ -55,7 +59,8 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
       "log and truth, then run scan -> measure -> calib sensor-robot (cold cycle) -> thermal identify -> compensate "
       "and write the error budget (budget.json, budget.md, monitoring_error.png)");
   sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
-  sub->add_option("--out", opt->out_dir, "Output folder (must not exist or be empty)")->required();
+  sub->add_option("--out", opt->out_dir, "Output folder (new or empty; written as a unit)")->required();
+  sub->add_flag("--force", opt->force, "Replace an existing output folder (only once the new one is complete)");
   sub->add_option("--cycles", opt->o.cycles, "Measurement cycles")->capture_default_str();
   sub->add_option("--poses", opt->o.ball_poses, "Ball poses per cycle")->capture_default_str();
   sub->add_option("--points", opt->o.monitoring_points, "Monitoring points per cycle")->capture_default_str();
@@ -72,8 +77,9 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
                   "parameters kept; 0 = by held-out error; -1 = skip")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
-  sub->add_flag("--report", opt->report, "Also write report.html: the budget, calibration errors and the monitoring "
-                                         "figure on one self-contained page");
+  sub->add_flag("--report", opt->o.html_report,
+                "Also write report.html: the budget, calibration errors and the monitoring "
+                "figure on one self-contained page");
   sub->callback([opt, exit_code]() { *exit_code = RunCampaign(*opt); });
 }
 

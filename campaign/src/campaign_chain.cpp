@@ -1,13 +1,12 @@
 // The campaign twin's chain from files, scored against truth (campaign.h).
-#include <nlohmann/json.hpp>
-
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <algorithm>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "campaign_internal.h"
 #include "ramtk/calib/sensor_robot.h"
@@ -16,6 +15,7 @@
 #include "ramtk/campaign/measure.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/plot.h"
 #include "ramtk/thermal/identify.h"
@@ -36,10 +36,10 @@ struct ChainResult {
   calib::SensorRobotSummary calibration_summary;
   std::vector<calib::BallObservation> cold;  // the cold cycle's observations
   thermal::ThermalSetup setup;
-  Eigen::MatrixXd delta_x;  // 30 × ball cycles
-  Eigen::MatrixXd before, after;  // monitoring residuals, 3·points × cycles
+  Eigen::MatrixXd delta_x;                        // 30 × ball cycles
+  Eigen::MatrixXd before, after;                  // monitoring residuals, 3·points × cycles
   std::vector<Eigen::MatrixXd> drift_covariance;  // per cycle, params × params (mm / rad)
-  std::vector<int> ball_column;  // per monitoring cycle, its column in delta_x
+  std::vector<int> ball_column;                   // per monitoring cycle, its column in delta_x
   // Per monitoring cycle (warm ones), direction: the compensated position's error caused by the
   // identified drift's error, J·(ΔX − ΔX_true), and its predicted σ² from the drift covariance.
   double monitoring_drift_error_ss = 0, monitoring_drift_predicted_ss = 0;
@@ -51,9 +51,9 @@ struct ChainResult {
 
 // Sensor-to-robot calibration on the cold cycle, then identification and compensation.
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
-                     const std::string& ball_path, const thermal::CycleSeries& monitoring, const thermal::ThermalSetup& truth,
-                     const std::vector<int>& params, int reference_cycle, double robot_noise_mm, int screen_keep,
-                     const Eigen::MatrixXd& true_delta_x) {
+                     const std::string& ball_path, const thermal::CycleSeries& monitoring,
+                     const thermal::ThermalSetup& truth, const std::vector<int>& params, int reference_cycle,
+                     double robot_noise_mm, int screen_keep, const Eigen::MatrixXd& true_delta_x) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -93,11 +93,13 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
           r.delta_x(params[j], col) - (true_delta_x(params[j], col) - true_delta_x(params[j], 0));
     for (int k = 0; k < mon.NumPoints(); ++k) {
       Eigen::MatrixXd jac(3, static_cast<Eigen::Index>(params.size()));
-      for (std::size_t j = 0; j < params.size(); ++j) jac.col(static_cast<Eigen::Index>(j)) = mon.Jacobian(k).col(params[j]);
+      for (std::size_t j = 0; j < params.size(); ++j)
+        jac.col(static_cast<Eigen::Index>(j)) = mon.Jacobian(k).col(params[j]);
       const Eigen::Vector3d e = jac * dx;
       r.monitoring_drift_error_ss += e.squaredNorm();
       if (!r.drift_covariance.empty())
-        r.monitoring_drift_predicted_ss += (jac * r.drift_covariance.at(static_cast<std::size_t>(col)) * jac.transpose()).trace();
+        r.monitoring_drift_predicted_ss +=
+            (jac * r.drift_covariance.at(static_cast<std::size_t>(col)) * jac.transpose()).trace();
       r.monitoring_drift_terms += 3;
     }
   }
@@ -107,10 +109,11 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
     so.keep = screen_keep;
     so.identification.difference_covariance_mm2 = id.difference_covariance_mm2;
     r.screening = thermal::ScreenParameters(ex, so);
-    r.comparison = thermal::CompareParameterSets(
-        ex, {{"traditional", thermal::TraditionalParams(model)}, {"screened", r.screening.selected},
-             {"all", model.FreeParams()}},
-        so.identification, so.lambda);
+    r.comparison = thermal::CompareParameterSets(ex,
+                                                 {{"traditional", thermal::TraditionalParams(model)},
+                                                  {"screened", r.screening.selected},
+                                                  {"all", model.FreeParams()}},
+                                                 so.identification, so.lambda);
     r.screened = true;
   }
   return r;
@@ -135,14 +138,21 @@ std::string CampaignSummary::BriefReport() const {
 }
 
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
-                                       const std::string& out_dir) {
+                                       const std::string& out_dir, bool overwrite) {
   ThrowIfInvalid(options.Validate(), "CampaignOptions");
   CampaignSummary s;
   s.out_dir = out_dir;
-  const internal::CampaignFiles files = internal::SimulateCampaignFiles(model, options, out_dir, &s.render_s);
+  // The whole campaign folder is written as a unit: an interrupted or failed run leaves no folder
+  // that looks complete. Every path recorded inside it is relative, so it survives the move.
+  StagedFolder staged(out_dir, overwrite, "--out");
+  const fs::path dir = staged.path();
+  const internal::CampaignFiles files = internal::SimulateCampaignFiles(model, options, dir.string(), &s.render_s);
   const auto& sim = files.sim;
   s.sets = static_cast<int>(sim.ball.rows.size());
-  const fs::path dir(out_dir);
+  if (files.cancelled) {
+    s.cancelled = true;
+    return s;  // the staged folder is removed
+  }
 
   // 1. Scan every set (as `ramtk scan --batch`), 2. join with the controller log (`ramtk measure`).
   auto t0 = std::chrono::steady_clock::now();
@@ -152,8 +162,16 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   so.match.max_depth_mm = 1000.0;
   ProgressCallback scan_progress;
   if (options.progress) scan_progress = [&](const Progress& p) { return options.progress({"scan", p.done, p.total}); };
-  const auto rows = vision::RunScanBatch(sets, so, (dir / "chain" / "scan").string(), options.jobs, false, scan_progress);
-  WriteFileAtomically((dir / "chain" / "scan" / "results.csv").string(), vision::ScanBatchCsv(rows));
+  const auto rows =
+      vision::RunScanBatch(sets, so, (dir / "chain" / "scan").string(), options.jobs, false, scan_progress);
+  for (const vision::ScanBatchRow& r : rows) {
+    if (r.status == "cancelled") {
+      s.cancelled = true;
+      return s;  // the staged folder is removed
+    }
+  }
+  WriteFileAtomically((dir / "chain" / "scan" / "results.csv").string(),
+                      vision::ScanBatchCsv(rows, (dir / "chain" / "scan").string()));
   s.scan_s = Seconds(t0);
   t0 = std::chrono::steady_clock::now();
   const std::string ball_path = (dir / "chain" / "ball.csv").string();
@@ -167,7 +185,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   s.centres = static_cast<int>(ball.rows.size());
   // The drift is measured pose by pose against the cold cycle, so a pose that lost its centre in
   // any cycle is dropped from both chains (and reported).
-  kinematics::RobotMeasurementSet truth_ball = kinematics::ReadRobotMeasurements((dir / "truth" / "ball_truth.csv").string());
+  kinematics::RobotMeasurementSet truth_ball =
+      kinematics::ReadRobotMeasurements((dir / "truth" / "ball_truth.csv").string());
   const std::vector<int> dropped = PosesMissingInSomeCycle(ball, sim.ball);
   if (!dropped.empty()) {
     ball = DropPoses(ball, dropped);
@@ -190,8 +209,7 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
 
   // 3.–5. The chain on the image centres and on the true centres.
   const std::string mon_path = (dir / "monitoring.csv").string();
-  const thermal::CycleSeries monitoring =
-      thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
+  const thermal::CycleSeries monitoring = thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
   const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm,
                                    options.screen_keep, sim.true_delta_x);
@@ -212,8 +230,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                             s.screening_elimination + img.screening.BriefReport() +
                             "\n\nParameter sets compared (form of thesis Table 5-2):\n" + s.screening_comparison);
   }
-  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration,
-                                img.calibration_summary, img.cold);
+  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration, img.calibration_summary,
+                                img.cold);
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
   thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
   s.chain_s = Seconds(t0);
@@ -233,8 +251,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                       s.rotation_sigma_arcsec});
   s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um,
                       s.translation_sigma_um});
-  s.budget.push_back({"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um,
-                      s.ball_sigma_um});
+  s.budget.push_back(
+      {"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um, s.ball_sigma_um});
 
   // Drift per parameter against the true drift relative to the cold cycle, warm cycles.
   const int cycles = static_cast<int>(img.delta_x.cols());
@@ -275,14 +293,16 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                       s.monitoring_compensated_truth_mm});
   for (int c = 1; c < monitoring.NumCycles(); ++c) {
     s.cycle_time_s.push_back(monitoring.cycles[c].time_s);
-    const auto col_rms = [](const Eigen::MatrixXd& m, int col) { return std::sqrt(m.col(col).squaredNorm() / m.rows()); };
+    const auto col_rms = [](const Eigen::MatrixXd& m, int col) {
+      return std::sqrt(m.col(col).squaredNorm() / m.rows());
+    };
     s.monitoring_before_mm.push_back(col_rms(img.before, c));
     s.monitoring_after_mm.push_back(col_rms(img.after, c));
     s.monitoring_after_truth_mm.push_back(col_rms(tru.after, c));
   }
   // What the vision stage adds to the monitoring residual, against what remains with perfect centres.
-  const double vision_part =
-      std::sqrt(std::max(0.0, std::pow(s.monitoring_compensated_mm, 2) - std::pow(s.monitoring_compensated_truth_mm, 2)));
+  const double vision_part = std::sqrt(
+      std::max(0.0, std::pow(s.monitoring_compensated_mm, 2) - std::pow(s.monitoring_compensated_truth_mm, 2)));
   s.dominant_stage = vision_part > s.monitoring_compensated_truth_mm
                          ? "vision (image-derived centres)"
                          : "robot repeatability, tool sensor and drift model (not the vision stage)";
@@ -293,6 +313,8 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
     std::vector<diagnose::Picture> pictures;
     diagnose::AddFigure(MonitoringFigure(s), dir.string(), &pictures);
   }
+  if (options.html_report) CampaignReport(s).Write((dir / "report.html").string());
+  staged.Commit();
   return s;
 }
 
@@ -365,8 +387,8 @@ report::HtmlReport CampaignReport(const CampaignSummary& s) {
                   {"centres found", std::to_string(s.centres)},
                   {"sets left out", std::to_string(s.left_out.size())},
                   {"dominant stage", s.dominant_stage},
-                  {"render / scan / chain (s)", f(s.render_s, "%.1f") + " / " + f(s.scan_s, "%.1f") + " / " +
-                                                    f(s.chain_s, "%.1f")}});
+                  {"render / scan / chain (s)",
+                   f(s.render_s, "%.1f") + " / " + f(s.scan_s, "%.1f") + " / " + f(s.chain_s, "%.1f")}});
   html.Section("Error budget, stage by stage");
   std::vector<std::vector<std::string>> rows;
   for (const StageError& e : s.budget)

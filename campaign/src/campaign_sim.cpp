@@ -2,13 +2,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <nlohmann/json.hpp>
 
 #include "campaign_internal.h"
 #include "ramtk/campaign/controller_log.h"
@@ -65,9 +64,6 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
   f.sim = thermal::SimulateThermal(model, to);
   f.out_dir = out_dir;
   std::error_code ec;
-  if (fs::exists(out_dir, ec) && !fs::is_empty(out_dir, ec)) {
-    throw InputError({out_dir, 0, "--out"}, "exists and is not empty");
-  }
   fs::create_directories(fs::path(out_dir) / "sets", ec);
   fs::create_directories(fs::path(out_dir) / "truth", ec);
   if (ec) throw InputError({out_dir, 0, "--out"}, "cannot create the folder: " + ec.message());
@@ -97,6 +93,10 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
   tbb::task_arena arena(o.jobs);
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, rows.size(), std::size_t{1}, [&](std::size_t i) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (cancelled) return;
+      }
       const auto& row = rows[i];
       const std::string dir = (fs::path(out_dir) / "sets" / SetName(row.cycle, row.index)).string();
       const vision::FringeSimulationConfig config =
@@ -113,12 +113,15 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
     });
   });
   *render_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  f.cancelled = cancelled;
+  if (cancelled) return f;
   WriteFileAtomically((fs::path(out_dir) / "controller_log.csv").string(), FormatControllerLog(log));
   WriteFileAtomically((fs::path(out_dir) / "batch.txt").string(), batch);
   kinematics::WriteRobotMeasurements(f.sim.monitoring, (fs::path(out_dir) / "monitoring.csv").string());
   kinematics::WriteRobotMeasurements(f.sim.ball, (fs::path(out_dir) / "truth" / "ball_truth.csv").string());
   thermal::WriteThermalSetup(f.sim.setup, (fs::path(out_dir) / "truth" / "setup.json").string());
-  WriteFileAtomically((fs::path(out_dir) / "truth" / "truth_params.csv").string(), thermal::TruthTrajectoriesCsv(f.sim));
+  WriteFileAtomically((fs::path(out_dir) / "truth" / "truth_params.csv").string(),
+                      thermal::TruthTrajectoriesCsv(f.sim));
   f.options = to;
   return f;
 }

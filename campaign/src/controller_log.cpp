@@ -50,8 +50,8 @@ ControllerLog ReadControllerLog(const std::string& path) {
     for (int i = 0; i < kinematics::kNumJoints; ++i) row.q_controller[i] = DegToRad(t.Number(r, q_col[i]));
     for (int c : extra_cols) row.extra[t.header[c]] = t.Number(r, c);
     if (!seen.insert({row.cycle, row.pose}).second) {
-      throw InputError({path, row.line, "cycle,pose"}, "cycle " + std::to_string(row.cycle) + " pose " +
-                                                           std::to_string(row.pose) + " is logged twice");
+      throw InputError({path, row.line, "cycle,pose"},
+                       "cycle " + std::to_string(row.cycle) + " pose " + std::to_string(row.pose) + " is logged twice");
     }
     log.rows.push_back(std::move(row));
   }

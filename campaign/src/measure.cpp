@@ -1,14 +1,13 @@
 // Joining scan centres with the controller log (measure.h).
 #include "ramtk/campaign/measure.h"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
@@ -31,10 +30,14 @@ std::string NormalPath(const std::string& p) {
 
 // A path written by the scan batch: as given (absolute, or relative to where the batch ran) when
 // it exists, otherwise relative to the results file's folder.
+// A relative path in results.csv is relative to the CSV's folder; results.csv files whose paths
+// are relative to where the batch ran (older runs) are still found.
 std::string ResolveBatchPath(const std::string& p, const fs::path& base) {
   std::error_code ec;
-  if (fs::path(p).is_absolute() || fs::exists(p, ec)) return p;
-  return (base / p).string();
+  if (fs::path(p).is_absolute()) return p;
+  const fs::path near = base / p;
+  if (fs::exists(near, ec) || !fs::exists(p, ec)) return near.string();
+  return p;
 }
 
 std::string SetId(const std::string& manifest) { return fs::path(manifest).parent_path().filename().string(); }
@@ -127,13 +130,14 @@ std::vector<CaptureCentre> ReadScanResults(const std::string& path) {
       header = cells;
       for (std::size_t i = 0; i < header.size(); ++i) col[header[i]] = static_cast<int>(i);
       for (const char* need : {"set", "status", "x_mm", "y_mm", "z_mm", "out_dir", "message"}) {
-        if (col.count(need) == 0) throw InputError({path, line_no, need}, "missing column (not a scan batch results.csv)");
+        if (col.count(need) == 0)
+          throw InputError({path, line_no, need}, "missing column (not a scan batch results.csv)");
       }
       continue;
     }
     if (cells.size() != header.size()) {
-      throw InputError({path, line_no, ""}, "expected " + std::to_string(header.size()) + " cells as in the header, got " +
-                                                std::to_string(cells.size()));
+      throw InputError({path, line_no, ""}, "expected " + std::to_string(header.size()) +
+                                                " cells as in the header, got " + std::to_string(cells.size()));
     }
     CaptureCentre c;
     c.line = line_no;
@@ -149,7 +153,8 @@ std::vector<CaptureCentre> ReadScanResults(const std::string& path) {
                          ParseDouble(cell(cells, "z_mm"), {path, line_no, "z_mm"}));
       std::string out_dir = cell(cells, "out_dir");
       if (!out_dir.empty()) out_dir = ResolveBatchPath(out_dir, base);
-      if (out_dir.empty() || !CovarianceFromSpheresJson((fs::path(out_dir) / "spheres.json").string(), &c.covariance_mm2)) {
+      if (out_dir.empty() ||
+          !CovarianceFromSpheresJson((fs::path(out_dir) / "spheres.json").string(), &c.covariance_mm2)) {
         for (const char* s : {"sigma_x_mm", "sigma_y_mm", "sigma_z_mm"}) {
           if (col.count(s) == 0) throw InputError({path, line_no, s}, "missing column and no spheres.json in out_dir");
         }
@@ -213,7 +218,8 @@ kinematics::RobotMeasurementSet JoinCentresWithLog(const std::vector<CaptureCent
       const bool is_path = id.find('/') != std::string::npos || fs::path(id).extension() == ".json";
       if (is_path) {
         const std::string p = NormalPath(fs::path(id).is_absolute() ? id : (log_dir / id).string());
-        by_path[fs::path(p).extension() == ".json" ? p : (fs::path(p) / "manifest.json").string()] = static_cast<int>(r);
+        by_path[fs::path(p).extension() == ".json" ? p : (fs::path(p) / "manifest.json").string()] =
+            static_cast<int>(r);
         by_path[p] = static_cast<int>(r);
       } else {
         by_name[id] = static_cast<int>(r);
@@ -266,7 +272,8 @@ kinematics::RobotMeasurementSet JoinCentresWithLog(const std::vector<CaptureCent
       }
       if (best_dt > options.time_tolerance_s) {
         char buf[200];
-        std::snprintf(buf, sizeof(buf), "no log row within %.3g s of the capture time %.3f s (nearest: line %d, %.3f s)",
+        std::snprintf(buf, sizeof(buf),
+                      "no log row within %.3g s of the capture time %.3f s (nearest: line %d, %.3f s)",
                       options.time_tolerance_s, c.time_s, log.rows[best].line, log.rows[best].time_s);
         no_match[i] = buf;
         continue;
@@ -286,7 +293,8 @@ kinematics::RobotMeasurementSet JoinCentresWithLog(const std::vector<CaptureCent
       if (c.has_sphere) {
         throw InputError({log.path, 0, by_id ? "set" : "time_s"}, "capture " + c.set + ": " + no_match[i]);
       }
-      s.left_out.push_back({c.set, -1, -1, c.status + (c.message.empty() ? "" : ": " + c.message) + "; " + no_match[i]});
+      s.left_out.push_back(
+          {c.set, -1, -1, c.status + (c.message.empty() ? "" : ": " + c.message) + "; " + no_match[i]});
       continue;
     }
     const ControllerLogRow& row = log.rows[match[i]];

@@ -1,10 +1,12 @@
 // The campaign twin end to end (images → centres → calibration → identification → compensation),
 // every stage scored against the simulators' truth.
+#include "ramtk/campaign/campaign.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "ramtk/campaign/campaign.h"
+#include "ramtk/campaign/measure.h"
 #include "ramtk/kinematics/robot_io.h"
 
 namespace ramtk::campaign {
@@ -68,7 +70,44 @@ TEST(CampaignTwin, SmallPresetRunsEndToEndAndEveryStageIsWithinItsNoise) {
   EXPECT_EQ(screened.label, "screened");
   EXPECT_GT(screened.lambda, traditional.lambda);
   EXPECT_LT(screened.rms_residual_mm, traditional.rms_residual_mm);
+
+  // The folder was written as a unit (no staging folder is left beside it) and records only
+  // relative paths: moved elsewhere, its results.csv still leads to every set's manifest (the
+  // capture time) and to every scan's spheres.json (the full covariance, not the CSV's diagonal).
+  for (const auto& entry : fs::directory_iterator(dir.parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().find(dir.filename().string() + ".partial-"), std::string::npos);
+  }
+  const fs::path moved = dir.string() + "_moved";
+  fs::remove_all(moved);
+  fs::rename(dir, moved);
+  const std::vector<CaptureCentre> centres = ReadScanResults((moved / "chain/scan/results.csv").string());
+  ASSERT_EQ(centres.size(), 32u);
+  for (const CaptureCentre& c : centres) {
+    EXPECT_TRUE(c.has_time) << c.set;
+    EXPECT_NE(c.covariance_mm2(0, 1), 0.0) << c.set;
+  }
+  fs::remove_all(moved);
+}
+
+// A progress callback that asks to stop leaves nothing behind: no output folder, no staging folder.
+TEST(CampaignTwin, CancelledRunLeavesNoFolder) {
+  const kinematics::RobotModel model =
+      kinematics::ReadRobotModel(std::string(RAMTK_DATASETS_DIR) + "/robots/kuka_kr150_r3100.yaml");
+  const fs::path dir = fs::temp_directory_path() / ("ramtk_campaign_cancel_" + std::to_string(::getpid()));
   fs::remove_all(dir);
+  CampaignOptions o;
+  o.cycles = 2;
+  o.ball_poses = 5;
+  o.jobs = 1;
+  int calls = 0;
+  o.progress = [&](const Progress&) { return ++calls < 2; };
+  const CampaignSummary s = SimulateAndRunCampaign(model, o, dir.string());
+  EXPECT_TRUE(s.cancelled);
+  EXPECT_LT(calls, 10);  // stopped rendering, did not scan
+  EXPECT_FALSE(fs::exists(dir));
+  for (const auto& entry : fs::directory_iterator(dir.parent_path())) {
+    EXPECT_EQ(entry.path().filename().string().find(dir.filename().string() + ".partial-"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -149,6 +149,23 @@ EOF
     same sim/manifest.json manifest.keep
     [ -d sim/left ] || fail "old result damaged"
     ;;
+  interrupted_campaign_leaves_no_folder)
+    # The campaign twin is staged as a whole: interrupted while it renders, nothing remains.
+    "$RAMTK" simulate campaign --robot "$KR150" --out camp --cycles 2 --poses 5 --jobs 1 -q >/dev/null 2>&1 &
+    pid=$!
+    for _ in $(seq 1 600); do
+      [ -d "$(ls -d camp.partial-*/sets 2>/dev/null | head -1)" ] && break
+      sleep 0.05
+    done
+    ls -d camp.partial-*/sets >/dev/null 2>&1 || fail "the staged folder never appeared"
+    sleep 0.2
+    kill -INT $pid
+    wait $pid
+    code=$?
+    [ "$code" = 130 ] || fail "exit $code after SIGINT, expected 130"
+    no_temporaries .
+    absent camp
+    ;;
   *)
     fail "unknown case"
     ;;

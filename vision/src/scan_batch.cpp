@@ -118,12 +118,21 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
   std::vector<ScanBatchRow> rows(sets.size());
   std::mutex mutex;
   std::size_t done = 0;
+  bool cancelled = false;
   tbb::task_arena arena(parallel_sets);
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, sets.size(), std::size_t{1}, [&](std::size_t i) {
       const auto t0 = std::chrono::steady_clock::now();
       ScanBatchRow& row = rows[i];
       row.set = sets[i];
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (cancelled) {
+          row.status = "cancelled";
+          row.message = "not scanned: the progress callback asked to stop";
+          return;
+        }
+      }
       char prefix[16];
       std::snprintf(prefix, sizeof prefix, "%03zu_", position[i]);
       const std::string name = fs::path(sets[i]).parent_path().filename().string();
@@ -153,17 +162,23 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
       row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(mutex);
       ++done;
-      if (progress) progress({"scan", done, sets.size()});
+      if (progress && !progress({"scan", done, sets.size()})) cancelled = true;
     });
   });
   return rows;
 }
 
-std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows) {
+std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows, const std::string& relative_to) {
   std::vector<std::vector<std::string>> cells;
   auto number = [](double v) { return FormatSignificant(v, 10); };
+  auto path = [&](const std::string& p) {
+    if (relative_to.empty() || p.empty()) return p;
+    std::error_code ec;
+    const fs::path rel = fs::relative(fs::absolute(p, ec), fs::absolute(relative_to, ec), ec);
+    return ec || rel.empty() ? p : rel.generic_string();
+  };
   for (const ScanBatchRow& r : rows) {
-    std::vector<std::string> row = {r.set, r.status, std::to_string(r.points)};
+    std::vector<std::string> row = {path(r.set), r.status, std::to_string(r.points)};
     if (r.has_sphere) {
       const Eigen::Vector3d sig = r.sphere.CentreSigma();
       for (double v : {r.sphere.centre_mm.x(), r.sphere.centre_mm.y(), r.sphere.centre_mm.z(), r.sphere.radius_mm,
@@ -174,7 +189,7 @@ std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows) {
     } else {
       row.resize(row.size() + 10);
     }
-    for (const std::string& cell : {number(r.seconds), r.out_dir, r.message}) row.push_back(cell);
+    for (const std::string& cell : {number(r.seconds), path(r.out_dir), r.message}) row.push_back(cell);
     cells.push_back(std::move(row));
   }
   return FormatCsv({"set", "status", "points", "x_mm", "y_mm", "z_mm", "radius_mm", "sigma_x_mm", "sigma_y_mm",

@@ -40,6 +40,7 @@ struct CampaignOptions {
   // Parameter screening (thesis §3.2, Tables 5-1/5-2) on the image-derived centres, as
   // `ramtk thermal screen`: the count kept (thesis: 8); 0 = chosen by held-out error; -1 = skip.
   int screen_keep = 8;
+  bool html_report = false;       // also write report.html (CampaignReport) into the folder
   ProgressCallback progress;      // "render" and "scan" stages, per set
   std::string Validate() const;
 };
@@ -58,6 +59,9 @@ struct StageError {
 
 struct CampaignSummary {
   std::string out_dir;
+  // The progress callback asked to stop: nothing was written (out_dir is as before) and the
+  // figures below are not filled in.
+  bool cancelled = false;
   int sets = 0, centres = 0;         // image sets rendered; centres found
   std::vector<std::string> left_out; // sets without a centre
   std::vector<int> dropped_poses;    // poses without a centre in some cycle, left out of both chains
@@ -95,13 +99,16 @@ struct CampaignSummary {
   std::string BriefReport() const;
 };
 
-// Simulates the campaign into out_dir (must not exist or be empty): sets/cCCC_pPP/ fringe sets
-// (manifests with capture_time_s), batch.txt, controller_log.csv, monitoring.csv, truth/
-// (setup.json, truth_params.csv, ball_truth.csv). Then runs the chain from those files into
-// out_dir/chain/ (scan/, ball.csv, calibration.json) and writes out_dir/budget.json and
-// budget.md. InputError on bad options.
+// Simulates the campaign into out_dir: sets/cCCC_pPP/ fringe sets (manifests with
+// capture_time_s), batch.txt, controller_log.csv, monitoring.csv, truth/ (setup.json,
+// truth_params.csv, ball_truth.csv). Then runs the chain from those files into out_dir/chain/
+// (scan/, ball.csv, calibration.json) and writes out_dir/budget.json and budget.md (and
+// report.html). The folder is written as a unit (StagedFolder): out_dir appears only when
+// complete; an existing non-empty out_dir needs `overwrite` and is replaced only then. The paths
+// recorded inside (batch.txt, chain/scan/results.csv) are relative, so the folder can be moved.
+// InputError on bad options or a bad out_dir.
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
-                                       const std::string& out_dir);
+                                       const std::string& out_dir, bool overwrite = false);
 
 // The monitoring error per cycle (the PNG monitoring_error.png and the report's figure).
 report::Figure MonitoringFigure(const CampaignSummary& summary);

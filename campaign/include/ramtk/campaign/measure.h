@@ -36,9 +36,8 @@ struct CaptureCentre {
 std::vector<CaptureCentre> CentresFromScanBatch(const std::vector<vision::ScanBatchRow>& rows);
 
 // Centres from a batch's results.csv (`ramtk scan --batch` output; relative `set` and `out_dir`
-// paths are taken as written when they exist, otherwise against results.csv's folder): the full
-// covariance is read
-// from each set's spheres.json in its out_dir (the CSV's sigma columns when that file is
+// paths are taken against results.csv's folder, or as written when only that exists): the full
+// covariance is read from each set's spheres.json in its out_dir (the CSV's sigma columns when that file is
 // missing, as a diagonal covariance — logged as a warning). InputError names results.csv, the line
 // and the field of anything malformed.
 std::vector<CaptureCentre> ReadScanResults(const std::string& results_csv);

@@ -42,7 +42,8 @@ std::vector<std::string> ReadScanBatchList(const std::string& path);
 // Scans the sets, at most `parallel_sets` at a time, writing each into out_dir/NNN_<name>/ (NNN
 // = the set's position in `sets`, name = the manifest's folder name). `positions` (0-based, into
 // `sets`) restricts the run to those sets (a shard); empty: all. Bad input in one set is recorded
-// in its row; the others go on. `progress` is called (serialised) after each set.
+// in its row; the others go on. `progress` is called (serialised) after each set; once it returns
+// false the sets not yet started are skipped, their rows with status "cancelled".
 std::vector<ScanBatchRow> RunScanBatch(const std::vector<std::string>& sets, const ScanOptions& options,
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
                                        const ProgressCallback& progress = {},
@@ -76,7 +77,9 @@ std::vector<std::string> FindShardResults(const std::string& folder);
 std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files);
 
 // CSV text: header `set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,
-// rms_mm,num_points,num_outliers,seconds,out_dir,message` and one row per set.
-std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows);
+// rms_mm,num_points,num_outliers,seconds,out_dir,message` and one row per set. With
+// `relative_to` (the folder the CSV goes into) the `set` and `out_dir` paths are written relative
+// to it, so the CSV and what it names can be moved together; otherwise as in the rows.
+std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows, const std::string& relative_to = "");
 
 }  // namespace ramtk::vision
