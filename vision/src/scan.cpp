@@ -150,7 +150,9 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     for (const SphereResult& r : sum.spheres.spheres) {
       std::ostringstream reason;
       reason.precision(4);
-      if (r.variance_factor > options.max_sphere_variance_factor) {
+      if (!(r.radius_mm > 0 && r.centre_mm.allFinite() && r.centre_covariance_mm2.allFinite())) {
+        reason << "rejected a sphere candidate: its fit is not finite (radius " << r.radius_mm << " mm)";
+      } else if (!(r.variance_factor <= options.max_sphere_variance_factor)) {
         reason << "rejected a sphere candidate (radius " << r.radius_mm << " mm): surface RMS " << r.rms_mm * 1000
                << " um is " << std::sqrt(r.variance_factor) << "x the points' predicted noise (variance factor "
                << r.variance_factor << " > " << options.max_sphere_variance_factor << ")";

@@ -17,6 +17,7 @@ namespace ramtk::vision {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+inline double Sq(double x) { return x * x; }
 
 // One direction of matching: every valid pixel of camera `src` is searched for in camera `dst`.
 struct Pass {
@@ -57,9 +58,9 @@ struct Pass {
   cv::Mat back_u, back_v, back_sigma;
   double lr_tolerance = 0;
   double lr_sigma_factor = 0;
-  double max_log_modulation_ratio = 1e300;  // |log(B_dst / B_src)| above this: not the same surface point
-  bool full_search = false;                 // StereoMatchOptions::full_search
-  bool keep_tangent = true;                 // fill PassResult::tu, tv (the back pass does not need them)
+  double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
+  bool full_search = false;             // StereoMatchOptions::full_search
+  bool keep_tangent = true;             // fill PassResult::tu, tv (the back pass does not need them)
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -226,6 +227,9 @@ struct Matcher {
   struct Root {
     double w = 0, slope = 0;
     Sample at;
+    // Velocity of the destination pixel per unit w near the root (LocalSearch: at its start, a
+    // pixel or so away, which changes the speed by < 1e-4 relative); NaN: not known.
+    Vec2 vel = Vec2::Constant(std::numeric_limits<double>::quiet_NaN());
   };
   // Regula falsi (Illinois) on the bilinear surface between two samples of opposite sign. It stops
   // at 1e-6 of a period in coordinate or a 1e-3 px bracket: the match sigma is ~0.05 px, and a
@@ -262,36 +266,129 @@ struct Matcher {
     return true;
   }
 
-  // Newton jump from a neighbour's inverse depth, then a short walk to bracket the crossing.
-  bool LocalSearch(double w0, Root* root) const {
-    const double h = p.step_px / std::max(1e-12, Speed(w0));
-    Sample s0 = Eval(w0);
-    if (!s0.ok) return false;
-    Sample s1 = Eval(w0 + h);
-    double hh = h;
-    if (!s1.ok) {
-      hh = -h;
-      s1 = Eval(w0 - h);
-      if (!s1.ok) return false;
-    }
-    const double g = (s1.f - s0.f) / hh;
-    if (g == 0 || !std::isfinite(g)) return false;
-    double w = w0 - s0.f / g;
-    if (std::abs(w - w0) > 16 * h || w < w_lo || w > w_hi) return false;
-    Sample sw = Eval(w);
-    if (!sw.ok) return false;
-    if (sw.f == 0) return Refine(w, sw, w, sw, root);
-    const double dir = (sw.f * g > 0) ? -1.0 : 1.0;
-    const double step = 0.5 * h * dir;
-    for (int k = 0; k < 6; ++k) {
-      const double wn = w + step;
-      const Sample sn = Eval(wn);
-      if (!sn.ok) return false;
-      if ((sn.f > 0) != (sw.f > 0) || sn.f == 0) return Refine(w, sw, wn, sn, root);
-      w = wn;
-      sw = sn;
+  // Destination pixel and its velocity per unit w (PixelVelocity) at w, sharing the projection.
+  bool PixelAndVelocity(double w, Vec2* pix, Vec2* vel) const {
+    const Vec3 q = a + p.T * w;
+    if (q.z() <= 1e-12) return false;
+    const double iz = 1.0 / q.z();
+    const Vec2 ideal(q.x() * iz, q.y() * iz);
+    const Vec2 d = DistortNormalized(p.dst->distortion, ideal);
+    *pix = Vec2(p.dst->fx * d.x() + p.dst->cx, p.dst->fy * d.y() + p.dst->cy);
+    const Vec2 dideal((p.T.x() * a.z() - a.x() * p.T.z()) * iz * iz, (p.T.y() * a.z() - a.y() * p.T.z()) * iz * iz);
+    const Vec2 dd = DistortNormalizedJacobian(p.dst->distortion, ideal) * dideal;
+    *vel = Vec2(p.dst->fx * dd.x(), p.dst->fy * dd.y());
+    return true;
+  }
+
+  // The crossing of the bilinear surface along the line pix + vel * s (s in units of w) nearest
+  // to s = 0 on the side where |f| falls, at most max_px pixels away. Within one cell the
+  // bilinear interpolant is quadratic in s, so each cell's crossing is solved in closed form and
+  // the cells are walked in order. False if the line leaves the image, meets a cell with an
+  // invalid corner or a wrap (span > max_span), or no crossing lies within reach.
+  bool LineCrossing(const Vec2& pix, const Vec2& vel, double max_px, double* s_root, double* dfds) const {
+    const int cols = p.dst_coord.cols, rows = p.dst_coord.rows;
+    int u0 = static_cast<int>(std::floor(pix.x())), v0 = static_cast<int>(std::floor(pix.y()));
+    const double speed = vel.norm();
+    if (!(speed > 0)) return false;
+    const double s_max = max_px / speed;
+    double dir = 0;  // +1 or -1: the direction of s in which |f| falls (from the first cell)
+    double s_in = 0;
+    for (int cells = 0; cells < 64; ++cells) {
+      if (u0 < 0 || v0 < 0 || u0 + 1 >= cols || v0 + 1 >= rows) return false;
+      const float* r0 = p.dst_coord.ptr<float>(v0);
+      const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
+      const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
+      if (!(std::isfinite(c00) && std::isfinite(c10) && std::isfinite(c01) && std::isfinite(c11))) return false;
+      if (std::max({c00, c10, c01, c11}) - std::min({c00, c10, c01, c11}) > p.max_span) return false;
+      // f(s) = A + B s + C s^2 on this cell (fu = au + vel.x s, fv = av + vel.y s).
+      const double au = pix.x() - u0, av = pix.y() - v0;
+      const double ka = c10 - c00, kb = c01 - c00, kc = c11 - c10 - c01 + c00;
+      const double A = c00 - c_src + ka * au + kb * av + kc * au * av;
+      const double B = ka * vel.x() + kb * vel.y() + kc * (au * vel.y() + av * vel.x());
+      const double C = kc * vel.x() * vel.y();
+      if (dir == 0) {
+        const double f0 = A + B * s_in + C * s_in * s_in, g0 = B + 2 * C * s_in;
+        if (f0 == 0) {
+          *s_root = s_in;
+          *dfds = g0;
+          return g0 != 0;
+        }
+        if (g0 == 0 || !std::isfinite(g0)) return false;
+        dir = (f0 * g0 > 0) ? -1.0 : 1.0;
+      }
+      // Where the line leaves the cell, going in direction dir.
+      const double dx = dir * vel.x(), dy = dir * vel.y();
+      const double tx = dx > 0 ? (u0 + 1 - pix.x()) / dx : dx < 0 ? (u0 - pix.x()) / dx : 1e300;
+      const double ty = dy > 0 ? (v0 + 1 - pix.y()) / dy : dy < 0 ? (v0 - pix.y()) / dy : 1e300;
+      const double t_out = std::min({tx, ty, s_max});  // |s| at the exit
+      const double lo = std::min(dir * s_in, dir * t_out), hi = std::max(dir * s_in, dir * t_out);
+      // Roots of A + B s + C s^2 (stable form), the first one met going in direction dir.
+      double best = std::numeric_limits<double>::quiet_NaN();
+      const double disc = B * B - 4 * A * C;
+      if (disc >= 0) {
+        const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+        for (const double r : {q != 0 ? A / q : std::numeric_limits<double>::quiet_NaN(),
+                               C != 0 ? q / C : std::numeric_limits<double>::quiet_NaN()}) {
+          if (r >= lo - 1e-12 * (std::abs(lo) + 1e-300) && r <= hi + 1e-12 * (std::abs(hi) + 1e-300) &&
+              (std::isnan(best) || dir * r < dir * best))
+            best = r;
+        }
+      }
+      if (!std::isnan(best)) {
+        *s_root = best;
+        *dfds = B + 2 * C * best;
+        return *dfds != 0;
+      }
+      if (t_out >= s_max) return false;
+      s_in = dir * t_out;
+      if (tx <= ty) u0 += dx > 0 ? 1 : -1;
+      if (ty <= tx) v0 += dy > 0 ? 1 : -1;
     }
     return false;
+  }
+
+  // The crossing near a neighbour's inverse depth w0: the curve is replaced by its tangent line
+  // at w0 in the destination image and the crossing on the line is solved (LineCrossing). The
+  // curve's own pixel there is then computed; if it is within 1e-4 px of the line's point (as a
+  // rule: the curve bends by far less over the few pixels between neighbours) that is the
+  // crossing, otherwise the line through the curve's pixel is solved again. The slope for the
+  // match sigma is the secant of the surface over step_px / 4 on each side of the crossing along
+  // the tangent (the bracket of a walk with step step_px / 2 spans as much), or the derivative
+  // where those samples are not valid or the secant is flat or reversed (noise).
+  bool LocalSearch(double w0, Root* root) const {
+    Vec2 pix, vel;
+    if (!PixelAndVelocity(w0, &pix, &vel)) return false;
+    double w = w0, s = 0, dfds = 0;
+    if (!LineCrossing(pix, vel, 16.0 * p.step_px, &s, &dfds)) return false;
+    const double speed = vel.norm();
+    bool done = false;
+    for (int round = 0; round < 4 && !done; ++round) {
+      w += s;
+      Vec2 on_curve;
+      if (!Pixel(w, &on_curve)) return false;
+      const Vec2 on_line = pix + vel * s;
+      pix = on_curve;
+      s = 0;
+      if ((on_curve - on_line).squaredNorm() < 1e-8) {
+        done = true;
+        break;
+      }
+      if (!LineCrossing(pix, vel, 4.0, &s, &dfds)) return false;
+      done = std::abs(s) * speed < 1e-4;
+      if (done) w += s;
+    }
+    if (!done || w < w_lo || w > w_hi) return false;
+    const Vec2 at = pix + vel * s;
+    root->w = w;
+    root->at = EvalAt(at);
+    if (!root->at.ok) return false;
+    const double hs = 0.25 * p.step_px / vel.norm();
+    const Sample sa = EvalAt(at - vel * hs), sb = EvalAt(at + vel * hs);
+    const double secant = (sa.ok && sb.ok && std::abs(sb.f - sa.f) <= p.max_span) ? (sb.f - sa.f) / (2 * hs) : 0.0;
+    root->slope = secant * dfds > 0 ? secant : dfds;  // a flat or reversed secant (noise): the derivative
+    root->vel = vel;
+    Complete(&root->at);
+    return true;
   }
 
   // Every crossing over the whole inverse-depth range, in order of w.
@@ -399,8 +496,8 @@ struct Matcher {
   // cameras), and the destination position's own match back in the source image lands on the
   // source pixel (left-right consistency).
   bool Accept(const Root& r, double b_src, double su, double sv) const {
-    if (std::abs(std::log(std::max(1e-6, r.at.modulation) / std::max(1e-6, b_src))) > p.max_log_modulation_ratio)
-      return false;
+    const double ratio = std::max(1e-6, r.at.modulation) / std::max(1e-6, b_src);
+    if (ratio > p.max_modulation_ratio || ratio * p.max_modulation_ratio < 1.0) return false;
     return Consistent(r.at.pix, su, sv);
   }
   bool Consistent(const Vec2& dst_pix, double su, double sv) const {
@@ -427,13 +524,13 @@ struct Matcher {
       for (int k = 0; k < 4; ++k) {
         mu += wts[k] * bu[k];
         mv += wts[k] * bv[k];
-        spread = std::max(spread, std::hypot(bu[k] - bu[0], bv[k] - bv[0]));
+        spread = std::max(spread, Sq(bu[k] - bu[0]) + Sq(bv[k] - bv[0]));  // squared
       }
-      if (spread < 4.0) return std::hypot(mu - su, mv - sv) <= tolerance;
+      if (spread < 16.0) return Sq(mu - su) + Sq(mv - sv) <= tolerance * tolerance;
     }
     const int k = (fu < 0.5 ? 0 : 1) + (fv < 0.5 ? 0 : 2);
     if (!std::isfinite(bu[k])) return false;
-    return std::hypot(bu[k] - su, bv[k] - sv) <= tolerance + 1.0;
+    return Sq(bu[k] - su) + Sq(bv[k] - sv) <= Sq(tolerance + 1.0);
   }
 };
 
@@ -470,7 +567,8 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         std::fill(w_row.begin(), w_row.end(), kNaN);
         Matcher m{p};
         double w_prev = std::numeric_limits<double>::quiet_NaN();
-        Vec2 ideal_prev(kNaN, kNaN);
+        Vec2 ideal_prev(kNaN, kNaN), ideal_prev2(kNaN, kNaN);
+        int x_prev = -10, x_prev2 = -10;
         long noisy = 0, no_match = 0, lr = 0, full = 0, matched = 0, valid = 0;
         const float* crow = p.src_coord.ptr<float>(y);
         const float* srow = p.src_sigma.ptr<float>(y);
@@ -486,11 +584,17 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
             w_prev = std::numeric_limits<double>::quiet_NaN();
             continue;
           }
+          // The source ray: undistorted from the previous pixels' solutions, extrapolated
+          // linearly along the row when the two before were solved (one Gauss-Newton round less).
           const Vec2 distorted((x - p.src->cx) / p.src->fx, (y - p.src->cy) / p.src->fy);
-          const Vec2 ideal = std::isfinite(ideal_prev.x())
-                                 ? UndistortNormalized(p.src->distortion, distorted, ideal_prev)
-                                 : UndistortNormalized(p.src->distortion, distorted);
+          const Vec2 seed = x_prev == x - 1 && x_prev2 == x - 2 ? Vec2(2.0 * ideal_prev - ideal_prev2)
+                            : std::isfinite(ideal_prev.x())     ? ideal_prev
+                                                                : distorted;
+          const Vec2 ideal = UndistortNormalized(p.src->distortion, distorted, seed);
+          ideal_prev2 = ideal_prev;
+          x_prev2 = x_prev;
           ideal_prev = ideal;
+          x_prev = x;
           m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
           m.c_src = crow[x];
           m.SetRange();
@@ -533,7 +637,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           w_row[x] = root.w;
           // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
           const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
-          const Vec2 d = m.PixelVelocity(root.w);
+          const Vec2 d = std::isfinite(root.vel.x()) ? root.vel : m.PixelVelocity(root.w);
           const double speed = d.norm();
           out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
           out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
@@ -688,7 +792,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
       p.jump.assign(g.begin() + 2, g.end());
     }
     p.full_search = options.full_search;
-    p.max_log_modulation_ratio = std::log(options.max_modulation_ratio);
+    p.max_modulation_ratio = options.max_modulation_ratio;
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
     // depth range is taken in its own frame, a close approximation for a rig whose cameras
     // face the same way.
