@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -97,7 +98,8 @@ cv::Mat ReadBmp(std::FILE* file, std::string* error) {
       return {};
     }
     for (long long i = 0; i < entries; ++i)
-      for (int c = 0; c < 3; ++c) palette[static_cast<std::size_t>(i * 3 + c)] = raw[static_cast<std::size_t>(i * palette_entry + c)];
+      for (int c = 0; c < 3; ++c)
+        palette[static_cast<std::size_t>(i * 3 + c)] = raw[static_cast<std::size_t>(i * palette_entry + c)];
     for (int i = 0; i < 256 && grey; ++i)
       grey = palette[i * 3] == palette[i * 3 + 1] && palette[i * 3] == palette[i * 3 + 2];
   }
@@ -105,9 +107,30 @@ cv::Mat ReadBmp(std::FILE* file, std::string* error) {
   for (int i = 0; i < 256 && identity; ++i) identity = palette[static_cast<std::size_t>(i) * 3] == i;
   const int channels = bpp == 8 && grey ? 1 : 3;
   cv::Mat out(static_cast<int>(height), static_cast<int>(width), CV_8UC(channels));
-  // The whole pixel block in one read (a camera frame is 1-10 MB), then row by row into place.
-  std::vector<unsigned char> block(static_cast<std::size_t>(stride * height));
-  if (!ReadAt(file, pixel_offset, block.data(), block.size())) {
+  // A grey frame whose rows need no padding or palette (the usual camera frame) is read straight
+  // into the image and, stored bottom-up, its rows swapped in place: no second buffer to fault
+  // in, clear and copy (8 MB per thesis frame).
+  if (identity && stride == width) {
+    if (!ReadAt(file, pixel_offset, out.data, static_cast<std::size_t>(stride * height))) {
+      *error = "BMP pixel data truncated";
+      return {};
+    }
+    if (!top_down) {
+      std::vector<unsigned char> tmp(static_cast<std::size_t>(width));
+      for (long long r = 0; r < height / 2; ++r) {
+        unsigned char* a = out.ptr<unsigned char>(static_cast<int>(r));
+        unsigned char* b = out.ptr<unsigned char>(static_cast<int>(height - 1 - r));
+        std::memcpy(tmp.data(), a, tmp.size());
+        std::memcpy(a, b, tmp.size());
+        std::memcpy(b, tmp.data(), tmp.size());
+      }
+    }
+    return out;
+  }
+  // Otherwise the whole pixel block in one read (not cleared first), then row by row into place.
+  const std::unique_ptr<unsigned char[]> block_buffer(new unsigned char[static_cast<std::size_t>(stride * height)]);
+  unsigned char* const block = block_buffer.get();
+  if (!ReadAt(file, pixel_offset, block, static_cast<std::size_t>(stride * height))) {
     *error = "BMP pixel data truncated";
     return {};
   }

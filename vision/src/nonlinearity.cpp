@@ -217,7 +217,9 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   double r2 = 0;
   for (int m = 0; m < options.orders; ++m) r2 += est.sin_rad[m] * est.sin_rad[m] + est.cos_rad[m] * est.cos_rad[m];
   est.ripple_rms_rad = std::sqrt(r2 / 2);
-  est.equivalent_gamma = EquivalentGamma(est.sin_rad[0], steps);
+  // Only a significant ripple has a gamma worth naming (and the search costs ~30 ms once per N).
+  est.equivalent_gamma =
+      est.applied ? EquivalentGamma(est.sin_rad[0], steps) : std::numeric_limits<double>::quiet_NaN();
   return est;
 }
 

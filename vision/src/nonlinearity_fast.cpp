@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "nonlinearity_internal.h"
@@ -270,7 +271,9 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   double r2 = 0;
   for (int o = 0; o < options.orders; ++o) r2 += est.sin_rad[o] * est.sin_rad[o] + est.cos_rad[o] * est.cos_rad[o];
   est.ripple_rms_rad = std::sqrt(r2 / 2);
-  est.equivalent_gamma = EquivalentGamma(est.sin_rad[0], steps);
+  // Only a significant ripple has a gamma worth naming (and the search costs ~30 ms once per N).
+  est.equivalent_gamma =
+      est.applied ? EquivalentGamma(est.sin_rad[0], steps) : std::numeric_limits<double>::quiet_NaN();
   return est;
 }
 

@@ -289,6 +289,9 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
   // the point here); the radius gate stays, so a backdrop is not taken for the ball.
   o.decode.correct_nonlinearity = false;
   o.max_sphere_variance_factor = std::numeric_limits<double>::max();
+  // No left-right check (it is a second, right-to-left match pass): a wrong crossing left in the
+  // coarse cloud is an outlier to the sphere search, which the windowed pass then checks.
+  o.match.lr_tolerance_px = 0;
   // The coarse ball has ~1/stride^2 of the points; a few dozen fix its centre to ~0.1 mm.
   o.sphere.min_points = std::min(o.sphere.min_points, 50);
   const ScanResult r =

@@ -48,7 +48,9 @@ struct NonlinearityEstimate {
   double ripple_rms_rad = 0;           // RMS of the fitted ripple sum_m (s_m, c_m)
   double residual_rms_before_rad = 0;  // RMS of the high-passed phase before correction
   double residual_rms_after_rad = 0;   // ... and after
-  double equivalent_gamma = 1;         // power-law gamma giving the same s_1 (NaN if out of range)
+  // Power-law gamma giving the same s_1; NaN if out of range or the ripple was not significant
+  // (not applied): a gamma fitted to noise would mislead.
+  double equivalent_gamma = 1;
   int window_px = 0;                   // window used
   long pixels_used = 0;                // pixels in the final fit
   int passes = 0;                      // passes run
