@@ -315,6 +315,31 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
 
 namespace {
 
+// The options for a windowed pass: the match's depth ranges (left and right camera frames)
+// narrowed to the spheres' depth +- (radius + margin_mm + depth_margin_mm), inside the match's
+// own range. Unchanged without spheres, with depth_margin_mm < 0, or if the window would be empty.
+ScanOptions WithDepthWindow(const ScanOptions& options, const StereoCalibration& calibration,
+                            const std::vector<Sphere>& spheres) {
+  ScanOptions o = options;
+  if (spheres.empty() || options.roi.depth_margin_mm < 0) return o;
+  double l0 = 1e300, l1 = -1e300, r0 = 1e300, r1 = -1e300;
+  for (const Sphere& s : spheres) {
+    const double reach = s.radius + options.roi.margin_mm + options.roi.depth_margin_mm;
+    const double zl = s.centre_in_left.z(), zr = (calibration.right_from_left * s.centre_in_left).z();
+    l0 = std::min(l0, zl - reach), l1 = std::max(l1, zl + reach);
+    r0 = std::min(r0, zr - reach), r1 = std::max(r1, zr + reach);
+  }
+  l0 = std::max(l0, options.match.min_depth_mm), l1 = std::min(l1, options.match.max_depth_mm);
+  if (!(l0 > 0 && l1 > l0 && r0 > 0 && r1 > r0)) return o;
+  o.match.min_depth_mm = l0, o.match.max_depth_mm = l1;
+  if (options.match.right_max_depth_mm > 0) {
+    r0 = std::max(r0, options.match.right_min_depth_mm), r1 = std::min(r1, options.match.right_max_depth_mm);
+    if (!(r1 > r0)) return options;
+  }
+  o.match.right_min_depth_mm = r0, o.match.right_max_depth_mm = r1;
+  return o;
+}
+
 // ScanFrames on frames it may drop once they are no longer needed (ScanWindowsOfFrames).
 ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration,
                                std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames, double full_scale,
@@ -332,6 +357,7 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
   const ScanWindows full = FullFrameWindows(calibration);
   ScanWindows windows = full;
   std::string source = "full", fallback_why;
+  std::vector<Sphere> around;  // the spheres the windows are built around
   auto t0 = std::chrono::steady_clock::now();
   if (roi.mode == ScanRoiOptions::Mode::kAuto) {
     constexpr int kCoarseWidth = 350;
@@ -347,7 +373,10 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
       if (!found.empty() || s / 2 < 2) break;
       RAMTK_LOG(kInfo) << "scan --roi auto: " << fallback_why << "; trying stride " << s / 2;
     }
-    if (!found.empty()) windows = WindowsAroundSpheres(calibration, found, roi.margin_mm, roi.margin_px);
+    if (!found.empty()) {
+      windows = WindowsAroundSpheres(calibration, found, roi.margin_mm, roi.margin_px);
+      around = found;
+    }
   } else if (roi.mode == ScanRoiOptions::Mode::kPredicted) {
     source = "predicted";
     std::vector<Sphere> predicted;
@@ -358,8 +387,10 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
       predicted.push_back(s);
     }
     windows = WindowsAroundSpheres(calibration, predicted, roi.margin_mm, roi.margin_px);
+    around = predicted;
   }
   const double roi_s = Seconds(t0);
+  const ScanOptions windowed_options = WithDepthWindow(options, calibration, around);
   if (!fallback_why.empty() && !roi.fall_back_to_full) {
     ScanResult r;
     r.summary.termination = Termination::kNoResult;
@@ -375,10 +406,11 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
   const bool windowed = !(windows.left == full.left && windows.right == full.right);
   // The frames are needed again only for a fall-back to the full frame.
   const bool last_use = !windowed || !roi.fall_back_to_full;
+  const ScanOptions& pass_options = windowed ? windowed_options : options;
   ScanResult result = last_use ? ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames),
-                                                     full_scale, windows, options, calibration_path)
+                                                     full_scale, windows, pass_options, calibration_path)
                                : ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows,
-                                                     options, calibration_path);
+                                                     pass_options, calibration_path);
   if (windowed && result.summary.termination == Termination::kNoResult && roi.fall_back_to_full) {
     fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
                                                               ? std::string()

@@ -1,8 +1,11 @@
 // Windows around the ball for a scan (scan_roi.h).
 #include "ramtk/vision/scan_roi.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 
@@ -61,6 +64,7 @@ std::string ScanRoiOptions::Validate() const {
   if (coarse_stride < 0 || coarse_stride > 64) return "roi.coarse_stride: must be 0 (automatic) or 1..64";
   if (!(margin_mm >= 0 && margin_mm <= 1000)) return "roi.margin_mm: must be in [0, 1000] mm";
   if (margin_px < 0 || margin_px > 10000) return "roi.margin_px: must be in [0, 10000] px";
+  if (!(depth_margin_mm <= 10000)) return "roi.depth_margin_mm: must be <= 10000 mm (< 0: the whole range)";
   return "";
 }
 
@@ -118,19 +122,37 @@ StereoCalibration SubsampleCalibration(const StereoCalibration& calibration, int
   return c;
 }
 
+namespace {
+template <typename T>
+void SubsampleInto(const cv::Mat& f, int stride, cv::Mat* s) {
+  for (int y = 0; y < s->rows; ++y) {
+    const T* src = f.ptr<T>(y * stride);
+    T* dst = s->ptr<T>(y);
+    for (int x = 0; x < s->cols; ++x) dst[x] = src[x * stride];
+  }
+}
+}  // namespace
+
 std::vector<cv::Mat> SubsampleFrames(const std::vector<cv::Mat>& frames, int stride) {
-  std::vector<cv::Mat> out;
-  out.reserve(frames.size());
-  for (const cv::Mat& f : frames) {
+  std::vector<cv::Mat> out(frames.size());
+  // One frame per task (a thesis set: 38 frames of 8 MB, every stride-th row read).
+  tbb::parallel_for(std::size_t{0}, frames.size(), [&](std::size_t i) {
+    const cv::Mat& f = frames[i];
     cv::Mat s((f.rows + stride - 1) / stride, (f.cols + stride - 1) / stride, f.type());
     const std::size_t elem = f.elemSize();
-    for (int y = 0; y < s.rows; ++y) {
-      const uchar* src = f.ptr<uchar>(y * stride);
-      uchar* dst = s.ptr<uchar>(y);
-      for (int x = 0; x < s.cols; ++x) std::copy_n(src + elem * x * stride, elem, dst + elem * x);
+    if (elem == 1) {
+      SubsampleInto<std::uint8_t>(f, stride, &s);
+    } else if (elem == 2) {
+      SubsampleInto<std::uint16_t>(f, stride, &s);
+    } else {
+      for (int y = 0; y < s.rows; ++y) {
+        const uchar* src = f.ptr<uchar>(y * stride);
+        uchar* dst = s.ptr<uchar>(y);
+        for (int x = 0; x < s.cols; ++x) std::copy_n(src + elem * x * stride, elem, dst + elem * x);
+      }
     }
-    out.push_back(s);
-  }
+    out[i] = s;
+  });
   return out;
 }
 

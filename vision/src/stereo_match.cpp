@@ -674,6 +674,9 @@ void CheckSize(const CameraIntrinsics& cam, const DecodedCamera& d, const std::s
 std::string StereoMatchOptions::Validate() const {
   if (!(min_depth_mm > 0)) return "min_depth_mm: must be > 0";
   if (!(max_depth_mm > min_depth_mm)) return "max_depth_mm: must be > min_depth_mm";
+  if (!(right_min_depth_mm == 0 && right_max_depth_mm == 0) &&
+      !(right_min_depth_mm > 0 && right_max_depth_mm > right_min_depth_mm))
+    return "right_min_depth_mm, right_max_depth_mm: both 0, or 0 < min < max";
   if (!std::isfinite(lr_tolerance_px)) return "lr_tolerance_px: must be finite";
   if (!(lr_sigma_factor >= 0 && std::isfinite(lr_sigma_factor))) return "lr_sigma_factor: must be >= 0 and finite";
   if (!(max_sigma_periods > 0)) return "max_sigma_periods: must be > 0";
@@ -796,8 +799,9 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
     // depth range is taken in its own frame, a close approximation for a rig whose cameras
     // face the same way.
-    p.w_lo = 1.0 / options.max_depth_mm;
-    p.w_hi = 1.0 / options.min_depth_mm;
+    const bool own_range = !left_to_right && options.right_max_depth_mm > 0;
+    p.w_lo = 1.0 / (own_range ? options.right_max_depth_mm : options.max_depth_mm);
+    p.w_hi = 1.0 / (own_range ? options.right_min_depth_mm : options.min_depth_mm);
     return p;
   };
 

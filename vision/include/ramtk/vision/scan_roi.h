@@ -35,6 +35,11 @@ struct ScanRoiOptions {
   double margin_mm = 3.0;
   // Added on every side of each window, px (interpolation and code-edge neighbourhoods).
   int margin_px = 8;
+  // The windowed match searches only depths within the spheres' radius + margin_mm + this of
+  // their centres' depth (in each camera's frame), inside the match's own range: backdrop pixels
+  // in a window, whose match lies outside the other camera's window, then cost a short search
+  // instead of one over the whole range. < 0: the match's whole range.
+  double depth_margin_mm = 10.0;
   // If the windowed scan finds no sphere (or the coarse pass finds none), scan the whole frame
   // instead (logged and recorded in ScanSummary::roi_source). false: report "no sphere found".
   bool fall_back_to_full = true;

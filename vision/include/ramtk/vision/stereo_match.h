@@ -29,6 +29,11 @@ struct StereoMatchOptions {
   // Depth range searched along each epipolar curve, mm (z in the left-camera frame).
   double min_depth_mm = 100.0;
   double max_depth_mm = 10000.0;
+  // The range for the right-to-left pass of the left-right check, z in the right-camera frame;
+  // 0 (default): min/max_depth_mm, a close approximation for cameras facing the same way over a
+  // wide range. A narrow range (windows around a ball, ScanRoiOptions) needs its own.
+  double right_min_depth_mm = 0.0;
+  double right_max_depth_mm = 0.0;
   // Left-right consistency: the right match's own match back into the left image must lie
   // within this distance of the left pixel, pixels. <= 0 disables the check.
   double lr_tolerance_px = 0.5;
