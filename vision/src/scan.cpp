@@ -89,7 +89,8 @@ std::string ScanSummary::BriefReport() const {
 namespace {
 
 // ScanDecoded on cameras it may release: each map is dropped as soon as no later stage reads it
-// (the right camera after matching, the left one and the matches after triangulation), so the
+// (the right camera after matching, the left one but its modulation before triangulation, the
+// rest and the matches after it), so the
 // sphere fit does not run beside them. Memory is returned only where the caller holds no other
 // reference to the maps (cv::Mat counts them).
 ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCamera left, DecodedCamera right,
@@ -120,6 +121,14 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
 
   t0 = std::chrono::steady_clock::now();
   TriangulationOptions to = options.triangulation;
+  // Triangulation reads only the left modulation (the points' quality) and summary: the other
+  // left maps go first (~74 MB on a thesis frame, the peak being the cloud beside the matches).
+  {
+    DecodedCamera kept;
+    kept.summary = left.summary;
+    kept.modulation = left.modulation;
+    left = std::move(kept);
+  }
   result.cloud = TriangulateMatches(calibration, left, match, to, &sum.triangulation, &result.depth);
   left = DecodedCamera();
   match = StereoMatch();
@@ -453,29 +462,63 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     calib_path = m.Resolve(m.calibration);
   }
   const StereoCalibration calibration = ReadStereoCalibration(calib_path);
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<ImageStack> stacks;
-  for (const std::string& cam : {options.left_camera, options.right_camera}) {
+  // One camera's frames, checked against the calibration's image size.
+  auto load = [&](const std::string& cam) {
     std::vector<std::string> paths;
     for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
     // The fast path reads 8/16-bit grey files as stored; the reference path as float.
-    stacks.push_back(LoadImageStack(paths, options.decode.dark_fraction, !options.decode.reference_path));
-    const cv::Mat& im = stacks.back().frames.front();
+    ImageStack stack = LoadImageStack(paths, options.decode.dark_fraction, !options.decode.reference_path);
+    const cv::Mat& im = stack.frames.front();
     const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
     if (im.cols != k.width || im.rows != k.height)
       throw InputError({calib_path, 0, "image_size"},
                        "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
                            " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " +
                            paths.front() + " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
+    return stack;
+  };
+  auto check_bits = [&](const ImageStack& left, const ImageStack& right) {
+    if (left.bits_per_sample != right.bits_per_sample)
+      throw InputError({manifest_path, 0, "cameras." + options.right_camera},
+                       std::to_string(right.bits_per_sample) + "-bit images beside " +
+                           std::to_string(left.bits_per_sample) + "-bit ones of camera " + options.left_camera);
+  };
+  ScanResult result;
+  double load_s = 0;
+  if (options.roi.mode == ScanRoiOptions::Mode::kFull) {
+    // The whole frames: one camera at a time, loaded, decoded and dropped before the other is
+    // loaded, so the set's samples are never all in memory at once (peak memory).
+    auto t0 = std::chrono::steady_clock::now();
+    ImageStack left_stack = load(options.left_camera);
+    load_s = Seconds(t0);
+    DecodeOptions dopt = options.decode;
+    dopt.progress = {};
+    t0 = std::chrono::steady_clock::now();
+    DecodedCamera left = DecodeFrames(m, left_stack.frames, left_stack.full_scale, dopt, options.left_camera);
+    std::vector<cv::Mat>().swap(left_stack.frames);
+    double decode_s = Seconds(t0);
+    if (!Report(options, "decode " + options.left_camera, 1, 5)) return Cancelled();
+    t0 = std::chrono::steady_clock::now();
+    ImageStack right_stack = load(options.right_camera);
+    check_bits(left_stack, right_stack);
+    load_s += Seconds(t0);
+    t0 = std::chrono::steady_clock::now();
+    DecodedCamera right = DecodeFrames(m, right_stack.frames, right_stack.full_scale, dopt, options.right_camera);
+    std::vector<cv::Mat>().swap(right_stack.frames);
+    decode_s += Seconds(t0);
+    if (!Report(options, "decode " + options.right_camera, 2, 5)) return Cancelled();
+    const double period = left.summary.period_px;
+    result = ScanDecodedReleasing(calibration, std::move(left), std::move(right), period, options, calib_path);
+    result.summary.decode_s = decode_s;
+    result.summary.roi_source = "full";
+  } else {
+    auto t0 = std::chrono::steady_clock::now();
+    ImageStack left_stack = load(options.left_camera), right_stack = load(options.right_camera);
+    check_bits(left_stack, right_stack);
+    load_s = Seconds(t0);
+    result = ScanFramesReleasing(m, calibration, std::move(left_stack.frames), std::move(right_stack.frames),
+                                 left_stack.full_scale, options, calib_path);
   }
-  if (stacks[0].bits_per_sample != stacks[1].bits_per_sample)
-    throw InputError({manifest_path, 0, "cameras." + options.right_camera},
-                     std::to_string(stacks[1].bits_per_sample) + "-bit images beside " +
-                         std::to_string(stacks[0].bits_per_sample) + "-bit ones of camera " + options.left_camera);
-  const double load_s = Seconds(t0);
-  const double full_scale = stacks[0].full_scale;
-  ScanResult result = ScanFramesReleasing(m, calibration, std::move(stacks[0].frames), std::move(stacks[1].frames),
-                                          full_scale, options, calib_path);
   result.summary.set = manifest_path;
   result.summary.load_s = load_s;
   return result;

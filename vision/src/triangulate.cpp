@@ -147,6 +147,7 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   cloud.sigma_mm.resize(n);
   cloud.quality.resize(n);
   if (options.keep_pixels) cloud.left_pixels.resize(n);
+  std::vector<uchar>().swap(kept);
   sum.points = static_cast<long>(cloud.size());
   if (cloud.size() == 0) sum.depth_min_mm = sum.depth_max_mm = 0;
   std::vector<float> s = cloud.sigma_mm;
