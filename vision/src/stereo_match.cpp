@@ -60,7 +60,6 @@ struct Pass {
   double lr_sigma_factor = 0;
   double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
   bool full_search = false;             // StereoMatchOptions::full_search
-  bool keep_tangent = true;             // fill PassResult::tu, tv (the back pass does not need them)
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -535,7 +534,7 @@ struct Matcher {
 };
 
 struct PassResult {
-  cv::Mat u, v, sigma, tu, tv;
+  cv::Mat u, v, sigma;
   std::atomic<long> noisy{0}, no_match{0}, lr{0}, full{0}, matched{0}, valid{0};
 };
 
@@ -545,11 +544,6 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   out->u = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->v = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
   out->sigma = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-  // The back pass (validator) feeds only u, v and sigma to the left-right check.
-  if (p.keep_tangent) {
-    out->tu = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-    out->tv = cv::Mat(H, W, CV_32F, cv::Scalar(kNaN));
-  }
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
   // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
   // start as good as the left neighbour's). The blocks do not depend on the thread count, so
@@ -642,10 +636,6 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
           out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
           out->sigma.at<float>(y, x) = static_cast<float>(speed * sigma_w);
-          if (p.keep_tangent) {
-            out->tu.at<float>(y, x) = static_cast<float>(d.x() / speed);
-            out->tv.at<float>(y, x) = static_cast<float>(d.y() / speed);
-          }
         }
         out->noisy += noisy;
         out->no_match += no_match;
@@ -812,7 +802,6 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   if (lr) {
     Pass rl = make_pass(false);
     rl.lr_tolerance = 0;
-    rl.keep_tangent = false;
     if (!RunPass(rl, &back, options, "match right->left")) {
       sum.termination = Termination::kCancelled;
       sum.message = "cancelled";
@@ -836,8 +825,6 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   result.right_u = fwd.u;
   result.right_v = fwd.v;
   result.sigma_px = fwd.sigma;
-  result.tangent_u = fwd.tu;
-  result.tangent_v = fwd.tv;
   sum.left_valid = fwd.valid;
   sum.matched = fwd.matched;
   sum.rejected_noisy = fwd.noisy;

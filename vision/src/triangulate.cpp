@@ -66,7 +66,8 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cv::Mat z(H, W, CV_32F, cv::Scalar(nan));
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
-  const Mat3 Rt = calibration.right_from_left.linear().transpose();
+  const Mat3 R = calibration.right_from_left.linear();
+  const Mat3 Rt = R.transpose();
   const Vec3 c = -Rt * calibration.right_from_left.translation();
   const CameraIntrinsics& lc = calibration.left;
   const CameraIntrinsics& rc = calibration.right;
@@ -109,8 +110,13 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
         double gap = 0;
         const Vec3 X = MidpointOfRays(dl, dr, c, &gap);
         if (!(gap <= options.max_ray_gap_mm) || !X.allFinite()) continue;
-        // Triangulation Jacobian along the epipolar tangent (central difference, 1e-3 px).
-        const Vec2 t(match.tangent_u.at<float>(y, x), match.tangent_v.at<float>(y, x));
+        // Triangulation Jacobian along the epipolar tangent (central difference, 1e-3 px). The
+        // tangent: the left ray's points s * (ideal, 1) move in the right camera's ideal plane
+        // along g_xy - ideal_r * g_z (g = R * the ray), mapped to pixels through the lens.
+        const Vec3 g = R * Vec3(left_ideal.x(), left_ideal.y(), 1.0);
+        const Vec2 dideal(g.x() - right_ideal.x() * g.z(), g.y() - right_ideal.y() * g.z());
+        const Vec2 dd = DistortNormalizedJacobian(rc.distortion, right_ideal) * dideal;
+        const Vec2 t = Vec2(rc.fx * dd.x(), rc.fy * dd.y()).normalized();
         const double h = 1e-3;
         const Vec3 dra = Rt * PixelRay(rc, rp - h * t, right_ideal);
         const Vec3 drb = Rt * PixelRay(rc, rp + h * t, right_ideal);

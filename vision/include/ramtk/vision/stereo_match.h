@@ -83,7 +83,6 @@ struct StereoMatchSummary {
 struct StereoMatch {
   cv::Mat right_u, right_v;      // CV_32F right pixel (distorted image coordinates), NaN unmatched
   cv::Mat sigma_px;              // CV_32F sigma of the match along the epipolar curve, right px
-  cv::Mat tangent_u, tangent_v;  // CV_32F unit direction of the epipolar curve at the match (right px)
   StereoMatchSummary summary;
 };
 
