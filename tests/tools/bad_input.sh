@@ -29,6 +29,24 @@ no_temporaries() {
   [ -z "$left" ] || fail "temporaries left behind: $left"
 }
 same() { cmp -s "$1" "$2" || fail "$1 changed"; }
+# interrupted GLOB DELAY -- command...: runs the command in the background, waits until GLOB
+# matches (its staging folder), lets it run DELAY s more, sends SIGINT and expects exit 130.
+interrupted() {
+  local glob=$1 delay=$2
+  shift 3
+  "$@" >/dev/null 2>&1 &
+  local pid=$!
+  for _ in $(seq 1 600); do
+    compgen -G "$glob" >/dev/null && break
+    sleep 0.05
+  done
+  compgen -G "$glob" >/dev/null || fail "$glob never appeared"
+  sleep "$delay"
+  kill -INT $pid
+  wait $pid
+  local code=$?
+  [ "$code" = 130 ] || fail "exit $code after SIGINT, expected 130"
+}
 
 rm -rf "$WORK"
 mkdir -p "$WORK"
@@ -133,36 +151,14 @@ EOF
   interrupted_simulation_keeps_the_old_result)
     "$RAMTK" simulate fringe --out sim --no-noise >/dev/null || fail "first simulation"
     cp sim/manifest.json manifest.keep
-    "$RAMTK" simulate fringe --out sim --force --supersampling 16 >/dev/null 2>&1 &
-    pid=$!
-    for _ in $(seq 1 600); do
-      ls -d sim.partial-* >/dev/null 2>&1 && break
-      sleep 0.05
-    done
-    ls -d sim.partial-* >/dev/null 2>&1 || fail "the staged folder never appeared"
-    sleep 0.3
-    kill -INT $pid
-    wait $pid
-    code=$?
-    [ "$code" = 130 ] || fail "exit $code after SIGINT, expected 130"
+    interrupted "sim.partial-*" 0.3 -- "$RAMTK" simulate fringe --out sim --force --supersampling 16
     no_temporaries .
     same sim/manifest.json manifest.keep
     [ -d sim/left ] || fail "old result damaged"
     ;;
   interrupted_campaign_leaves_no_folder)
     # The campaign twin is staged as a whole: interrupted while it renders, nothing remains.
-    "$RAMTK" simulate campaign --robot "$KR150" --out camp --cycles 2 --poses 5 --jobs 1 -q >/dev/null 2>&1 &
-    pid=$!
-    for _ in $(seq 1 600); do
-      [ -d "$(ls -d camp.partial-*/sets 2>/dev/null | head -1)" ] && break
-      sleep 0.05
-    done
-    ls -d camp.partial-*/sets >/dev/null 2>&1 || fail "the staged folder never appeared"
-    sleep 0.2
-    kill -INT $pid
-    wait $pid
-    code=$?
-    [ "$code" = 130 ] || fail "exit $code after SIGINT, expected 130"
+    interrupted "camp.partial-*/sets" 0.2 -- "$RAMTK" simulate campaign --robot "$KR150" --out camp --cycles 2 --poses 5 --jobs 1 -q
     no_temporaries .
     absent camp
     ;;
