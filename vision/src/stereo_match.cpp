@@ -120,16 +120,6 @@ struct Matcher {
     *pix = Vec2(p.dst->fx * d.x() + p.dst->cx, p.dst->fy * d.y() + p.dst->cy);
     return true;
   }
-  // Velocity of the destination pixel (distorted image) per unit w, in closed form: the ideal
-  // point moves with d x / dw = (T_xy a_z - a_xy T_z) / q_z^2, the lens maps it through its Jacobian.
-  Vec2 PixelVelocity(double w) const {
-    const Vec3 q = a + p.T * w;
-    const double iz = 1.0 / q.z();
-    const Vec2 ideal(q.x() * iz, q.y() * iz);
-    const Vec2 dideal((p.T.x() * a.z() - a.x() * p.T.z()) * iz * iz, (p.T.y() * a.z() - a.y() * p.T.z()) * iz * iz);
-    const Vec2 dd = DistortNormalizedJacobian(p.dst->distortion, ideal) * dideal;
-    return {p.dst->fx * dd.x(), p.dst->fy * dd.y()};
-  }
   // Speed of the (undistorted) destination image point per unit w, pixels.
   // The undistorted image point x(w) = (a_x + T_x w) / (a_z + T_z w) moves with
   // dx/dw = (T_x a_z - a_x T_z) / q_z^2 (the numerator does not depend on w), so the speed is
@@ -265,7 +255,9 @@ struct Matcher {
     return true;
   }
 
-  // Destination pixel and its velocity per unit w (PixelVelocity) at w, sharing the projection.
+  // Destination pixel at w (as Pixel) and its velocity per unit w (distorted image), in closed
+  // form: the ideal point moves with d x / dw = (T_xy a_z - a_xy T_z) / q_z^2, the lens maps it
+  // through its Jacobian. False behind the camera.
   bool PixelAndVelocity(double w, Vec2* pix, Vec2* vel) const {
     const Vec3 q = a + p.T * w;
     if (q.z() <= 1e-12) return false;
@@ -381,7 +373,7 @@ struct Matcher {
     root->w = w;
     root->at = EvalAt(at);
     if (!root->at.ok) return false;
-    const double hs = 0.25 * p.step_px / vel.norm();
+    const double hs = 0.25 * p.step_px / speed;
     const Sample sa = EvalAt(at - vel * hs), sb = EvalAt(at + vel * hs);
     const double secant = (sa.ok && sb.ok && std::abs(sb.f - sa.f) <= p.max_span) ? (sb.f - sa.f) / (2 * hs) : 0.0;
     root->slope = secant * dfds > 0 ? secant : dfds;  // a flat or reversed secant (noise): the derivative
@@ -639,7 +631,8 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           w_row[x] = root.w;
           // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
           const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
-          const Vec2 d = std::isfinite(root.vel.x()) ? root.vel : m.PixelVelocity(root.w);
+          Vec2 d = root.vel, unused;
+          if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
           const double speed = d.norm();
           out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
           out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
