@@ -1,5 +1,6 @@
 // ramtk calib hand-eye | calib hand-eye-flange | simulate hand-eye: thin wrappers over ramtk::calib.
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -15,73 +16,91 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
+#include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/robot_io.h"
 
 namespace ramtk::tools {
 namespace {
 
 struct HandEyeCommandOptions {
-  std::string robot_path;
-  std::string poses_path;   // board-pose CSV
+  std::string robot_path;   // robot model, needed when the poses are joints
+  std::string poses_path;   // pose CSV (joints or flange poses + camera_from_board)
   std::string output_path;  // result JSON
-  std::string method = "shah";
-  bool no_refine = false;
+  std::string flange_units = "mm";
+  std::string method;
+  bool no_refine = false;              // OpenCV's closed form only
+  double sigma_deg = 0, sigma_mm = 0;  // measurement noise for the refinement (0: estimated)
 };
+
+std::vector<calib::FlangePoseObservation> ReadPoses(const HandEyeCommandOptions& opt) {
+  std::unique_ptr<kinematics::RobotModel> model;
+  if (!opt.robot_path.empty())
+    model = std::make_unique<kinematics::RobotModel>(kinematics::ReadRobotModel(opt.robot_path));
+  return calib::ReadFlangePoseObservations(opt.poses_path, opt.flange_units, model.get());
+}
+
+calib::EyeInHandRefineOptions RefineOptions(const HandEyeCommandOptions& opt) {
+  calib::EyeInHandRefineOptions ro;
+  ro.sigma_deg = opt.sigma_deg, ro.sigma_mm = opt.sigma_mm;
+  if (const std::string bad = ro.Validate(); !bad.empty()) throw InputError({"", 0, "--sigma-deg/--sigma-mm"}, bad);
+  return ro;
+}
+
+// The solvers' InputErrors about the pose set name the pose file.
+template <typename F>
+auto NamingThePoseFile(const std::string& poses_path, F&& solve) {
+  try {
+    return solve();
+  } catch (const InputError& e) {
+    if (!e.where().file.empty()) throw;
+    throw InputError({poses_path, 0, e.where().field}, e.message());
+  }
+}
 
 int RunHandEye(const HandEyeCommandOptions& opt) {
   CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
-  const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
-  const std::vector<calib::BoardPoseObservation> obs = calib::ReadBoardPoseObservations(opt.poses_path);
+  const std::vector<calib::StandCameraObservation> obs = ReadPoses(opt);
   calib::HandEyeOptions o;
   o.method = opt.method == "li" ? calib::HandEyeMethod::kLi : calib::HandEyeMethod::kShah;
-  o.refine = !opt.no_refine;
+  o.refine = false;
+  const calib::EyeInHandRefineOptions ro = RefineOptions(opt);
   calib::HandEyeSummary summary;
-  calib::HandEyeResult r;
-  try {
-    r = calib::CalibrateCameraToRobot(model, obs, o, &summary);
-  } catch (const InputError& e) {
-    if (!e.where().file.empty()) throw;
-    throw InputError({opt.poses_path, 0, e.where().field}, e.message());
-  }
-  WriteFileAtomically(opt.output_path, calib::HandEyeResultJson(r, summary));
+  calib::EyeInHandRefinement ref;
+  const calib::HandEyeResult r = NamingThePoseFile(opt.poses_path, [&] {
+    return opt.no_refine ? calib::CalibrateStandCamera(obs, o, &summary)
+                         : calib::CalibrateStandCameraWithCovariance(obs, o, ro, &summary, &ref);
+  });
+  WriteFileAtomically(opt.output_path, calib::HandEyeResultJson(r, summary, opt.no_refine ? nullptr : &ref));
   const KukaAbc abc = KukaAbcFromRotation(r.camera_from_base.linear());
   std::printf("%s\n", summary.BriefReport().c_str());
   std::printf("camera_from_base  t (mm) %12.4f %12.4f %12.4f   A,B,C (deg) %10.5f %10.5f %10.5f\n",
               r.camera_from_base.translation().x(), r.camera_from_base.translation().y(),
               r.camera_from_base.translation().z(), RadToDeg(abc.a), RadToDeg(abc.b), RadToDeg(abc.c));
+  if (!opt.no_refine) {
+    std::printf(
+        "sigma             t (mm) %12.4f %12.4f %12.4f   rotation (deg) %8.5f %8.5f %8.5f; noise %s %.4f deg, "
+        "%.4f mm per axis\n",
+        ref.translation_sigma_mm.x(), ref.translation_sigma_mm.y(), ref.translation_sigma_mm.z(),
+        ref.rotation_sigma_deg.x(), ref.rotation_sigma_deg.y(), ref.rotation_sigma_deg.z(),
+        ref.noise_estimated ? "estimated" : "given", ref.sigma_deg, ref.sigma_mm);
+  }
   std::printf("wrote %s\n", opt.output_path.c_str());
   return kExitOk;
 }
 
-struct HandEyeFlangeCommandOptions {
-  std::string poses_path;   // flange-camera CSV
-  std::string output_path;  // result JSON
-  std::string flange_units = "mm";
-  std::string method = "park";
-  bool no_refine = false;              // OpenCV's closed form only
-  double sigma_deg = 0, sigma_mm = 0;  // measurement noise for the refinement (0: estimated)
-};
-
-int RunHandEyeFlange(const HandEyeFlangeCommandOptions& opt) {
-  CheckOutputAgainstInputs(opt.output_path, {opt.poses_path}, "--output");
+int RunHandEyeFlange(const HandEyeCommandOptions& opt) {
+  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
   const calib::EyeInHandMethod method = calib::ParseEyeInHandMethod(opt.method, {"", 0, "--method"});
-  const auto obs = calib::ReadFlangeCameraObservations(opt.poses_path, opt.flange_units);
-  calib::EyeInHandResult r;
-  try {
-    r = calib::CalibrateCameraOnFlange(obs, method);
-  } catch (const InputError& e) {
-    if (!e.where().file.empty()) throw;
-    throw InputError({opt.poses_path, 0, e.where().field}, e.message());
-  }
+  const std::vector<calib::FlangeCameraObservation> obs = ReadPoses(opt);
+  const calib::EyeInHandRefineOptions ro = RefineOptions(opt);
+  calib::EyeInHandResult r =
+      NamingThePoseFile(opt.poses_path, [&] { return calib::CalibrateCameraOnFlange(obs, method); });
   std::string json;
   std::string brief;
   if (opt.no_refine) {
     json = calib::EyeInHandResultJson(r, method);
     brief = calib::EyeInHandBriefReport(r, method);
   } else {
-    calib::EyeInHandRefineOptions ro;
-    ro.sigma_deg = opt.sigma_deg, ro.sigma_mm = opt.sigma_mm;
-    if (const std::string bad = ro.Validate(); !bad.empty()) throw InputError({"", 0, "--sigma-deg/--sigma-mm"}, bad);
     calib::EyeInHandRefinement ref;
     r = calib::RefineCameraOnFlange(obs, r, ro, &ref);
     json = calib::EyeInHandResultJson(r, method, &ref);
@@ -96,36 +115,97 @@ struct SimulateHandEyeOptions {
   std::string robot_path;
   std::string csv_path;
   std::string truth_path;
+  std::string setup = "stand";       // stand: camera fixed, board on the flange; flange: camera on the flange
+  std::string pose_form = "joints";  // joints, abc, quaternion, matrix
+  std::string flange_units = "mm";
   int poses = 12;
   double rotation_noise_deg = 0.02;
   double translation_noise_mm = 0.1;
   unsigned seed = 1;
 };
 
+// Truth of the flange set-up: a camera 110 mm out on the flange, turned 14 deg; the board where
+// the thesis sensor stands, facing the robot.
+Isometry3 SimulatedFlangeFromCamera() {
+  Isometry3 x = Isometry3::Identity();
+  x.linear() = Eigen::AngleAxisd(DegToRad(14.0), Vec3(0.2, 1.0, 0.1).normalized()).toRotationMatrix();
+  x.translation() = Vec3(45.0, -12.0, 110.0);
+  return x;
+}
+
 int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
+  CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
+  CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path, opt.csv_path}, "--truth");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   calib::SensorRobotSimOptions so;  // robot poses and camera (= the thesis sensor frame, eq. 5-1)
   so.num_poses = opt.poses;
   so.seed = opt.seed;
   const calib::SensorRobotSimulation sim = calib::SimulateSensorRobot(model, so);
-  Isometry3 flange_from_board = Isometry3::Identity();
-  flange_from_board.linear() = RotZ(DegToRad(30.0)) * RotX(DegToRad(10.0));
-  flange_from_board.translation() = so.ball_in_flange;
   std::vector<kinematics::JointVector> joints;
-  for (const calib::BallObservation& b : sim.observations) joints.push_back(b.q_controller);
-  const std::vector<calib::BoardPoseObservation> obs =
-      calib::SimulateBoardPoses(model, joints, sim.sensor_from_base, flange_from_board, opt.rotation_noise_deg,
-                                opt.translation_noise_mm, opt.seed);
-  calib::HandEyeResult truth;
-  truth.camera_from_base = sim.sensor_from_base;
-  truth.flange_from_board = flange_from_board;
-  calib::HandEyeSummary ts;
-  ts.method = "truth";
-  WriteFileAtomically(opt.csv_path, calib::FormatBoardPoseObservations(obs));
-  WriteFileAtomically(opt.truth_path, calib::HandEyeResultJson(truth, ts));
-  std::printf("simulated %d board poses (noise %.4f deg, %.4f mm); wrote %s and %s\n", opt.poses,
-              opt.rotation_noise_deg, opt.translation_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
+  std::vector<Isometry3> flange;
+  for (const calib::BallObservation& b : sim.observations) {
+    joints.push_back(b.q_controller);
+    flange.push_back(kinematics::BaseFromFlange(model, b.q_controller));
+  }
+  std::vector<calib::FlangePoseObservation> obs;
+  std::string truth_json;
+  if (opt.setup == "stand") {
+    Isometry3 flange_from_board = Isometry3::Identity();
+    flange_from_board.linear() = RotZ(DegToRad(30.0)) * RotX(DegToRad(10.0));
+    flange_from_board.translation() = so.ball_in_flange;
+    const auto board = calib::SimulateBoardPoses(model, joints, sim.sensor_from_base, flange_from_board,
+                                                 opt.rotation_noise_deg, opt.translation_noise_mm, opt.seed);
+    for (std::size_t i = 0; i < board.size(); ++i) obs.push_back({flange[i], board[i].camera_from_board});
+    calib::HandEyeResult truth;
+    truth.camera_from_base = sim.sensor_from_base;
+    truth.flange_from_board = flange_from_board;
+    calib::HandEyeSummary ts;
+    ts.method = "truth";
+    truth_json = calib::HandEyeResultJson(truth, ts);
+  } else {
+    calib::EyeInHandResult truth;
+    truth.flange_from_camera = SimulatedFlangeFromCamera();
+    truth.base_from_board = sim.sensor_from_base.inverse();
+    obs = calib::SimulateFlangeCameraPoses(flange, truth.flange_from_camera, truth.base_from_board,
+                                           opt.rotation_noise_deg, opt.translation_noise_mm, opt.seed);
+    truth_json = calib::EyeInHandResultJson(truth, calib::EyeInHandMethod::kPark);
+  }
+  std::string csv;
+  if (opt.pose_form == "joints") {
+    std::vector<calib::BoardPoseObservation> rows;
+    for (std::size_t i = 0; i < obs.size(); ++i) rows.push_back({joints[i], obs[i].camera_from_board});
+    csv = calib::FormatBoardPoseObservations(rows);
+  } else {
+    const calib::FlangePoseForm form = opt.pose_form == "abc"          ? calib::FlangePoseForm::kKukaAbc
+                                       : opt.pose_form == "quaternion" ? calib::FlangePoseForm::kQuaternion
+                                                                       : calib::FlangePoseForm::kMatrix;
+    csv = calib::FormatFlangePoseObservations(obs, form, opt.flange_units, "flange translation in " + opt.flange_units);
+  }
+  WriteFileAtomically(opt.csv_path, csv);
+  WriteFileAtomically(opt.truth_path, truth_json);
+  std::printf("simulated %d %s poses (camera %s; noise %.4f deg, %.4f mm); wrote %s and %s\n", opt.poses,
+              opt.pose_form.c_str(), opt.setup == "stand" ? "on a stand" : "on the flange", opt.rotation_noise_deg,
+              opt.translation_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
   return kExitOk;
+}
+
+void AddPoseFileOptions(CLI::App* sub, HandEyeCommandOptions* opt) {
+  sub->add_option("--poses", opt->poses_path,
+                  "Pose CSV: x,y,z,a,b,c (camera_from_board, mm, KUKA deg) and the flange pose as q1..q6 (joints, "
+                  "deg; needs --robot), flange_x..flange_c (KUKA deg), flange_x..z + flange_qw..qz, or "
+                  "flange_m00..flange_m23")
+      ->required();
+  sub->add_option("--robot", opt->robot_path, "Robot model file (YAML); needed when the poses are joints");
+  sub->add_option("--flange-units", opt->flange_units, "Units of the flange translation: mm or m")
+      ->check(CLI::IsMember({"mm", "m"}))
+      ->capture_default_str();
+  sub->add_option("--output", opt->output_path, "Result JSON")->required();
+  sub->add_flag("--no-refine", opt->no_refine,
+                "Keep OpenCV's closed form: no least-squares refinement on SE(3), no covariance");
+  sub->add_option("--sigma-deg", opt->sigma_deg,
+                  "Noise of one board pose, rotation per axis (deg), for the refinement's weights and "
+                  "covariance; with --sigma-mm. Default: estimated from the residuals");
+  sub->add_option("--sigma-mm", opt->sigma_mm, "Noise of one board pose, translation per axis (mm)");
 }
 
 }  // namespace
@@ -133,51 +213,48 @@ int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
 void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code) {
   {
     auto opt = std::make_shared<HandEyeCommandOptions>();
-    CLI::App* sub =
-        calib->add_subcommand("hand-eye",
-                              "Camera on a stand, board on the flange: camera_from_base and flange_from_board (OpenCV "
-                              "calibrateRobotWorldHandEye + Ceres refinement)");
-    sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
-    sub->add_option("--poses", opt->poses_path, "Board-pose CSV: pose,q1..q6 (deg),x,y,z (mm),a,b,c (KUKA deg)")
-        ->required();
-    sub->add_option("--output", opt->output_path, "Result JSON")->required();
-    sub->add_option("--method", opt->method, "shah or li")->check(CLI::IsMember({"shah", "li"}));
-    sub->add_flag("--no-refine", opt->no_refine, "Keep OpenCV's closed form (no Ceres refinement)");
+    opt->method = "shah";
+    CLI::App* sub = calib->add_subcommand(
+        "hand-eye",
+        "Camera on a stand, board on the flange (AX = ZB): camera_from_base and flange_from_board with their "
+        "covariance (OpenCV calibrateRobotWorldHandEye + SE(3) least squares)");
+    AddPoseFileOptions(sub, opt.get());
+    sub->add_option("--method", opt->method, "shah or li")->check(CLI::IsMember({"shah", "li"}))->capture_default_str();
     sub->callback([opt, exit_code]() { *exit_code = RunHandEye(*opt); });
   }
   {
-    auto opt = std::make_shared<HandEyeFlangeCommandOptions>();
-    CLI::App* sub =
-        calib->add_subcommand("hand-eye-flange",
-                              "Camera on the flange, board fixed: flange_from_camera from flange poses (OpenCV "
-                              "calibrateHandEye, AX = XB)");
-    sub->add_option("--poses", opt->poses_path,
-                    "CSV: x,y,z,a,b,c (camera_from_board, mm, KUKA deg) and the flange pose as "
-                    "flange_x..flange_c (KUKA deg), flange_x..z + flange_qw..qz, or flange_m00..flange_m23")
-        ->required();
-    sub->add_option("--flange-units", opt->flange_units, "Units of the flange translation: mm or m")
-        ->check(CLI::IsMember({"mm", "m"}))
-        ->capture_default_str();
-    sub->add_option("--output", opt->output_path, "Result JSON")->required();
+    auto opt = std::make_shared<HandEyeCommandOptions>();
+    opt->method = "park";
+    CLI::App* sub = calib->add_subcommand(
+        "hand-eye-flange",
+        "Camera on the flange, board fixed (AX = XB): flange_from_camera with its covariance (OpenCV "
+        "calibrateHandEye + SE(3) least squares)");
+    AddPoseFileOptions(sub, opt.get());
     sub->add_option("--method", opt->method, "tsai, park, horaud, andreff or daniilidis")
         ->check(CLI::IsMember({"tsai", "park", "horaud", "andreff", "daniilidis"}))
         ->capture_default_str();
-    sub->add_flag("--no-refine", opt->no_refine,
-                  "Keep OpenCV's closed form: no least-squares refinement on SE(3), no covariance");
-    sub->add_option("--sigma-deg", opt->sigma_deg,
-                    "Noise of one board pose, rotation per axis (deg), for the refinement's weights and "
-                    "covariance; with --sigma-mm. Default: estimated from the residuals");
-    sub->add_option("--sigma-mm", opt->sigma_mm, "Noise of one board pose, translation per axis (mm)");
     sub->callback([opt, exit_code]() { *exit_code = RunHandEyeFlange(*opt); });
   }
   CLI::App* simulate = SimulateCommand(app);
   {
     auto opt = std::make_shared<SimulateHandEyeOptions>();
     CLI::App* sub = simulate->add_subcommand(
-        "hand-eye", "Board poses seen by a fixed camera (the thesis sensor frame) at N robot poses");
+        "hand-eye",
+        "Board poses at N robot poses: a fixed camera (the thesis sensor frame) seeing a board on the "
+        "flange, or a camera on the flange seeing a fixed board");
     sub->add_option("--robot", opt->robot_path, "Robot model file (YAML)")->required();
-    sub->add_option("--output", opt->csv_path, "Board-pose CSV to write")->required();
+    sub->add_option("--output", opt->csv_path, "Pose CSV to write")->required();
     sub->add_option("--truth", opt->truth_path, "Truth JSON to write")->required();
+    sub->add_option("--setup", opt->setup, "stand (camera fixed) or flange (camera on the flange)")
+        ->check(CLI::IsMember({"stand", "flange"}))
+        ->capture_default_str();
+    sub->add_option("--pose-form", opt->pose_form,
+                    "How the flange pose is written: joints (q1..q6), abc (KUKA A,B,C), quaternion or matrix")
+        ->check(CLI::IsMember({"joints", "abc", "quaternion", "matrix"}))
+        ->capture_default_str();
+    sub->add_option("--flange-units", opt->flange_units, "Units of a written flange translation: mm or m")
+        ->check(CLI::IsMember({"mm", "m"}))
+        ->capture_default_str();
     sub->add_option("--poses", opt->poses, "Number of poses");
     sub->add_option("--rotation-noise", opt->rotation_noise_deg, "Board-pose rotation noise (deg, 1 sigma)");
     sub->add_option("--translation-noise", opt->translation_noise_mm, "Board-pose translation noise (mm per axis)");

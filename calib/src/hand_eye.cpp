@@ -1,14 +1,12 @@
 #include "ramtk/calib/hand_eye.h"
 
-#include <ceres/ceres.h>
-
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include "ramtk/core/ceres_solve.h"
+#include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
@@ -31,24 +29,27 @@ Isometry3 FromCv(const cv::Mat& r, const cv::Mat& t) {
   return out;
 }
 
-// measured − predicted camera-frame position of one board point:
-// predicted = camera_from_base · base_from_flange · flange_from_board · point.
-struct BoardPointResidual {
-  Isometry3 base_from_flange;
-  Vec3 measured;
-  Vec3 point;
-  template <typename T>
-  bool operator()(const T* q_cb, const T* t_cb, const T* q_fb, const T* t_fb, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> r_cb(q_cb), r_fb(q_fb);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tc(t_cb), tf(t_fb);
-    const Eigen::Matrix<T, 3, 1> in_flange = r_fb * point.cast<T>() + tf;
-    const Eigen::Matrix<T, 3, 1> in_base =
-        base_from_flange.linear().cast<T>() * in_flange + base_from_flange.translation().cast<T>();
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = measured.cast<T>() - (r_cb * in_base + tc);
-    return true;
+// Per-pose residuals of `r` (measured vs predicted camera_from_board) and their statistics.
+void SummarizeResiduals(const std::vector<StandCameraObservation>& obs, HandEyeResult* r, HandEyeSummary* s) {
+  s->num_poses = static_cast<int>(obs.size());
+  s->worst_translation_mm = 0.0;
+  s->worst_pose = -1;
+  r->rotation_residual_rad.clear();
+  r->translation_residual_mm.clear();
+  double sr = 0.0, st = 0.0;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const Isometry3 pred = r->camera_from_base * obs[i].base_from_flange * r->flange_from_board;
+    const double dr = RotationAngleBetween(pred.linear(), obs[i].camera_from_board.linear());
+    const double dt = (pred.translation() - obs[i].camera_from_board.translation()).norm();
+    r->rotation_residual_rad.push_back(dr);
+    r->translation_residual_mm.push_back(dt);
+    sr += dr * dr;
+    st += dt * dt;
+    if (dt >= s->worst_translation_mm) s->worst_translation_mm = dt, s->worst_pose = static_cast<int>(i);
   }
-};
+  s->rms_rotation_deg = RadToDeg(std::sqrt(sr / obs.size()));
+  s->rms_translation_mm = std::sqrt(st / obs.size());
+}
 
 }  // namespace
 
@@ -68,7 +69,6 @@ bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_
 
 std::string HandEyeOptions::Validate() const {
   if (min_poses < 3) return "min_poses must be at least 3";
-  if (!(refine_length_mm > 0.0)) return "refine_length_mm must be positive";
   return "";
 }
 
@@ -120,6 +120,7 @@ void CheckRotationsExciteTwoAxes(const std::vector<Isometry3>& flange) {
 HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeOptions& options,
                                    HandEyeSummary* summary) {
   ThrowIfInvalid(options.Validate(), "HandEyeOptions");
+  if (options.refine) return CalibrateStandCameraWithCovariance(obs, options, {}, summary);
   if (static_cast<int>(obs.size()) < options.min_poses) {
     throw InputError({"", 0, "poses"}, std::to_string(obs.size()) + " poses given; at least " +
                                            std::to_string(options.min_poses) + " are needed");
@@ -147,50 +148,26 @@ HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& ob
   r.flange_from_board = FromCv(r_board_from_flange, t_board_from_flange).inverse();
   HandEyeSummary s;
   s.method = options.method == HandEyeMethod::kShah ? "shah" : "li";
-  if (options.refine) {
-    Eigen::Quaterniond q_cb(r.camera_from_base.linear()), q_fb(r.flange_from_board.linear());
-    q_cb.normalize();
-    q_fb.normalize();
-    Vec3 t_cb = r.camera_from_base.translation(), t_fb = r.flange_from_board.translation();
-    const double l = options.refine_length_mm;
-    const Vec3 points[5] = {Vec3::Zero(), Vec3(l, 0, 0), Vec3(-l, 0, 0), Vec3(0, l, 0), Vec3(0, -l, 0)};
-    ceres::Problem problem;
-    for (std::size_t i = 0; i < obs.size(); ++i) {
-      for (const Vec3& p : points) {
-        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<BoardPointResidual, 3, 4, 3, 4, 3>(
-                                     new BoardPointResidual{flange[i], obs[i].camera_from_board * p, p}),
-                                 nullptr, q_cb.coeffs().data(), t_cb.data(), q_fb.coeffs().data(), t_fb.data());
-      }
-    }
-    problem.SetManifold(q_cb.coeffs().data(), new ceres::EigenQuaternionManifold);
-    problem.SetManifold(q_fb.coeffs().data(), new ceres::EigenQuaternionManifold);
-    ceres::Solver::Summary cs;
-    ceres::Solve(DenseSolverOptions({100, 1e-14, 1e-14, 1e-10}), &problem, &cs);
-    if (cs.IsSolutionUsable()) {
-      r.camera_from_base.linear() = q_cb.normalized().toRotationMatrix();
-      r.camera_from_base.translation() = t_cb;
-      r.flange_from_board.linear() = q_fb.normalized().toRotationMatrix();
-      r.flange_from_board.translation() = t_fb;
-      s.refined = true;
-      s.iterations = CeresIterations(cs);
-      s.initial_cost = cs.initial_cost;
-      s.final_cost = cs.final_cost;
-    }
+  SummarizeResiduals(obs, &r, &s);
+  if (summary) *summary = s;
+  return r;
+}
+
+HandEyeResult CalibrateStandCameraWithCovariance(const std::vector<StandCameraObservation>& obs,
+                                                 const HandEyeOptions& options,
+                                                 const EyeInHandRefineOptions& refine_options, HandEyeSummary* summary,
+                                                 EyeInHandRefinement* refinement) {
+  HandEyeOptions closed_form = options;
+  closed_form.refine = false;
+  HandEyeSummary s;
+  HandEyeResult r = RefineStandCamera(obs, CalibrateStandCamera(obs, closed_form, &s), refine_options, refinement);
+  s.refined = true;
+  if (refinement) {
+    s.iterations = refinement->iterations;
+    s.initial_cost = refinement->initial_cost;
+    s.final_cost = refinement->final_cost;
   }
-  s.num_poses = static_cast<int>(obs.size());
-  double sr = 0.0, st = 0.0;
-  for (std::size_t i = 0; i < obs.size(); ++i) {
-    const Isometry3 pred = r.camera_from_base * flange[i] * r.flange_from_board;
-    const double dr = RotationAngleBetween(pred.linear(), obs[i].camera_from_board.linear());
-    const double dt = (pred.translation() - obs[i].camera_from_board.translation()).norm();
-    r.rotation_residual_rad.push_back(dr);
-    r.translation_residual_mm.push_back(dt);
-    sr += dr * dr;
-    st += dt * dt;
-    if (dt >= s.worst_translation_mm) s.worst_translation_mm = dt, s.worst_pose = static_cast<int>(i);
-  }
-  s.rms_rotation_deg = RadToDeg(std::sqrt(sr / obs.size()));
-  s.rms_translation_mm = std::sqrt(st / obs.size());
+  SummarizeResiduals(obs, &r, &s);
   if (summary) *summary = s;
   return r;
 }

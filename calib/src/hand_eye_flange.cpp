@@ -9,10 +9,10 @@
 #include <opencv2/core/eigen.hpp>
 #include <random>
 
+#include "hand_eye_json.h"
 #include "pose_noise.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
-#include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
@@ -148,107 +148,12 @@ std::vector<FlangeCameraObservation> SimulateFlangeCameraPoses(const std::vector
   return obs;
 }
 
-std::vector<FlangeCameraObservation> ReadFlangeCameraObservations(const std::string& path,
-                                                                  const std::string& flange_units) {
-  double scale = 1.0;
-  if (flange_units == "m") {
-    scale = 1000.0;
-  } else if (flange_units != "mm") {
-    throw InputError({path, 0, "flange_units"}, "expected 'mm' or 'm', got '" + flange_units + "'");
-  }
-  const CsvTable t = ReadCsv(path);
-  const int x = t.Column("x"), y = t.Column("y"), z = t.Column("z");
-  const int a = t.Column("a"), b = t.Column("b"), c = t.Column("c");
-  const bool matrix = t.Column("flange_m00", false) >= 0;
-  const bool quaternion = !matrix && t.Column("flange_qw", false) >= 0;
-  int m[12] = {0};
-  int fx = -1, fy = -1, fz = -1, fa = -1, fb = -1, fc = -1, qw = -1, qx = -1, qy = -1, qz = -1;
-  if (matrix) {
-    for (int i = 0; i < 12; ++i) m[i] = t.Column("flange_m" + std::to_string(i / 4) + std::to_string(i % 4));
-  } else {
-    fx = t.Column("flange_x"), fy = t.Column("flange_y"), fz = t.Column("flange_z");
-    if (quaternion) {
-      qw = t.Column("flange_qw"), qx = t.Column("flange_qx"), qy = t.Column("flange_qy"), qz = t.Column("flange_qz");
-    } else {
-      fa = t.Column("flange_a"), fb = t.Column("flange_b"), fc = t.Column("flange_c");
-    }
-  }
-  std::vector<FlangeCameraObservation> obs;
-  for (std::size_t r = 0; r < t.size(); ++r) {
-    FlangeCameraObservation o;
-    o.camera_from_board.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
-    o.camera_from_board.linear() =
-        RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
-    if (matrix) {
-      Mat3 rot;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) rot(i, j) = t.Number(r, m[i * 4 + j]);
-      const double orth = (rot.transpose() * rot - Mat3::Identity()).cwiseAbs().maxCoeff();
-      if (orth > 1e-6 || rot.determinant() < 0)
-        throw InputError({path, t.line_numbers[r], "flange_m00..flange_m22"},
-                         "the rotation part is not a rotation (max |R^T R - I| = " + std::to_string(orth) + ")");
-      o.base_from_flange.linear() = rot;
-      o.base_from_flange.translation() = scale * Vec3(t.Number(r, m[3]), t.Number(r, m[7]), t.Number(r, m[11]));
-    } else {
-      o.base_from_flange.translation() = scale * Vec3(t.Number(r, fx), t.Number(r, fy), t.Number(r, fz));
-      if (quaternion) {
-        Eigen::Quaterniond q(t.Number(r, qw), t.Number(r, qx), t.Number(r, qy), t.Number(r, qz));
-        if (std::abs(q.norm() - 1.0) > 1e-3)
-          throw InputError({path, t.line_numbers[r], "flange_qw..flange_qz"},
-                           "the quaternion's norm is " + std::to_string(q.norm()) + ", expected 1 (within 1e-3)");
-        o.base_from_flange.linear() = q.normalized().toRotationMatrix();
-      } else {
-        o.base_from_flange.linear() =
-            RotationFromKukaAbc({DegToRad(t.Number(r, fa)), DegToRad(t.Number(r, fb)), DegToRad(t.Number(r, fc))});
-      }
-    }
-    obs.push_back(o);
-  }
-  return obs;
-}
-
-std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObservation>& obs) {
-  const std::vector<std::string> header = {
-      "pose", "flange_x", "flange_y", "flange_z", "flange_a", "flange_b", "flange_c", "x", "y", "z", "a", "b", "c"};
-  std::vector<std::vector<std::string>> rows;
-  for (std::size_t i = 0; i < obs.size(); ++i) {
-    std::vector<std::string> row = {std::to_string(i + 1)};
-    for (const Isometry3* p : {&obs[i].base_from_flange, &obs[i].camera_from_board}) {
-      for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(p->translation()[k], 6));
-      const KukaAbc abc = KukaAbcFromRotation(p->linear());
-      for (double v : {abc.a, abc.b, abc.c}) row.push_back(FormatFixed(RadToDeg(v), 9));
-    }
-    rows.push_back(row);
-  }
-  return FormatCsv(header, rows);
-}
-
 std::string EyeInHandResultJson(const EyeInHandResult& result, EyeInHandMethod method,
                                 const EyeInHandRefinement* refinement) {
   nlohmann::json j;
   j["setup"] = "camera on the flange (AX = XB)";
   j["method"] = std::string(EyeInHandMethodName(method)) + (refinement ? " + Ceres" : "");
-  if (refinement) {
-    const EyeInHandRefinement& f = *refinement;
-    nlohmann::json cov = nlohmann::json::array();
-    for (int i = 0; i < 6; ++i) {
-      nlohmann::json row = nlohmann::json::array();
-      for (int k = 0; k < 6; ++k) row.push_back(f.flange_from_camera_covariance(i, k));
-      cov.push_back(row);
-    }
-    j["refinement"] = {
-        {"converged", f.converged},
-        {"iterations", f.iterations},
-        {"noise_sigma_deg", f.sigma_deg},
-        {"noise_sigma_mm", f.sigma_mm},
-        {"noise_estimated_from_residuals", f.noise_estimated},
-        {"flange_from_camera_rotation_sigma_deg",
-         {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
-        {"flange_from_camera_translation_sigma_mm",
-         {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
-        {"flange_from_camera_covariance", cov},
-        {"covariance_order", "rotation vector (rad, flange frame, left perturbation), translation (mm)"}};
-  }
+  if (refinement) j["refinement"] = internal::RefinementJson(*refinement, "flange_from_camera", "flange frame");
   j["flange_from_camera"] = PoseToJson(result.flange_from_camera);
   j["base_from_board"] = PoseToJson(result.base_from_board);
   j["rotation_residual_deg"] = result.rotation_residual_deg;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "hand_eye_json.h"
 #include "ramtk/core/ceres_solve.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
@@ -233,5 +234,29 @@ HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, 
   if (refinement) *refinement = out;
   return r;
 }
+
+namespace internal {
+
+nlohmann::json RefinementJson(const EyeInHandRefinement& f, const std::string& pose, const std::string& frame) {
+  nlohmann::json cov = nlohmann::json::array();
+  for (int i = 0; i < 6; ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int k = 0; k < 6; ++k) row.push_back(f.flange_from_camera_covariance(i, k));
+    cov.push_back(row);
+  }
+  return {
+      {"converged", f.converged},
+      {"iterations", f.iterations},
+      {"noise_sigma_deg", f.sigma_deg},
+      {"noise_sigma_mm", f.sigma_mm},
+      {"noise_estimated_from_residuals", f.noise_estimated},
+      {pose + "_rotation_sigma_deg", {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
+      {pose + "_translation_sigma_mm",
+       {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
+      {pose + "_covariance", cov},
+      {"covariance_order", "rotation vector (rad, " + frame + ", left perturbation), translation (mm)"}};
+}
+
+}  // namespace internal
 
 }  // namespace ramtk::calib

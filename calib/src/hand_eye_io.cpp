@@ -1,10 +1,12 @@
-// Board-pose CSV files, hand-eye result JSON and the board-pose simulator.
+// Hand-eye pose files (joints or flange poses), result JSON and the board-pose simulator.
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "hand_eye_json.h"
 #include "pose_noise.h"
 #include "ramtk/calib/hand_eye.h"
+#include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/json.h"
 #include "ramtk/core/units.h"
@@ -44,10 +46,146 @@ std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>&
   return FormatCsv(header, rows);
 }
 
-std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary) {
+namespace {
+
+double FlangeUnitScale(const std::string& path, const std::string& units) {
+  if (units == "mm") return 1.0;
+  if (units == "m") return 1000.0;
+  throw InputError({path, 0, "flange_units"}, "expected 'mm' or 'm', got '" + units + "'");
+}
+
+// Columns of the flange pose, in whichever form the header holds.
+struct FlangeColumns {
+  FlangePoseForm form = FlangePoseForm::kKukaAbc;
+  int m[12] = {0};
+  int x = -1, y = -1, z = -1, a = -1, b = -1, c = -1, qw = -1, qx = -1, qy = -1, qz = -1;
+
+  explicit FlangeColumns(const CsvTable& t) {
+    if (t.Column("flange_m00", false) >= 0) {
+      form = FlangePoseForm::kMatrix;
+      for (int i = 0; i < 12; ++i) m[i] = t.Column("flange_m" + std::to_string(i / 4) + std::to_string(i % 4));
+      return;
+    }
+    x = t.Column("flange_x"), y = t.Column("flange_y"), z = t.Column("flange_z");
+    if (t.Column("flange_qw", false) >= 0) {
+      form = FlangePoseForm::kQuaternion;
+      qw = t.Column("flange_qw"), qx = t.Column("flange_qx"), qy = t.Column("flange_qy"), qz = t.Column("flange_qz");
+    } else {
+      a = t.Column("flange_a"), b = t.Column("flange_b"), c = t.Column("flange_c");
+    }
+  }
+
+  Isometry3 Pose(const CsvTable& t, std::size_t r, double scale) const {
+    Isometry3 pose = Isometry3::Identity();
+    if (form == FlangePoseForm::kMatrix) {
+      Mat3 rot;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) rot(i, j) = t.Number(r, m[i * 4 + j]);
+      const double orth = (rot.transpose() * rot - Mat3::Identity()).cwiseAbs().maxCoeff();
+      if (orth > 1e-6 || rot.determinant() < 0)
+        throw InputError({t.path, t.line_numbers[r], "flange_m00..flange_m22"},
+                         "the rotation part is not a rotation (max |R^T R - I| = " + std::to_string(orth) + ")");
+      pose.linear() = rot;
+      pose.translation() = scale * Vec3(t.Number(r, m[3]), t.Number(r, m[7]), t.Number(r, m[11]));
+      return pose;
+    }
+    pose.translation() = scale * Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
+    if (form == FlangePoseForm::kQuaternion) {
+      const Eigen::Quaterniond q(t.Number(r, qw), t.Number(r, qx), t.Number(r, qy), t.Number(r, qz));
+      if (std::abs(q.norm() - 1.0) > 1e-3)
+        throw InputError({t.path, t.line_numbers[r], "flange_qw..flange_qz"},
+                         "the quaternion's norm is " + std::to_string(q.norm()) + ", expected 1 (within 1e-3)");
+      pose.linear() = q.normalized().toRotationMatrix();
+    } else {
+      pose.linear() =
+          RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    }
+    return pose;
+  }
+};
+
+}  // namespace
+
+std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path, const std::string& flange_units,
+                                                              const kinematics::RobotModel* model) {
+  const double scale = FlangeUnitScale(path, flange_units);
+  const CsvTable t = ReadCsv(path);
+  std::vector<FlangePoseObservation> obs;
+  if (t.Column("q1", false) >= 0) {
+    if (!model) {
+      throw InputError({path, 1, "q1"},
+                       "the flange poses are given as joints (q1..q6): a robot model is needed to turn them into "
+                       "flange poses");
+    }
+    for (const BoardPoseObservation& o : ReadBoardPoseObservations(path))
+      obs.push_back({kinematics::BaseFromFlange(*model, o.q_controller), o.camera_from_board});
+    return obs;
+  }
+  const FlangeColumns flange(t);
+  const int x = t.Column("x"), y = t.Column("y"), z = t.Column("z");
+  const int a = t.Column("a"), b = t.Column("b"), c = t.Column("c");
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    FlangePoseObservation o;
+    o.camera_from_board.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
+    o.camera_from_board.linear() =
+        RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    o.base_from_flange = flange.Pose(t, r, scale);
+    obs.push_back(o);
+  }
+  return obs;
+}
+
+std::string FormatFlangePoseObservations(const std::vector<FlangePoseObservation>& obs, FlangePoseForm form,
+                                         const std::string& flange_units, const std::string& comment) {
+  const double scale = 1.0 / FlangeUnitScale("", flange_units);
+  const int digits = flange_units == "m" ? 9 : 6;
+  std::vector<std::string> header = {"pose"};
+  if (form == FlangePoseForm::kMatrix) {
+    for (int i = 0; i < 12; ++i) header.push_back("flange_m" + std::to_string(i / 4) + std::to_string(i % 4));
+  } else {
+    header.insert(header.end(), {"flange_x", "flange_y", "flange_z"});
+    if (form == FlangePoseForm::kQuaternion) {
+      header.insert(header.end(), {"flange_qw", "flange_qx", "flange_qy", "flange_qz"});
+    } else {
+      header.insert(header.end(), {"flange_a", "flange_b", "flange_c"});
+    }
+  }
+  header.insert(header.end(), {"x", "y", "z", "a", "b", "c"});
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    std::vector<std::string> row = {std::to_string(i + 1)};
+    const Isometry3& f = obs[i].base_from_flange;
+    if (form == FlangePoseForm::kMatrix) {
+      for (int r = 0; r < 3; ++r) {
+        for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(f.linear()(r, k), 12));
+        row.push_back(FormatFixed(scale * f.translation()[r], digits));
+      }
+    } else {
+      for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(scale * f.translation()[k], digits));
+      if (form == FlangePoseForm::kQuaternion) {
+        const Eigen::Quaterniond q(f.linear());
+        for (double v : {q.w(), q.x(), q.y(), q.z()}) row.push_back(FormatFixed(v, 12));
+      } else {
+        const KukaAbc abc = KukaAbcFromRotation(f.linear());
+        for (double v : {abc.a, abc.b, abc.c}) row.push_back(FormatFixed(RadToDeg(v), 9));
+      }
+    }
+    const Isometry3& p = obs[i].camera_from_board;
+    for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(p.translation()[k], 6));
+    const KukaAbc abc = KukaAbcFromRotation(p.linear());
+    for (double v : {abc.a, abc.b, abc.c}) row.push_back(FormatFixed(RadToDeg(v), 9));
+    rows.push_back(row);
+  }
+  return FormatCsv(header, rows, comment);
+}
+
+std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary,
+                              const EyeInHandRefinement* refinement) {
   nlohmann::json j;
+  j["setup"] = "camera on a stand (AX = ZB)";
   j["method"] = summary.method;
   j["refined"] = summary.refined;
+  if (refinement) j["refinement"] = internal::RefinementJson(*refinement, "camera_from_base", "camera frame");
   j["camera_from_base"] = PoseToJson(result.camera_from_base);
   j["flange_from_board"] = PoseToJson(result.flange_from_board);
   nlohmann::json res = nlohmann::json::array();

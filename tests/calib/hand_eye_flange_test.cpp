@@ -1,5 +1,7 @@
 // Camera on the flange (AX = XB) from flange poses given directly, every OpenCV method, against
 // the simulator's truth: exact on noise-free data (closed forms), within the noise level otherwise.
+#include "ramtk/calib/hand_eye_flange.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -7,11 +9,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <random>
+#include <sstream>
 
 #include "ramtk/calib/hand_eye.h"
-#include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
@@ -76,8 +77,8 @@ TEST(HandEyeFlange, EveryMethodWithinTheNoiseLevel) {
   const double rot_bound = 3 * sigma_deg * std::sqrt(3.0);
   const double trans_bound = 3 * (sigma_mm * std::sqrt(3.0) + DegToRad(sigma_deg * std::sqrt(3.0)) * 800);
   for (unsigned seed : {1u, 2u, 3u}) {
-    const auto obs =
-        SimulateFlangeCameraPoses(FlangePoses(15, 10 + seed), kFlangeFromCamera, kBaseFromBoard, sigma_deg, sigma_mm, seed);
+    const auto obs = SimulateFlangeCameraPoses(FlangePoses(15, 10 + seed), kFlangeFromCamera, kBaseFromBoard, sigma_deg,
+                                               sigma_mm, seed);
     for (EyeInHandMethod m : kMethods) {
       const EyeInHandResult r = CalibrateCameraOnFlange(obs, m);
       const double er = RotationErrorDeg(r.flange_from_camera, kFlangeFromCamera);
@@ -135,12 +136,16 @@ std::string WriteTemp(const std::string& name, const std::string& text) {
 TEST(HandEyeFlange, EveryPoseFileFormReadsBackToTheSameSolution) {
   const auto obs = SimulateFlangeCameraPoses(FlangePoses(12, 5), kFlangeFromCamera, kBaseFromBoard, 0.02, 0.05, 9);
   const EyeInHandResult direct = CalibrateCameraOnFlange(obs, EyeInHandMethod::kPark);
-  // KUKA A,B,C in mm (the writer's form).
-  std::vector<std::string> paths = {WriteTemp("abc.csv", FormatFlangeCameraObservations(obs))};
+  // The writer's three forms, A,B,C in mm, the quaternion in metres, the matrix in mm.
+  std::vector<std::string> paths = {
+      WriteTemp("abc.csv", FormatFlangePoseObservations(obs)),
+      WriteTemp("w_quat_m.csv", FormatFlangePoseObservations(obs, FlangePoseForm::kQuaternion, "m", "in metres")),
+      WriteTemp("w_matrix.csv", FormatFlangePoseObservations(obs, FlangePoseForm::kMatrix, "mm"))};
   // Quaternion in metres, and the 4x4 rows in mm, written here from the same poses.
   std::ostringstream quat, mat;
   quat << "# flange in metres\nflange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz,x,y,z,a,b,c\n";
-  mat << "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,flange_m20,flange_m21,"
+  mat << "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,flange_m20,flange_"
+         "m21,"
          "flange_m22,flange_m23,x,y,z,a,b,c\n";
   quat.precision(12);
   mat.precision(12);
@@ -161,9 +166,9 @@ TEST(HandEyeFlange, EveryPoseFileFormReadsBackToTheSameSolution) {
   }
   const std::string quat_path = WriteTemp("quat_m.csv", quat.str()), mat_path = WriteTemp("matrix.csv", mat.str());
   const std::vector<std::pair<std::string, std::string>> files = {
-      {paths[0], "mm"}, {quat_path, "m"}, {mat_path, "mm"}};
+      {paths[0], "mm"}, {paths[1], "m"}, {paths[2], "mm"}, {quat_path, "m"}, {mat_path, "mm"}};
   for (const auto& [path, units] : files) {
-    const EyeInHandResult r = CalibrateCameraOnFlange(ReadFlangeCameraObservations(path, units), EyeInHandMethod::kPark);
+    const EyeInHandResult r = CalibrateCameraOnFlange(ReadFlangePoseObservations(path, units), EyeInHandMethod::kPark);
     // The files hold 6-12 significant decimals: the solutions agree far below the noise (0.02 deg).
     EXPECT_LT(RotationErrorDeg(r.flange_from_camera, direct.flange_from_camera), 1e-5) << path;
     EXPECT_LT((r.flange_from_camera.translation() - direct.flange_from_camera.translation()).norm(), 1e-4) << path;
@@ -174,7 +179,7 @@ TEST(HandEyeFlange, EveryPoseFileFormReadsBackToTheSameSolution) {
 TEST(HandEyeFlange, BadPoseFilesNameTheLine) {
   auto message = [](const std::string& path, const std::string& units = "mm") {
     try {
-      ReadFlangeCameraObservations(path, units);
+      ReadFlangePoseObservations(path, units);
     } catch (const InputError& e) {
       return std::string(e.what());
     }
@@ -187,29 +192,34 @@ TEST(HandEyeFlange, BadPoseFilesNameTheLine) {
   EXPECT_NE(message(not_number).find("flange_z"), std::string::npos) << message(not_number);
   const std::string missing = WriteTemp("missing.csv", "flange_x,flange_y,flange_z,flange_a,flange_b,x,y,z,a,b,c\n");
   EXPECT_NE(message(missing).find("flange_c"), std::string::npos) << message(missing);
-  const std::string quat = WriteTemp(
-      "bad_quat.csv", "flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz,x,y,z,a,b,c\n"
-                      "1,0,0.8,1,0,0,0,0,0,800,0,0,0\n1,0,0.8,0.9,0,0,0,0,0,800,0,0,0\n");
+  const std::string quat = WriteTemp("bad_quat.csv",
+                                     "flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz,x,y,z,a,b,c\n"
+                                     "1,0,0.8,1,0,0,0,0,0,800,0,0,0\n1,0,0.8,0.9,0,0,0,0,0,800,0,0,0\n");
   EXPECT_NE(message(quat, "m").find(":3"), std::string::npos) << message(quat, "m");
   EXPECT_NE(message(quat, "m").find("norm"), std::string::npos) << message(quat, "m");
-  std::string mat = "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,"
-                    "flange_m20,flange_m21,flange_m22,flange_m23,x,y,z,a,b,c\n";
+  std::string mat =
+      "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,"
+      "flange_m20,flange_m21,flange_m22,flange_m23,x,y,z,a,b,c\n";
   mat += "1,0,0,1000,0,1,0,0,0,0,1,800,0,0,800,0,0,0\n2,0,0,1000,0,1,0,0,0,0,1,800,0,0,800,0,0,0\n";
   const std::string bad_mat = WriteTemp("bad_matrix.csv", mat);
   EXPECT_NE(message(bad_mat).find(":3"), std::string::npos) << message(bad_mat);
   EXPECT_NE(message(bad_mat).find("not a rotation"), std::string::npos) << message(bad_mat);
   EXPECT_NE(message(WriteTemp("units.csv", head + good), "inch").find("flange_units"), std::string::npos);
+  const std::string joints =
+      WriteTemp("joints.csv", "pose,q1,q2,q3,q4,q5,q6,x,y,z,a,b,c\n1,10,-80,95,20,35,-40,0,0,800,0,0,0\n");
+  EXPECT_NE(message(joints).find("robot model"), std::string::npos) << message(joints);
 }
 
 // Observed RMS per component (sum of squares over `draws`) against the mean predicted σ: within
 // 0.8–1.25 (with 300 draws an observed σ is uncertain by ±4 %, 1σ).
-void ExpectScatterMatchesPrediction(const Eigen::Matrix<double, 6, 1>& sum_sq, const Eigen::Matrix<double, 6, 6>& sum_cov,
-                                    int draws) {
+void ExpectScatterMatchesPrediction(const Eigen::Matrix<double, 6, 1>& sum_sq,
+                                    const Eigen::Matrix<double, 6, 6>& sum_cov, int draws) {
   for (int i = 0; i < 6; ++i) {
     const double observed = std::sqrt(sum_sq[i] / draws), expected = std::sqrt(sum_cov(i, i) / draws);
     ::testing::Test::RecordProperty("ratio_" + std::to_string(i), std::to_string(observed / expected));
     EXPECT_GT(observed / expected, 0.8) << "component " << i << ": observed " << observed << ", predicted " << expected;
-    EXPECT_LT(observed / expected, 1.25) << "component " << i << ": observed " << observed << ", predicted " << expected;
+    EXPECT_LT(observed / expected, 1.25) << "component " << i << ": observed " << observed << ", predicted "
+                                         << expected;
   }
 }
 

@@ -28,11 +28,10 @@ enum class HandEyeMethod { kShah, kLi };
 struct HandEyeOptions {
   HandEyeMethod method = HandEyeMethod::kShah;
   int min_poses = 3;  // OpenCV needs at least 3
-  // Refine OpenCV's closed form with Ceres (both rotations on the SO(3) manifold): least squares
-  // on the camera-frame positions of board points at (0,0), (±L,0), (0,±L) (L = the length
-  // below), i.e. the pose error with rotation weighted by the board's size.
+  // Refine OpenCV's closed form by least squares on SE(3) (RefineStandCamera, both rotations on
+  // Ceres's quaternion manifold; the rotation and translation residuals weighted by their noise,
+  // estimated from a first fit's residuals).
   bool refine = true;
-  double refine_length_mm = 100.0;
 
   std::string Validate() const;
 };
@@ -66,11 +65,14 @@ struct HandEyeSummary {
 bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_matrix,
                      const std::vector<double>& distortion, Isometry3* camera_from_board);
 
-// The same from flange poses given directly (the controller's base_from_flange, no robot model).
-struct StandCameraObservation {
-  Isometry3 base_from_flange = Isometry3::Identity();   // mm
-  Isometry3 camera_from_board = Isometry3::Identity();  // mm
+// One pose of a hand-eye session, either set-up: the controller's flange pose and the camera's
+// measured board pose.
+struct FlangePoseObservation {
+  Isometry3 base_from_flange = Isometry3::Identity();   // mm, from the controller (or FK of its joints)
+  Isometry3 camera_from_board = Isometry3::Identity();  // mm, e.g. cv::solvePnP on a detected board
 };
+// The same from flange poses given directly (the controller's base_from_flange, no robot model).
+using StandCameraObservation = FlangePoseObservation;
 HandEyeResult CalibrateStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeOptions& options = {},
                                    HandEyeSummary* summary = nullptr);
 
@@ -92,9 +94,31 @@ namespace ramtk::calib {
 std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path);
 std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>& obs);
 
+// Hand-eye pose files, either set-up (CSV with a header, any column order). The camera's
+// camera_from_board is always `x,y,z` (mm) and `a,b,c` (KUKA A,B,C, deg); the flange pose is one of
+//   q1,...,q6                                                   (controller joints, deg; needs `model`)
+//   flange_x,flange_y,flange_z,flange_a,flange_b,flange_c      (KUKA A,B,C, deg)
+//   flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz   (unit quaternion)
+//   flange_m00 ... flange_m23     (the top 3 rows of the 4x4 base_from_flange, row-major)
+// A flange translation is in `flange_units` ("mm" or "m"). InputError names the file, line and
+// column: a missing column, a non-number, a quaternion far from unit norm, a matrix whose rotation
+// part is not a rotation (|R^T R - I| > 1e-6 or det < 0), joints without a robot model.
+std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path,
+                                                              const std::string& flange_units = "mm",
+                                                              const kinematics::RobotModel* model = nullptr);
+// The forms above that carry the flange pose itself.
+enum class FlangePoseForm { kKukaAbc, kQuaternion, kMatrix };
+// Writes `obs` with a `pose` column, the flange pose in `form` and its translation in
+// `flange_units` ("mm" or "m"); an optional comment block first (each line prefixed "# ").
+std::string FormatFlangePoseObservations(const std::vector<FlangePoseObservation>& obs,
+                                         FlangePoseForm form = FlangePoseForm::kKukaAbc,
+                                         const std::string& flange_units = "mm", const std::string& comment = "");
+
 // The result as JSON text (camera_from_base and flange_from_board: 4×4, mm, KUKA A,B,C deg;
-// per-pose residuals; summary).
-std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary);
+// per-pose residuals; summary; with a refinement, the covariance of camera_from_base).
+struct EyeInHandRefinement;  // hand_eye_flange_refine.h
+std::string HandEyeResultJson(const HandEyeResult& result, const HandEyeSummary& summary,
+                              const EyeInHandRefinement* refinement = nullptr);
 
 // Simulated board poses for a board at flange_from_board, seen by a camera at camera_from_base,
 // at the given joints; noise: a rotation of sigma_deg·|w| about a random axis (w ~ N(0, I)) and

@@ -11,15 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/calib/hand_eye.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/rotation.h"
 
 namespace ramtk::calib {
 
-struct FlangeCameraObservation {
-  Isometry3 base_from_flange = Isometry3::Identity();   // mm, from the controller
-  Isometry3 camera_from_board = Isometry3::Identity();  // mm, e.g. cv::solvePnP on a detected board
-};
+using FlangeCameraObservation = FlangePoseObservation;
 
 // OpenCV's cv::HandEyeCalibrationMethod values.
 enum class EyeInHandMethod { kTsai, kPark, kHoraud, kAndreff, kDaniilidis };
@@ -41,19 +39,7 @@ struct EyeInHandResult {
 // about one axis: the problem is then degenerate).
 EyeInHandResult CalibrateCameraOnFlange(const std::vector<FlangeCameraObservation>& obs, EyeInHandMethod method);
 
-// Flange-camera observation files (CSV with a header, any column order): the camera's
-// camera_from_board as `x,y,z` (mm) and `a,b,c` (KUKA A,B,C, deg), and the controller's flange
-// pose in one of three forms:
-//   flange_x,flange_y,flange_z,flange_a,flange_b,flange_c      (KUKA A,B,C, deg)
-//   flange_x,flange_y,flange_z,flange_qw,flange_qx,flange_qy,flange_qz   (unit quaternion)
-//   flange_m00 ... flange_m23     (the top 3 rows of the 4x4 base_from_flange, row-major)
-// The flange translation is in `flange_units` ("mm" or "m"). InputError names the file, line
-// and column: a missing column, a non-number, a quaternion far from unit norm, a matrix whose
-// rotation part is not a rotation (|R^T R - I| > 1e-6 or det < 0).
-std::vector<FlangeCameraObservation> ReadFlangeCameraObservations(const std::string& path,
-                                                                  const std::string& flange_units = "mm");
-// Writes the first form (mm, KUKA A,B,C) with a `pose` column.
-std::string FormatFlangeCameraObservations(const std::vector<FlangeCameraObservation>& obs);
+// Pose files: ReadFlangePoseObservations / FormatFlangePoseObservations (hand_eye.h).
 
 // The result as JSON text: flange_from_camera and base_from_board (4x4, mm, KUKA A,B,C deg),
 // per-pose residuals, their RMS and the method.

@@ -54,4 +54,12 @@ EyeInHandResult RefineCameraOnFlange(const std::vector<FlangeCameraObservation>&
 HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, const HandEyeResult& initial,
                                 const EyeInHandRefineOptions& options, EyeInHandRefinement* refinement);
 
+// Camera on a stand in one call: OpenCV's closed form (options.method; options.refine is ignored),
+// then RefineStandCamera. The summary describes the refined result (refined = true).
+HandEyeResult CalibrateStandCameraWithCovariance(const std::vector<StandCameraObservation>& obs,
+                                                 const HandEyeOptions& options,
+                                                 const EyeInHandRefineOptions& refine_options,
+                                                 HandEyeSummary* summary = nullptr,
+                                                 EyeInHandRefinement* refinement = nullptr);
+
 }  // namespace ramtk::calib
