@@ -24,6 +24,7 @@ struct CamerasCommandOptions {
   double outlier_factor = 3.0;
   double outlier_min_px = 0.25;
   bool free_k3 = false;
+  std::string corners = "subpix";  // chessboards: subpix, sector or auto
 };
 
 std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
@@ -36,20 +37,32 @@ int RunCameras(const CamerasCommandOptions& opt) {
   co.fix_k3 = !opt.free_k3;
   const std::string bad = co.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
+  const calib::CornerChoice choice = calib::ParseCornerChoice(opt.corners, {"", 0, "--corners"});
+  // Chessboards: both corner sets come from one detection and both are calibrated (reported side
+  // by side); other boards have one set.
+  const bool compare = board.type == calib::BoardType::kChessboard;
   const std::vector<std::string> left_files = calib::ListBoardImages(opt.left);
   cv::Size size;
   std::vector<calib::RejectedView> not_found;
-  std::vector<calib::ViewPoints> left = calib::DetectBoardInImages(left_files, board, &size, &not_found);
+  std::vector<calib::ViewPoints> left_sector, right_sector;
+  std::vector<calib::ViewPoints> left =
+      calib::DetectBoardInImages(left_files, board, &size, &not_found, {}, compare ? &left_sector : nullptr);
   const std::string coverage_path =
       !opt.coverage.empty() ? opt.coverage
                             : std::filesystem::path(opt.output).replace_extension("").string() + "_coverage.png";
   calib::CameraCalibrationSummary summary;
+  calib::CornerComparison corners;
   std::string yaml;
   cv::Mat picture;
+  auto kept = [&](const std::vector<calib::ViewPoints>& subpix, const std::vector<calib::ViewPoints>& sector) {
+    return compare && corners.chosen == calib::CornerRefinement::kSectorBased ? sector : subpix;
+  };
   if (opt.right.empty()) {
-    const calib::CameraCalibrationResult r = calib::CalibrateCamera(left, size, co, &summary);
-    yaml = calib::CameraCalibrationYaml(r, board);
-    picture = calib::DrawCoverage(r, left);
+    const calib::CameraCalibrationResult r =
+        compare ? calib::CalibrateCameraComparingCorners(left, left_sector, size, co, choice, &summary, &corners)
+                : calib::CalibrateCamera(left, size, co, &summary);
+    yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr);
+    picture = calib::DrawCoverage(r, kept(left, left_sector));
   } else {
     const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
     if (right_files.size() != left_files.size()) {
@@ -57,15 +70,21 @@ int RunCameras(const CamerasCommandOptions& opt) {
                                                       std::to_string(left_files.size()) + " in " + opt.left);
     }
     cv::Size right_size = size;
-    std::vector<calib::ViewPoints> right = calib::DetectBoardInImages(right_files, board, &right_size, &not_found);
-    const calib::StereoCalibrationResult st = calib::CalibrateStereo(left, right, size, co, &summary);
-    yaml = calib::StereoCalibrationYaml(st, board);
-    cv::hconcat(calib::DrawCoverage(st.left, left), calib::DrawCoverage(st.right, right), picture);
+    std::vector<calib::ViewPoints> right =
+        calib::DetectBoardInImages(right_files, board, &right_size, &not_found, {}, compare ? &right_sector : nullptr);
+    const calib::StereoCalibrationResult st =
+        compare ? calib::CalibrateStereoComparingCorners(left, right, left_sector, right_sector, size, co, choice,
+                                                         &summary, &corners)
+                : calib::CalibrateStereo(left, right, size, co, &summary);
+    yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr);
+    cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
+                calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
   }
   const std::vector<unsigned char> png = image::EncodePng(picture, coverage_path);
   WriteFileAtomically(opt.output, yaml);
   WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
   std::printf("%s\n", summary.BriefReport().c_str());
+  if (compare) std::printf("%s\n", corners.BriefReport().c_str());
   for (const calib::RejectedView& r : not_found)
     std::printf("skipped %s: %s\n", ShortName(r.name).c_str(), r.reason.c_str());
   for (const calib::RejectedView& r : summary.rejected) {
@@ -93,6 +112,12 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
     sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");
     sub->add_option("--outlier-min-px", opt->outlier_min_px, "... and above this RMS (px)");
     sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
+    sub->add_option("--corners", opt->corners,
+                    "Chessboard corners to calibrate from: subpix (refined, unbiased on rendered boards), sector "
+                    "(findChessboardCornersSB's accurate corners) or auto (the lower RMS). Both are calibrated and "
+                    "reported either way")
+        ->check(CLI::IsMember({"subpix", "sector", "auto"}))
+        ->capture_default_str();
     sub->callback([opt, exit_code]() { *exit_code = RunCameras(*opt); });
   }
 }

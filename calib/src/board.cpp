@@ -245,6 +245,7 @@ BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, const Bo
         const bool sb = cv::findChessboardCornersSB(gray, pattern, accurate, cv::CALIB_CB_ACCURACY);
         if (sb) pts = accurate;
         if (options.refinement == CornerRefinement::kSubPix) {
+          if (sb) d.sector_points = pts;
           // The sector-based positions carry a geometry-fixed, board-wide correlated error that
           // biases calibrations beyond their reported σ; see CornerRefinement.
           RefineCornersAdaptive(gray, board.cols, board.rows, options, &pts);
@@ -265,7 +266,10 @@ BoardDetection DetectBoard(const cv::Mat& gray, const BoardSpec& board, const Bo
           const int y = std::clamp(static_cast<int>(std::lround(p.y)), 0, gray.rows - 1);
           return static_cast<int>(gray.at<unsigned char>(y, x));
         };
-        if (at(c) > at(far)) std::reverse(pts.begin(), pts.end());
+        if (at(c) > at(far)) {
+          std::reverse(pts.begin(), pts.end());
+          std::reverse(d.sector_points.begin(), d.sector_points.end());
+        }
       }
       break;
     case BoardType::kSymmetricCircles:

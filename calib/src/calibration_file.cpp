@@ -25,9 +25,23 @@ void WriteSession(cv::FileStorage& fs, const CameraCalibrationResult& c, const s
   WriteRejected(fs, "rejected_views" + suffix, c.rejected);
 }
 
+// The corner comparison of CalibrateCameraComparingCorners / CalibrateStereoComparingCorners.
+void WriteCornerComparison(cv::FileStorage& fs, const CornerComparison& c, int cameras) {
+  fs << "corners" << (c.chosen == CornerRefinement::kSubPix ? "subpix" : "sector");
+  for (const auto& [name, fit] :
+       {std::pair<const char*, const CornerSetFit*>{"subpix", &c.subpix}, {"sector", &c.sector}}) {
+    fs << (std::string("corner_views_") + name) << fit->views;
+    fs << (std::string("corner_rms_px_") + name) << (fit->ok ? fit->rms_px : -1.0);
+    fs << (std::string("corner_fx_sigma_px_") + name) << "[";
+    for (int i = 0; i < cameras; ++i) fs << (fit->ok ? fit->fx_sigma_px[i] : -1.0);
+    fs << "]";
+  }
+}
+
 }  // namespace
 
-std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const BoardSpec& board) {
+std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const BoardSpec& board,
+                                  const CornerComparison* corners) {
   return camera::StereoCalibrationText(st.rig, false,
                                        "ramtk stereo calibration: x_right = R * x_left + T (mm); parameter_std order " +
                                            std::string(camera::kCalibParameterStdOrder),
@@ -36,10 +50,12 @@ std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const Board
                                          WriteSession(fs, st.left, "1");
                                          WriteSession(fs, st.right, "2");
                                          WriteRejected(fs, "rejected_pairs", st.rejected_pairs);
+                                         if (corners) WriteCornerComparison(fs, *corners, 2);
                                        });
 }
 
-std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board) {
+std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board,
+                                  const CornerComparison* corners) {
   return camera::CameraCalibrationText(
       camera.intrinsics, camera.rms_px, camera.per_view_rms_px, camera.std_intrinsics,
       "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3", [&](cv::FileStorage& fs) {
@@ -49,6 +65,7 @@ std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const B
         for (const std::string& n : camera.view_names) fs << n;
         fs << "]";
         WriteRejected(fs, "rejected_views1", camera.rejected);
+        if (corners) WriteCornerComparison(fs, *corners, 1);
       });
 }
 

@@ -256,8 +256,9 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
 
 std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& paths, const BoardSpec& board,
                                             cv::Size* image_size, std::vector<RejectedView>* rejected,
-                                            const ProgressCallback& progress) {
+                                            const ProgressCallback& progress, std::vector<ViewPoints>* sector_based) {
   std::vector<ViewPoints> views(paths.size());
+  if (sector_based) sector_based->assign(paths.size(), ViewPoints());
   for (std::size_t i = 0; i < paths.size(); ++i) {
     const cv::Mat img = image::LoadImageGrey8(paths[i]);
     if (image_size->area() == 0) *image_size = img.size();
@@ -272,6 +273,14 @@ std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& path
       views[i].image_points = d.image_points;
       views[i].object_points = d.object_points;
       views[i].ids = d.ids;
+      if (sector_based) {
+        (*sector_based)[i].name = paths[i];
+        if (!d.sector_points.empty()) {
+          (*sector_based)[i].image_points = d.sector_points;
+          (*sector_based)[i].object_points = d.object_points;
+          (*sector_based)[i].ids = d.ids;
+        }
+      }
     } else if (rejected) {
       rejected->push_back({paths[i], d.reason});
     }

@@ -33,8 +33,9 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
   const BoardSpec board = ParseBoardSpec("chessboard:9x6:25", {"test", 0, "board"});
   cv::Size size_l, size_r;
   std::vector<RejectedView> missed_l, missed_r;
-  const std::vector<ViewPoints> left = DetectBoardInImages(left_paths, board, &size_l, &missed_l);
-  const std::vector<ViewPoints> right = DetectBoardInImages(right_paths, board, &size_r, &missed_r);
+  std::vector<ViewPoints> left_sector, right_sector;
+  const std::vector<ViewPoints> left = DetectBoardInImages(left_paths, board, &size_l, &missed_l, {}, &left_sector);
+  const std::vector<ViewPoints> right = DetectBoardInImages(right_paths, board, &size_r, &missed_r, {}, &right_sector);
   ASSERT_EQ(size_l, cv::Size(640, 480));
   ASSERT_TRUE(missed_l.empty() && missed_r.empty()) << "every view shows the whole board";
   ASSERT_EQ(left.size(), right.size());
@@ -85,9 +86,23 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
   // the RMS by a few tenths of a percent when they are right; 1 % allows for that.
   EXPECT_LE(ours.rig.rms_px, 1.01 * peer_rms);
 
-  // For the record (issue 16): OpenCV's sector-based detector with its accuracy flag, on the same
-  // images, calibrated the same way (printed, not asserted: which corners are better on real
-  // boards is what docs/calib.md reports).
+  // Both corner sets of one detection, calibrated side by side (issue 16: choose or validate the
+  // refinement per session). The sector-based set must be OpenCV's own findChessboardCornersSB
+  // (CALIB_CB_ACCURACY) corners: the peer below detects them itself and calibrates them with
+  // cv::calibrateCameraRO; same corners and model give the same RMS.
+  CornerComparison stereo_corners;
+  CameraCalibrationSummary auto_summary;
+  const StereoCalibrationResult kept = CalibrateStereoComparingCorners(
+      left, right, left_sector, right_sector, size_l, options, CornerChoice::kLowerRms, &auto_summary, &stereo_corners);
+  std::cout << stereo_corners.BriefReport() << "\n";
+  ASSERT_TRUE(stereo_corners.subpix.ok && stereo_corners.sector.ok);
+  // The subpix set is the default session's, so its figures are CalibrateStereo's.
+  EXPECT_EQ(stereo_corners.subpix.rms_px, ours.rig.rms_px);
+  EXPECT_EQ(stereo_corners.subpix.fx_sigma_px[0], ours.rig.parameter_std[0]);
+  // auto keeps the lower RMS, and returns that set's calibration.
+  const bool subpix_lower = stereo_corners.subpix.rms_px <= stereo_corners.sector.rms_px;
+  EXPECT_EQ(stereo_corners.chosen, subpix_lower ? CornerRefinement::kSubPix : CornerRefinement::kSectorBased);
+  EXPECT_EQ(kept.rig.rms_px, subpix_lower ? stereo_corners.subpix.rms_px : stereo_corners.sector.rms_px);
   for (int cam = 0; cam < 2; ++cam) {
     std::vector<std::vector<cv::Point3f>> obj_sb;
     std::vector<std::vector<cv::Point2f>> img_sb;
@@ -104,10 +119,17 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
     cv::Mat std_in, std_ex, per_view;
     const double rms = cv::calibrateCameraRO(obj_sb, img_sb, size_l, -1, k, d, rv, tv, cv::noArray(), std_in, std_ex,
                                              cv::noArray(), per_view, cv::CALIB_FIX_K3);
-    const CameraCalibrationResult& c = cam == 0 ? ours.left : ours.right;
-    std::cout << (cam == 0 ? "left" : "right") << ": findChessboardCornersSB(ACCURACY) " << img_sb.size()
-              << " views, RMS " << rms << " px, sigma fx " << std_in.at<double>(0) << "; ramtk corners RMS " << c.rms_px
-              << " px, sigma fx " << c.std_intrinsics[0] << "\n";
+    CornerComparison single;
+    CalibrateCameraComparingCorners(cam == 0 ? left : right, cam == 0 ? left_sector : right_sector, size_l, options,
+                                    CornerChoice::kSubPix, nullptr, &single);
+    std::cout << (cam == 0 ? "left" : "right") << ": OpenCV findChessboardCornersSB(ACCURACY) + calibrateCameraRO "
+              << img_sb.size() << " views, RMS " << rms << " px, sigma fx " << std_in.at<double>(0) << "; "
+              << single.BriefReport() << "\n";
+    ASSERT_EQ(single.sector.views, static_cast<int>(img_sb.size()));
+    // The board is canonicalised (180° symmetric grids reordered): the RMS does not depend on the
+    // order, so it agrees to the solvers' convergence (1e-6 relative).
+    EXPECT_NEAR(single.sector.rms_px, rms, 1e-6 * rms);
+    EXPECT_NEAR(single.sector.fx_sigma_px[0], std_in.at<double>(0), 1e-4 * std_in.at<double>(0));
   }
 }
 

@@ -51,6 +51,10 @@ struct BoardDetection {
   std::vector<cv::Point3f> object_points;  // matching board points (mm)
   std::vector<int> ids;                    // feature index into BoardObjectPoints
   std::string reason;                      // why not found
+  // Chessboards refined with kSubPix whose grid came from the sector-based detector: that
+  // detector's own (kSectorBased) positions, so that one detection gives both corner sets;
+  // otherwise empty.
+  std::vector<cv::Point2f> sector_points;
 };
 
 // How chessboard corners are refined after detection.

@@ -103,18 +103,69 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
 // reads: PNG, BMP, and through OpenImageIO JPEG, TIFF, ...). Images
 // where the board is not found are listed in `rejected`. InputError names an unreadable file and
 // a file whose size differs from the first one.
+// With `sector_based`, that list is filled too, view for view, with the sector-based detector's
+// own corners (BoardDetection::sector_points; a view without them has no points there).
 std::vector<ViewPoints> DetectBoardInImages(const std::vector<std::string>& paths, const BoardSpec& board,
                                             cv::Size* image_size, std::vector<RejectedView>* rejected,
-                                            const ProgressCallback& progress = {});
+                                            const ProgressCallback& progress = {},
+                                            std::vector<ViewPoints>* sector_based = nullptr);
+
+// Which chessboard corners a session is calibrated from. Neither refinement wins everywhere: on
+// rendered boards the refined corners are the unbiased ones (the sector-based ones bias fx by
+// 7–10 σ at a lower RMS), on the opencv-doc stereo session they also give the lower RMS, on a
+// public 1928×1208 real set the sector-based ones did (docs/calib.md).
+enum class CornerChoice {
+  kSubPix,       // CornerRefinement::kSubPix corners (the default)
+  kSectorBased,  // CornerRefinement::kSectorBased corners
+  kLowerRms,     // whichever gives the lower reprojection RMS (stereo RMS for a rig)
+};
+// "subpix", "sector", "auto"; InputError naming `where` otherwise.
+CornerChoice ParseCornerChoice(const std::string& text, const InputLocation& where);
+
+// One corner set's calibration, for the comparison.
+struct CornerSetFit {
+  bool ok = false;
+  std::string error;               // why the calibration failed (ok = false)
+  int views = 0;                   // views (pairs) used
+  double rms_px = 0.0;             // reprojection RMS (stereo RMS for a rig)
+  double fx_sigma_px[2] = {0, 0};  // reported σ of fx, left and right camera (right 0 for one camera)
+};
+
+// Both corner sets calibrated the same way, and the one kept.
+struct CornerComparison {
+  CornerSetFit subpix, sector;
+  CornerRefinement chosen = CornerRefinement::kSubPix;
+  std::string BriefReport() const;
+};
+
+// Calibrates from both corner sets (views from DetectBoardInImages and its sector_based list) and
+// returns the result of the one `choice` keeps. A set that cannot be calibrated is reported in
+// the comparison; InputError if the kept one (or, for kLowerRms, both) cannot.
+CameraCalibrationResult CalibrateCameraComparingCorners(const std::vector<ViewPoints>& subpix,
+                                                        const std::vector<ViewPoints>& sector, cv::Size image_size,
+                                                        const CameraCalibrationOptions& options, CornerChoice choice,
+                                                        CameraCalibrationSummary* summary,
+                                                        CornerComparison* comparison);
+StereoCalibrationResult CalibrateStereoComparingCorners(const std::vector<ViewPoints>& left_subpix,
+                                                        const std::vector<ViewPoints>& right_subpix,
+                                                        const std::vector<ViewPoints>& left_sector,
+                                                        const std::vector<ViewPoints>& right_sector,
+                                                        cv::Size image_size, const CameraCalibrationOptions& options,
+                                                        CornerChoice choice, CameraCalibrationSummary* summary,
+                                                        CornerComparison* comparison);
 
 // The stereo calibration file (OpenCV FileStorage YAML text, camera::StereoCalibrationText): the
 // rig's keys (image_size K1 D1 K2 D2 R T rms_px per_view_errors_px parameter_std), then the
 // session's: board, and per camera its single-camera fit (rms1, per_view_errors1, views1,
 // rejected_views1, the same with 2) and the rejected pairs.
-std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board);
+// With `corners`, also the comparison: corners (the kept set), corner_rms_px_subpix/_sector,
+// corner_fx_sigma_px_subpix/_sector (left, right) and corner_views_subpix/_sector.
+std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board,
+                                  const CornerComparison* corners = nullptr);
 // Single camera (camera::CameraCalibrationText): image_size K1 D1 rms_px per_view_errors_px
 // parameter_std (fx fy cx cy k1 k2 p1 p2 k3), then board, views1, rejected_views1.
-std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board);
+std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board,
+                                  const CornerComparison* corners = nullptr);
 
 // Coverage and residual picture of one camera: every used feature (a dot per view colour) and
 // its residual vector magnified residual_scale times; rejected views' features in grey.
