@@ -96,13 +96,14 @@ TEST(RealBoard, OpencvDocStereoSessionAgreesWithStereoCalibrate) {
       left, right, left_sector, right_sector, size_l, options, CornerChoice::kLowerRms, &auto_summary, &stereo_corners);
   std::cout << stereo_corners.BriefReport() << "\n";
   ASSERT_TRUE(stereo_corners.subpix.ok && stereo_corners.sector.ok);
-  // The subpix set is the default session's, so its figures are CalibrateStereo's.
-  EXPECT_EQ(stereo_corners.subpix.rms_px, ours.rig.rms_px);
-  EXPECT_EQ(stereo_corners.subpix.fx_sigma_px[0], ours.rig.parameter_std[0]);
+  // The subpix set is the default session's, so its figures are CalibrateStereo's (OpenCV's
+  // threaded sums differ from run to run in the last bits: 1e-9 relative).
+  EXPECT_NEAR(stereo_corners.subpix.rms_px, ours.rig.rms_px, 1e-9 * ours.rig.rms_px);
+  EXPECT_NEAR(stereo_corners.subpix.fx_sigma_px[0], ours.rig.parameter_std[0], 1e-9 * ours.rig.parameter_std[0]);
   // auto keeps the lower RMS, and returns that set's calibration.
   const bool subpix_lower = stereo_corners.subpix.rms_px <= stereo_corners.sector.rms_px;
   EXPECT_EQ(stereo_corners.chosen, subpix_lower ? CornerRefinement::kSubPix : CornerRefinement::kSectorBased);
-  EXPECT_EQ(kept.rig.rms_px, subpix_lower ? stereo_corners.subpix.rms_px : stereo_corners.sector.rms_px);
+  EXPECT_EQ(kept.rig.rms_px, subpix_lower ? stereo_corners.subpix.rms_px : stereo_corners.sector.rms_px);  // same run
   for (int cam = 0; cam < 2; ++cam) {
     std::vector<std::vector<cv::Point3f>> obj_sb;
     std::vector<std::vector<cv::Point2f>> img_sb;
