@@ -17,6 +17,7 @@ struct DecodeCommandOptions {
   double min_modulation = 0.02;  // B threshold, fraction of full scale
   double sigma_intensity = 0;    // DN; 0 = estimate
   bool no_nonlinearity = false;  // skip the gamma ripple correction
+  int phase_filter = 0;          // coordinate filter radius (px), 0 = off
   std::string format = "tiff";   // float image format: tiff or exr
   bool force = false;            // replace an existing output folder
 };
@@ -32,6 +33,7 @@ int RunDecode(const DecodeCommandOptions& opt) {
   options.min_modulation_fraction = opt.min_modulation;
   options.intensity_sigma_dn = opt.sigma_intensity;
   options.correct_nonlinearity = !opt.no_nonlinearity;
+  options.coordinate_filter.radius_px = opt.phase_filter;
   ThrowIfInvalid(options.Validate(), "DecodeOptions");
   const FringeManifest m = ReadFringeManifest(opt.manifest);
   CheckOutputAgainstInputs(opt.out, m.InputFiles(), "--out");
@@ -70,6 +72,10 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--format", opt->format, "Float image format: tiff or exr")->capture_default_str();
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity");
+  sub->add_option("--phase-filter", opt->phase_filter,
+                  "Smooth the coordinate map with a quadratic fit over a (2R+1)^2 window, R px (0 = off, at most 6); "
+                  "carried into the sigma maps")
+      ->check(CLI::Range(0, 6));
   sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
   sub->callback([opt, exit_code]() { *exit_code = RunDecode(*opt); });
 }

@@ -36,6 +36,7 @@ struct ScanCommandOptions {
   bool full_search = false;                   // match every pixel by the whole-range search
   bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
+  int phase_filter = 0;                       // coordinate filter radius (px), 0 = off
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
   std::string shard;                                       // "K/N": scan only shard K of N of the batch
   bool report = false;                                     // also write report.html
@@ -73,6 +74,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.match.max_depth_mm = opt.max_depth;
   options.decode.reference_path = opt.reference_decode;
   options.decode.correct_nonlinearity = !opt.no_nonlinearity;
+  options.decode.coordinate_filter.radius_px = opt.phase_filter;
   options.match.full_search = opt.full_search;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
@@ -196,6 +198,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                 "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
                 "match (the reference; nearly the same matches, slower): for comparisons");
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity (as decode)");
+  sub->add_option("--phase-filter", opt->phase_filter,
+                  "Smooth each decoded coordinate map with a quadratic fit over a (2R+1)^2 window, R px (0 = off, "
+                  "at most 6); the smoothing is carried into every point's sigma")
+      ->check(CLI::Range(0, 6));
   sub->add_flag("--whole-residual-sigma", opt->whole_residual_sigma,
                 "sigma_I = the whole sinusoid-fit residual (harmonics included), as before 2026-11-24");
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,

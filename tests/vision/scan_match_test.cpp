@@ -7,6 +7,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "ramtk/core/error.h"
+#include "ramtk/vision/coordinate_filter.h"
 #include "ramtk/vision/stereo_match.h"
 #include "ramtk/vision/triangulate.h"
 #include "scan_sim.h"
@@ -102,6 +103,39 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
     EXPECT_NEAR(e.normalised_rms, 1.0, 0.15);
     // No gross mismatch: nothing beyond 6 sigma of the largest point sigma.
     EXPECT_LT(e.worst_um, 6 * 1000 * 0.2);
+  }
+}
+
+// The phase-domain filter (DecodeOptions::coordinate_filter) on both cameras: the depth error
+// stays consistent with the sigma the filter reports, and it shrinks.
+TEST(ScanMatch, PhaseFilterKeepsDepthWithinItsSigma) {
+  const DecodedStereo& s = SmallSet();
+  const StereoCalibration calib = SmallCalibration();
+  DecodedCamera left = s.left, right = s.right;
+  left.coordinate = left.coordinate.clone(), left.sigma_coordinate = left.sigma_coordinate.clone();
+  right.coordinate = right.coordinate.clone(), right.sigma_coordinate = right.sigma_coordinate.clone();
+  CoordinateFilterOptions fo;
+  fo.radius_px = 2;
+  for (DecodedCamera* d : {&left, &right}) {
+    const CoordinateFilterSummary fs =
+        FilterCoordinate(fo, d->summary.phase_ripple_rad * d->summary.period_px / (2 * CV_PI), d);
+    std::cout << "filtered " << fs.filtered << " px, median sigma x" << fs.median_sigma_ratio << "\n";
+    EXPECT_LT(fs.median_sigma_ratio, 0.8);
+  }
+  auto depth_errors = [&](const DecodedCamera& l, const DecodedCamera& r, int object) {
+    const StereoMatch match = MatchStereo(calib, l, r, s.period, StereoMatchOptions{});
+    cv::Mat depth;
+    const PointCloud cloud = TriangulateMatches(calib, l, match, {}, nullptr, &depth);
+    return CompareDepth(s, calib, depth, SigmaMap(cloud, depth.size()), object);
+  };
+  for (int object : {0, 1}) {
+    const DepthErrors raw = depth_errors(s.left, s.right, object);
+    const DepthErrors e = depth_errors(left, right, object);
+    std::cout << "object " << object << ": filtered " << e.n << " px, RMS " << e.rms_um << " um (unfiltered "
+              << raw.rms_um << "), RMS(err/sigma) " << e.normalised_rms << "\n";
+    EXPECT_GT(e.n, 20000);
+    EXPECT_NEAR(e.normalised_rms, 1.0, 0.15);
+    EXPECT_LT(e.rms_um, 0.8 * raw.rms_um);
   }
 }
 

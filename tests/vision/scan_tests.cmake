@@ -25,6 +25,14 @@ set(SCAN_DEFAULT ${PROJECT_SOURCE_DIR}/datasets/scan_default)
 ramtk_cli_test(scan_default 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/default --force
   STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
+# The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
+ramtk_cli_test(scan_default_phase_filter 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
+       --phase-filter 2
+  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm")
+ramtk_cli_test(scan_bad_phase_filter 2
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/never_pf --phase-filter 9
+  NO_PATH ${SCAN_CLI}/never_pf)
 # A calibration for 1280x1024 images beside the 640x512 set.
 file(READ ${SCAN_DEFAULT}/calibration.yml SCAN_CALIB)
 string(REPLACE "image_size: [ 640, 512 ]" "image_size: [ 1280, 1024 ]" SCAN_CALIB_BIG "${SCAN_CALIB}")

@@ -45,6 +45,7 @@ std::string DecodeOptions::Validate() const {
     if (const std::string p = nonlinearity.Validate(); !p.empty()) return "nonlinearity." + p;
   if (harmonic_stride < 1) return "harmonic_stride: must be >= 1";
   if (noise_stride < 1) return "noise_stride: must be >= 1";
+  if (const std::string p = coordinate_filter.Validate(); !p.empty()) return "coordinate_filter." + p;
   return "";
 }
 
@@ -68,6 +69,10 @@ std::string DecodeSummary::BriefReport() const {
     s << " (power-law gamma " << gamma_from_harmonics << "); ";
   }
   s << nonlinearity.BriefReport();
+  if (coordinate_filter.radius_px > 0)
+    s << "; phase filter R=" << coordinate_filter.radius_px << ": " << coordinate_filter.filtered << " px filtered ("
+      << coordinate_filter.kept_sparse << " sparse, " << coordinate_filter.kept_departure
+      << " departed kept), median sigma x" << coordinate_filter.median_sigma_ratio;
   return s.str();
 }
 
@@ -283,9 +288,10 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
     uniform = uniform && f.type() == frames[0].type() && f.channels() == 1 &&
               (f.depth() == CV_8U || f.depth() == CV_16U || f.depth() == CV_32F);
   }
-  if (!options.reference_path && uniform) return detail::DecodeFramesFast(m, frames, full_scale, options, camera);
   DecodedCamera out;
-  if (uniform && frames[0].depth() == CV_32F) {
+  if (!options.reference_path && uniform) {
+    out = detail::DecodeFramesFast(m, frames, full_scale, options, camera);
+  } else if (uniform && frames[0].depth() == CV_32F) {
     out = options.reference_path ? DecodeFramesReference(m, frames, full_scale, options, camera)
                                  : detail::DecodeFramesFast(m, frames, full_scale, options, camera);
   } else {
@@ -293,6 +299,10 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
     for (std::size_t i = 0; i < frames.size(); ++i) frames[i].convertTo(as_float[i], CV_32F);
     out = options.reference_path ? DecodeFramesReference(m, as_float, full_scale, options, camera)
                                  : detail::DecodeFramesFast(m, as_float, full_scale, options, camera);
+  }
+  if (options.coordinate_filter.radius_px > 0 && out.summary.termination == Termination::kSuccess) {
+    out.summary.coordinate_filter = FilterCoordinate(
+        options.coordinate_filter, out.summary.phase_ripple_rad * out.summary.period_px / (2 * CV_PI), &out);
   }
   if (!options.keep_diagnostic_maps) {
     out.wrapped.release();
@@ -338,6 +348,11 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
   j["sigma_intensity_random_dn"] = s.sigma_intensity_random_dn;
   j["sigma_intensity_systematic_dn"] = s.sigma_intensity_systematic_dn;
   j["phase_ripple_rad"] = s.phase_ripple_rad;
+  j["coordinate_filter"] = {{"radius_px", s.coordinate_filter.radius_px},
+                            {"filtered", s.coordinate_filter.filtered},
+                            {"kept_sparse", s.coordinate_filter.kept_sparse},
+                            {"kept_departure", s.coordinate_filter.kept_departure},
+                            {"median_sigma_ratio", s.coordinate_filter.median_sigma_ratio}};
   j["worst_residual_dn"] = s.worst_residual_dn;
   j["phase_residual_rms_rad"] = s.phase_residual_rms_rad;
   j["median_modulation_dn"] = s.median_modulation_dn;

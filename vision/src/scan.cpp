@@ -192,7 +192,9 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
           px.push_back(result.cloud.left_pixels[i]);
           z.push_back(((p - r.centre_mm).norm() - r.radius_mm) / sigma_n);
         }
-        const NeighbourCorrelation nc = EstimateNeighbourCorrelation(px, z, cv::Size(sum.width, sum.height), 2);
+        // A phase filter of radius R shares noise between pixels up to 2R apart.
+        const int lag = 2 + 2 * options.decode.coordinate_filter.radius_px;
+        const NeighbourCorrelation nc = EstimateNeighbourCorrelation(px, z, cv::Size(sum.width, sum.height), lag);
         // Never below 1: on white residuals the estimate scatters around 1 and would shrink the
         // independent-point covariance half the time.
         const double factor = std::max(1.0, nc.factor);

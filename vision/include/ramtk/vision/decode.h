@@ -9,6 +9,7 @@
 
 #include "ramtk/core/progress.h"
 #include "ramtk/core/termination.h"
+#include "ramtk/vision/coordinate_filter.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/nonlinearity.h"
 
@@ -54,6 +55,9 @@ struct DecodeOptions {
   // coordinate, its sigma, the modulation and the mask (ScanOptions() sets false). The
   // summary's figures do not change.
   bool keep_diagnostic_maps = true;
+  // Optional phase-domain smoothing of the coordinate map, carried into sigma_coordinate
+  // (coordinate_filter.h); off by default (radius_px = 0).
+  CoordinateFilterOptions coordinate_filter;
   // Called after each stage; returning false stops the decode (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
@@ -98,6 +102,7 @@ struct DecodeSummary {
   // before and after the nonlinearity correction.
   int iterations = 0;
   double initial_cost = 0, final_cost = 0;
+  CoordinateFilterSummary coordinate_filter;  // radius_px 0: not filtered
   std::string BriefReport() const;
 };
 
