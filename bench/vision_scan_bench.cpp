@@ -14,6 +14,11 @@
 //   vision_scan_bench limb [--seed N] [--noise 0|1]
 //       the default pose: per-point error against the true sphere binned by viewing angle, and
 //       the fitted centre with and without the grazing points.
+//   vision_scan_bench set --manifest SET/manifest.json [--phase-filter R]
+//       a simulated set on disk (`ramtk simulate fringe`, its truth in SET/truth): per-point error
+//       along the left ray against the true depth on clean pixels (ball, backdrop) and that
+//       error over the point's sigma; the ball's points against the true sphere by viewing angle;
+//       the fitted centre against the truth.
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -22,6 +27,7 @@
 #include <cstring>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -136,8 +142,7 @@ int Speed(const std::string& preset, int repeat) {
     ScanOptions o;
     o.roi.mode = ScanRoiOptions::Mode::kAuto;
     t = Clock::now();
-    const ScanResult res =
-        ScanFrames(testing::ManifestForConfig(c), calib, lf, rf, (1 << c.sensor.bits) - 1.0, o);
+    const ScanResult res = ScanFrames(testing::ManifestForConfig(c), calib, lf, rf, (1 << c.sensor.bits) - 1.0, o);
     const double total = Since(t);
     const ScanSummary& s = res.summary;
     std::printf(
@@ -377,17 +382,112 @@ int Limb(const Vec3& ball, int seed, bool noise) {
   return 0;
 }
 
+// Per-point errors of a scanned set on disk against its rendered truth maps.
+int SetErrors(const std::string& manifest, int phase_filter) {
+  const std::string dir = manifest.substr(0, manifest.find_last_of('/'));
+  ScanOptions o;
+  o.decode.coordinate_filter.radius_px = phase_filter;
+  const ScanResult res = ScanFringeSet(manifest, o);
+  const cv::Mat depth = cv::imread(dir + "/truth/left_depth.tif", cv::IMREAD_UNCHANGED);
+  const cv::Mat object = cv::imread(dir + "/truth/left_object_id.tif", cv::IMREAD_UNCHANGED);
+  const cv::Mat lit = cv::imread(dir + "/truth/left_lit_fraction.tif", cv::IMREAD_UNCHANGED);
+  if (depth.type() != CV_32F || lit.type() != CV_32F || object.empty()) {
+    std::fprintf(stderr, "%s/truth: expected float TIFF truth maps\n", dir.c_str());
+    return 1;
+  }
+  const Sphere truth = ReadTruthSpheres(dir + "/truth/truth.json").at(0);
+  const StereoCalibration calib = ReadStereoCalibration(dir + "/calibration.yml");
+  auto object_at = [&](int x, int y) {
+    return object.depth() == CV_32F ? static_cast<int>(object.at<float>(y, x)) : object.at<int>(y, x);
+  };
+  auto clean = [&](int u, int v, int id) {
+    for (int dv = -2; dv <= 2; ++dv)
+      for (int du = -2; du <= 2; ++du) {
+        const int x = u + du, y = v + dv;
+        if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return false;
+        if (object_at(x, y) != id || lit.at<float>(y, x) != 1.0f) return false;
+      }
+    return true;
+  };
+  constexpr int kBins = 9;
+  double n[2] = {}, sq[2] = {}, nsq[2] = {}, mean[2] = {};
+  double bn[kBins] = {}, bsum[kBins] = {}, bnsq[kBins] = {}, bsig[kBins] = {};
+  for (std::size_t i = 0; i < res.cloud.size(); ++i) {
+    const int u = static_cast<int>(res.cloud.left_pixels[i].x()), v = static_cast<int>(res.cloud.left_pixels[i].y());
+    const Vec3 p = res.cloud.points_in_left[i].cast<double>();
+    const double sigma = res.cloud.sigma_mm[i];
+    for (int id : {0, 1}) {
+      if (!clean(u, v, id)) continue;
+      const Vec3 ray = PixelRay(calib.left, Vec2(u, v));
+      const double along = (p.z() - depth.at<float>(v, u)) / ray.z();
+      n[id] += 1, sq[id] += along * along, nsq[id] += std::pow(along / sigma, 2), mean[id] += along;
+    }
+    const double e = (p - truth.centre_in_left).norm() - truth.radius;
+    if (std::abs(e) > 0.5) continue;
+    const Vec3 normal = (p - truth.centre_in_left).normalized();
+    const double cos_view = std::clamp(-normal.dot(p.normalized()), -1.0, 1.0);
+    const int b = std::min(kBins - 1, static_cast<int>(std::acos(cos_view) * 180 / M_PI / 10));
+    const double sn = sigma * std::abs(cos_view);  // sigma along the normal, for a ray-aligned error
+    bn[b] += 1, bsum[b] += e, bnsq[b] += sn > 0 ? e * e / (sn * sn) : 0, bsig[b] += sn;
+  }
+  std::printf("%s%s: %zu points\n", manifest.c_str(), phase_filter ? " (phase filter)" : "", res.cloud.size());
+  const char* names[2] = {"ball", "backdrop"};
+  for (int id : {0, 1})
+    if (n[id] > 0)
+      std::printf("  %-8s clean px %7.0f: error along the ray mean %+7.2f um, RMS %7.2f um, RMS(error/sigma) %.3f\n",
+                  names[id], n[id], 1000 * mean[id] / n[id], 1000 * std::sqrt(sq[id] / n[id]),
+                  std::sqrt(nsq[id] / n[id]));
+  std::printf("  ball points against the true sphere, by viewing angle:\n");
+  for (int b = 0; b < kBins; ++b)
+    if (bn[b] > 0)
+      std::printf("    %2d-%2d deg: %6.0f points, mean %+7.2f um, RMS(error/sigma_n) %.3f, mean sigma_n %6.2f um\n",
+                  10 * b, 10 * b + 10, bn[b], 1000 * bsum[b] / bn[b], std::sqrt(bnsq[b] / bn[b]),
+                  1000 * bsig[b] / bn[b]);
+  {
+    // The true errors' correlation between neighbouring ball points (what the scan's fit
+    // estimates from its residuals), over growing lags.
+    std::vector<Eigen::Vector2f> px;
+    std::vector<double> z;
+    for (std::size_t i = 0; i < res.cloud.size(); ++i) {
+      const Vec3 p = res.cloud.points_in_left[i].cast<double>();
+      const double e = (p - truth.centre_in_left).norm() - truth.radius;
+      if (std::abs(e) > 0.5) continue;
+      const double cos_view = std::abs((p - truth.centre_in_left).normalized().dot(p.normalized()));
+      if (cos_view < 0.5) continue;  // the fit's 60 deg cut
+      px.push_back(res.cloud.left_pixels[i]);
+      z.push_back(e / (res.cloud.sigma_mm[i] * cos_view));
+    }
+    std::printf("  true-error correlation of ball points (<= 60 deg):");
+    for (int lag : {1, 2, 4, 6, 8})
+      std::printf(" lag<=%d factor %.3f;", lag,
+                  EstimateNeighbourCorrelation(px, z, cv::Size(res.summary.width, res.summary.height), lag).factor);
+    std::printf("\n");
+  }
+  if (!res.summary.spheres.spheres.empty()) {
+    const SphereResult& s = res.summary.spheres.spheres[0];
+    const Vec3 e = 1000 * (s.centre_mm - truth.centre_in_left);
+    std::printf(
+        "  centre error (%+.2f, %+.2f, %+.2f) um, predicted sigma (%.2f, %.2f, %.2f) um, radius %+.2f um, "
+        "correlation factor %.2f, variance factor %.2f\n",
+        e.x(), e.y(), e.z(), 1000 * std::sqrt(s.centre_covariance_mm2(0, 0)),
+        1000 * std::sqrt(s.centre_covariance_mm2(1, 1)), 1000 * std::sqrt(s.centre_covariance_mm2(2, 2)),
+        1000 * (s.radius_mm - truth.radius), s.correlation_factor, s.variance_factor);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
   if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
   if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
+  if (mode == "set") return SetErrors(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--phase-filter", 0));
   if (mode == "accuracy")
     return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
   std::fprintf(
       stderr,
       "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] | "
-      "limb [--seed N] [--noise 0|1]\n");
+      "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R]\n");
   return 2;
 }
