@@ -208,33 +208,32 @@ void AddPoseFileOptions(CLI::App* sub, HandEyeCommandOptions* opt) {
   sub->add_option("--sigma-mm", opt->sigma_mm, "Noise of one board pose, translation per axis (mm)");
 }
 
+// One hand-eye subcommand: the pose-file options, --method among `methods` (the first is the
+// default), and `run` on the parsed options.
+void AddHandEyeCommand(CLI::App* calib, const std::string& name, const std::string& description,
+                       const std::vector<std::string>& methods, int (*run)(const HandEyeCommandOptions&),
+                       int* exit_code) {
+  auto opt = std::make_shared<HandEyeCommandOptions>();
+  opt->method = methods.front();
+  CLI::App* sub = calib->add_subcommand(name, description);
+  AddPoseFileOptions(sub, opt.get());
+  std::string listed;
+  for (const std::string& m : methods) listed += (listed.empty() ? "" : ", ") + m;
+  sub->add_option("--method", opt->method, listed)->check(CLI::IsMember(methods))->capture_default_str();
+  sub->callback([opt, run, exit_code]() { *exit_code = run(*opt); });
+}
+
 }  // namespace
 
 void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code) {
-  {
-    auto opt = std::make_shared<HandEyeCommandOptions>();
-    opt->method = "shah";
-    CLI::App* sub = calib->add_subcommand(
-        "hand-eye",
-        "Camera on a stand, board on the flange (AX = ZB): camera_from_base and flange_from_board with their "
-        "covariance (OpenCV calibrateRobotWorldHandEye + SE(3) least squares)");
-    AddPoseFileOptions(sub, opt.get());
-    sub->add_option("--method", opt->method, "shah or li")->check(CLI::IsMember({"shah", "li"}))->capture_default_str();
-    sub->callback([opt, exit_code]() { *exit_code = RunHandEye(*opt); });
-  }
-  {
-    auto opt = std::make_shared<HandEyeCommandOptions>();
-    opt->method = "park";
-    CLI::App* sub = calib->add_subcommand(
-        "hand-eye-flange",
-        "Camera on the flange, board fixed (AX = XB): flange_from_camera with its covariance (OpenCV "
-        "calibrateHandEye + SE(3) least squares)");
-    AddPoseFileOptions(sub, opt.get());
-    sub->add_option("--method", opt->method, "tsai, park, horaud, andreff or daniilidis")
-        ->check(CLI::IsMember({"tsai", "park", "horaud", "andreff", "daniilidis"}))
-        ->capture_default_str();
-    sub->callback([opt, exit_code]() { *exit_code = RunHandEyeFlange(*opt); });
-  }
+  AddHandEyeCommand(calib, "hand-eye",
+                    "Camera on a stand, board on the flange (AX = ZB): camera_from_base and flange_from_board with "
+                    "their covariance (OpenCV calibrateRobotWorldHandEye + SE(3) least squares)",
+                    {"shah", "li"}, RunHandEye, exit_code);
+  AddHandEyeCommand(calib, "hand-eye-flange",
+                    "Camera on the flange, board fixed (AX = XB): flange_from_camera with its covariance (OpenCV "
+                    "calibrateHandEye + SE(3) least squares)",
+                    {"park", "tsai", "horaud", "andreff", "daniilidis"}, RunHandEyeFlange, exit_code);
   CLI::App* simulate = SimulateCommand(app);
   {
     auto opt = std::make_shared<SimulateHandEyeOptions>();
