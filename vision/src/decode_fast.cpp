@@ -456,8 +456,9 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
           if (sp) sp[x] = kNaN;
           continue;
         }
-        const float s =
-            b[x] > 0 ? static_cast<float>(std::hypot(k_sigma / b[x], ripple)) : std::numeric_limits<float>::infinity();
+        const float s = b[x] > 0
+                            ? static_cast<float>(std::sqrt(k_sigma * k_sigma / (double(b[x]) * b[x]) + ripple * ripple))
+                            : std::numeric_limits<float>::infinity();
         if (sp) sp[x] = s;
         sc[x] = static_cast<float>(s * to_px);
       }

@@ -145,12 +145,17 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   const int nb = 2 * options.orders, terms = nb + 1;
   const float full = static_cast<float>(w * w - 0.5);
   const int half = w / 2;
-  constexpr int kStripRows = 64;
+  // Each strip recomputes the basis and window sums of the `half` rows on either side, so taller
+  // strips waste less (w = 55 on the SLMaster set: 64-row strips compute 1.8x the rows, 256-row
+  // ones 1.2x, ~20 % faster). The height is bounded by ~24 MB of strip buffers (basis and its sums
+  // as float, the phase and its high-pass as double, mask and counts as float).
+  const double strip_row_bytes = static_cast<double>(box.width) * (8.0 * nb + 24.0);
+  const int strip_rows = std::clamp(static_cast<int>(24e6 / strip_row_bytes) - 2 * half, 64, 512);
   std::vector<Strip> strips;
-  for (int y0 = 0; y0 < box.height; y0 += kStripRows) {
+  for (int y0 = 0; y0 < box.height; y0 += strip_rows) {
     Strip st;
     st.y0 = y0;
-    st.y1 = std::min(box.height, y0 + kStripRows);
+    st.y1 = std::min(box.height, y0 + strip_rows);
     st.a = std::max(0, y0 - half);
     st.b = std::min(box.height, st.y1 + half);
     strips.push_back(st);
