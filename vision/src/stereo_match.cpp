@@ -43,6 +43,14 @@ struct Pass {
   // (FullSearch) uses them to prove that a stretch of the curve holds no crossing.
   static constexpr int kDilate = 2;
   std::vector<float> near_min, near_max;
+  // Coarser still: per kFarBlock x kFarBlock block of tiles, the bounds over the 3 x 3 blocks
+  // around it, which hold every cell within kFarBlock * kTile pixels of any point of the centre
+  // block. The full search steps over kFarStretches stretches at once where they prove that no
+  // crossing lies within reach (FarSign).
+  static constexpr int kFarBlock = 8;
+  static constexpr int kFarStretches = 4;
+  int blocks_x = 0, blocks_y = 0;
+  std::vector<float> far_min, far_max;
   double period = 1;
   double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
   double max_sigma = 0;       // projector px
@@ -54,6 +62,7 @@ struct Pass {
   // (j = 2..8; truncation below 1e-15 relative for |x| stretch < 0.02). jump[i] = c_(i+2).
   int stretch = 1;
   std::vector<double> jump;
+  std::vector<double> jump_far;  // the same for kFarStretches * stretch steps
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
   cv::Mat back_u, back_v, back_sigma;
   double lr_tolerance = 0;
@@ -170,6 +179,24 @@ struct Matcher {
     const int cx = std::clamp(tx, 0, p.tiles_x - 1), cy = std::clamp(ty, 0, p.tiles_y - 1);
     const std::size_t t = static_cast<std::size_t>(cy) * p.tiles_x + cx;
     const float lo = p.near_min[t], hi = p.near_max[t];
+    if (!(lo <= hi)) return 2;
+    const double margin = 1e-3;
+    if (c_src < lo - margin) return +1;
+    if (c_src > hi + margin) return -1;
+    return 0;
+  }
+  // NearSign over the far bounds: what every sample within kFarBlock * kTile pixels of `pix` can be.
+  int FarSign(bool in_front, const Vec2& pix) const {
+    if (!in_front) return 0;
+    const double u = pix.x(), v = pix.y();
+    if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
+    constexpr int kBlockPx = Pass::kFarBlock * Pass::kTile;
+    const int bx = static_cast<int>(std::floor(std::floor(u) / kBlockPx));
+    const int by = static_cast<int>(std::floor(std::floor(v) / kBlockPx));
+    if (bx < -1 || by < -1 || bx >= p.blocks_x + 1 || by >= p.blocks_y + 1) return 2;
+    const int cx = std::clamp(bx, 0, p.blocks_x - 1), cy = std::clamp(by, 0, p.blocks_y - 1);
+    const std::size_t b = static_cast<std::size_t>(cy) * p.blocks_x + cx;
+    const float lo = p.far_min[b], hi = p.far_max[b];
     if (!(lo <= hi)) return 2;
     const double margin = 1e-3;
     if (c_src < lo - margin) return +1;
@@ -421,7 +448,31 @@ struct Matcher {
     int sign_a = NearSign(Pixel(w, &pix_a), pix_a);
     bool prev_fine = false;  // the previous stretch was evaluated (its last sample is prev)
     bool more = true;
+    constexpr double kMaxFarChordPx = 2.0 * Pass::kFarBlock * Pass::kTile - 4.0;
     while (more) {
+      // kFarStretches clear stretches, proven by the far bounds, are stepped over at once
+      // (Pass::jump_far): far from the crossing most of a long curve goes this way.
+      if (sign_a != 0) {
+        const double u = a.z() + p.T.z() * w;
+        const double x = step_per_k * p.T.z() * u;
+        if (std::abs(x) * kStretch * Pass::kFarStretches < 0.02) {
+          double poly = 0;
+          for (auto it = p.jump_far.rbegin(); it != p.jump_far.rend(); ++it) poly = poly * x + *it;
+          const double w_end = w + step_per_k * u * u * poly;
+          if (w_end <= w_hi) {
+            Vec2 pix_b = Vec2::Zero();
+            const bool front_b = Pixel(w_end, &pix_b);
+            const int far_a = FarSign(true, pix_a), far_b = FarSign(front_b, pix_b);
+            if (far_a != 0 && far_b != 0 && compatible(far_a, far_b) && (pix_b - pix_a).norm() <= kMaxFarChordPx) {
+              w = w_end;
+              sign_a = NearSign(front_b, pix_b);
+              pix_a = pix_b;
+              prev_fine = false;
+              continue;
+            }
+          }
+        }
+      }
       // A clear stretch is only stepped over: its end in one jump (Pass::jump), no samples.
       {
         const double u = a.z() + p.T.z() * w;
@@ -744,6 +795,23 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
         p.near_min[ty * p.tiles_x + tx] = lo;
         p.near_max[ty * p.tiles_x + tx] = hi;
       }
+    p.blocks_x = (p.tiles_x + Pass::kFarBlock - 1) / Pass::kFarBlock;
+    p.blocks_y = (p.tiles_y + Pass::kFarBlock - 1) / Pass::kFarBlock;
+    p.far_min.assign(static_cast<std::size_t>(p.blocks_x) * p.blocks_y, std::numeric_limits<float>::infinity());
+    p.far_max.assign(p.far_min.size(), -std::numeric_limits<float>::infinity());
+    for (int by = 0; by < p.blocks_y; ++by)
+      for (int bx = 0; bx < p.blocks_x; ++bx) {
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        const int ty0 = std::max(0, (by - 1) * Pass::kFarBlock), ty1 = std::min(p.tiles_y, (by + 2) * Pass::kFarBlock);
+        const int tx0 = std::max(0, (bx - 1) * Pass::kFarBlock), tx1 = std::min(p.tiles_x, (bx + 2) * Pass::kFarBlock);
+        for (int ty = ty0; ty < ty1; ++ty)
+          for (int tx = tx0; tx < tx1; ++tx) {
+            lo = std::min(lo, p.tile_min[ty * p.tiles_x + tx]);
+            hi = std::max(hi, p.tile_max[ty * p.tiles_x + tx]);
+          }
+        p.far_min[by * p.blocks_x + bx] = lo;
+        p.far_max[by * p.blocks_x + bx] = hi;
+      }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;
     // Ideal bounding box of the destination image from its border pixels, 2 px margin.
@@ -773,18 +841,21 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.max_span = options.max_cell_span_periods * period;
     p.step_px = options.search_step_px;
     p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
-    {
+    // The coefficients c_2..c_8 of `steps` compositions of x -> x + x^2 (truncated at degree 8).
+    auto composed = [](int steps) {
       constexpr int kDegree = 8;
       std::vector<double> g(kDegree + 1, 0.0);  // g = identity, then composed with x + x^2
       g[1] = 1;
-      for (int k = 0; k < p.stretch; ++k) {
+      for (int k = 0; k < steps; ++k) {
         std::vector<double> sq(kDegree + 1, 0.0);
         for (int i = 0; i <= kDegree; ++i)
           for (int j = 0; i + j <= kDegree; ++j) sq[i + j] += g[i] * g[j];
         for (int i = 0; i <= kDegree; ++i) g[i] += sq[i];
       }
-      p.jump.assign(g.begin() + 2, g.end());
-    }
+      return std::vector<double>(g.begin() + 2, g.end());
+    };
+    p.jump = composed(p.stretch);
+    p.jump_far = composed(p.stretch * Pass::kFarStretches);
     p.full_search = options.full_search;
     p.max_modulation_ratio = options.max_modulation_ratio;
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
