@@ -168,35 +168,25 @@ struct Matcher {
   // can be. A pixel up to kDilate tiles outside the image takes the nearest tile's bounds
   // (whose neighbourhood is a superset of the part inside the image).
   int NearSign(bool in_front, const Vec2& pix) const {
+    return BoundSign(in_front, pix, Pass::kTile, p.tiles_x, p.tiles_y, Pass::kDilate, p.near_min, p.near_max);
+  }
+  // The same over the far bounds: what every sample within kFarBlock * kTile pixels of `pix` can be.
+  int FarSign(bool in_front, const Vec2& pix) const {
+    return BoundSign(in_front, pix, Pass::kFarBlock * Pass::kTile, p.blocks_x, p.blocks_y, 1, p.far_min, p.far_max);
+  }
+  // The sign test of NearSign and FarSign on bounds over cells of cell_px pixels (nx x ny of
+  // them), each holding every cell within reach of any point of it; a pixel up to `outside`
+  // cells outside the image takes the nearest cell's bounds, one farther out reaches no cell.
+  int BoundSign(bool in_front, const Vec2& pix, int cell_px, int nx, int ny, int outside,
+                const std::vector<float>& lo_of, const std::vector<float>& hi_of) const {
     if (!in_front) return 0;  // unknown: the fine search decides
     const double u = pix.x(), v = pix.y();
     if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
-    const int tx = static_cast<int>(std::floor(std::floor(u) / Pass::kTile));
-    const int ty = static_cast<int>(std::floor(std::floor(v) / Pass::kTile));
-    if (tx < -Pass::kDilate || ty < -Pass::kDilate || tx >= p.tiles_x + Pass::kDilate ||
-        ty >= p.tiles_y + Pass::kDilate)
-      return 2;
-    const int cx = std::clamp(tx, 0, p.tiles_x - 1), cy = std::clamp(ty, 0, p.tiles_y - 1);
-    const std::size_t t = static_cast<std::size_t>(cy) * p.tiles_x + cx;
-    const float lo = p.near_min[t], hi = p.near_max[t];
-    if (!(lo <= hi)) return 2;
-    const double margin = 1e-3;
-    if (c_src < lo - margin) return +1;
-    if (c_src > hi + margin) return -1;
-    return 0;
-  }
-  // NearSign over the far bounds: what every sample within kFarBlock * kTile pixels of `pix` can be.
-  int FarSign(bool in_front, const Vec2& pix) const {
-    if (!in_front) return 0;
-    const double u = pix.x(), v = pix.y();
-    if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
-    constexpr int kBlockPx = Pass::kFarBlock * Pass::kTile;
-    const int bx = static_cast<int>(std::floor(std::floor(u) / kBlockPx));
-    const int by = static_cast<int>(std::floor(std::floor(v) / kBlockPx));
-    if (bx < -1 || by < -1 || bx >= p.blocks_x + 1 || by >= p.blocks_y + 1) return 2;
-    const int cx = std::clamp(bx, 0, p.blocks_x - 1), cy = std::clamp(by, 0, p.blocks_y - 1);
-    const std::size_t b = static_cast<std::size_t>(cy) * p.blocks_x + cx;
-    const float lo = p.far_min[b], hi = p.far_max[b];
+    const int tx = static_cast<int>(std::floor(std::floor(u) / cell_px));
+    const int ty = static_cast<int>(std::floor(std::floor(v) / cell_px));
+    if (tx < -outside || ty < -outside || tx >= nx + outside || ty >= ny + outside) return 2;
+    const std::size_t t = static_cast<std::size_t>(std::clamp(ty, 0, ny - 1)) * nx + std::clamp(tx, 0, nx - 1);
+    const float lo = lo_of[t], hi = hi_of[t];
     if (!(lo <= hi)) return 2;
     const double margin = 1e-3;
     if (c_src < lo - margin) return +1;
