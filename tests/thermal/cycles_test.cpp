@@ -13,7 +13,9 @@ namespace ramtk::thermal {
 namespace {
 
 kinematics::RobotMeasurementSet Parse(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/cycles.csv";
+  // One file per test: ctest runs the tests of this file as parallel processes.
+  const std::string path = ::testing::TempDir() + "/cycles_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
   WriteFileAtomically(path, text);
   kinematics::RobotMeasurementSet set = kinematics::ReadRobotMeasurements(path);
   std::remove(path.c_str());
