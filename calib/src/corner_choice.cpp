@@ -7,22 +7,6 @@
 namespace ramtk::calib {
 namespace {
 
-// Runs `calibrate` and records its figures in `fit`; a failure is recorded, not thrown.
-template <typename Result, typename Calibrate, typename Describe>
-bool Try(Calibrate&& calibrate, Describe&& describe, Result* result, CameraCalibrationSummary* summary,
-         CornerSetFit* fit) {
-  try {
-    *result = calibrate(summary);
-  } catch (const InputError& e) {
-    fit->ok = false;
-    fit->error = e.message();
-    return false;
-  }
-  fit->ok = true;
-  describe(*result, fit);
-  return true;
-}
-
 // Picks the kept set; InputError if it cannot be calibrated.
 bool KeepSubPix(CornerChoice choice, const CornerSetFit& subpix, const CornerSetFit& sector) {
   if (choice == CornerChoice::kLowerRms) {
@@ -36,19 +20,30 @@ bool KeepSubPix(CornerChoice choice, const CornerSetFit& subpix, const CornerSet
   return keep_subpix;
 }
 
+// Calibrates from both sets (`calibrate(use_subpix, summary)`), records each one's figures
+// (`describe`) or its failure, and returns the kept set's result.
 template <typename Result, typename Calibrate, typename Describe>
 Result Compare(Calibrate&& calibrate, Describe&& describe, CornerChoice choice, CameraCalibrationSummary* summary,
                CornerComparison* comparison) {
   CornerComparison c;
-  Result with_subpix, with_sector;
-  CameraCalibrationSummary s_subpix, s_sector;
-  Try([&](CameraCalibrationSummary* s) { return calibrate(true, s); }, describe, &with_subpix, &s_subpix, &c.subpix);
-  Try([&](CameraCalibrationSummary* s) { return calibrate(false, s); }, describe, &with_sector, &s_sector, &c.sector);
-  const bool keep_subpix = KeepSubPix(choice, c.subpix, c.sector);
-  c.chosen = keep_subpix ? CornerRefinement::kSubPix : CornerRefinement::kSectorBased;
-  if (summary) *summary = keep_subpix ? s_subpix : s_sector;
+  Result results[2];
+  CameraCalibrationSummary summaries[2];
+  for (const bool use_subpix : {true, false}) {
+    const int i = use_subpix ? 0 : 1;
+    CornerSetFit& fit = use_subpix ? c.subpix : c.sector;
+    try {
+      results[i] = calibrate(use_subpix, &summaries[i]);
+      fit.ok = true;
+      describe(results[i], &fit);
+    } catch (const InputError& e) {
+      fit.error = e.message();  // reported in the comparison; KeepSubPix throws if this set is the one kept
+    }
+  }
+  const int kept = KeepSubPix(choice, c.subpix, c.sector) ? 0 : 1;
+  c.chosen = kept == 0 ? CornerRefinement::kSubPix : CornerRefinement::kSectorBased;
+  if (summary) *summary = summaries[kept];
   if (comparison) *comparison = c;
-  return keep_subpix ? with_subpix : with_sector;
+  return results[kept];
 }
 
 }  // namespace

@@ -14,22 +14,40 @@
 
 namespace ramtk::calib {
 
-std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path) {
-  const CsvTable t = ReadCsv(path);
+namespace {
+
+// The camera's camera_from_board columns of a pose file: x, y, z (mm) and a, b, c (KUKA deg).
+struct BoardColumns {
+  int x, y, z, a, b, c;
+  explicit BoardColumns(const CsvTable& t)
+      : x(t.Column("x")), y(t.Column("y")), z(t.Column("z")), a(t.Column("a")), b(t.Column("b")), c(t.Column("c")) {}
+  Isometry3 Pose(const CsvTable& t, std::size_t r) const {
+    Isometry3 pose = Isometry3::Identity();
+    pose.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
+    pose.linear() = RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    return pose;
+  }
+};
+
+// Joints q1..q6 (deg) and camera_from_board per row.
+std::vector<BoardPoseObservation> BoardPosesFromTable(const CsvTable& t) {
   int q[kinematics::kNumJoints];
   for (int i = 0; i < kinematics::kNumJoints; ++i) q[i] = t.Column("q" + std::to_string(i + 1));
-  const int x = t.Column("x"), y = t.Column("y"), z = t.Column("z");
-  const int a = t.Column("a"), b = t.Column("b"), c = t.Column("c");
+  const BoardColumns board(t);
   std::vector<BoardPoseObservation> obs;
   for (std::size_t r = 0; r < t.size(); ++r) {
     BoardPoseObservation o;
     for (int i = 0; i < kinematics::kNumJoints; ++i) o.q_controller[i] = DegToRad(t.Number(r, q[i]));
-    o.camera_from_board.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
-    o.camera_from_board.linear() =
-        RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    o.camera_from_board = board.Pose(t, r);
     obs.push_back(o);
   }
   return obs;
+}
+
+}  // namespace
+
+std::vector<BoardPoseObservation> ReadBoardPoseObservations(const std::string& path) {
+  return BoardPosesFromTable(ReadCsv(path));
 }
 
 std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>& obs) {
@@ -117,18 +135,15 @@ std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string&
                        "the flange poses are given as joints (q1..q6): a robot model is needed to turn them into "
                        "flange poses");
     }
-    for (const BoardPoseObservation& o : ReadBoardPoseObservations(path))
+    for (const BoardPoseObservation& o : BoardPosesFromTable(t))
       obs.push_back({kinematics::BaseFromFlange(*model, o.q_controller), o.camera_from_board});
     return obs;
   }
   const FlangeColumns flange(t);
-  const int x = t.Column("x"), y = t.Column("y"), z = t.Column("z");
-  const int a = t.Column("a"), b = t.Column("b"), c = t.Column("c");
+  const BoardColumns board(t);
   for (std::size_t r = 0; r < t.size(); ++r) {
     FlangePoseObservation o;
-    o.camera_from_board.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
-    o.camera_from_board.linear() =
-        RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    o.camera_from_board = board.Pose(t, r);
     o.base_from_flange = flange.Pose(t, r, scale);
     obs.push_back(o);
   }

@@ -106,7 +106,7 @@ CoordinateFilterSummary FilterCoordinate(const CoordinateFilterOptions& options,
           weights = &k;
         }
         // Offsets from the centre's value keep the sums well conditioned (coordinates ~1e3 px).
-        double f = 0, var_f = 0, cov_own = 0;
+        double f = 0, var_f = 0;
         const double own_random2 = std::max(0.0, double(sigma.at<float>(y, x)) * sigma.at<float>(y, x) - ripple2);
         for (int dy = -r; dy <= r; ++dy)
           for (int dx = -r; dx <= r; ++dx) {
@@ -117,7 +117,7 @@ CoordinateFilterSummary FilterCoordinate(const CoordinateFilterOptions& options,
             f += ki * (coord.at<float>(y + dy, x + dx) - c0);
             var_f += ki * ki * std::max(0.0, s * s - ripple2);
           }
-        cov_own = (*weights)[r * w + r] * own_random2;
+        const double cov_own = (*weights)[r * w + r] * own_random2;
         // filtered − own = f (offsets): its random part's variance, plus at most the ripple's (all of
         // it when the filter removes the ripple at this pixel, none when the ripple is smooth).
         const double var_departure = std::max(0.0, var_f - 2 * cov_own + own_random2) + ripple2;
