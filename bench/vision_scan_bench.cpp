@@ -19,6 +19,10 @@
 //       along the left ray against the true depth on clean pixels (ball, backdrop) and that
 //       error over the point's sigma; the ball's points against the true sphere by viewing angle;
 //       the fitted centre against the truth.
+//   vision_scan_bench decode --manifest SET/manifest.json [--repeat N]
+//       each camera's frames loaded once (native depth, as `ramtk scan`), then decoded N times
+//       with the scan's options: wall time from each stage's progress report to the next (phase,
+//       unwrap, nonlinearity, done), min and median over the repetitions.
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -34,6 +38,8 @@
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/image_io.h"
+#include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "scan_sim.h"
 #include "sphere_pcl_peer.h"
@@ -476,6 +482,48 @@ int SetErrors(const std::string& manifest, int phase_filter) {
   return 0;
 }
 
+int DecodeStages(const std::string& manifest_path, int repeat) {
+  if (manifest_path.empty()) {
+    std::fprintf(stderr, "decode: --manifest SET/manifest.json is required\n");
+    return 2;
+  }
+  const FringeManifest m = ReadFringeManifest(manifest_path);
+  for (const auto& [camera, files] : m.cameras) {
+    std::vector<std::string> paths;
+    for (const std::string& f : files) paths.push_back(m.Resolve(f));
+    const ImageStack stack = LoadImageStack(paths, 0.02, true);
+    std::vector<std::string> stages;
+    std::vector<std::vector<double>> times;  // per stage, per repetition
+    for (int r = 0; r < repeat; ++r) {
+      DecodeOptions o = ScanOptions().decode;
+      auto last = std::chrono::steady_clock::now();
+      int k = 0;
+      o.progress = [&](const ramtk::Progress& p) {
+        const auto now = std::chrono::steady_clock::now();
+        if (r == 0) {
+          stages.push_back(p.stage);
+          times.emplace_back();
+        }
+        if (k < static_cast<int>(times.size())) times[k++].push_back(std::chrono::duration<double>(now - last).count());
+        last = now;
+        return true;
+      };
+      const DecodedCamera d = DecodeFrames(m, stack.frames, stack.full_scale, o, camera);
+      if (r == 0) std::printf("%s: %s\n", camera.c_str(), d.summary.BriefReport().c_str());
+    }
+    std::printf("%s, %d repetitions, ms (min / median):", camera.c_str(), repeat);
+    double total_min = 0;
+    for (std::size_t k = 0; k < stages.size(); ++k) {
+      std::vector<double> t = times[k];
+      std::sort(t.begin(), t.end());
+      total_min += t.front();
+      std::printf(" %s %.1f / %.1f;", stages[k].c_str(), 1e3 * t.front(), 1e3 * t[t.size() / 2]);
+    }
+    std::printf(" sum of minima %.1f\n", 1e3 * total_min);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -483,11 +531,13 @@ int main(int argc, char** argv) {
   if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
   if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
   if (mode == "set") return SetErrors(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--phase-filter", 0));
+  if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
   if (mode == "accuracy")
     return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
   std::fprintf(
       stderr,
       "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] | "
-      "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R]\n");
+      "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
+      "SET/manifest.json [--repeat N]\n");
   return 2;
 }

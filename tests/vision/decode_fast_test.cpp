@@ -4,9 +4,8 @@
 // comes from the fringe simulator, the single-camera sets from the analytic synthesiser.
 #include <gtest/gtest.h>
 
-#include <iostream>
-
 #include <cmath>
+#include <iostream>
 
 #include "decode_synth.h"
 #include "ramtk/vision/decode.h"
@@ -33,8 +32,8 @@ Diff Compare(const DecodedCamera& a, const DecodedCamera& b) {
       if (va != vb) ++d.mask_differs;
       if (!va || !vb) continue;
       ++d.valid;
-      d.wrapped = std::max(
-          d.wrapped, std::abs(std::remainder(a.wrapped.at<float>(y, x) - b.wrapped.at<float>(y, x), 2 * CV_PI)));
+      d.wrapped = std::max(d.wrapped,
+                           std::abs(std::remainder(a.wrapped.at<float>(y, x) - b.wrapped.at<float>(y, x), 2 * CV_PI)));
       d.coordinate_rad =
           std::max(d.coordinate_rad, to_rad * std::abs(a.coordinate.at<float>(y, x) - b.coordinate.at<float>(y, x)));
       const double sa = a.sigma_coordinate.at<float>(y, x), sb = b.sigma_coordinate.at<float>(y, x);
@@ -101,7 +100,8 @@ TEST(DecodeFast, StereoSetSameDecodeMatchesAndCentreAsTheReferencePath) {
   const ScanResult sr = ScanDecoded(calib, lr, rr, lr.summary.period_px, ScanOptions{});
   EXPECT_EQ(sf.summary.match.matched, sr.summary.match.matched);
   EXPECT_EQ(sf.summary.triangulation.points, sr.summary.triangulation.points);
-  ASSERT_EQ(sf.summary.spheres.spheres.size(), 1u) << sf.summary.BriefReport() << "\n" << sf.summary.match.BriefReport();
+  ASSERT_EQ(sf.summary.spheres.spheres.size(), 1u) << sf.summary.BriefReport() << "\n"
+                                                   << sf.summary.match.BriefReport();
   ASSERT_EQ(sr.summary.spheres.spheres.size(), 1u) << sr.summary.BriefReport();
   const Vec3 dc = sf.summary.spheres.spheres[0].centre_mm - sr.summary.spheres.spheres[0].centre_mm;
   EXPECT_LT(dc.norm(), 1e-4) << "centre moved by " << 1000 * dc.norm() << " um";
@@ -120,12 +120,59 @@ TEST(DecodeFast, SixteenBitGrayAndHeterodyneSetsAsTheReferencePath) {
     const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
     std::vector<cv::Mat> as16(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i) frames[i].convertTo(as16[i], CV_16U, 257.0);  // 8 -> 16 bit
-    DecodeOptions ref_opt;
-    ref_opt.reference_path = true;
-    const DecodedCamera ref = DecodeFrames(m, as16, 65535.0, ref_opt, "cam");
-    const DecodedCamera fast = DecodeFrames(m, as16, 65535.0, DecodeOptions{}, "cam");
-    ExpectSameDecode(fast, ref, (std::to_string(m.sequence[0].steps) + "-step " +
-                                 (m.sequence[0].type == BlockType::kHeterodyne ? "heterodyne" : "gray")).c_str());
+    // The nonlinearity fit on every row, and on the first quarter of each band's rows (what a
+    // frame of >= 2 M valid pixels gets by default; here forced by a low pixel floor).
+    for (const long floor : {500000L, 1000L}) {
+      DecodeOptions fast_opt;
+      fast_opt.nonlinearity.row_subsample_min_pixels = floor;
+      DecodeOptions ref_opt = fast_opt;
+      ref_opt.reference_path = true;
+      const DecodedCamera ref = DecodeFrames(m, as16, 65535.0, ref_opt, "cam");
+      const DecodedCamera fast = DecodeFrames(m, as16, 65535.0, fast_opt, "cam");
+      EXPECT_EQ(fast.summary.nonlinearity.row_subsample, floor == 1000 ? 4 : 1);
+      ExpectSameDecode(fast, ref,
+                       (std::to_string(m.sequence[0].steps) + "-step " +
+                        (m.sequence[0].type == BlockType::kHeterodyne ? "heterodyne" : "gray") + ", rows 1/" +
+                        std::to_string(fast.summary.nonlinearity.row_subsample))
+                           .c_str());
+    }
+  }
+}
+
+// The ripple fitted on a quarter of the rows (NonlinearityOptions::row_subsample) against the
+// fit on every row, for a 4-step set with projector gamma 2.2 (a first-order ripple of ~0.1
+// rad): the coefficients agree within their noise, sigma_hp / sqrt(pixels / 2) for a sine basis
+// of variance 1/2 (5 sigma of the subsample's fit), and the test still finds the ripple.
+TEST(DecodeFast, RippleFromAQuarterOfTheRowsAgreesWithEveryRow) {
+  testing::SynthOptions o;
+  o.gamma = 2.2;
+  o.noise_dn = 1.0;
+  o.blur_px = 0.3;
+  const FringeManifest m = testing::GrayManifest(4, 32, true);
+  const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
+  const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+  NonlinearityEstimate est[2];
+  for (int i = 0; i < 2; ++i) {
+    DecodeOptions opt;
+    opt.nonlinearity.row_subsample_min_pixels = i == 0 ? 0 : 1000;
+    opt.nonlinearity.row_subsample = i == 0 ? 1 : 4;
+    est[i] = DecodeFrames(m, frames, 255.0, opt, "cam").summary.nonlinearity;
+    EXPECT_TRUE(est[i].applied) << est[i].BriefReport();
+    EXPECT_GT(est[i].ripple_t2, 25.2) << est[i].BriefReport();
+  }
+  EXPECT_EQ(est[0].row_subsample, 1);
+  EXPECT_EQ(est[1].row_subsample, 4);
+  // A quarter of each band's rows, rounded up: at most one row more per band (16 bands, 300 rows).
+  const double fraction = static_cast<double>(est[1].pixels_used) / est[0].pixels_used;
+  EXPECT_GT(fraction, 0.24);
+  EXPECT_LT(fraction, 0.26 + 16.0 / o.height);
+  const double sigma = est[1].residual_rms_before_rad / std::sqrt(est[1].pixels_used / 2.0);
+  EXPECT_GT(std::abs(est[0].sin_rad[0]), 20 * sigma) << est[0].BriefReport();  // a ripple well above the noise
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(est[1].sin_rad[k], est[0].sin_rad[k], 5 * sigma) << "order " << k + 1;
+    EXPECT_NEAR(est[1].cos_rad[k], est[0].cos_rad[k], 5 * sigma) << "order " << k + 1;
+    std::cout << "order " << k + 1 << ": every row (" << est[0].sin_rad[k] << ", " << est[0].cos_rad[k]
+              << ") rad, a quarter (" << est[1].sin_rad[k] << ", " << est[1].cos_rad[k] << "), sigma " << sigma << "\n";
   }
 }
 

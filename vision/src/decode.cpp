@@ -368,7 +368,8 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
       {"highpass_rms_after_rad", nl.residual_rms_after_rad},
       {"ripple_t2", nl.ripple_t2},
       {"window_px", nl.window_px},
-      {"pixels_used", nl.pixels_used}};
+      {"pixels_used", nl.pixels_used},
+      {"row_subsample", nl.row_subsample}};
   j["harmonic_ratios"] = s.harmonic_ratios;
   j["gamma_from_harmonics"] =
       std::isfinite(s.gamma_from_harmonics) ? nlohmann::json(s.gamma_from_harmonics) : nlohmann::json();

@@ -6,9 +6,13 @@
 // reference path's within float rounding (tests/vision/decode_fast_test.cpp).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <type_traits>
@@ -178,32 +182,65 @@ std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& 
       tc[h * n + k] = std::cos(2 * CV_PI * h * k / n);
       ts[h * n + k] = -std::sin(2 * CV_PI * h * k / n);
     }
+  // Per sampled row: its sums and count (rows in parallel, added in row order: deterministic).
+  const int rows = (mask.rows + stride - 1) / stride;
+  std::vector<double> row_sum(static_cast<std::size_t>(rows) * (max_h + 1), 0.0);
+  std::vector<long> row_count(rows, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& r) {
+    // The row's valid samples gathered per frame, then each harmonic's DFT over the frames as
+    // loops along the row (vectorised).
+    std::vector<double> v, re((max_h + 1) * mask.cols), im((max_h + 1) * mask.cols);
+    std::vector<int> xs;
+    for (int i = r.begin(); i < r.end(); ++i) {
+      const int y = i * stride;
+      const uchar* m = mask.ptr<uchar>(y);
+      xs.clear();
+      for (int x = 0; x < mask.cols; x += stride)
+        if (m[x]) xs.push_back(x);
+      const int cnt = static_cast<int>(xs.size());
+      if (cnt == 0) continue;
+      v.resize(static_cast<std::size_t>(n) * cnt);
+      for (int k = 0; k < n; ++k) {
+        const T* f = frames[k]->ptr<T>(y);
+        double* vk = v.data() + static_cast<std::size_t>(k) * cnt;
+        for (int j = 0; j < cnt; ++j) vk[j] = f[xs[j]];
+      }
+      for (int h = 1; h <= max_h; ++h) {
+        double* rh = re.data() + h * cnt;
+        double* ih = im.data() + h * cnt;
+        std::fill(rh, rh + cnt, 0.0);
+        std::fill(ih, ih + cnt, 0.0);
+        for (int k = 0; k < n; ++k) {
+          const double c = tc[h * n + k], sn = ts[h * n + k];
+          const double* vk = v.data() + static_cast<std::size_t>(k) * cnt;
+          for (int j = 0; j < cnt; ++j) rh[j] += vk[j] * c, ih[j] += vk[j] * sn;
+        }
+      }
+      double* sum = row_sum.data() + static_cast<std::size_t>(i) * (max_h + 1);
+      long count = 0;
+      for (int j = 0; j < cnt; ++j) {
+        const double r1 = re[cnt + j], i1 = im[cnt + j];
+        const double a1 = std::sqrt(r1 * r1 + i1 * i1);
+        if (!(a1 > 0)) continue;
+        // unit = conj(c1) / |c1| = e^{-i phi}; sum_h += Re(c_h * unit^h) / |c1|.
+        const double ur = r1 / a1, ui = -i1 / a1;
+        double rr = ur, ri = ui;
+        for (int h = 2; h <= max_h; ++h) {
+          const double nr = rr * ur - ri * ui, ni = rr * ui + ri * ur;
+          rr = nr;
+          ri = ni;
+          sum[h] += (re[h * cnt + j] * rr - im[h * cnt + j] * ri) / a1;
+        }
+        ++count;
+      }
+      row_count[i] = count;
+    }
+  });
   std::vector<double> sum(max_h + 1, 0.0);
   long count = 0;
-  std::vector<double> re(max_h + 1), im(max_h + 1);
-  for (int y = 0; y < mask.rows; y += stride) {
-    const uchar* m = mask.ptr<uchar>(y);
-    for (int x = 0; x < mask.cols; x += stride) {
-      if (!m[x]) continue;
-      std::fill(re.begin(), re.end(), 0.0);
-      std::fill(im.begin(), im.end(), 0.0);
-      for (int k = 0; k < n; ++k) {
-        const double v = frames[k]->ptr<T>(y)[x];
-        for (int h = 1; h <= max_h; ++h) re[h] += v * tc[h * n + k], im[h] += v * ts[h * n + k];
-      }
-      const double a1 = std::hypot(re[1], im[1]);
-      if (a1 <= 0) continue;
-      // unit = conj(c1) / |c1| = e^{-i phi}; sum_h += Re(c_h * unit^h) / |c1|.
-      const double ur = re[1] / a1, ui = -im[1] / a1;
-      double rr = ur, ri = ui;
-      for (int h = 2; h <= max_h; ++h) {
-        const double nr = rr * ur - ri * ui, ni = rr * ui + ri * ur;
-        rr = nr;
-        ri = ni;
-        sum[h] += (re[h] * rr - im[h] * ri) / a1;
-      }
-      ++count;
-    }
+  for (int i = 0; i < rows; ++i) {
+    for (int h = 2; h <= max_h; ++h) sum[h] += row_sum[static_cast<std::size_t>(i) * (max_h + 1) + h];
+    count += row_count[i];
   }
   for (int h = 2; h <= max_h; ++h) ratios.push_back(count ? sum[h] / count : 0.0);
   return ratios;
@@ -269,6 +306,73 @@ std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>&
 }
 
 namespace {
+
+// The values at `ranks` (0-based, ascending order) among the pixels of `values` (CV_32F, every
+// masked value finite and >= 0) where `mask` is set: what std::nth_element gives on the gathered
+// values, without gathering them. The bit patterns of non-negative floats sort as the values,
+// so a parallel histogram of their top 16 bits finds the bin holding each rank; only that bin's
+// values are gathered and selected from.
+std::vector<float> ValuesAtRanks(const cv::Mat& values, const cv::Mat& mask, const std::vector<std::size_t>& ranks) {
+  constexpr int kBins = 1 << 15;  // bits >> 16, sign bit clear
+  auto bin_of = [](float v) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    return static_cast<int>(std::min<std::uint32_t>(bits >> 16, kBins - 1));
+  };
+  const std::vector<std::uint64_t> hist = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, values.rows, 64), std::vector<std::uint64_t>(kBins, 0),
+      [&](const tbb::blocked_range<int>& r, std::vector<std::uint64_t> h) {
+        for (int y = r.begin(); y < r.end(); ++y) {
+          const float* v = values.ptr<float>(y);
+          const uchar* m = mask.ptr<uchar>(y);
+          for (int x = 0; x < values.cols; ++x)
+            if (m[x]) ++h[bin_of(v[x])];
+        }
+        return h;
+      },
+      [](std::vector<std::uint64_t> a, const std::vector<std::uint64_t>& b) {
+        for (int i = 0; i < kBins; ++i) a[i] += b[i];
+        return a;
+      });
+  // The bin holding each rank, then one pass gathering those bins' values.
+  std::vector<int> bins;
+  std::vector<std::size_t> below;
+  for (const std::size_t rank : ranks) {
+    std::size_t b = 0;
+    int bin = 0;
+    while (bin < kBins - 1 && b + hist[bin] <= rank) b += hist[bin++];
+    bins.push_back(bin);
+    below.push_back(b);
+  }
+  std::vector<std::vector<float>> in_bin(ranks.size());
+  for (int y = 0; y < values.rows; ++y) {
+    const float* v = values.ptr<float>(y);
+    const uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < values.cols; ++x) {
+      if (!m[x]) continue;
+      const int bin = bin_of(v[x]);
+      for (std::size_t i = 0; i < bins.size(); ++i)
+        if (bin == bins[i]) {
+          in_bin[i].push_back(v[x]);
+          break;  // equal bins: the first one's values serve both (below)
+        }
+    }
+  }
+  std::vector<float> out;
+  for (std::size_t i = 0; i < ranks.size(); ++i) {
+    std::size_t first = 0;  // the first rank in the same bin holds the bin's values
+    while (bins[first] != bins[i]) ++first;
+    std::vector<float>& vals = in_bin[first];
+    if (vals.empty()) {
+      out.push_back(std::numeric_limits<float>::quiet_NaN());
+      continue;
+    }
+    const std::size_t k = std::min(ranks[i] - below[i], vals.size() - 1);
+    std::nth_element(vals.begin(), vals.begin() + k, vals.end());
+    out.push_back(vals[k]);
+  }
+  return out;
+}
 
 bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
   return !o.progress || o.progress(Progress{stage, done, total});
@@ -390,26 +494,20 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     sum.fit_residual_rms_dn = std::sqrt(counts.residual_ss / (static_cast<double>(count) * (n - 3)));
     sum.phase_residual_rms_rad = std::sqrt(counts.phase_ss / count);
   }
-  std::vector<float> bs;
-  bs.reserve(static_cast<std::size_t>(count));
-  for (int y = 0; y < mask.rows; ++y) {
-    const uchar* mk = mask.ptr<uchar>(y);
-    const float* b = fo.modulation.ptr<float>(y);
-    for (int x = 0; x < mask.cols; ++x)
-      if (mk[x]) bs.push_back(b[x]);
-  }
+  const std::size_t valid = static_cast<std::size_t>(count);
   ChooseIntensitySigma(options, in.ps_frames[0], mask, n, count, &sum);
+
   const double k_sigma = std::sqrt(2.0 / n) * sum.sigma_intensity_dn;
-  if (!bs.empty()) {
+  if (valid > 0) {
     // sigma_phi = k / B falls with B: the reference's median sigma element is k over the
     // B element at the mirrored rank.
-    std::nth_element(bs.begin(), bs.begin() + bs.size() / 2, bs.end());
-    sum.median_modulation_dn = bs[bs.size() / 2];
-    const std::size_t mirrored = bs.size() - 1 - bs.size() / 2;
-    std::nth_element(bs.begin(), bs.begin() + mirrored, bs.end());
-    sum.median_sigma_phase_rad = static_cast<float>(k_sigma / bs[mirrored]);
+    const std::size_t mirrored = valid - 1 - valid / 2;
+    const std::vector<float> at = ValuesAtRanks(fo.modulation, mask, {valid / 2, mirrored});
+    sum.median_modulation_dn = at[0];
+    sum.median_sigma_phase_rad = static_cast<float>(k_sigma / at[1]);
   }
   sum.harmonic_ratios = MeasureHarmonicRatiosFast(in.ps_frames[0], mask, options.harmonic_stride);
+
   sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                          : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
 

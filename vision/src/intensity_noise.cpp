@@ -1,4 +1,7 @@
 // Random part of the intensity noise from neighbouring pixels' fit residuals (decode_internal.h).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -32,35 +35,53 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
   const int n = static_cast<int>(frames.size());
   std::vector<double> c(n), s(n);
   for (int k = 0; k < n; ++k) c[k] = std::cos(2 * CV_PI * k / n), s[k] = std::sin(2 * CV_PI * k / n);
-  std::vector<double> r0(n), ra(n), rb(n), rc(n), rd(n);
+  auto wrap = [](double d) { return std::abs(std::remainder(d, 2 * CV_PI)); };
+  // Sampled rows in parallel, each with its own sums; added in row order (deterministic).
+  struct RowSums {
+    double diff_ss = 0, total_ss = 0;
+    long triples = 0;
+  };
+  const int rows = mask.rows > 2 ? (mask.rows - 2 + stride - 1) / stride : 0;
+  std::vector<RowSums> per_row(rows);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& range) {
+    std::vector<double> r0(n), ra(n), rb(n), rc(n), rd(n);
+    for (int i = range.begin(); i < range.end(); ++i) {
+      const int y = 1 + i * stride;
+      RowSums& rs = per_row[i];
+      const uchar* mu = mask.ptr<uchar>(y - 1);
+      const uchar* m0 = mask.ptr<uchar>(y);
+      const uchar* md = mask.ptr<uchar>(y + 1);
+      for (int x = 1; x + 1 < mask.cols; x += stride) {
+        if (!m0[x]) continue;
+        const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
+        if (!horizontal && !vertical) continue;
+        double p0 = 0, pa = 0, pb = 0, pc = 0, pd = 0;
+        Residual<T>(frames, c, s, y, x, r0.data(), &p0);
+        if (horizontal)
+          Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
+        if (vertical)
+          Residual<T>(frames, c, s, y - 1, x, rc.data(), &pc), Residual<T>(frames, c, s, y + 1, x, rd.data(), &pd);
+        // The direction along the fringe (smaller phase change): there the phase-dependent
+        // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and
+        // the second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
+        const bool use_h = horizontal && (!vertical || wrap(pb - pa) <= wrap(pd - pc));
+        const std::vector<double>& q1 = use_h ? ra : rc;
+        const std::vector<double>& q2 = use_h ? rb : rd;
+        for (int k = 0; k < n; ++k) {
+          const double dd = q1[k] - 2 * r0[k] + q2[k];
+          rs.diff_ss += dd * dd;
+          rs.total_ss += r0[k] * r0[k];
+        }
+        ++rs.triples;
+      }
+    }
+  });
   double diff_ss = 0, total_ss = 0;
   long triples = 0;
-  auto wrap = [](double d) { return std::abs(std::remainder(d, 2 * CV_PI)); };
-  for (int y = 1; y + 1 < mask.rows; y += stride) {
-    const uchar* mu = mask.ptr<uchar>(y - 1);
-    const uchar* m0 = mask.ptr<uchar>(y);
-    const uchar* md = mask.ptr<uchar>(y + 1);
-    for (int x = 1; x + 1 < mask.cols; x += stride) {
-      if (!m0[x]) continue;
-      const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
-      if (!horizontal && !vertical) continue;
-      double p0 = 0, pa = 0, pb = 0, pc = 0, pd = 0;
-      Residual<T>(frames, c, s, y, x, r0.data(), &p0);
-      if (horizontal) Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
-      if (vertical) Residual<T>(frames, c, s, y - 1, x, rc.data(), &pc), Residual<T>(frames, c, s, y + 1, x, rd.data(), &pd);
-      // The direction along the fringe (smaller phase change): there the phase-dependent
-      // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and the
-      // second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
-      const bool use_h = horizontal && (!vertical || wrap(pb - pa) <= wrap(pd - pc));
-      const std::vector<double>& q1 = use_h ? ra : rc;
-      const std::vector<double>& q2 = use_h ? rb : rd;
-      for (int k = 0; k < n; ++k) {
-        const double dd = q1[k] - 2 * r0[k] + q2[k];
-        diff_ss += dd * dd;
-        total_ss += r0[k] * r0[k];
-      }
-      ++triples;
-    }
+  for (const RowSums& rs : per_row) {
+    diff_ss += rs.diff_ss;
+    total_ss += rs.total_ss;
+    triples += rs.triples;
   }
   IntensityNoise out;
   out.pairs = triples;
@@ -109,13 +130,15 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
     return;
   }
   // The random part cannot exceed the residual; quantisation alone is a floor.
-  const double random = std::clamp(noise.random_dn, 1.0 / std::sqrt(12.0), std::max(noise.total_dn, 1.0 / std::sqrt(12.0)));
+  const double random =
+      std::clamp(noise.random_dn, 1.0 / std::sqrt(12.0), std::max(noise.total_dn, 1.0 / std::sqrt(12.0)));
   sum->sigma_intensity_random_dn = random;
   sum->sigma_intensity_systematic_dn = std::sqrt(std::max(0.0, noise.total_dn * noise.total_dn - random * random));
   sum->sigma_intensity_dn = random;
 }
 
-double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n, double period_px) {
+double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n,
+                   double period_px) {
   if (!options.noise_from_neighbours || options.intensity_sigma_dn > 0 || n <= 3) return 0;
   return EstimatePhaseRipple(coordinate, mask, period_px, options.noise_stride);
 }

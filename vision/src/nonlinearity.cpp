@@ -37,6 +37,11 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
   return 2 * CV_PI / g[g.size() / 2];
 }
 
+int RippleRowSubsample(long valid, int row_subsample, long min_pixels) {
+  const long by_pixels = min_pixels > 0 ? valid / min_pixels : row_subsample;
+  return static_cast<int>(std::max(1L, std::min<long>(row_subsample, by_pixels)));
+}
+
 double FirstOrderRippleT2(const std::vector<Eigen::MatrixXd>& ata, const std::vector<Eigen::VectorXd>& atb) {
   if (ata.empty()) return 0;
   Eigen::MatrixXd total = Eigen::MatrixXd::Zero(ata[0].rows(), ata[0].cols());
@@ -90,6 +95,8 @@ std::string NonlinearityOptions::Validate() const {
   if (window_px != 0 && (window_px < 3 || window_px % 2 == 0)) return "window_px: expected 0 or an odd number >= 3";
   if (!(outlier_rad > 0)) return "outlier_rad: must be positive";
   if (!(min_ripple_t2 >= 0)) return "min_ripple_t2: must be >= 0";
+  if (row_subsample < 1 || row_subsample > 64) return "row_subsample: expected 1..64";
+  if (row_subsample_min_pixels < 0) return "row_subsample_min_pixels: must be >= 0";
   return "";
 }
 
@@ -139,6 +146,11 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   for (int i = 0; i < nb; ++i) hp_basis[i] = basis[i] - MaskedMean(basis[i], mf, den, w);
 
   const cv::Rect box = cv::boundingRect(mask);
+  const int k =
+      detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
+  est.row_subsample = k;
+  // Rows of the fit: inside the box and in the subsample.
+  auto fit_row = [&](int y) { return y >= box.y && y < box.br().y && detail::InRippleRows(y - box.y, box.height, k); };
   for (int pass = 0; pass < options.passes; ++pass) {
     std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(nb + 1, nb + 1));
     std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(nb + 1));
@@ -152,6 +164,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
     double ss = 0;
     long used = 0;
     for (int y = 0; y < hp.rows; ++y) {
+      if (!fit_row(y)) continue;
       const double* r = hp.ptr<double>(y);
       const double* d = den.ptr<double>(y);
       const uchar* m = mask.ptr<uchar>(y);
@@ -206,6 +219,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
     double ss = 0;
     long used = 0;
     for (int y = 0; y < hp.rows; ++y) {
+      if (!fit_row(y)) continue;
       const double* r = hp.ptr<double>(y);
       const double* d = den.ptr<double>(y);
       const uchar* m = mask.ptr<uchar>(y);

@@ -2,7 +2,7 @@
 // and memory: only the bounding box of the mask is processed (every pixel the fit uses has its
 // whole window inside it), in strips of rows whose buffers are a few window heights deep (not
 // maps of the box: 12 basis maps of a 1.3 Mpx frame were 60 MB), the basis functions are
-// evaluated at valid pixels only (one sincos, the higher orders by angle addition) and stored as
+// evaluated with a branch-free sincos (fast_sincos.h; the higher orders by angle addition) and stored as
 // float, the box filters of the basis run in parallel, and the normal equations are accumulated
 // per row in parallel without per-pixel allocation.
 #include <tbb/blocked_range.h>
@@ -15,12 +15,15 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "fast_sincos.h"
 #include "nonlinearity_internal.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/nonlinearity.h"
 
 namespace ramtk::vision {
 namespace {
+
+using detail::SinCos;
 
 constexpr int kMaxTerms = 13;  // 1 + 2 * 6 orders
 
@@ -87,23 +90,38 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
   const int nb = 2 * orders;
   for (cv::Mat& b : *basis) b.create(st.b - st.a, wrapped.cols, CV_32F);
   tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 8), [&](const tbb::blocked_range<int>& r) {
+    std::vector<float*> out(nb);
+    std::vector<double> s1_row(wrapped.cols), c1_row(wrapped.cols);
     for (int y = r.begin(); y < r.end(); ++y) {
       const float* p = wrapped.ptr<float>(y);
       const uchar* m = mask.ptr<uchar>(y);
+      for (int i = 0; i < nb; ++i) out[i] = (*basis)[i].ptr<float>(y - st.a);
+      float* s_out = out[0];
+      float* c_out = out[1];
+      // First order over the whole row, branch-free (vectorised); 0 where masked.
+      for (int x = 0; x < wrapped.cols; ++x) {
+        double s1, c1;
+        SinCos(static_cast<double>(steps) * p[x], &s1, &c1);
+        s1_row[x] = s1;
+        c1_row[x] = c1;
+        s_out[x] = m[x] ? static_cast<float>(s1) : 0.0f;
+        c_out[x] = m[x] ? static_cast<float>(c1) : 0.0f;
+      }
+      if (orders < 2) continue;
       for (int x = 0; x < wrapped.cols; ++x) {
         if (!m[x]) {
-          for (int i = 0; i < nb; ++i) (*basis)[i].ptr<float>(y - st.a)[x] = 0.0f;
+          for (int i = 2; i < nb; ++i) out[i][x] = 0.0f;
           continue;
         }
-        const double a = static_cast<double>(steps) * p[x];
-        const double s1 = std::sin(a), c1 = std::cos(a);
+        // Higher orders by angle addition from the first (in double, as before).
+        const double s1 = s1_row[x], c1 = c1_row[x];
         double s = s1, c = c1;
-        for (int o = 0; o < orders; ++o) {
-          (*basis)[2 * o].ptr<float>(y - st.a)[x] = static_cast<float>(s);
-          (*basis)[2 * o + 1].ptr<float>(y - st.a)[x] = static_cast<float>(c);
+        for (int o = 1; o < orders; ++o) {
           const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
           s = sn;
           c = cn;
+          out[2 * o][x] = static_cast<float>(s);
+          out[2 * o + 1][x] = static_cast<float>(c);
         }
       }
     }
@@ -151,15 +169,30 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   // as float, the phase and its high-pass as double, mask and counts as float).
   const double strip_row_bytes = static_cast<double>(box.width) * (8.0 * nb + 24.0);
   const int strip_rows = std::clamp(static_cast<int>(24e6 / strip_row_bytes) - 2 * half, 64, 512);
-  std::vector<Strip> strips;
-  for (int y0 = 0; y0 < box.height; y0 += strip_rows) {
-    Strip st;
-    st.y0 = y0;
-    st.y1 = std::min(box.height, y0 + strip_rows);
-    st.a = std::max(0, y0 - half);
-    st.b = std::min(box.height, st.y1 + half);
-    strips.push_back(st);
+  // The rows of the fit (NonlinearityOptions::row_subsample): all, or the first 1/k of each band.
+  const int subsample =
+      detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
+  est.row_subsample = subsample;
+  std::vector<std::pair<int, int>> ranges;
+  if (subsample == 1) {
+    ranges.emplace_back(0, box.height);
+  } else {
+    for (int b = 0; b < detail::kRippleBands; ++b) {
+      const int first = detail::RippleBandFirstRow(b, box.height);
+      const int last = detail::RippleBandFirstRow(b + 1, box.height);
+      if (last > first) ranges.emplace_back(first, first + (last - first + subsample - 1) / subsample);
+    }
   }
+  std::vector<Strip> strips;
+  for (const auto& [from, to] : ranges)
+    for (int y0 = from; y0 < to; y0 += strip_rows) {
+      Strip st;
+      st.y0 = y0;
+      st.y1 = std::min(to, y0 + strip_rows);
+      st.a = std::max(0, y0 - half);
+      st.b = std::min(box.height, st.y1 + half);
+      strips.push_back(st);
+    }
   // The strip buffers, reused from strip to strip.
   cv::Mat mf, den, clean, hp;
   std::vector<cv::Mat> basis(nb), bsum(nb);
@@ -252,8 +285,8 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
         const uchar* m = mask.ptr<uchar>(y);
         for (int x = 0; x < box.width; ++x) {
           if (!m[x]) continue;
-          const double a = static_cast<double>(steps) * wr[x];
-          const double s1 = std::sin(a), c1 = std::cos(a);
+          double s1, c1;
+          SinCos(static_cast<double>(steps) * wr[x], &s1, &c1);
           double s = s1, c = c1, ripple = 0;
           for (int o = 0; o < options.orders; ++o) {
             // As float, as the stored basis the reference and the fit use.

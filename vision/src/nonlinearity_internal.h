@@ -16,6 +16,23 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask);
 inline constexpr int kRippleBands = 16;
 inline int RippleBand(int y, int height) { return static_cast<int>(static_cast<long>(y) * kRippleBands / height); }
 
+// Rows [first, last) of band b of a box `height` rows tall (those with RippleBand(y) == b).
+inline int RippleBandFirstRow(int b, int height) {
+  return static_cast<int>((static_cast<long>(b) * height + kRippleBands - 1) / kRippleBands);
+}
+
+// NonlinearityOptions::row_subsample as applied to a mask with `valid` pixels: k >= 1.
+int RippleRowSubsample(long valid, int row_subsample, long min_pixels);
+
+// Whether row y of the box (0-based, `height` rows) is read by the fit with subsample k: the
+// first ceil(rows / k) rows of its band.
+inline bool InRippleRows(int y, int height, int k) {
+  if (k <= 1) return true;
+  const int b = RippleBand(y, height);
+  const int first = RippleBandFirstRow(b, height), last = RippleBandFirstRow(b + 1, height);
+  return y - first < (last - first + k - 1) / k;
+}
+
 // T² of the first-order ripple coefficients (entries 1 and 2; entry 0 is the intercept) of the
 // least-squares fit from the summed normal equations, against their leave-one-band-out
 // (jackknife) covariance. `ata` are full symmetric terms × terms matrices, one per band. 0 if a

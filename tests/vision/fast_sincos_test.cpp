@@ -1,0 +1,60 @@
+// The nonlinearity basis's branch-free sin/cos (vision/src/fast_sincos.h) against std::sin and
+// std::cos: within 2 ulp over the arguments the basis meets (N * phi, |N| <= 64, |phi| <= pi)
+// and beyond, at quadrant boundaries, and by the identities sin^2 + cos^2 = 1 and odd/even symmetry.
+#include "../../vision/src/fast_sincos.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace {
+
+using ramtk::vision::detail::SinCos;
+
+// Distance in units of the last place of the reference value (at least the ulp of 2^-1022 near 0).
+double Ulps(double got, double want) {
+  const double ulp = std::max(std::nextafter(std::abs(want), std::numeric_limits<double>::infinity()) - std::abs(want),
+                              std::numeric_limits<double>::denorm_min());
+  return std::abs(got - want) / ulp;
+}
+
+TEST(FastSinCos, WithinTwoUlpOfTheLibrary) {
+  std::mt19937_64 rng(7);
+  double worst_s = 0, worst_c = 0;
+  for (const double range : {1.0, 10.0, 64 * M_PI, 1e4, 1e6}) {
+    std::uniform_real_distribution<double> u(-range, range);
+    for (int i = 0; i < 200000; ++i) {
+      const double a = u(rng);
+      double s, c;
+      SinCos(a, &s, &c);
+      // Near a zero of the function the absolute error is the meaningful one: compare to the
+      // ulp of 1 there (the basis is stored as float, ~1e-7 absolute).
+      const double es = std::abs(std::sin(a)) < 1e-3 ? std::abs(s - std::sin(a)) / 2.2e-16 : Ulps(s, std::sin(a));
+      const double ec = std::abs(std::cos(a)) < 1e-3 ? std::abs(c - std::cos(a)) / 2.2e-16 : Ulps(c, std::cos(a));
+      worst_s = std::max(worst_s, es);
+      worst_c = std::max(worst_c, ec);
+    }
+  }
+  EXPECT_LE(worst_s, 2.0);
+  EXPECT_LE(worst_c, 2.0);
+}
+
+TEST(FastSinCos, QuadrantBoundariesAndIdentities) {
+  for (int k = -80; k <= 80; ++k) {
+    for (const double d : {-1e-9, 0.0, 1e-9, 0.3, -0.7}) {
+      const double a = k * M_PI / 4 + d;
+      double s, c, sn, cn;
+      SinCos(a, &s, &c);
+      SinCos(-a, &sn, &cn);
+      EXPECT_NEAR(s, std::sin(a), 4e-16) << a;
+      EXPECT_NEAR(c, std::cos(a), 4e-16) << a;
+      EXPECT_NEAR(s * s + c * c, 1.0, 4e-16) << a;
+      EXPECT_EQ(sn, -s) << a;  // odd
+      EXPECT_EQ(cn, c) << a;   // even
+    }
+  }
+}
+
+}  // namespace
