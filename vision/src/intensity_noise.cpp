@@ -2,6 +2,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -12,10 +13,13 @@
 namespace ramtk::vision::detail {
 namespace {
 
-// Residual vector of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N), and the phase.
+using Vec2 = Eigen::Vector2d;
+
+// Residual vector of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N), and the
+// fitted (cos, sin) amplitudes, whose angle is the phase.
 template <typename T>
 void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
-              int y, int x, double* r, double* phase) {
+              int y, int x, double* r, Vec2* phase) {
   const int n = static_cast<int>(frames.size());
   double sum = 0, sc = 0, ss = 0;
   for (int k = 0; k < n; ++k) {
@@ -27,7 +31,7 @@ void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<doubl
   }
   const double a0 = sum / n, a = 2 * sc / n, b = 2 * ss / n;
   for (int k = 0; k < n; ++k) r[k] -= a0 + a * c[k] + b * s[k];
-  *phase = std::atan2(b, a);
+  *phase = Vec2(a, b);
 }
 
 template <typename T>
@@ -35,7 +39,11 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
   const int n = static_cast<int>(frames.size());
   std::vector<double> c(n), s(n);
   for (int k = 0; k < n; ++k) c[k] = std::cos(2 * CV_PI * k / n), s[k] = std::sin(2 * CV_PI * k / n);
-  auto wrap = [](double d) { return std::abs(std::remainder(d, 2 * CV_PI)); };
+  // Cosine of the phase change between two pixels: the angle between their (a, b) vectors
+  // (monotone in the wrapped phase difference |remainder(phase_b - phase_a, 2 pi)|, without atan2).
+  auto cos_between = [](const Vec2& u, const Vec2& v) {
+    return u.dot(v) / std::sqrt(u.squaredNorm() * v.squaredNorm());
+  };
   // Sampled rows in parallel, each with its own sums; added in row order (deterministic).
   struct RowSums {
     double diff_ss = 0, total_ss = 0;
@@ -55,7 +63,7 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
         if (!m0[x]) continue;
         const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
         if (!horizontal && !vertical) continue;
-        double p0 = 0, pa = 0, pb = 0, pc = 0, pd = 0;
+        Vec2 p0, pa, pb, pc, pd;
         Residual<T>(frames, c, s, y, x, r0.data(), &p0);
         if (horizontal)
           Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
@@ -64,7 +72,7 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
         // The direction along the fringe (smaller phase change): there the phase-dependent
         // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and
         // the second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
-        const bool use_h = horizontal && (!vertical || wrap(pb - pa) <= wrap(pd - pc));
+        const bool use_h = horizontal && (!vertical || cos_between(pa, pb) >= cos_between(pc, pd));
         const std::vector<double>& q1 = use_h ? ra : rc;
         const std::vector<double>& q2 = use_h ? rb : rd;
         for (int k = 0; k < n; ++k) {
