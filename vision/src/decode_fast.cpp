@@ -39,32 +39,35 @@ struct RowCounts {
 // goes in chunks of kChunk pixels, every frame over one chunk before the next: the five sums of a
 // chunk stay in L1 (a whole 3312 px row of them is 66 KB). Each pixel's sums are taken over the
 // frames in the same order as over whole rows, so the results do not change.
+// One frame's samples added to a chunk's sums (distinct buffers: vectorised).
+template <typename T, typename Acc>
+void AccumulateFrame(const T* __restrict row, int len, float sk, float ck, float* __restrict s, float* __restrict c,
+                     Acc* __restrict sum, Acc* __restrict sum2, float* __restrict top) {
+  for (int x = 0; x < len; ++x) {
+    const float v = static_cast<float>(row[x]);
+    s[x] += v * sk;
+    c[x] += v * ck;
+    const Acc a = static_cast<Acc>(row[x]);
+    sum[x] += a;
+    sum2[x] += a * a;
+    top[x] = v > top[x] ? v : top[x];
+  }
+}
+
 template <typename T, typename Acc>
 void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const float* sn, const float* cs, float* s,
                    float* c, Acc* sum, Acc* sum2, float* top) {
   constexpr int kChunk = 256;
   for (int x0 = 0; x0 < width; x0 += kChunk) {
     const int len = std::min(kChunk, width - x0);
-    float *sc = s + x0, *cc = c + x0, *tc = top + x0;
-    Acc *uc = sum + x0, *qc = sum2 + x0;
-    std::fill(sc, sc + len, 0.0f);
-    std::fill(cc, cc + len, 0.0f);
-    std::fill(uc, uc + len, Acc(0));
-    std::fill(qc, qc + len, Acc(0));
-    std::fill(tc, tc + len, -std::numeric_limits<float>::infinity());
-    for (int k = 0; k < n; ++k) {
-      const T* row = frames[k]->ptr<T>(y) + x0;
-      const float sk = sn[k], ck = cs[k];
-      for (int x = 0; x < len; ++x) {
-        const float v = static_cast<float>(row[x]);
-        sc[x] += v * sk;
-        cc[x] += v * ck;
-        const Acc a = static_cast<Acc>(row[x]);
-        uc[x] += a;
-        qc[x] += a * a;
-        tc[x] = v > tc[x] ? v : tc[x];
-      }
-    }
+    std::fill(s + x0, s + x0 + len, 0.0f);
+    std::fill(c + x0, c + x0 + len, 0.0f);
+    std::fill(sum + x0, sum + x0 + len, Acc(0));
+    std::fill(sum2 + x0, sum2 + x0 + len, Acc(0));
+    std::fill(top + x0, top + x0 + len, -std::numeric_limits<float>::infinity());
+    for (int k = 0; k < n; ++k)
+      AccumulateFrame<T, Acc>(frames[k]->ptr<T>(y) + x0, len, sn[k], cs[k], s + x0, c + x0, sum + x0, sum2 + x0,
+                              top + x0);
   }
 }
 
