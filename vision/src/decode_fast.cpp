@@ -22,6 +22,7 @@
 #include "ramtk/core/log.h"
 #include "ramtk/vision/nonlinearity.h"
 #include "ramtk/vision/unwrap.h"
+#include "rank_select.h"
 
 namespace ramtk::vision::detail {
 namespace {
@@ -331,73 +332,6 @@ std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>&
 }
 
 namespace {
-
-// The values at `ranks` (0-based, ascending order) among the pixels of `values` (CV_32F, every
-// masked value finite and >= 0) where `mask` is set: what std::nth_element gives on the gathered
-// values, without gathering them. The bit patterns of non-negative floats sort as the values,
-// so a parallel histogram of their top 16 bits finds the bin holding each rank; only that bin's
-// values are gathered and selected from.
-std::vector<float> ValuesAtRanks(const cv::Mat& values, const cv::Mat& mask, const std::vector<std::size_t>& ranks) {
-  constexpr int kBins = 1 << 15;  // bits >> 16, sign bit clear
-  auto bin_of = [](float v) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    return static_cast<int>(std::min<std::uint32_t>(bits >> 16, kBins - 1));
-  };
-  const std::vector<std::uint64_t> hist = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, values.rows, 64), std::vector<std::uint64_t>(kBins, 0),
-      [&](const tbb::blocked_range<int>& r, std::vector<std::uint64_t> h) {
-        for (int y = r.begin(); y < r.end(); ++y) {
-          const float* v = values.ptr<float>(y);
-          const uchar* m = mask.ptr<uchar>(y);
-          for (int x = 0; x < values.cols; ++x)
-            if (m[x]) ++h[bin_of(v[x])];
-        }
-        return h;
-      },
-      [](std::vector<std::uint64_t> a, const std::vector<std::uint64_t>& b) {
-        for (int i = 0; i < kBins; ++i) a[i] += b[i];
-        return a;
-      });
-  // The bin holding each rank, then one pass gathering those bins' values.
-  std::vector<int> bins;
-  std::vector<std::size_t> below;
-  for (const std::size_t rank : ranks) {
-    std::size_t b = 0;
-    int bin = 0;
-    while (bin < kBins - 1 && b + hist[bin] <= rank) b += hist[bin++];
-    bins.push_back(bin);
-    below.push_back(b);
-  }
-  std::vector<std::vector<float>> in_bin(ranks.size());
-  for (int y = 0; y < values.rows; ++y) {
-    const float* v = values.ptr<float>(y);
-    const uchar* m = mask.ptr<uchar>(y);
-    for (int x = 0; x < values.cols; ++x) {
-      if (!m[x]) continue;
-      const int bin = bin_of(v[x]);
-      for (std::size_t i = 0; i < bins.size(); ++i)
-        if (bin == bins[i]) {
-          in_bin[i].push_back(v[x]);
-          break;  // equal bins: the first one's values serve both (below)
-        }
-    }
-  }
-  std::vector<float> out;
-  for (std::size_t i = 0; i < ranks.size(); ++i) {
-    std::size_t first = 0;  // the first rank in the same bin holds the bin's values
-    while (bins[first] != bins[i]) ++first;
-    std::vector<float>& vals = in_bin[first];
-    if (vals.empty()) {
-      out.push_back(std::numeric_limits<float>::quiet_NaN());
-      continue;
-    }
-    const std::size_t k = std::min(ranks[i] - below[i], vals.size() - 1);
-    std::nth_element(vals.begin(), vals.begin() + k, vals.end());
-    out.push_back(vals[k]);
-  }
-  return out;
-}
 
 bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
   return !o.progress || o.progress(Progress{stage, done, total});

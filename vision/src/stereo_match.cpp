@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ramtk/core/error.h"
+#include "rank_select.h"
 
 namespace ramtk::vision {
 namespace {
@@ -905,15 +906,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   sum.rejected_no_match = fwd.no_match;
   sum.rejected_lr = fwd.lr;
   sum.full_searches = fwd.full;
-  std::vector<float> sig;
-  sig.reserve(static_cast<std::size_t>(sum.matched));
-  for (int y = 0; y < fwd.sigma.rows; ++y)
-    for (int x = 0; x < fwd.sigma.cols; ++x)
-      if (std::isfinite(fwd.sigma.at<float>(y, x))) sig.push_back(fwd.sigma.at<float>(y, x));
-  if (!sig.empty()) {
-    std::nth_element(sig.begin(), sig.begin() + sig.size() / 2, sig.end());
-    sum.median_sigma_px = sig[sig.size() / 2];
-  }
+  const float median_sigma = detail::UpperMedian(fwd.sigma);
+  if (std::isfinite(median_sigma)) sum.median_sigma_px = median_sigma;
   return result;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "ramtk/core/error.h"
+#include "rank_select.h"
 
 namespace ramtk::vision {
 
@@ -64,7 +65,7 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   ThrowIfInvalid(options.Validate(), "TriangulationOptions");
   const int W = match.right_u.cols, H = match.right_u.rows;
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  cv::Mat z(H, W, CV_32F, cv::Scalar(nan));
+  cv::Mat z(H, W, CV_32F);  // NaN-filled row by row below (in parallel: first touches fault)
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
   const Mat3 R = calibration.right_from_left.linear();
   const Mat3 Rt = R.transpose();
@@ -75,12 +76,15 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   // pixels get slots from a prefix sum, and the slots of points dropped for their ray gap are
   // squeezed out afterwards (no per-pixel maps of x, y, z and sigma, no growing vectors).
   std::vector<std::size_t> first(static_cast<std::size_t>(H) + 1, 0);
-  for (int y = 0; y < H; ++y) {
-    const float* u = match.right_u.ptr<float>(y);
-    std::size_t n = 0;
-    for (int x = 0; x < W; ++x) n += std::isfinite(u[x]) ? 1 : 0;
-    first[y + 1] = first[y] + n;
-  }
+  cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* u = match.right_u.ptr<float>(y);
+      std::size_t n = 0;
+      for (int x = 0; x < W; ++x) n += std::isfinite(u[x]) ? 1 : 0;
+      first[y + 1] = n;
+    }
+  });
+  for (int y = 0; y < H; ++y) first[y + 1] += first[y];
   const std::size_t slots = first[H];
   PointCloud cloud;
   cloud.points_in_left.resize(slots);
@@ -97,6 +101,7 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
       Vec2 left_ideal_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       Vec2 right_offset_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       std::size_t slot = first[y];
+      std::fill_n(z.ptr<float>(y), W, nan);
       const float* ru = match.right_u.ptr<float>(y);
       const float* rv = match.right_v.ptr<float>(y);
       for (int x = 0; x < W; ++x) {
@@ -147,8 +152,10 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   TriangulationSummary sum;
   sum.depth_min_mm = std::numeric_limits<double>::infinity();
   sum.depth_max_mm = -sum.depth_min_mm;
+  // Squeeze out the dropped slots (nothing moves before the first one).
   std::size_t n = 0;
-  for (std::size_t k = 0; k < slots; ++k) {
+  while (n < slots && kept[n]) ++n;
+  for (std::size_t k = n; k < slots; ++k) {
     if (!kept[k]) {
       ++sum.rejected_gap;
       continue;
@@ -157,8 +164,6 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
     cloud.sigma_mm[n] = cloud.sigma_mm[k];
     cloud.quality[n] = cloud.quality[k];
     if (options.keep_pixels) cloud.left_pixels[n] = cloud.left_pixels[k];
-    sum.depth_min_mm = std::min<double>(sum.depth_min_mm, cloud.points_in_left[n].z());
-    sum.depth_max_mm = std::max<double>(sum.depth_max_mm, cloud.points_in_left[n].z());
     ++n;
   }
   cloud.points_in_left.resize(n);
@@ -167,12 +172,12 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   if (options.keep_pixels) cloud.left_pixels.resize(n);
   std::vector<uchar>().swap(kept);
   sum.points = static_cast<long>(cloud.size());
-  if (cloud.size() == 0) sum.depth_min_mm = sum.depth_max_mm = 0;
-  std::vector<float> s = cloud.sigma_mm;
-  if (!s.empty()) {
-    std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
-    sum.median_sigma_mm = s[s.size() / 2];
+  for (const Eigen::Vector3f& p : cloud.points_in_left) {
+    sum.depth_min_mm = std::min<double>(sum.depth_min_mm, p.z());
+    sum.depth_max_mm = std::max<double>(sum.depth_max_mm, p.z());
   }
+  if (cloud.size() == 0) sum.depth_min_mm = sum.depth_max_mm = 0;
+  if (!cloud.sigma_mm.empty()) sum.median_sigma_mm = detail::ValuesAtRanks(cloud.sigma_mm, {cloud.size() / 2})[0];
   if (summary) *summary = sum;
   if (depth) *depth = z;
   return cloud;

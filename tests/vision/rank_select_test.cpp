@@ -1,0 +1,62 @@
+// Order statistics by histogram (vision/src/rank_select.h) against std::nth_element on the
+// gathered values: random values over many octaves, ties, masks, NaN pixels, both ranks in one bin.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "../../vision/src/rank_select.h"
+
+namespace {
+
+using ramtk::vision::detail::UpperMedian;
+using ramtk::vision::detail::ValuesAtRanks;
+
+float NthOf(std::vector<float> v, std::size_t k) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+TEST(RankSelect, MaskedMapAsNthElement) {
+  std::mt19937 rng(5);
+  std::lognormal_distribution<float> value(2.0f, 2.0f);  // ~1e-3 .. 1e4: many exponents
+  std::uniform_int_distribution<int> coin(0, 3);
+  cv::Mat values(123, 457, CV_32F), mask(values.size(), CV_8U);
+  std::vector<float> gathered;
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x) {
+      // Every 7th value repeated: ties inside a bin.
+      values.at<float>(y, x) = (x % 7 == 0) ? 55.75f : value(rng);
+      mask.at<uchar>(y, x) = coin(rng) ? 255 : 0;
+      if (mask.at<uchar>(y, x)) gathered.push_back(values.at<float>(y, x));
+    }
+  const std::size_t n = gathered.size();
+  const std::vector<std::size_t> ranks{0, n / 2, n - 1 - n / 2, n / 3, n - 1, n / 2 + 1};
+  const std::vector<float> got = ValuesAtRanks(values, mask, ranks);
+  ASSERT_EQ(got.size(), ranks.size());
+  for (std::size_t i = 0; i < ranks.size(); ++i) EXPECT_EQ(got[i], NthOf(gathered, ranks[i])) << "rank " << ranks[i];
+  EXPECT_TRUE(std::isnan(ValuesAtRanks(values, mask, {n})[0]));  // beyond the count
+}
+
+TEST(RankSelect, FiniteValuesOfAMapAndAFlatArray) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> value(0.0f, 3.0f);
+  cv::Mat values(64, 300, CV_32F);
+  std::vector<float> finite, flat;
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x) {
+      const bool hole = (x + y) % 5 == 0;
+      const float v = value(rng);
+      values.at<float>(y, x) = hole ? std::numeric_limits<float>::quiet_NaN() : v;
+      if (!hole) finite.push_back(v);
+      flat.push_back(v);
+    }
+  EXPECT_EQ(UpperMedian(values), NthOf(finite, finite.size() / 2));
+  EXPECT_EQ(ValuesAtRanks(flat, {flat.size() / 2})[0], NthOf(flat, flat.size() / 2));
+  EXPECT_EQ(ValuesAtRanks(flat, {0})[0], *std::min_element(flat.begin(), flat.end()));
+  EXPECT_TRUE(std::isnan(UpperMedian(cv::Mat(4, 4, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())))));
+}
+
+}  // namespace

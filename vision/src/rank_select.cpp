@@ -1,0 +1,117 @@
+// Order statistics by a parallel histogram of float bit patterns (rank_select.h).
+#include "rank_select.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <limits>
+
+namespace ramtk::vision::detail {
+namespace {
+
+constexpr int kBins = 1 << 15;  // bits >> 16 of a non-negative float (sign bit clear)
+
+int BinOf(float v) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  return static_cast<int>(std::min<std::uint32_t>(bits >> 16, kBins - 1));
+}
+
+// A run of values and its mask (nullptr: every finite value counts).
+struct Segment {
+  const float* values = nullptr;
+  const uchar* mask = nullptr;
+  int length = 0;
+};
+
+bool Counts(const Segment& s, int x) { return s.mask ? s.mask[x] != 0 : std::isfinite(s.values[x]); }
+
+// `ranks_of(count)`: the ranks wanted, given how many values count.
+std::vector<float> Select(const std::vector<Segment>& segments,
+                          const std::function<std::vector<std::size_t>(std::size_t)>& ranks_of) {
+  const std::vector<std::uint64_t> hist = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, segments.size(), 16), std::vector<std::uint64_t>(kBins, 0),
+      [&](const tbb::blocked_range<std::size_t>& r, std::vector<std::uint64_t> h) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+          const Segment& s = segments[i];
+          for (int x = 0; x < s.length; ++x)
+            if (Counts(s, x)) ++h[BinOf(s.values[x])];
+        }
+        return h;
+      },
+      [](std::vector<std::uint64_t> a, const std::vector<std::uint64_t>& b) {
+        for (int i = 0; i < kBins; ++i) a[i] += b[i];
+        return a;
+      });
+  std::size_t count = 0;
+  for (const std::uint64_t h : hist) count += h;
+  const std::vector<std::size_t> ranks = ranks_of(count);
+  // The bin holding each rank, then one pass gathering those bins' values.
+  std::vector<int> bins;
+  std::vector<std::size_t> below;
+  for (const std::size_t rank : ranks) {
+    std::size_t b = 0;
+    int bin = 0;
+    while (bin < kBins - 1 && b + hist[bin] <= rank) b += hist[bin++];
+    bins.push_back(bin);
+    below.push_back(b);
+  }
+  std::vector<std::vector<float>> in_bin(ranks.size());
+  for (const Segment& s : segments)
+    for (int x = 0; x < s.length; ++x) {
+      if (!Counts(s, x)) continue;
+      const int bin = BinOf(s.values[x]);
+      for (std::size_t i = 0; i < bins.size(); ++i)
+        if (bin == bins[i]) {
+          in_bin[i].push_back(s.values[x]);
+          break;  // equal bins: the first rank's list serves both (below)
+        }
+    }
+  std::vector<float> out;
+  for (std::size_t i = 0; i < ranks.size(); ++i) {
+    std::size_t first = 0;  // the first rank in the same bin holds the bin's values
+    while (bins[first] != bins[i]) ++first;
+    std::vector<float>& vals = in_bin[first];
+    if (ranks[i] < below[i] || ranks[i] - below[i] >= vals.size()) {
+      out.push_back(std::numeric_limits<float>::quiet_NaN());
+      continue;
+    }
+    const std::size_t k = ranks[i] - below[i];
+    std::nth_element(vals.begin(), vals.begin() + static_cast<std::ptrdiff_t>(k), vals.end());
+    out.push_back(vals[k]);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<float> ValuesAtRanks(const cv::Mat& values, const cv::Mat& mask, const std::vector<std::size_t>& ranks) {
+  CV_Assert(values.type() == CV_32F && (mask.empty() || (mask.type() == CV_8U && mask.size() == values.size())));
+  std::vector<Segment> segments(static_cast<std::size_t>(values.rows));
+  for (int y = 0; y < values.rows; ++y)
+    segments[y] = {values.ptr<float>(y), mask.empty() ? nullptr : mask.ptr<uchar>(y), values.cols};
+  return Select(segments, [&](std::size_t) { return ranks; });
+}
+
+float UpperMedian(const cv::Mat& values) {
+  CV_Assert(values.type() == CV_32F);
+  std::vector<Segment> segments(static_cast<std::size_t>(values.rows));
+  for (int y = 0; y < values.rows; ++y) segments[y] = {values.ptr<float>(y), nullptr, values.cols};
+  const std::vector<float> at = Select(segments, [](std::size_t count) { return std::vector<std::size_t>{count / 2}; });
+  return at[0];
+}
+
+std::vector<float> ValuesAtRanks(const std::vector<float>& values, const std::vector<std::size_t>& ranks) {
+  constexpr std::size_t kSegment = 4096;
+  std::vector<Segment> segments;
+  for (std::size_t i = 0; i < values.size(); i += kSegment)
+    segments.push_back({values.data() + i, nullptr, static_cast<int>(std::min(kSegment, values.size() - i))});
+  return Select(segments, [&](std::size_t) { return ranks; });
+}
+
+}  // namespace ramtk::vision::detail
