@@ -1,6 +1,8 @@
 // Self-calibrating removal of the phase ripple caused by a non-linear projector response.
 #include "ramtk/vision/nonlinearity.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -13,28 +15,35 @@
 
 #include "nonlinearity_internal.h"
 #include "ramtk/core/error.h"
+#include "rank_select.h"
 
 namespace ramtk::vision {
 namespace detail {
 
 // Median camera fringe period (px) from the gradient of the unwrapped phase.
 double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
-  std::vector<float> g;
-  for (int y = 0; y + 1 < phase.rows; y += 2) {
+  // Gradient magnitudes per sampled row (rows in parallel), then their median by histogram
+  // select (rank_select.h: the element nth_element would give).
+  const int rows = phase.rows / 2;
+  std::vector<std::vector<float>> per_row(static_cast<std::size_t>(rows));
+  tbb::parallel_for(0, rows, [&](int i) {
+    const int y = 2 * i;
     const float* p = phase.ptr<float>(y);
     const float* pn = phase.ptr<float>(y + 1);
     const uchar* m = mask.ptr<uchar>(y);
     const uchar* mn = mask.ptr<uchar>(y + 1);
+    std::vector<float>& g = per_row[i];
     for (int x = 0; x + 1 < phase.cols; x += 2) {
       if (!m[x] || !m[x + 1] || !mn[x]) continue;
       const double gx = p[x + 1] - p[x], gy = pn[x] - p[x];
       const double gm = std::hypot(gx, gy);
       if (gm > 1e-6 && gm < 3.0) g.push_back(static_cast<float>(gm));
     }
-  }
+  });
+  std::vector<float> g;
+  for (const std::vector<float>& r : per_row) g.insert(g.end(), r.begin(), r.end());
   if (g.empty()) return 0;
-  std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
-  return 2 * CV_PI / g[g.size() / 2];
+  return 2 * CV_PI / ValuesAtRanks(g, {g.size() / 2})[0];
 }
 
 int RippleRowSubsample(long valid, int row_subsample, long min_pixels) {
