@@ -1,4 +1,8 @@
 // Binary little-endian PLY writer and a reader for the vertex element (docs/formats.md).
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <sstream>
@@ -17,13 +21,6 @@ bool HostIsLittleEndian() {
   unsigned char b = 0;
   std::memcpy(&b, &one, 1);
   return b == 1;
-}
-
-void AppendFloatLe(std::string* out, float value) {
-  unsigned char b[4];
-  std::memcpy(b, &value, 4);
-  if (!HostIsLittleEndian()) std::swap(b[0], b[3]), std::swap(b[1], b[2]);
-  out->append(reinterpret_cast<const char*>(b), 4);
 }
 
 // Size in bytes of a PLY scalar type, 0 if unknown.
@@ -111,13 +108,27 @@ std::string PlyBytes(const PointCloud& cloud, const std::string& comment) {
   if (!cloud.quality.empty()) h << "property float quality\n";
   h << "end_header\n";
   std::string out = h.str();
+  const std::size_t header = out.size();
   const int per_point = 3 + (cloud.sigma_mm.empty() ? 0 : 1) + (cloud.quality.empty() ? 0 : 1);
-  out.reserve(out.size() + cloud.size() * per_point * 4);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    for (int k = 0; k < 3; ++k) AppendFloatLe(&out, cloud.points_in_left[i][k]);
-    if (!cloud.sigma_mm.empty()) AppendFloatLe(&out, cloud.sigma_mm[i]);
-    if (!cloud.quality.empty()) AppendFloatLe(&out, cloud.quality[i]);
-  }
+  const std::size_t stride = static_cast<std::size_t>(per_point) * 4;
+  out.resize(header + cloud.size() * stride);
+  // Each vertex has its own bytes: blocks of vertices in parallel (a thesis frame's 6.4 M
+  // vertices took ~0.2 s appended one float at a time).
+  char* base = out.data() + header;
+  const bool swap = !HostIsLittleEndian();
+  auto put = [swap](char* at, float value) {
+    std::memcpy(at, &value, 4);
+    if (swap) std::swap(at[0], at[3]), std::swap(at[1], at[2]);
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cloud.size(), 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        char* at = base + i * stride;
+                        for (int k = 0; k < 3; ++k, at += 4) put(at, cloud.points_in_left[i][k]);
+                        if (!cloud.sigma_mm.empty()) put(at, cloud.sigma_mm[i]), at += 4;
+                        if (!cloud.quality.empty()) put(at, cloud.quality[i]);
+                      }
+                    });
   return out;
 }
 
