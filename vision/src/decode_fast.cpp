@@ -72,17 +72,30 @@ void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const 
   }
 }
 
+// One Gray-code frame's bit of every pixel of a row (sample above the pixel's background A),
+// folded into the running binary code: bit ^= g > A, code = code << 1 | bit.
+template <typename T>
+void GrayBit(const T* __restrict g, const float* __restrict a, int width, int* __restrict bit, int* __restrict code) {
+  for (int x = 0; x < width; ++x) {
+    bit[x] ^= static_cast<float>(g[x]) > a[x] ? 1 : 0;
+    code[x] = (code[x] << 1) | bit[x];
+  }
+}
+
 // Row buffers of DecodeRow, one set per thread (allocated once, not per row).
 template <typename Acc>
 struct RowBuffers {
   std::vector<float> s, c, top, res_ss, a, res;
   std::vector<Acc> sum, sum2;
   std::vector<uchar> dark, sat, low;
+  std::vector<int> code, bit;
   void Resize(int width) {
     const std::size_t w = static_cast<std::size_t>(width);
     for (std::vector<float>* v : {&s, &c, &top, &res_ss, &a, &res}) v->resize(w);
     sum.resize(w);
     sum2.resize(w);
+    code.resize(w);
+    bit.resize(w);
     for (std::vector<uchar>* v : {&dark, &sat, &low}) v->assign(w, 0);
   }
 };
@@ -150,17 +163,16 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
   if (in.heterodyne) {
     // Filled after all rows (UnwrapHeterodyne over whole images).
   } else if (!in.gray_frames.empty()) {
+    // Gray -> binary code of every pixel of the row, one bit frame at a time (vectorised).
     const int bits = static_cast<int>(in.gray_frames.size());
-    std::vector<const T*> gray_rows(bits);
-    for (int j = 0; j < bits; ++j) gray_rows[j] = in.gray_frames[j]->ptr<T>(y);
+    int* code = buffers.code.data();
+    int* bit = buffers.bit.data();
+    std::fill(code, code + width, 0);
+    std::fill(bit, bit + width, 0);
+    for (int j = 0; j < bits; ++j) GrayBit(in.gray_frames[j]->ptr<T>(y), a_row, width, bit, code);
     for (int x = 0; x < width; ++x) {
       if (!mk[x]) continue;
-      const float th = a_row[x];
-      int binary = 0, bit = 0;
-      for (int j = 0; j < bits; ++j) {
-        bit ^= static_cast<float>(gray_rows[j][x]) > th ? 1 : 0;  // Gray -> binary
-        binary = (binary << 1) | bit;
-      }
+      const int binary = code[x];
       const double t = PeriodFraction(phi[x], in.phase_at_origin_rad);
       long order;
       if (in.complementary) {
