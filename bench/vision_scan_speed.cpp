@@ -8,12 +8,14 @@
 // (`ramtk scan SET --out TMP --force -q`, wall time), and SLMaster's timing driver
 // (../shared/peers/slmaster: `driver --once`, wall time; its own line gives its in-process
 // load and pipeline times). With --reference the reference decode path (DecodeOptions::
-// reference_path) runs too, for the before/after ratio in the same run.
+// reference_path) runs too, for the before/after ratio in the same run. The in-process run
+// uses the heap settings of `ramtk scan` (freed blocks kept, main() below).
 //
 // The peer driver comes from --peer or the environment variable RAMTK_SLMASTER_DRIVER; if it is
 // absent the peer columns are skipped with a message. Also reported: the memory-bandwidth floor
 // (one pass reading every byte of the set's images, already in memory) and image loading with
 // OpenImageIO (float and native) against cv::imread.
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -146,13 +148,20 @@ void Floor(const std::string& set, int reps) {
     for (const std::string& p : paths) (void)cv::imread(p, cv::IMREAD_UNCHANGED);
     imread.push_back(Ms(t0));
   }
-  std::printf("loading %zu images (min of %d): OpenImageIO -> float %.1f ms, LoadImageNative %.1f ms, cv::imread %.1f ms\n",
-              paths.size(), std::min(3, reps), Min(oiio_f), Min(native), Min(imread));
+  std::printf(
+      "loading %zu images (min of %d): OpenImageIO -> float %.1f ms, LoadImageNative %.1f ms, cv::imread %.1f ms\n",
+      paths.size(), std::min(3, reps), Min(oiio_f), Min(native), Min(imread));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The heap as `ramtk scan` sets it (tools/vision_scan_command.cpp): freed image-sized blocks
+  // stay in the heap. Without it the in-process stage times depended on which blocks glibc's
+  // adaptive mmap threshold happened to return to the kernel (decode 110 against 185 ms on the
+  // same binary's SLMaster set, depending on the allocations before it).
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   const std::string set = Arg(argc, argv, "--set", "datasets/vision/slmaster_binocular.json");
   const int reps = std::max(1, std::atoi(Arg(argc, argv, "--reps", "5").c_str()));
   const char* env = std::getenv("RAMTK_SLMASTER_DRIVER");
@@ -167,9 +176,10 @@ int main(int argc, char** argv) {
   }
   const bool have_peer = !peer.empty() && fs::exists(peer);
   if (!have_peer)
-    std::printf("peer: SLMaster driver %s; skipping the peer (build it with ../shared/peers/slmaster/build.sh and "
-                "pass --peer or RAMTK_SLMASTER_DRIVER)\n",
-                peer.empty() ? "not given" : ("not found at " + peer).c_str());
+    std::printf(
+        "peer: SLMaster driver %s; skipping the peer (build it with ../shared/peers/slmaster/build.sh and "
+        "pass --peer or RAMTK_SLMASTER_DRIVER)\n",
+        peer.empty() ? "not given" : ("not found at " + peer).c_str());
   const bool have_exe = fs::exists(ramtk_exe);
   if (!have_exe) std::printf("whole process: %s not found; skipped\n", ramtk_exe.c_str());
   const std::string tmp = (fs::temp_directory_path() / ("ramtk_scan_speed_" + std::to_string(getpid()))).string();
@@ -196,8 +206,8 @@ int main(int argc, char** argv) {
       ref_points = ref.points;
     }
     if (have_exe)
-      r_wall.push_back(RunTimed("'" + ramtk_exe + "' scan '" + set + "' --out '" + tmp + "' --force -q 2>/dev/null",
-                                nullptr));
+      r_wall.push_back(
+          RunTimed("'" + ramtk_exe + "' scan '" + set + "' --out '" + tmp + "' --force -q 2>/dev/null", nullptr));
     if (have_peer) {
       std::string line;
       p_wall.push_back(RunTimed("'" + peer + "' --once --data '" + peer_data + "'", &line));
@@ -236,8 +246,7 @@ int main(int argc, char** argv) {
     std::printf("ratio SLMaster / ramtk (median; > 1 = ramtk faster):\n");
     std::printf("  in-process, images in memory: %.2f (SLMaster pipeline vs ramtk decode+match+triangulate+fit)\n",
                 Median(p_pipe) / (Median(r_decode) + Median(r_match) + Median(r_tri) + Median(r_fit)));
-    std::printf("  in-process with loading:      %.2f\n",
-                (Median(p_load) + Median(p_pipe)) / Median(r_total));
+    std::printf("  in-process with loading:      %.2f\n", (Median(p_load) + Median(p_pipe)) / Median(r_total));
     if (!r_wall.empty()) std::printf("  whole process (wall):         %.2f\n", Median(p_wall) / Median(r_wall));
   }
   if (reference && !ref_total.empty())
