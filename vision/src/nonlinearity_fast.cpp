@@ -98,7 +98,7 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
       for (int i = 0; i < nb; ++i) out[i] = (*basis)[i].ptr<float>(y - st.a);
       float* s_out = out[0];
       float* c_out = out[1];
-      // First order over the whole row, branch-free (vectorised); 0 where masked.
+      // First order over the whole row; 0 where masked.
       for (int x = 0; x < wrapped.cols; ++x) {
         double s1, c1;
         SinCos(static_cast<double>(steps) * p[x], &s1, &c1);
