@@ -6,13 +6,9 @@
 // reference path's within float rounding (tests/vision/decode_fast_test.cpp).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstdio>
-#include <cstring>
 #include <limits>
 #include <opencv2/imgproc.hpp>
 #include <type_traits>
@@ -35,12 +31,7 @@ struct RowCounts {
   double ss = 0, phase_ss = 0, worst = 0;
 };
 
-// Sums of one phase-shift block over one row: S = sum I sin, C = sum I cos, sum I, sum I^2, max I.
-// Acc is float for 8-bit samples (every sum exact while N * 255^2 < 2^24), else double. The row
-// goes in chunks of kChunk pixels, every frame over one chunk before the next: the five sums of a
-// chunk stay in L1 (a whole 3312 px row of them is 66 KB). Each pixel's sums are taken over the
-// frames in the same order as over whole rows, so the results do not change.
-// One frame's samples added to a chunk's sums (distinct buffers: vectorised).
+// One frame's samples added to a chunk's sums (distinct buffers, so the loop is vectorised).
 template <typename T, typename Acc>
 void AccumulateFrame(const T* __restrict row, int len, float sk, float ck, float* __restrict s, float* __restrict c,
                      Acc* __restrict sum, Acc* __restrict sum2, float* __restrict top) {
@@ -55,6 +46,11 @@ void AccumulateFrame(const T* __restrict row, int len, float sk, float ck, float
   }
 }
 
+// Sums of one phase-shift block over one row: S = sum I sin, C = sum I cos, sum I, sum I^2, max I.
+// Acc is float for 8-bit samples (every sum exact while N * 255^2 < 2^24), else double. The row
+// goes in chunks of kChunk pixels, every frame over one chunk before the next: the five sums of a
+// chunk stay in L1 (a whole 3312 px row of them is 66 KB). Each pixel's sums are taken over the
+// frames in the same order as over whole rows, so the results do not change.
 template <typename T, typename Acc>
 void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const float* sn, const float* cs, float* s,
                    float* c, Acc* sum, Acc* sum2, float* top) {
@@ -465,7 +461,6 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   }
   const std::size_t valid = static_cast<std::size_t>(count);
   ChooseIntensitySigma(options, in.ps_frames[0], mask, n, count, &sum);
-
   const double k_sigma = std::sqrt(2.0 / n) * sum.sigma_intensity_dn;
   if (valid > 0) {
     // sigma_phi = k / B falls with B: the reference's median sigma element is k over the
@@ -476,7 +471,6 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     sum.median_sigma_phase_rad = static_cast<float>(k_sigma / at[1]);
   }
   sum.harmonic_ratios = MeasureHarmonicRatiosFast(in.ps_frames[0], mask, options.harmonic_stride);
-
   sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                          : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
 
