@@ -93,6 +93,13 @@ bool WriteAll(png_structp png, png_infop info, std::vector<unsigned char>* out, 
                PNG_FILTER_TYPE_DEFAULT);
   png_set_compression_level(png, 1);
   png_set_compression_strategy(png, 3);  // Z_RLE
+  // Colour pictures (false-colour previews: depth, phase) with the Up filter only: libpng's
+  // per-row trial of all five filters was half the encoding of a thesis frame's depth picture
+  // (0.25 -> 0.14 s), for files 4 % larger (depth picture and coordinate previews alike; Sub
+  // alone made the coordinate previews 6x larger). Grey images (camera frames) keep the
+  // adaptive choice.
+  if (colour == PNG_COLOR_TYPE_RGB || colour == PNG_COLOR_TYPE_RGB_ALPHA)
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
   png_write_info(png, info);
   if (bit_depth == 16) png_set_swap(png);
   if (colour == PNG_COLOR_TYPE_RGB || colour == PNG_COLOR_TYPE_RGB_ALPHA) png_set_bgr(png);
