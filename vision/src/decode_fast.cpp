@@ -482,11 +482,26 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     const double to_rad = 2 * CV_PI / sum.period_px;
     cv::Mat roi_coord = coord(even);
     const cv::Mat roi_mask = mask(even);
-    cv::Mat phase;
-    roi_coord.convertTo(phase, CV_32F, to_rad);
-    phase.setTo(0, roi_mask == 0);
+    // The phase in radians (0 where masked) and back, as convertTo with a float scale does it
+    // (one float product per pixel), in parallel.
+    cv::Mat phase(roi_coord.size(), CV_32F);
+    const float to_rad_f = static_cast<float>(to_rad), to_px_f = static_cast<float>(1.0 / to_rad);
+    tbb::parallel_for(tbb::blocked_range<int>(0, phase.rows, 32), [&](const tbb::blocked_range<int>& r) {
+      for (int y = r.begin(); y < r.end(); ++y) {
+        const float* c = roi_coord.ptr<float>(y);
+        const uchar* mk = roi_mask.ptr<uchar>(y);
+        float* p = phase.ptr<float>(y);
+        for (int x = 0; x < phase.cols; ++x) p[x] = mk[x] ? c[x] * to_rad_f : 0.0f;
+      }
+    });
     sum.nonlinearity = CorrectPhaseNonlinearityFast(phase, fo.wrapped(even), roi_mask, n, options.nonlinearity);
-    phase.convertTo(roi_coord, CV_32F, 1.0 / to_rad);  // writes into coord
+    tbb::parallel_for(tbb::blocked_range<int>(0, phase.rows, 32), [&](const tbb::blocked_range<int>& r) {
+      for (int y = r.begin(); y < r.end(); ++y) {  // writes into coord
+        const float* p = phase.ptr<float>(y);
+        float* c = roi_coord.ptr<float>(y);
+        for (int x = 0; x < phase.cols; ++x) c[x] = p[x] * to_px_f;
+      }
+    });
     sum.iterations = sum.nonlinearity.passes;
     sum.initial_cost = sum.nonlinearity.residual_rms_before_rad;
     sum.final_cost = sum.nonlinearity.residual_rms_after_rad;
