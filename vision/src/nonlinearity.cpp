@@ -46,6 +46,19 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
   return 2 * CV_PI / ValuesAtRanks(g, {g.size() / 2})[0];
 }
 
+std::vector<std::pair<int, int>> RippleFitRows(int height, int k) {
+  if (k <= 1) return {{0, height}};
+  std::vector<std::pair<int, int>> ranges;
+  auto band_first_row = [height](int b) {
+    return static_cast<int>((static_cast<long>(b) * height + kRippleBands - 1) / kRippleBands);
+  };
+  for (int b = 0; b < kRippleBands; ++b) {
+    const int first = band_first_row(b), last = band_first_row(b + 1);
+    if (last > first) ranges.emplace_back(first, first + (last - first + k - 1) / k);
+  }
+  return ranges;
+}
+
 int RippleRowSubsample(long valid, int row_subsample, long min_pixels) {
   const long by_pixels = min_pixels > 0 ? valid / min_pixels : row_subsample;
   return static_cast<int>(std::max(1L, std::min<long>(row_subsample, by_pixels)));
@@ -159,7 +172,10 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
       detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
   est.row_subsample = k;
   // Rows of the fit: inside the box and in the subsample.
-  auto fit_row = [&](int y) { return y >= box.y && y < box.br().y && detail::InRippleRows(y - box.y, box.height, k); };
+  std::vector<uchar> fit_rows(static_cast<std::size_t>(mask.rows), 0);
+  for (const auto& [from, to] : detail::RippleFitRows(box.height, k))
+    std::fill(fit_rows.begin() + box.y + from, fit_rows.begin() + box.y + to, uchar(1));
+  auto fit_row = [&](int y) { return fit_rows[y] != 0; };
   for (int pass = 0; pass < options.passes; ++pass) {
     std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(nb + 1, nb + 1));
     std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(nb + 1));

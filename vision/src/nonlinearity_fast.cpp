@@ -173,18 +173,8 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   const int subsample =
       detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
   est.row_subsample = subsample;
-  std::vector<std::pair<int, int>> ranges;
-  if (subsample == 1) {
-    ranges.emplace_back(0, box.height);
-  } else {
-    for (int b = 0; b < detail::kRippleBands; ++b) {
-      const int first = detail::RippleBandFirstRow(b, box.height);
-      const int last = detail::RippleBandFirstRow(b + 1, box.height);
-      if (last > first) ranges.emplace_back(first, first + (last - first + subsample - 1) / subsample);
-    }
-  }
   std::vector<Strip> strips;
-  for (const auto& [from, to] : ranges)
+  for (const auto& [from, to] : detail::RippleFitRows(box.height, subsample))
     for (int y0 = from; y0 < to; y0 += strip_rows) {
       Strip st;
       st.y0 = y0;

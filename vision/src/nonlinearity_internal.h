@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <utility>
 #include <vector>
 
 namespace ramtk::vision::detail {
@@ -16,22 +17,13 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask);
 inline constexpr int kRippleBands = 16;
 inline int RippleBand(int y, int height) { return static_cast<int>(static_cast<long>(y) * kRippleBands / height); }
 
-// Rows [first, last) of band b of a box `height` rows tall (those with RippleBand(y) == b).
-inline int RippleBandFirstRow(int b, int height) {
-  return static_cast<int>((static_cast<long>(b) * height + kRippleBands - 1) / kRippleBands);
-}
-
 // NonlinearityOptions::row_subsample as applied to a mask with `valid` pixels: k >= 1.
 int RippleRowSubsample(long valid, int row_subsample, long min_pixels);
 
-// Whether row y of the box (0-based, `height` rows) is read by the fit with subsample k: the
-// first ceil(rows / k) rows of its band.
-inline bool InRippleRows(int y, int height, int k) {
-  if (k <= 1) return true;
-  const int b = RippleBand(y, height);
-  const int first = RippleBandFirstRow(b, height), last = RippleBandFirstRow(b + 1, height);
-  return y - first < (last - first + k - 1) / k;
-}
+// The rows of a box `height` rows tall that the fit reads with subsample k, as [first, last)
+// ranges relative to the box's first row: every row for k = 1, else the first ceil(rows / k)
+// rows of each band (the rows y with RippleBand(y) = b).
+std::vector<std::pair<int, int>> RippleFitRows(int height, int k);
 
 // T² of the first-order ripple coefficients (entries 1 and 2; entry 0 is the intercept) of the
 // least-squares fit from the summed normal equations, against their leave-one-band-out

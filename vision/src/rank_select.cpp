@@ -88,22 +88,24 @@ std::vector<float> Select(const std::vector<Segment>& segments,
   return out;
 }
 
-}  // namespace
-
-std::vector<float> ValuesAtRanks(const cv::Mat& values, const cv::Mat& mask, const std::vector<std::size_t>& ranks) {
+// One segment per row of `values` (CV_32F) with its mask row (empty mask: finite values count).
+std::vector<Segment> RowSegments(const cv::Mat& values, const cv::Mat& mask) {
   CV_Assert(values.type() == CV_32F && (mask.empty() || (mask.type() == CV_8U && mask.size() == values.size())));
   std::vector<Segment> segments(static_cast<std::size_t>(values.rows));
   for (int y = 0; y < values.rows; ++y)
     segments[y] = {values.ptr<float>(y), mask.empty() ? nullptr : mask.ptr<uchar>(y), values.cols};
-  return Select(segments, [&](std::size_t) { return ranks; });
+  return segments;
+}
+
+}  // namespace
+
+std::vector<float> ValuesAtRanks(const cv::Mat& values, const cv::Mat& mask, const std::vector<std::size_t>& ranks) {
+  return Select(RowSegments(values, mask), [&](std::size_t) { return ranks; });
 }
 
 float UpperMedian(const cv::Mat& values) {
-  CV_Assert(values.type() == CV_32F);
-  std::vector<Segment> segments(static_cast<std::size_t>(values.rows));
-  for (int y = 0; y < values.rows; ++y) segments[y] = {values.ptr<float>(y), nullptr, values.cols};
-  const std::vector<float> at = Select(segments, [](std::size_t count) { return std::vector<std::size_t>{count / 2}; });
-  return at[0];
+  return Select(RowSegments(values, cv::Mat()),
+                [](std::size_t count) { return std::vector<std::size_t>{count / 2}; })[0];
 }
 
 std::vector<float> ValuesAtRanks(const std::vector<float>& values, const std::vector<std::size_t>& ranks) {
