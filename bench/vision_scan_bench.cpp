@@ -23,6 +23,9 @@
 //       each camera's frames loaded once (native depth, as `ramtk scan`), then decoded N times
 //       with the scan's options: wall time from each stage's progress report to the next (phase,
 //       unwrap, nonlinearity, done), min and median over the repetitions.
+#include <malloc.h>
+#include <tbb/global_control.h>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
@@ -41,6 +44,7 @@
 #include "ramtk/vision/image_io.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
+#include "ramtk/vision/stereo_match.h"
 #include "scan_sim.h"
 #include "sphere_pcl_peer.h"
 
@@ -524,20 +528,82 @@ int DecodeStages(const std::string& manifest_path, int repeat) {
   return 0;
 }
 
+// The match of one set, repeated on the decoded cameras: each pass's time (min / median) and the
+// summary. `threads` > 0 caps TBB's threads (1: the per-pixel cost without the machine's
+// scheduling noise).
+int MatchPasses(const std::string& manifest_path, int repeat, int threads) {
+  if (manifest_path.empty()) {
+    std::fprintf(stderr, "match: --manifest SET/manifest.json is required\n");
+    return 2;
+  }
+  std::unique_ptr<tbb::global_control> cap;
+  if (threads > 0) cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  const FringeManifest m = ReadFringeManifest(manifest_path);
+  const ScanOptions so;
+  const StereoCalibration calibration = ReadStereoCalibration(m.Resolve(m.calibration));
+  auto decode = [&](const std::string& camera) {
+    std::vector<std::string> paths;
+    for (const std::string& f : m.cameras.at(camera)) paths.push_back(m.Resolve(f));
+    const ImageStack stack = LoadImageStack(paths, so.decode.dark_fraction, true);
+    return DecodeFrames(m, stack.frames, stack.full_scale, so.decode, camera);
+  };
+  const DecodedCamera left = decode(so.left_camera), right = decode(so.right_camera);
+  std::vector<std::string> stages;
+  std::vector<std::vector<double>> times;
+  for (int r = 0; r < repeat; ++r) {
+    StereoMatchOptions o = so.match;
+    auto last = Clock::now();
+    std::string stage;
+    std::size_t k = 0;
+    o.progress = [&](const ramtk::Progress& p) {
+      if (p.done < p.total) return true;  // a pass ends at done == total
+      const auto now = Clock::now();
+      if (r == 0) {
+        stages.push_back(p.stage);
+        times.emplace_back();
+      }
+      if (k < times.size()) times[k++].push_back(std::chrono::duration<double>(now - last).count());
+      last = now;
+      return true;
+    };
+    const StereoMatch match = MatchStereo(calibration, left, right, left.summary.period_px, o, manifest_path);
+    if (r == 0) std::printf("%s\n", match.summary.BriefReport().c_str());
+  }
+  std::printf("%d repetitions, %s threads, ms (min / median):", repeat,
+              threads > 0 ? std::to_string(threads).c_str() : "all");
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    std::vector<double> t = times[k];
+    std::sort(t.begin(), t.end());
+    std::printf(" %s %.1f / %.1f;", stages[k].c_str(), 1e3 * t.front(), 1e3 * t[t.size() / 2]);
+  }
+  std::printf("\n");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
+  if (mode == "decode" || mode == "match") {
+    // The heap `ramtk scan` runs with (freed blocks stay in the process): without it each
+    // repetition's fresh maps cost page faults that the scan does not pay, and the decode
+    // stages measured 2-3x slower (vision_scan_speed sets the same, for the same reason).
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  }
   if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
   if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
   if (mode == "set") return SetErrors(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--phase-filter", 0));
   if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
+  if (mode == "match")
+    return MatchPasses(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5),
+                       Arg(argc, argv, "--threads", 0));
   if (mode == "accuracy")
     return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
   std::fprintf(
       stderr,
       "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] | "
       "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
-      "SET/manifest.json [--repeat N]\n");
+      "SET/manifest.json [--repeat N] | match --manifest SET/manifest.json [--repeat N] [--threads T]\n");
   return 2;
 }

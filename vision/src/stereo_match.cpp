@@ -44,6 +44,12 @@ struct Pass {
   // (FullSearch) uses them to prove that a stretch of the curve holds no crossing.
   static constexpr int kDilate = 2;
   std::vector<float> near_min, near_max;
+  // The same over the 3 x 3 tiles around each tile (every cell within kTile pixels of any point
+  // of the centre tile). A stretch that the dilated bounds cannot prove clear is taken in
+  // sub-stretches of `sub_stretch` samples (~8 px), and only those that these bounds cannot prove
+  // clear are evaluated (MidSign).
+  std::vector<float> mid_min, mid_max;
+  int sub_stretch = 1;
   // Coarser still: per kFarBlock x kFarBlock block of tiles, the bounds over the 3 x 3 blocks
   // around it, which hold every cell within kFarBlock * kTile pixels of any point of the centre
   // block. The full search steps over kFarStretches stretches at once where they prove that no
@@ -170,6 +176,10 @@ struct Matcher {
   // (whose neighbourhood is a superset of the part inside the image).
   int NearSign(bool in_front, const Vec2& pix) const {
     return BoundSign(in_front, pix, Pass::kTile, p.tiles_x, p.tiles_y, Pass::kDilate, p.near_min, p.near_max);
+  }
+  // The same over the 3 x 3 tile bounds: what every sample within kTile pixels of `pix` can be.
+  int MidSign(bool in_front, const Vec2& pix) const {
+    return BoundSign(in_front, pix, Pass::kTile, p.tiles_x, p.tiles_y, 1, p.mid_min, p.mid_max);
   }
   // The same over the far bounds: what every sample within kFarBlock * kTile pixels of `pix` can be.
   int FarSign(bool in_front, const Vec2& pix) const {
@@ -428,6 +438,7 @@ struct Matcher {
     // kStretch times less.
     const int kStretch = p.stretch;
     constexpr double kMaxChordPx = 2.0 * Pass::kDilate * Pass::kTile - 4.0;  // ends within reach of each sample
+    constexpr double kMaxSubChordPx = 2.0 * Pass::kTile - 4.0;               // the same for MidSign
     auto compatible = [](int s1, int s2) { return s1 == s2 || s1 == 2 || s2 == 2; };
     thread_local std::vector<double> ws;  // one stretch of sample positions
     Sample prev;
@@ -436,8 +447,9 @@ struct Matcher {
     if (!(std::min(Speed(w_lo), Speed(w_hi)) > 1e-9)) return;
     double w = w_lo;
     Vec2 pix_a = Vec2::Zero();
-    int sign_a = NearSign(Pixel(w, &pix_a), pix_a);
-    bool prev_fine = false;  // the previous stretch was evaluated (its last sample is prev)
+    bool front_a = Pixel(w, &pix_a);
+    int sign_a = NearSign(front_a, pix_a);
+    bool prev_fine = false;  // the sample at w was evaluated (it is prev)
     bool more = true;
     constexpr double kMaxFarChordPx = 2.0 * Pass::kFarBlock * Pass::kTile - 4.0;
     while (more) {
@@ -458,6 +470,7 @@ struct Matcher {
               w = w_end;
               sign_a = NearSign(front_b, pix_b);
               pix_a = pix_b;
+              front_a = front_b;
               prev_fine = false;
               continue;
             }
@@ -474,11 +487,13 @@ struct Matcher {
           const double w_end = w + step_per_k * u * u * poly;
           if (w_end <= w_hi) {
             Vec2 pix_b = Vec2::Zero();
-            const int sign_b = NearSign(Pixel(w_end, &pix_b), pix_b);
+            const bool front_b = Pixel(w_end, &pix_b);
+            const int sign_b = NearSign(front_b, pix_b);
             if (sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) && (pix_b - pix_a).norm() <= kMaxChordPx) {
               w = w_end;
               sign_a = sign_b;
               pix_a = pix_b;
+              front_a = front_b;
               prev_fine = false;
               continue;
             }
@@ -498,30 +513,54 @@ struct Matcher {
       }
       if (ws.size() < 2) break;
       Vec2 pix_b = Vec2::Zero();
-      const int sign_b = NearSign(Pixel(ws.back(), &pix_b), pix_b);
+      const bool front_b = Pixel(ws.back(), &pix_b);
+      const int sign_b = NearSign(front_b, pix_b);
       const bool clear =
           sign_a != 0 && sign_b != 0 && compatible(sign_a, sign_b) && (pix_b - pix_a).norm() <= kMaxChordPx;
-      if (!clear) {
-        std::size_t k0 = 1;
-        if (!prev_fine) {
-          prev = Sample{};
-          k0 = 0;
-        }
-        for (std::size_t k = k0; k < ws.size(); ++k) {
-          Vec2 pix;
-          const bool front = Pixel(ws[k], &pix);
-          const Sample sk = TileSign(front, pix) == 2 ? Sample{} : EvalAt(pix);
-          if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
-            Root r;
-            if (Refine(w_prev, prev, ws[k], sk, &r)) roots->push_back(r);
+      if (clear) {
+        prev_fine = false;
+      } else {
+        // The stretch in sub-stretches: those the 3 x 3 tile bounds prove clear (MidSign, the
+        // same argument over a shorter chord) are stepped over, the others evaluated sample by
+        // sample. Near a crossing this evaluates ~1/3 of the stretch's samples.
+        const std::size_t n = ws.size() - 1;
+        std::size_t j = 0;
+        Vec2 pix_j = pix_a;
+        int mid_j = MidSign(front_a, pix_j);
+        while (j < n) {
+          const std::size_t e = std::min(n, j + static_cast<std::size_t>(p.sub_stretch));
+          Vec2 pix_e = pix_b;
+          const bool front_e = e == n ? front_b : Pixel(ws[e], &pix_e);
+          const int mid_e = MidSign(front_e, pix_e);
+          const bool sub_clear =
+              mid_j != 0 && mid_e != 0 && compatible(mid_j, mid_e) && (pix_e - pix_j).norm() <= kMaxSubChordPx;
+          if (!sub_clear) {
+            std::size_t k0 = j + 1;
+            if (!prev_fine) {
+              prev = Sample{};
+              k0 = j;
+            }
+            for (std::size_t k = k0; k <= e; ++k) {
+              Vec2 pix;
+              const bool front = Pixel(ws[k], &pix);
+              const Sample sk = TileSign(front, pix) == 2 ? Sample{} : EvalAt(pix);
+              if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
+                Root r;
+                if (Refine(w_prev, prev, ws[k], sk, &r)) roots->push_back(r);
+              }
+              prev = sk;
+              w_prev = ws[k];
+            }
           }
-          prev = sk;
-          w_prev = ws[k];
+          prev_fine = !sub_clear;
+          j = e;
+          pix_j = pix_e;
+          mid_j = mid_e;
         }
       }
-      prev_fine = !clear;
       sign_a = sign_b;
       pix_a = pix_b;
+      front_a = front_b;
     }
   }
 
@@ -784,20 +823,25 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
         }
       }
     });
-    p.near_min.assign(p.tile_min.size(), std::numeric_limits<float>::infinity());
-    p.near_max.assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
-    tbb::parallel_for(0, p.tiles_y, [&](int ty) {
-      for (int tx = 0; tx < p.tiles_x; ++tx) {
-        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-        for (int y = std::max(0, ty - Pass::kDilate); y <= std::min(p.tiles_y - 1, ty + Pass::kDilate); ++y)
-          for (int x = std::max(0, tx - Pass::kDilate); x <= std::min(p.tiles_x - 1, tx + Pass::kDilate); ++x) {
-            lo = std::min(lo, p.tile_min[y * p.tiles_x + x]);
-            hi = std::max(hi, p.tile_max[y * p.tiles_x + x]);
-          }
-        p.near_min[ty * p.tiles_x + tx] = lo;
-        p.near_max[ty * p.tiles_x + tx] = hi;
-      }
-    });
+    // The tile bounds over the (2 r + 1)^2 tiles around each tile.
+    auto dilate = [&](int r, std::vector<float>* lo_of, std::vector<float>* hi_of) {
+      lo_of->assign(p.tile_min.size(), std::numeric_limits<float>::infinity());
+      hi_of->assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
+      tbb::parallel_for(0, p.tiles_y, [&](int ty) {
+        for (int tx = 0; tx < p.tiles_x; ++tx) {
+          float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+          for (int y = std::max(0, ty - r); y <= std::min(p.tiles_y - 1, ty + r); ++y)
+            for (int x = std::max(0, tx - r); x <= std::min(p.tiles_x - 1, tx + r); ++x) {
+              lo = std::min(lo, p.tile_min[y * p.tiles_x + x]);
+              hi = std::max(hi, p.tile_max[y * p.tiles_x + x]);
+            }
+          (*lo_of)[ty * p.tiles_x + tx] = lo;
+          (*hi_of)[ty * p.tiles_x + tx] = hi;
+        }
+      });
+    };
+    dilate(Pass::kDilate, &p.near_min, &p.near_max);
+    dilate(1, &p.mid_min, &p.mid_max);
     p.blocks_x = (p.tiles_x + Pass::kFarBlock - 1) / Pass::kFarBlock;
     p.blocks_y = (p.tiles_y + Pass::kFarBlock - 1) / Pass::kFarBlock;
     p.far_min.assign(static_cast<std::size_t>(p.blocks_x) * p.blocks_y, std::numeric_limits<float>::infinity());
@@ -844,6 +888,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.max_span = options.max_cell_span_periods * period;
     p.step_px = options.search_step_px;
     p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
+    p.sub_stretch = std::max(1, static_cast<int>(8.0 / p.step_px));
     // The coefficients c_2..c_8 of `steps` compositions of x -> x + x^2 (truncated at degree 8).
     auto composed = [](int steps) {
       constexpr int kDegree = 8;
