@@ -50,14 +50,14 @@ struct Pass {
   // clear are evaluated (MidSign).
   std::vector<float> mid_min, mid_max;
   int sub_stretch = 1;
-  // Coarser still: per kFarBlock x kFarBlock block of tiles, the bounds over the 3 x 3 blocks
-  // around it, which hold every cell within kFarBlock * kTile pixels of any point of the centre
-  // block. The full search steps over kFarStretches stretches at once where they prove that no
-  // crossing lies within reach (FarSign).
-  static constexpr int kFarBlock = 8;
+  // Per row of tiles, sparse tables of the tile bounds over runs of 2^k tiles (levels x tiles_y x
+  // tiles_x): the bounds over any run of tiles in two reads. The full search steps over
+  // kFarStretches stretches at once where these bounds over the segment's bounding box prove
+  // that it holds no crossing (SegmentClear).
+  int levels = 0;
+  std::vector<float> run_min, run_max;
   static constexpr int kFarStretches = 4;
-  int blocks_x = 0, blocks_y = 0;
-  std::vector<float> far_min, far_max;
+  static constexpr double kMaxFarChordPx = 128;  // longer chords are not tried (the bend estimate)
   double period = 1;
   double w_lo = 0, w_hi = 1;  // inverse depth range (1/mm)
   double max_sigma = 0;       // projector px
@@ -181,11 +181,40 @@ struct Matcher {
   int MidSign(bool in_front, const Vec2& pix) const {
     return BoundSign(in_front, pix, Pass::kTile, p.tiles_x, p.tiles_y, 1, p.mid_min, p.mid_max);
   }
-  // The same over the far bounds: what every sample within kFarBlock * kTile pixels of `pix` can be.
-  int FarSign(bool in_front, const Vec2& pix) const {
-    return BoundSign(in_front, pix, Pass::kFarBlock * Pass::kTile, p.blocks_x, p.blocks_y, 1, p.far_min, p.far_max);
+  // True if no two samples on the curve between pixels pa and pb can have opposite signs: the
+  // tile bounds over the chord's bounding box, widened by twice the curve's bend (the distance of
+  // its pixel pm between them from the chord) and a pixel, hold c_src outside or no valid cell.
+  bool SegmentClear(const Vec2& pa, const Vec2& pb, const Vec2& pm) const {
+    const Vec2 d = pb - pa, e = pm - pa;
+    const double len = d.norm();
+    const double bend = len > 0 ? std::abs(d.x() * e.y() - d.y() * e.x()) / len : e.norm();
+    const double margin_px = 2.0 * bend + 1.0;
+    const double x0 = std::min({pa.x(), pb.x(), pm.x()}) - margin_px,
+                 x1 = std::max({pa.x(), pb.x(), pm.x()}) + margin_px;
+    const double y0 = std::min({pa.y(), pb.y(), pm.y()}) - margin_px,
+                 y1 = std::max({pa.y(), pb.y(), pm.y()}) + margin_px;
+    if (!(std::abs(x0) < 1e7 && std::abs(x1) < 1e7 && std::abs(y0) < 1e7 && std::abs(y1) < 1e7)) return false;
+    const int tx0 = std::max(0, static_cast<int>(std::floor(x0 / Pass::kTile)));
+    const int tx1 = std::min(p.tiles_x - 1, static_cast<int>(std::floor(x1 / Pass::kTile)));
+    const int ty0 = std::max(0, static_cast<int>(std::floor(y0 / Pass::kTile)));
+    const int ty1 = std::min(p.tiles_y - 1, static_cast<int>(std::floor(y1 / Pass::kTile)));
+    if (tx0 > tx1 || ty0 > ty1) return true;  // outside the image: no valid sample
+    const int k = 31 - __builtin_clz(static_cast<unsigned>(tx1 - tx0 + 1));
+    const std::size_t plane = static_cast<std::size_t>(p.tiles_y) * p.tiles_x;
+    const float* lo_k = p.run_min.data() + k * plane;
+    const float* hi_k = p.run_max.data() + k * plane;
+    const int tx_b = tx1 - (1 << k) + 1;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (int ty = ty0; ty <= ty1; ++ty) {
+      const std::size_t row = static_cast<std::size_t>(ty) * p.tiles_x;
+      lo = std::min({lo, lo_k[row + tx0], lo_k[row + tx_b]});
+      hi = std::max({hi, hi_k[row + tx0], hi_k[row + tx_b]});
+    }
+    if (!(lo <= hi)) return true;
+    const double margin = 1e-3;
+    return c_src < lo - margin || c_src > hi + margin;
   }
-  // The sign test of NearSign and FarSign on bounds over cells of cell_px pixels (nx x ny of
+  // The sign test of NearSign and MidSign on bounds over cells of cell_px pixels (nx x ny of
   // them), each holding every cell within reach of any point of it; a pixel up to `outside`
   // cells outside the image takes the nearest cell's bounds, one farther out reaches no cell.
   int BoundSign(bool in_front, const Vec2& pix, int cell_px, int nx, int ny, int outside,
@@ -451,7 +480,6 @@ struct Matcher {
     int sign_a = NearSign(front_a, pix_a);
     bool prev_fine = false;  // the sample at w was evaluated (it is prev)
     bool more = true;
-    constexpr double kMaxFarChordPx = 2.0 * Pass::kFarBlock * Pass::kTile - 4.0;
     while (more) {
       // kFarStretches clear stretches, proven by the far bounds, are stepped over at once
       // (Pass::jump_far): far from the crossing most of a long curve goes this way.
@@ -463,10 +491,11 @@ struct Matcher {
           for (auto it = p.jump_far.rbegin(); it != p.jump_far.rend(); ++it) poly = poly * x + *it;
           const double w_end = w + step_per_k * u * u * poly;
           if (w_end <= w_hi) {
-            Vec2 pix_b = Vec2::Zero();
+            Vec2 pix_b = Vec2::Zero(), pix_m = Vec2::Zero();
             const bool front_b = Pixel(w_end, &pix_b);
-            const int far_a = FarSign(true, pix_a), far_b = FarSign(front_b, pix_b);
-            if (far_a != 0 && far_b != 0 && compatible(far_a, far_b) && (pix_b - pix_a).norm() <= kMaxFarChordPx) {
+            const bool front_m = Pixel(0.5 * (w + w_end), &pix_m);
+            if (front_a && front_b && front_m && (pix_b - pix_a).norm() <= Pass::kMaxFarChordPx &&
+                SegmentClear(pix_a, pix_b, pix_m)) {
               w = w_end;
               sign_a = NearSign(front_b, pix_b);
               pix_a = pix_b;
@@ -842,23 +871,29 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     };
     dilate(Pass::kDilate, &p.near_min, &p.near_max);
     dilate(1, &p.mid_min, &p.mid_max);
-    p.blocks_x = (p.tiles_x + Pass::kFarBlock - 1) / Pass::kFarBlock;
-    p.blocks_y = (p.tiles_y + Pass::kFarBlock - 1) / Pass::kFarBlock;
-    p.far_min.assign(static_cast<std::size_t>(p.blocks_x) * p.blocks_y, std::numeric_limits<float>::infinity());
-    p.far_max.assign(p.far_min.size(), -std::numeric_limits<float>::infinity());
-    for (int by = 0; by < p.blocks_y; ++by)
-      for (int bx = 0; bx < p.blocks_x; ++bx) {
-        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-        const int ty0 = std::max(0, (by - 1) * Pass::kFarBlock), ty1 = std::min(p.tiles_y, (by + 2) * Pass::kFarBlock);
-        const int tx0 = std::max(0, (bx - 1) * Pass::kFarBlock), tx1 = std::min(p.tiles_x, (bx + 2) * Pass::kFarBlock);
-        for (int ty = ty0; ty < ty1; ++ty)
-          for (int tx = tx0; tx < tx1; ++tx) {
-            lo = std::min(lo, p.tile_min[ty * p.tiles_x + tx]);
-            hi = std::max(hi, p.tile_max[ty * p.tiles_x + tx]);
+    p.levels = 1;
+    while ((1 << p.levels) <= p.tiles_x) ++p.levels;
+    {
+      const std::size_t plane = p.tile_min.size();
+      p.run_min.resize(plane * p.levels);
+      p.run_max.resize(plane * p.levels);
+      std::copy(p.tile_min.begin(), p.tile_min.end(), p.run_min.begin());
+      std::copy(p.tile_max.begin(), p.tile_max.end(), p.run_max.begin());
+      tbb::parallel_for(0, p.tiles_y, [&](int ty) {
+        for (int k = 1; k < p.levels; ++k) {
+          const float* lo_prev = p.run_min.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+          const float* hi_prev = p.run_max.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+          float* lo = p.run_min.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+          float* hi = p.run_max.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+          const int half = 1 << (k - 1);
+          for (int tx = 0; tx < p.tiles_x; ++tx) {
+            const bool both = tx + half < p.tiles_x;
+            lo[tx] = both ? std::min(lo_prev[tx], lo_prev[tx + half]) : lo_prev[tx];
+            hi[tx] = both ? std::max(hi_prev[tx], hi_prev[tx + half]) : hi_prev[tx];
           }
-        p.far_min[by * p.blocks_x + bx] = lo;
-        p.far_max[by * p.blocks_x + bx] = hi;
-      }
+        }
+      });
+    }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;
     // Ideal bounding box of the destination image from its border pixels, 2 px margin.
