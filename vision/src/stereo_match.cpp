@@ -19,6 +19,16 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 inline double Sq(double x) { return x * x; }
+// floor(v) as an int, without the double rounding sequence GCC emits for std::floor on SSE2 (no
+// roundsd): the same value for |v| < 1e9; beyond that, or NaN, a large negative value that no
+// image index passes (as the conversion of such a floor gave INT_MIN).
+inline int FloorToInt(double v) {
+  if (!(std::abs(v) < 1e9)) return std::numeric_limits<int>::min() / 2;
+  const int i = static_cast<int>(v);
+  return i - (v < i);
+}
+// floor(a / b) for b > 0.
+inline int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((b - 1 - a) / b); }
 
 // One direction of matching: every valid pixel of camera `src` is searched for in camera `dst`.
 struct Pass {
@@ -74,6 +84,9 @@ struct Pass {
   cv::Mat back_u, back_v, back_sigma;
   double lr_tolerance = 0;
   double lr_sigma_factor = 0;
+  // Set with the maps above (MatchStereo): whether Consistent checks at all, and whether it widens
+  // the tolerance by the back match's sigma (cv::Mat::empty is not inlined).
+  bool lr_check = false, lr_sigma = false;
   double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
   bool full_search = false;             // StereoMatchOptions::full_search
 };
@@ -160,7 +173,7 @@ struct Matcher {
   int TileSign(bool in_front, const Vec2& pix) const {
     if (!in_front) return 2;
     const double u = pix.x(), v = pix.y();
-    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return 2;
     const int tx = u0 / Pass::kTile, ty = v0 / Pass::kTile;
     const std::size_t t = static_cast<std::size_t>(ty) * p.tiles_x + tx;
@@ -194,10 +207,10 @@ struct Matcher {
     const double y0 = std::min({pa.y(), pb.y(), pm.y()}) - margin_px,
                  y1 = std::max({pa.y(), pb.y(), pm.y()}) + margin_px;
     if (!(std::abs(x0) < 1e7 && std::abs(x1) < 1e7 && std::abs(y0) < 1e7 && std::abs(y1) < 1e7)) return false;
-    const int tx0 = std::max(0, static_cast<int>(std::floor(x0 / Pass::kTile)));
-    const int tx1 = std::min(p.tiles_x - 1, static_cast<int>(std::floor(x1 / Pass::kTile)));
-    const int ty0 = std::max(0, static_cast<int>(std::floor(y0 / Pass::kTile)));
-    const int ty1 = std::min(p.tiles_y - 1, static_cast<int>(std::floor(y1 / Pass::kTile)));
+    const int tx0 = std::max(0, FloorToInt(x0 / Pass::kTile));
+    const int tx1 = std::min(p.tiles_x - 1, FloorToInt(x1 / Pass::kTile));
+    const int ty0 = std::max(0, FloorToInt(y0 / Pass::kTile));
+    const int ty1 = std::min(p.tiles_y - 1, FloorToInt(y1 / Pass::kTile));
     if (tx0 > tx1 || ty0 > ty1) return true;  // outside the image: no valid sample
     const int k = 31 - __builtin_clz(static_cast<unsigned>(tx1 - tx0 + 1));
     const std::size_t plane = static_cast<std::size_t>(p.tiles_y) * p.tiles_x;
@@ -222,8 +235,8 @@ struct Matcher {
     if (!in_front) return 0;  // unknown: the fine search decides
     const double u = pix.x(), v = pix.y();
     if (!(std::abs(u) < 1e7 && std::abs(v) < 1e7)) return 0;
-    const int tx = static_cast<int>(std::floor(std::floor(u) / cell_px));
-    const int ty = static_cast<int>(std::floor(std::floor(v) / cell_px));
+    const int tx = FloorDiv(FloorToInt(u), cell_px);
+    const int ty = FloorDiv(FloorToInt(v), cell_px);
     if (tx < -outside || ty < -outside || tx >= nx + outside || ty >= ny + outside) return 2;
     const std::size_t t = static_cast<std::size_t>(std::clamp(ty, 0, ny - 1)) * nx + std::clamp(tx, 0, nx - 1);
     const float lo = lo_of[t], hi = hi_of[t];
@@ -237,7 +250,7 @@ struct Matcher {
     Sample s;
     s.pix = pix;
     const double u = s.pix.x(), v = s.pix.y();
-    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
     const float* r0 = p.dst_coord.ptr<float>(v0);
     const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
@@ -257,7 +270,7 @@ struct Matcher {
     Sample& s = *sample;
     if (!s.ok) return;
     const double u = s.pix.x(), v = s.pix.y();
-    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     const double fu = u - u0, fv = v - v0;
     const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
     const float* s0 = p.dst_sigma.ptr<float>(v0);
@@ -335,7 +348,7 @@ struct Matcher {
   // invalid corner or a wrap (span > max_span), or no crossing lies within reach.
   bool LineCrossing(const Vec2& pix, const Vec2& vel, double max_px, double* s_root, double* dfds) const {
     const int cols = p.dst_coord.cols, rows = p.dst_coord.rows;
-    int u0 = static_cast<int>(std::floor(pix.x())), v0 = static_cast<int>(std::floor(pix.y()));
+    int u0 = FloorToInt(pix.x()), v0 = FloorToInt(pix.y());
     const double speed = vel.norm();
     if (!(speed > 0)) return false;
     const double s_max = max_px / speed;
@@ -451,7 +464,7 @@ struct Matcher {
       Vec2 pm;
       double y0 = std::min(pa.y(), pb.y()), y1 = std::max(pa.y(), pb.y());
       if (Pixel(mid_w, &pm)) y0 = std::min(y0, pm.y()), y1 = std::max(y1, pm.y());
-      const int r0 = std::max(0, static_cast<int>(std::floor(y0)) - 2);
+      const int r0 = std::max(0, FloorToInt(y0) - 2);
       const int r1 = std::min(rows - 1, static_cast<int>(std::ceil(y1)) + 2);
       float lo = std::numeric_limits<float>::infinity(), hi = -lo;
       for (int r = r0; r <= r1; ++r) lo = std::min(lo, p.row_min[r]), hi = std::max(hi, p.row_max[r]);
@@ -602,9 +615,9 @@ struct Matcher {
     return Consistent(r.at.pix, su, sv);
   }
   bool Consistent(const Vec2& dst_pix, double su, double sv) const {
-    if (p.back_u.empty() || p.lr_tolerance <= 0) return true;
+    if (!p.lr_check) return true;
     const double u = dst_pix.x(), v = dst_pix.y();
-    const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
+    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.back_u.cols || v0 + 1 >= p.back_u.rows) return false;
     double bu[4], bv[4];
     bool all = true;
@@ -613,7 +626,7 @@ struct Matcher {
       bu[k] = p.back_u.at<float>(v0 + k / 2, u0 + k % 2);
       bv[k] = p.back_v.at<float>(v0 + k / 2, u0 + k % 2);
       all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
-      if (p.lr_sigma_factor > 0 && !p.back_sigma.empty()) {
+      if (p.lr_sigma) {
         const double sk = p.back_sigma.at<float>(v0 + k / 2, u0 + k % 2);
         if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
       }
@@ -970,6 +983,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.back_sigma = back.sigma;
     lrp.lr_tolerance = options.lr_tolerance_px;
     lrp.lr_sigma_factor = options.lr_sigma_factor;
+    lrp.lr_check = !lrp.back_u.empty() && lrp.lr_tolerance > 0;
+    lrp.lr_sigma = lrp.lr_sigma_factor > 0 && !lrp.back_sigma.empty();
   }
   PassResult fwd;
   if (!RunPass(lrp, &fwd, options, "match left->right")) {
