@@ -11,6 +11,7 @@ ramtk_add_gtest(vision_scan_tests
   decode_fast_test.cpp
   nonlinearity_gate_test.cpp
   stereo_walk_test.cpp
+  stereo_full_search_test.cpp
   scan_shard_test.cpp
   scan_roi_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)

@@ -89,6 +89,7 @@ struct Pass {
   bool lr_check = false, lr_sigma = false;
   double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
   bool full_search = false;             // StereoMatchOptions::full_search
+  bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -452,10 +453,30 @@ struct Matcher {
     return true;
   }
 
+  // FullSearch without any pruning: every sample from w_lo on, one step at a time.
+  void ExhaustiveSearch(std::vector<Root>* roots) const {
+    if (!(std::min(Speed(w_lo), Speed(w_hi)) > 1e-9)) return;
+    Sample prev;
+    double w_prev = w_lo;
+    for (double w = w_lo; w <= w_hi; w = Step(w)) {
+      const Sample sk = Eval(w);
+      if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
+        Root r;
+        if (Refine(w_prev, prev, w, sk, &r)) roots->push_back(r);
+      }
+      prev = sk;
+      w_prev = w;
+    }
+  }
+
   // Every crossing over the whole inverse-depth range, in order of w.
   void FullSearch(std::vector<Root>* roots) const {
     roots->clear();
     if (!(w_lo < w_hi)) return;
+    if (p.exhaustive) {
+      ExhaustiveSearch(roots);
+      return;
+    }
     // Quick rejection: c_src outside every coordinate on the rows the curve crosses.
     Vec2 pa, pb;
     if (Pixel(w_lo, &pa) && Pixel(w_hi, &pb)) {
@@ -953,6 +974,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.jump = composed(p.stretch);
     p.jump_far = composed(p.stretch * Pass::kFarStretches);
     p.full_search = options.full_search;
+    p.exhaustive = options.exhaustive_search;
     p.max_modulation_ratio = options.max_modulation_ratio;
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
     // depth range is taken in its own frame, a close approximation for a rig whose cameras

@@ -60,6 +60,11 @@ struct StereoMatchOptions {
   // the whole-range search only if the walk finds no crossing or its crossing is rejected by the
   // modulation or left-right check. Both give the same matches (ctest StereoWalk.*).
   bool full_search = false;
+  // Reference for the whole-range search itself: every sample along the curve is evaluated, with
+  // none of the tile bounds that prove stretches free of crossings. Far slower (minutes on a
+  // whole frame); it should find the same crossings as the pruned search (ctest
+  // StereoFullSearch.*). For comparisons only.
+  bool exhaustive_search = false;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
@@ -81,8 +86,8 @@ struct StereoMatchSummary {
 
 // Per left pixel: the matched right-camera position and the match's standard deviation.
 struct StereoMatch {
-  cv::Mat right_u, right_v;      // CV_32F right pixel (distorted image coordinates), NaN unmatched
-  cv::Mat sigma_px;              // CV_32F sigma of the match along the epipolar curve, right px
+  cv::Mat right_u, right_v;  // CV_32F right pixel (distorted image coordinates), NaN unmatched
+  cv::Mat sigma_px;          // CV_32F sigma of the match along the epipolar curve, right px
   StereoMatchSummary summary;
 };
 
