@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "decode_internal.h"
+#include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/nonlinearity.h"
@@ -169,10 +170,10 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     for (int x = 0; x < width; ++x) {
       if (!mk[x]) continue;
       const int binary = code[x];
-      const double t = PeriodFraction(phi[x], in.phase_at_origin_rad);
+      const double t = PeriodFractionOf(phi[x], in.phase_at_origin_rad);
       long order;
       if (in.complementary) {
-        order = std::lround((binary + 0.5) / 2.0 - t);
+        order = LRound((binary + 0.5) / 2.0 - t);
         if (order != (binary >> 1)) ++rc->corrected;
       } else {
         order = binary;
@@ -188,7 +189,7 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     }
   } else {  // one period across the projector: the phase is absolute
     for (int x = 0; x < width; ++x)
-      if (mk[x]) coord[x] = static_cast<float>(PeriodFraction(phi[x], in.phase_at_origin_rad) * period);
+      if (mk[x]) coord[x] = static_cast<float>(PeriodFractionOf(phi[x], in.phase_at_origin_rad) * period);
   }
   if (in.heterodyne) return;
   for (int x = 0; x < width; ++x) {

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <vector>
 
+#include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "rank_select.h"
 
@@ -19,16 +20,8 @@ namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 inline double Sq(double x) { return x * x; }
-// floor(v) as an int, without the double rounding sequence GCC emits for std::floor on SSE2 (no
-// roundsd): the same value for |v| < 1e9; beyond that, or NaN, a large negative value that no
-// image index passes (as the conversion of such a floor gave INT_MIN).
-inline int FloorToInt(double v) {
-  if (!(std::abs(v) < 1e9)) return std::numeric_limits<int>::min() / 2;
-  const int i = static_cast<int>(v);
-  return i - (v < i);
-}
-// floor(a / b) for b > 0.
-inline int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((b - 1 - a) / b); }
+using detail::FloorDiv;
+using detail::FloorToInt;
 
 // One direction of matching: every valid pixel of camera `src` is searched for in camera `dst`.
 struct Pass {

@@ -5,13 +5,15 @@
 #include <limits>
 #include <opencv2/core/utility.hpp>
 
+#include "fast_round.h"
+
 namespace ramtk::vision {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586476925;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-double Wrap01(double t) { return t - std::floor(t); }
+double Wrap01(double t) { return t - detail::Floor(t); }
 
 // Fraction of a beat with `cycles` <= 1 across the projector, wrapped into the interval centred
 // on its valid range [0, cycles) so noise at the projector edges does not wrap around.
@@ -22,7 +24,9 @@ double WrapBeat(double t, double cycles) {
 
 }  // namespace
 
-double PeriodFraction(double phi, double phase_at_origin_rad) { return Wrap01((phi - phase_at_origin_rad) / kTwoPi); }
+double PeriodFraction(double phi, double phase_at_origin_rad) {
+  return detail::PeriodFractionOf(phi, phase_at_origin_rad);
+}
 
 cv::Mat DecodeGrayCode(const std::vector<cv::Mat>& frames, const cv::Mat& threshold) {
   cv::Mat cells(threshold.size(), CV_32S);
