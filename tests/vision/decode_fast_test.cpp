@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "decode_synth.h"
+#include "ramtk/core/error.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/scan.h"
 #include "scan_sim.h"
@@ -176,6 +177,30 @@ TEST(DecodeFast, RippleFromAQuarterOfTheRowsAgreesWithEveryRow) {
     EXPECT_NEAR(est[1].cos_rad[k], est[0].cos_rad[k], 5 * sigma) << "order " << k + 1;
     std::cout << "order " << k + 1 << ": every row (" << est[0].sin_rad[k] << ", " << est[0].cos_rad[k]
               << ") rad, a quarter (" << est[1].sin_rad[k] << ", " << est[1].cos_rad[k] << "), sigma " << sigma << "\n";
+  }
+}
+
+// The decode's own check for a dark set (frames given in memory, not through the loader, which
+// has its own): all frames dark is an error naming the camera; dark phase-shift frames beside a
+// bright Gray-code frame are not (the set is decoded, every pixel masked as dark), on both paths.
+TEST(DecodeFast, DarkSetIsAnErrorOnlyWhenEveryFrameIsDark) {
+  const FringeManifest m = testing::GrayManifest(12, 64, true);
+  const std::size_t count = static_cast<std::size_t>(m.sequence[0].steps) + m.sequence[1].ImageCount();
+  std::vector<cv::Mat> dark(count, cv::Mat(24, 40, CV_8U, cv::Scalar(2)));
+  for (const bool reference : {false, true}) {
+    DecodeOptions o;
+    o.reference_path = reference;
+    try {
+      (void)DecodeFrames(m, dark, 255.0, o, "cam");
+      ADD_FAILURE() << "an all-dark set decoded (reference path " << reference << ")";
+    } catch (const ramtk::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("all images are dark"), std::string::npos) << e.what();
+    }
+    std::vector<cv::Mat> gray_bright = dark;
+    gray_bright.back() = cv::Mat(24, 40, CV_8U, cv::Scalar(200));
+    const DecodedCamera d = DecodeFrames(m, gray_bright, 255.0, o, "cam");
+    EXPECT_EQ(d.summary.valid_pixels, 0);
+    EXPECT_EQ(d.summary.dark, 24 * 40);
   }
 }
 

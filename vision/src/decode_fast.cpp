@@ -30,6 +30,7 @@ constexpr double kTwoPi = 6.283185307179586476925;
 struct RowCounts {
   long dark = 0, saturated = 0, low = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
   double ss = 0, phase_ss = 0, worst = 0;
+  float brightest = 0;  // the row's brightest sample of the finest phase-shift frames
 };
 
 // One frame's samples added to a chunk's sums (distinct buffers, so the loop is vectorised).
@@ -126,6 +127,7 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
       const float b = static_cast<float>(2.0 / n * std::sqrt(amp2));
       dark[x] |= top[x] < in.dark;
       sat[x] |= top[x] >= in.saturation;
+      if (f == 0) rc->brightest = top[x] > rc->brightest ? top[x] : rc->brightest;
       low[x] |= b < in.b_min;
       if (f == 0) {
         const double mean = static_cast<double>(sum[x]) / n;
@@ -325,6 +327,7 @@ void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCou
     c.residual_ss += rc.ss;
     c.phase_ss += rc.phase_ss;
     c.worst_residual = std::max(c.worst_residual, rc.worst);
+    c.brightest = std::max(c.brightest, static_cast<double>(rc.brightest));
   }
 }
 
@@ -388,12 +391,6 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     }
     next += b.ImageCount();
   }
-  std::vector<double> frame_max(frames.size(), 0.0);
-  tbb::parallel_for(std::size_t{0}, frames.size(),
-                    [&](std::size_t i) { cv::minMaxLoc(frames[i], nullptr, &frame_max[i]); });
-  const double brightest = *std::max_element(frame_max.begin(), frame_max.end());
-  if (brightest < options.dark_fraction * full_scale)
-    throw InputError({where, 0, "cameras." + camera}, "all images are dark: projector off or wrong exposure?");
   in.heterodyne = ps_block->type == BlockType::kHeterodyne;
   in.keep_diagnostic_maps = options.keep_diagnostic_maps;
   in.complementary = gc_block && gc_block->complementary;
@@ -410,6 +407,16 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   FastDecodeOutput fo;
   FastDecodeCounts counts;
   DecodeFused(in, &fo, &counts);
+  // All images dark: the brightest sample of every frame below the dark level. The fused pass's
+  // brightest phase-shift sample settles it unless it is itself dark (one pass less over the set).
+  if (!(counts.brightest >= options.dark_fraction * full_scale)) {
+    std::vector<double> frame_max(frames.size(), 0.0);
+    tbb::parallel_for(std::size_t{0}, frames.size(),
+                      [&](std::size_t i) { cv::minMaxLoc(frames[i], nullptr, &frame_max[i]); });
+    const double brightest = *std::max_element(frame_max.begin(), frame_max.end());
+    if (brightest < options.dark_fraction * full_scale)
+      throw InputError({where, 0, "cameras." + camera}, "all images are dark: projector off or wrong exposure?");
+  }
   cv::Mat& mask = fo.mask;
   cv::Mat& coord = fo.coordinate;
   if (in.heterodyne) {

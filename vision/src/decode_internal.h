@@ -13,16 +13,16 @@ struct FastDecodeInput {
   int width = 0, height = 0;
   // Phase-shift frames per frequency, finest first (all CV_8U, all CV_16U or all CV_32F).
   std::vector<std::vector<const cv::Mat*>> ps_frames;
-  std::vector<int> steps;                          // N per frequency
+  std::vector<int> steps;                                // N per frequency
   std::vector<std::vector<float>> sin_table, cos_table;  // sin/cos(2 pi k / N) per frequency
-  std::vector<const cv::Mat*> gray_frames;         // Gray-code frames (empty: none)
-  bool complementary = false;                      // the Gray code has the extra half-period bit
-  bool heterodyne = false;                         // coordinate from several frequencies (after the pass)
+  std::vector<const cv::Mat*> gray_frames;               // Gray-code frames (empty: none)
+  bool complementary = false;                            // the Gray code has the extra half-period bit
+  bool heterodyne = false;                               // coordinate from several frequencies (after the pass)
   double phase_at_origin_rad = 0;
-  double period = 0;                               // finest period, projector px
-  int extent = 0;                                  // projector px along the coded direction
-  float b_min = 0, saturation = 0, dark = 0;       // thresholds, DN
-  bool keep_diagnostic_maps = true;                // false: no background / fit_residual maps
+  double period = 0;                          // finest period, projector px
+  int extent = 0;                             // projector px along the coded direction
+  float b_min = 0, saturation = 0, dark = 0;  // thresholds, DN
+  bool keep_diagnostic_maps = true;           // false: no background / fit_residual maps
 };
 
 struct FastDecodeOutput {
@@ -35,6 +35,7 @@ struct FastDecodeOutput {
 struct FastDecodeCounts {
   long dark = 0, saturated = 0, low_modulation = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
   double residual_ss = 0, phase_ss = 0, worst_residual = 0;  // over valid pixels (not for heterodyne)
+  double brightest = 0;                                      // the brightest sample of the finest phase-shift frames
 };
 
 // The fast path of DecodeFrames (arguments already validated; frames all CV_8UC1, CV_16UC1 or CV_32FC1).
@@ -75,7 +76,8 @@ IntensityNoise EstimateIntensityNoise(const std::vector<const cv::Mat*>& frames,
 double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride);
 
 // EstimatePhaseRipple when DecodeOptions::noise_from_neighbours and N > 3, else 0.
-double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n, double period_px);
+double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n,
+                   double period_px);
 
 // Sets sum->sigma_intensity_dn (and the random/systematic split) from the options, the fit
 // residual RMS already in `sum`, and the finest phase-shift frames (both decode paths).
