@@ -508,8 +508,9 @@ struct Matcher {
     bool prev_fine = false;  // the sample at w was evaluated (it is prev)
     bool more = true;
     while (more) {
-      // kFarStretches clear stretches, proven by the far bounds, are stepped over at once
-      // (Pass::jump_far): far from the crossing most of a long curve goes this way.
+      // kFarStretches clear stretches, proven by the tile bounds over their bounding box
+      // (SegmentClear), are stepped over at once (Pass::jump_far): far from the crossing most of
+      // a long curve goes this way.
       if (sign_a != 0) {
         const double u = a.z() + p.T.z() * w;
         const double x = step_per_k * p.T.z() * u;
