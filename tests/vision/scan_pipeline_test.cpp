@@ -2,11 +2,10 @@
 // calibrations, and the real SLMaster capture (skipped when ../shared is absent).
 #include <gtest/gtest.h>
 
-#include <unordered_map>
-
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <unordered_map>
 
 #include "ramtk/core/error.h"
 #include "ramtk/vision/cloud_noise.h"
@@ -105,17 +104,9 @@ TEST(ScanPipeline, CalibrationOfAnotherImageSizeIsRejectedNamingTheField) {
 // The real capture: the bust reconstructs densely, and the local surface-fit noise agrees with
 // the noise the decoder's sigma predicts.
 TEST(ScanPipeline, SlmasterBinocularReconstructs) {
-  const std::string shared = RAMTK_SHARED_DIR;
-  if (!std::filesystem::exists(shared + "/data/slmaster-binocular/L/0.bmp"))
-    GTEST_SKIP() << "shared/data/slmaster-binocular not present";
-  // Copy the manifest with its paths pointed at RAMTK_SHARED_DIR.
-  FringeManifest m = ReadFringeManifest(std::string(RAMTK_DATASETS_DIR) + "/vision/slmaster_binocular.json");
-  const std::string rel = "../../../shared";
-  for (auto& [name, files] : m.cameras)
-    for (std::string& f : files)
-      if (f.rfind(rel, 0) == 0) f = shared + f.substr(rel.size());
-  m.calibration = shared + "/data/slmaster-binocular/caliInfo.yml";
-  m.path = "";
+  // The manifest with its paths pointed at RAMTK_SHARED_DIR.
+  FringeManifest m;
+  if (!testing::SlmasterManifest(&m)) GTEST_SKIP() << "shared/data/slmaster-binocular not present";
   const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/slmaster_scan";
   std::filesystem::create_directories(dir);
   WriteFringeManifest(dir + "/manifest.json", m);

@@ -2,7 +2,9 @@
 // Test helper: render a simulated stereo fringe set in memory and decode both cameras, keeping
 // the simulator's ground truth beside the decoded maps.
 
+#include <filesystem>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "ramtk/vision/decode.h"
@@ -63,5 +65,22 @@ inline DecodedStereo SimulateAndDecode(const FringeSimulationConfig& c, const De
   s.period = s.left.summary.period_px;
   return s;
 }
+
+#if defined(RAMTK_SHARED_DIR) && defined(RAMTK_DATASETS_DIR)
+// The real SLMaster capture's manifest (datasets/vision/slmaster_binocular.json) with its images
+// and calibration pointed at RAMTK_SHARED_DIR. False if the capture is not there (skip the test).
+inline bool SlmasterManifest(FringeManifest* m) {
+  const std::string shared = RAMTK_SHARED_DIR;
+  if (!std::filesystem::exists(shared + "/data/slmaster-binocular/L/0.bmp")) return false;
+  *m = ReadFringeManifest(std::string(RAMTK_DATASETS_DIR) + "/vision/slmaster_binocular.json");
+  const std::string rel = "../../../shared";
+  for (auto& [name, files] : m->cameras)
+    for (std::string& f : files)
+      if (f.rfind(rel, 0) == 0) f = shared + f.substr(rel.size());
+  m->calibration = shared + "/data/slmaster-binocular/caliInfo.yml";
+  m->path = "";
+  return true;
+}
+#endif
 
 }  // namespace ramtk::vision::testing

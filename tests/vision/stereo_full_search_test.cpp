@@ -62,14 +62,8 @@ TEST(StereoFullSearch, PruningFindsTheCrossingsOfEverySampleOnASimulatedSet) {
 }
 
 TEST(StereoFullSearch, PruningFindsTheCrossingsOfEverySampleOnSlmaster) {
-  const std::string shared = RAMTK_SHARED_DIR;
-  if (!std::filesystem::exists(shared + "/data/slmaster-binocular/L/0.bmp"))
-    GTEST_SKIP() << "shared/data/slmaster-binocular not present";
-  FringeManifest m = ReadFringeManifest(std::string(RAMTK_DATASETS_DIR) + "/vision/slmaster_binocular.json");
-  const std::string rel = "../../../shared";
-  for (auto& [name, files] : m.cameras)
-    for (std::string& f : files)
-      if (f.rfind(rel, 0) == 0) f = shared + f.substr(rel.size());
+  FringeManifest m;
+  if (!testing::SlmasterManifest(&m)) GTEST_SKIP() << "shared/data/slmaster-binocular not present";
   DecodedCamera l = DecodeCamera(m, "left", DecodeOptions{});
   const DecodedCamera r = DecodeCamera(m, "right", DecodeOptions{});
   // A band of 24 left rows through the object (every sample of a whole frame takes minutes); the
@@ -80,8 +74,7 @@ TEST(StereoFullSearch, PruningFindsTheCrossingsOfEverySampleOnSlmaster) {
   StereoMatchOptions o;
   o.lr_tolerance_px = 0;
   // The whole default depth range (100 mm to 10 m): the longest curves, the most pruning.
-  ExpectSameCrossings(ReadStereoCalibration(shared + "/data/slmaster-binocular/caliInfo.yml"), l, r,
-                      l.summary.period_px, o);
+  ExpectSameCrossings(ReadStereoCalibration(m.calibration), l, r, l.summary.period_px, o);
 }
 
 }  // namespace

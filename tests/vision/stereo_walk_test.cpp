@@ -73,21 +73,14 @@ TEST(StereoWalk, SameMatchesAsFullSearchOnASimulatedSet) {
 }
 
 TEST(StereoWalk, SameMatchesAsFullSearchOnSlmaster) {
-  const std::string shared = RAMTK_SHARED_DIR;
-  if (!std::filesystem::exists(shared + "/data/slmaster-binocular/L/0.bmp"))
-    GTEST_SKIP() << "shared/data/slmaster-binocular not present";
-  FringeManifest m = ReadFringeManifest(std::string(RAMTK_DATASETS_DIR) + "/vision/slmaster_binocular.json");
-  const std::string rel = "../../../shared";
-  for (auto& [name, files] : m.cameras)
-    for (std::string& f : files)
-      if (f.rfind(rel, 0) == 0) f = shared + f.substr(rel.size());
+  FringeManifest m;
+  if (!testing::SlmasterManifest(&m)) GTEST_SKIP() << "shared/data/slmaster-binocular not present";
   const DecodedCamera l = DecodeCamera(m, "left", DecodeOptions{});
   const DecodedCamera r = DecodeCamera(m, "right", DecodeOptions{});
   StereoMatchOptions o;
   o.min_depth_mm = 300;  // as ScanPipeline.SlmasterBinocularReconstructs and the bench
   o.max_depth_mm = 1500;
-  const Comparison c =
-      Compare(ReadStereoCalibration(shared + "/data/slmaster-binocular/caliInfo.yml"), l, r, l.summary.period_px, o);
+  const Comparison c = Compare(ReadStereoCalibration(m.calibration), l, r, l.summary.period_px, o);
   ExpectSameMatches(c);
 }
 
