@@ -43,23 +43,25 @@ std::vector<double> EdgeCases() {
   return v;
 }
 
-TEST(FastRound, FloorEqualsStdFloorBitForBit) {
+// The edge cases and 200 000 random values, half within +-`wide`, half within +-`narrow`.
+std::vector<double> TestValues(unsigned seed, double wide, double narrow) {
   std::vector<double> values = EdgeCases();
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> w(-wide, wide), n(-narrow, narrow);
+  for (int i = 0; i < 200000; ++i) values.push_back(i % 2 ? w(rng) : n(rng));
+  return values;
+}
+
+TEST(FastRound, FloorEqualsStdFloorBitForBit) {
+  std::vector<double> values = TestValues(7, 1e6, 3);
   values.push_back(std::numeric_limits<double>::infinity());
   values.push_back(-std::numeric_limits<double>::infinity());
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> wide(-1e6, 1e6), narrow(-3, 3);
-  for (int i = 0; i < 200000; ++i) values.push_back(i % 2 ? wide(rng) : narrow(rng));
   for (const double v : values) EXPECT_TRUE(SameBits(Floor(v), std::floor(v))) << v;
   EXPECT_TRUE(std::isnan(Floor(std::numeric_limits<double>::quiet_NaN())));
 }
 
 TEST(FastRound, FloorToIntEqualsTheFloorInItsRange) {
-  std::mt19937_64 rng(8);
-  std::uniform_real_distribution<double> wide(-9e8, 9e8), narrow(-70, 70);
-  std::vector<double> values = EdgeCases();
-  for (int i = 0; i < 200000; ++i) values.push_back(i % 2 ? wide(rng) : narrow(rng));
-  for (const double v : values) {
+  for (const double v : TestValues(8, 9e8, 70)) {
     if (!(std::abs(v) < 1e9)) {
       EXPECT_LT(FloorToInt(v), -1000000) << v;  // no image index
       continue;
@@ -72,11 +74,7 @@ TEST(FastRound, FloorToIntEqualsTheFloorInItsRange) {
 }
 
 TEST(FastRound, LRoundEqualsStdLround) {
-  std::mt19937_64 rng(9);
-  std::uniform_real_distribution<double> wide(-1e12, 1e12), narrow(-70, 70);
-  std::vector<double> values = EdgeCases();
-  for (int i = 0; i < 200000; ++i) values.push_back(i % 2 ? wide(rng) : narrow(rng));
-  for (const double v : values) {
+  for (const double v : TestValues(9, 1e12, 70)) {
     if (std::abs(v) < 4503599627370496.0) {
       EXPECT_EQ(LRound(v), std::lround(v)) << v;
     }
