@@ -35,10 +35,12 @@ inline long LRound(double v) {
   return frac >= 0.5 ? i + 1 : frac <= -0.5 ? i - 1 : i;
 }
 
+// t wrapped into [0, 1): t - floor(t).
+inline double Wrap01(double t) { return t - Floor(t); }
+
 // The fraction of a period in [0, 1) of the wrapped phase phi (PeriodFraction, unwrap.h).
 inline double PeriodFractionOf(double phi, double phase_at_origin_rad) {
-  const double t = (phi - phase_at_origin_rad) / 6.283185307179586476925;
-  return t - Floor(t);
+  return Wrap01((phi - phase_at_origin_rad) / 6.283185307179586476925);
 }
 
 }  // namespace ramtk::vision::detail

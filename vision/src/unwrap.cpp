@@ -10,10 +10,9 @@
 namespace ramtk::vision {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586476925;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-double Wrap01(double t) { return t - detail::Floor(t); }
+using detail::Wrap01;
 
 // Fraction of a beat with `cycles` <= 1 across the projector, wrapped into the interval centred
 // on its valid range [0, cycles) so noise at the projector edges does not wrap around.
