@@ -446,20 +446,23 @@ struct Matcher {
     return true;
   }
 
+  // The search's rule between consecutive samples: a crossing lies between two valid samples of
+  // opposite sign (or at a zero); it is refined and kept. Then `sk` at w becomes the previous.
+  void NextSample(double w, const Sample& sk, Sample* prev, double* w_prev, std::vector<Root>* roots) const {
+    if (sk.ok && prev->ok && ((sk.f > 0) != (prev->f > 0) || sk.f == 0)) {
+      Root r;
+      if (Refine(*w_prev, *prev, w, sk, &r)) roots->push_back(r);
+    }
+    *prev = sk;
+    *w_prev = w;
+  }
+
   // FullSearch without any pruning: every sample from w_lo on, one step at a time.
   void ExhaustiveSearch(std::vector<Root>* roots) const {
     if (!(std::min(Speed(w_lo), Speed(w_hi)) > 1e-9)) return;
     Sample prev;
     double w_prev = w_lo;
-    for (double w = w_lo; w <= w_hi; w = Step(w)) {
-      const Sample sk = Eval(w);
-      if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
-        Root r;
-        if (Refine(w_prev, prev, w, sk, &r)) roots->push_back(r);
-      }
-      prev = sk;
-      w_prev = w;
-    }
+    for (double w = w_lo; w <= w_hi; w = Step(w)) NextSample(w, Eval(w), &prev, &w_prev, roots);
   }
 
   // Every crossing over the whole inverse-depth range, in order of w.
@@ -600,13 +603,7 @@ struct Matcher {
             for (std::size_t k = k0; k <= e; ++k) {
               Vec2 pix;
               const bool front = Pixel(ws[k], &pix);
-              const Sample sk = TileSign(front, pix) == 2 ? Sample{} : EvalAt(pix);
-              if (sk.ok && prev.ok && ((sk.f > 0) != (prev.f > 0) || sk.f == 0)) {
-                Root r;
-                if (Refine(w_prev, prev, ws[k], sk, &r)) roots->push_back(r);
-              }
-              prev = sk;
-              w_prev = ws[k];
+              NextSample(ws[k], TileSign(front, pix) == 2 ? Sample{} : EvalAt(pix), &prev, &w_prev, roots);
             }
           }
           prev_fine = !sub_clear;
