@@ -106,6 +106,67 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
   }
 }
 
+// The match's own points (StereoMatch::points_in_left) against intersecting the two rays again
+// (the points removed from the match). The rays meet at the match's point, so the two differ by
+// the float rounding of the stored right pixel (half an ulp per coordinate, moving the point by
+// |dX/ds| times that) and of the stored points. The sigmas are the same first-order quantity,
+// |dX/dw| sigma_w against a central difference of 1e-3 px: with the full search, whose speed is
+// taken at the root itself, they agree to the difference's truncation and float rounding.
+TEST(ScanMatch, MatchPointsEqualTheRayIntersection) {
+  const DecodedStereo& s = SmallSet();
+  const StereoCalibration calib = SmallCalibration();
+  StereoMatchOptions o;
+  o.full_search = true;
+  const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, o);
+  ASSERT_FALSE(match.points_in_left.empty());
+  StereoMatch rays = match;
+  rays.points_in_left = cv::Mat();
+  rays.point_sigma_mm = cv::Mat();
+  TriangulationSummary fast_sum, rays_sum;
+  cv::Mat fast_depth, rays_depth;
+  const PointCloud fast = TriangulateMatches(calib, s.left, match, {}, &fast_sum, &fast_depth);
+  const PointCloud slow = TriangulateMatches(calib, s.left, rays, {}, &rays_sum, &rays_depth);
+  ASSERT_EQ(fast.size(), slow.size());
+  ASSERT_GT(fast.size(), 100000u);
+  EXPECT_EQ(fast_sum.rejected_gap, 0);
+  EXPECT_EQ(rays_sum.rejected_gap, 0);
+  auto ulp = [](double x) { return std::nextafter(static_cast<float>(std::abs(x)), INFINITY) - std::abs(x); };
+  double worst_position = 0, worst_sigma = 0;
+  for (std::size_t k = 0; k < fast.size(); ++k) {
+    ASSERT_EQ(fast.left_pixels[k], slow.left_pixels[k]);
+    const int x = static_cast<int>(fast.left_pixels[k].x()), y = static_cast<int>(fast.left_pixels[k].y());
+    const double u = match.right_u.at<float>(y, x), v = match.right_v.at<float>(y, x);
+    const double dxds = slow.sigma_mm[k] / match.sigma_px.at<float>(y, x);  // mm per right px
+    const double tolerance = dxds * 0.5 * (ulp(u) + ulp(v)) +
+                             2 * ulp(std::max(fast.points_in_left[k].norm(), slow.points_in_left[k].norm()));
+    const double position = (fast.points_in_left[k] - slow.points_in_left[k]).cast<double>().norm();
+    worst_position = std::max(worst_position, position / tolerance);
+    worst_sigma = std::max(worst_sigma, std::abs(fast.sigma_mm[k] / slow.sigma_mm[k] - 1.0));
+    ASSERT_LE(position, tolerance) << "point " << k << " at (" << x << ", " << y << ")";
+    ASSERT_NEAR(fast.sigma_mm[k], slow.sigma_mm[k], 1e-4 * slow.sigma_mm[k]) << "point " << k;
+    EXPECT_EQ(fast.quality[k], slow.quality[k]);
+  }
+  std::cout << fast.size() << " points: worst position difference " << worst_position
+            << " of its rounding bound, worst relative sigma difference " << worst_sigma << "\n";
+  for (int y = 0; y < fast_depth.rows; ++y)
+    for (int x = 0; x < fast_depth.cols; ++x)
+      ASSERT_EQ(std::isfinite(fast_depth.at<float>(y, x)), std::isfinite(rays_depth.at<float>(y, x)));
+}
+
+// Maps of the wrong shape are an input error naming the field, not a crash.
+TEST(ScanMatch, MatchPointsOfTheWrongShapeAreAnInputError) {
+  const DecodedStereo& s = SmallSet();
+  const StereoCalibration calib = SmallCalibration();
+  StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  match.point_sigma_mm = cv::Mat(3, 3, CV_32F, cv::Scalar(0));
+  try {
+    TriangulateMatches(calib, s.left, match, {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "points_in_left");
+  }
+}
+
 // The phase-domain filter (DecodeOptions::coordinate_filter) on both cameras: the depth error
 // stays consistent with the sigma the filter reports, and it shrinks.
 TEST(ScanMatch, PhaseFilterKeepsDepthWithinItsSigma) {

@@ -64,6 +64,13 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
                               const TriangulationOptions& options, TriangulationSummary* summary, cv::Mat* depth) {
   ThrowIfInvalid(options.Validate(), "TriangulationOptions");
   const int W = match.right_u.cols, H = match.right_u.rows;
+  // The match's own points (StereoMatch::points_in_left): its right pixel is the projection of
+  // that point of the left ray, so the rays meet there (gap 0) and nothing is intersected again.
+  const bool from_match = !match.points_in_left.empty();
+  if (from_match && (match.points_in_left.type() != CV_32FC3 || match.points_in_left.size() != match.right_u.size() ||
+                     match.point_sigma_mm.type() != CV_32F || match.point_sigma_mm.size() != match.right_u.size()))
+    throw InputError({"", 0, "points_in_left"},
+                     "the match's points must be CV_32FC3 with a CV_32F point sigma, both of the match's size");
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cv::Mat z(H, W, CV_32F);  // NaN-filled row by row below (in parallel: first touches fault)
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
@@ -104,6 +111,25 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
       std::fill_n(z.ptr<float>(y), W, nan);
       const float* ru = match.right_u.ptr<float>(y);
       const float* rv = match.right_v.ptr<float>(y);
+      if (from_match) {
+        const float* P = match.points_in_left.ptr<float>(y);
+        const float* ps = match.point_sigma_mm.ptr<float>(y);
+        const float* b = left.modulation.ptr<float>(y);
+        float* zr = z.ptr<float>(y);
+        for (int x = 0; x < W; ++x) {
+          if (!std::isfinite(ru[x])) continue;
+          const std::size_t k = slot++;
+          const Eigen::Vector3f X(P[3 * x], P[3 * x + 1], P[3 * x + 2]);
+          if (!X.allFinite()) continue;
+          kept[k] = 1;
+          cloud.points_in_left[k] = X;
+          cloud.sigma_mm[k] = ps[x];
+          cloud.quality[k] = static_cast<float>(b[x] / sigma_i);
+          if (options.keep_pixels) cloud.left_pixels[k] = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y));
+          zr[x] = X.z();
+        }
+        continue;
+      }
       for (int x = 0; x < W; ++x) {
         const float u = ru[x], v = rv[x];
         if (!std::isfinite(u)) continue;

@@ -88,6 +88,13 @@ struct StereoMatchSummary {
 struct StereoMatch {
   cv::Mat right_u, right_v;  // CV_32F right pixel (distorted image coordinates), NaN unmatched
   cv::Mat sigma_px;          // CV_32F sigma of the match along the epipolar curve, right px
+  // The matched point itself: the point of the left pixel's ray at the crossing's depth (the
+  // right pixel is its projection, so the two rays meet there), mm in the left-camera frame,
+  // CV_32FC3 (NaN unmatched); and its sigma along that ray, mm, CV_32F: |dX/dw| sigma_w with w
+  // the inverse depth, the first-order equal of the ray intersection's |dX/ds| sigma_px.
+  // TriangulateMatches takes these as they are (empty: it intersects the rays itself).
+  cv::Mat points_in_left;
+  cv::Mat point_sigma_mm;
   StereoMatchSummary summary;
 };
 
