@@ -99,7 +99,7 @@ struct Matcher {
   const Pass& p;
   Vec3 a = Vec3::Zero();  // R * ideal ray of the source pixel (z = 1 in the source frame)
   double c_src = 0;
-  double w_lo = 0, w_hi = 0;           // this pixel's search range: the pass's, clipped to the image
+  double w_lo = 0, w_hi = 0;           // the full search's range: the pass's, clipped to the image (SetRange)
   double speed_k = 0, step_per_k = 0;  // Speed(w) = speed_k / q_z(w)^2; step_px / speed_k (SetRange)
 
   // Narrows [lo, hi] to where g(w) = (ac + tc w) / (az + tz w) lies in [b0, b1]; g is monotonic
@@ -134,6 +134,18 @@ struct Matcher {
     }
     Clip(a.x(), p.T.x(), a.z(), p.T.z(), p.box_x0, p.box_x1, &w_lo, &w_hi);
     Clip(a.y(), p.T.y(), a.z(), p.T.z(), p.box_y0, p.box_y1, &w_lo, &w_hi);
+  }
+
+  // Whether w lies in the range SetRange gives, tested on w itself: the pass's range, in front of
+  // the destination camera, and the ideal point inside the destination image's box. A walked
+  // crossing needs only this (SetRange's clipping, two divisions per bound and a square root,
+  // is for the full search's stepping).
+  bool InRange(double w) const {
+    if (!(w >= p.w_lo && w <= p.w_hi)) return false;
+    const double qz = a.z() + p.T.z() * w;
+    if (!(qz > 1e-9)) return false;
+    const double qx = a.x() + p.T.x() * w, qy = a.y() + p.T.y() * w;
+    return qx >= p.box_x0 * qz && qx <= p.box_x1 * qz && qy >= p.box_y0 * qz && qy <= p.box_y1 * qz;
   }
 
   // Destination pixel of the point at inverse depth w on the source ray; false behind the camera.
@@ -433,7 +445,7 @@ struct Matcher {
       done = std::abs(s) * speed < 1e-4;
       if (done) w += s;
     }
-    if (!done || w < w_lo || w > w_hi) return false;
+    if (!done || !InRange(w)) return false;
     const Vec2 at = pix + vel * s;
     root->w = w;
     root->at = EvalAt(at);
@@ -737,7 +749,6 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           x_prev = x;
           m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
           m.c_src = crow[x];
-          m.SetRange();
           Matcher::Root root;
           bool found = false, any = false;
           if (!p.full_search) {
@@ -756,6 +767,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           }
           if (!found) {
             ++full;
+            m.SetRange();
             m.FullSearch(&roots);
             any = any || !roots.empty();
             // Several crossings (another surface lit by the same projector column on the same
