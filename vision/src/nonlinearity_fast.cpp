@@ -132,6 +132,42 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
   });
 }
 
+// One row's contribution to the normal equations: the pixels whose whole window is valid
+// (den >= full) and whose high-pass is below `outlier`, each with the design row
+// (1, basis_i - window mean of basis_i); with `design` false only the sum of squares and count.
+// The row is summed in local accumulators (a fixed term count lets them live in registers) and
+// added to `nk` once: the order of the additions differs from pixel-by-pixel accumulation into
+// `nk` only by rounding, which the parallel reduction's own grouping varies anyway.
+template <int kTerms>
+void AccumulateRow(const double* h, const float* d, const uchar* m, const float* const* basis, const float* const* bsum,
+                   int width, int terms_runtime, float full, double outlier, bool design, Normal* nk) {
+  const int terms = kTerms > 0 ? kTerms : terms_runtime;
+  double ata[kMaxTerms * (kMaxTerms + 1) / 2] = {}, atb[kMaxTerms] = {}, ss = 0;
+  long used = 0;
+  double row[kMaxTerms];
+  row[0] = 1.0;
+  for (int x = 0; x < width; ++x) {
+    if (!m[x] || d[x] < full || !(std::abs(h[x]) < outlier)) continue;
+    ss += h[x] * h[x];
+    ++used;
+    if (!design) continue;
+    const double inv = 1.0 / std::max(static_cast<double>(d[x]), 1e-6);
+    for (int i = 1; i < terms; ++i) row[i] = basis[i - 1][x] - bsum[i - 1][x] * inv;
+    int k = 0;
+    for (int i = 0; i < terms; ++i) {
+      for (int j = 0; j <= i; ++j) ata[k++] += row[i] * row[j];
+      atb[i] += row[i] * h[x];
+    }
+  }
+  int k = 0;
+  for (int i = 0; i < terms; ++i) {
+    for (int j = 0; j <= i; ++j) nk->ata[i][j] += ata[k++];
+    nk->atb[i] += atb[i];
+  }
+  nk->ss += ss;
+  nk->used += used;
+}
+
 }  // namespace
 
 NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
@@ -200,26 +236,22 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
       const std::vector<Normal> rows = tbb::parallel_reduce(
           tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
           [&](const tbb::blocked_range<int>& r, std::vector<Normal> acc) {
-            double row[kMaxTerms];
+            const float* bp[kMaxTerms] = {};
+            const float* bs[kMaxTerms] = {};
             for (int y = r.begin(); y < r.end(); ++y) {
               Normal& nk = acc[detail::RippleBand(y, box.height)];
               const double* h = hp.ptr<double>(y - st.y0);
               const float* d = den.ptr<float>(y - st.y0);
               const uchar* m = mask.ptr<uchar>(y);
-              for (int x = 0; x < box.width; ++x) {
-                if (!m[x] || d[x] < full || !(std::abs(h[x]) < options.outlier_rad)) continue;
-                nk.ss += h[x] * h[x];
-                ++nk.used;
-                if (!design) continue;
-                row[0] = 1.0;
-                const double inv = 1.0 / std::max(static_cast<double>(d[x]), 1e-6);
-                for (int i = 0; i < nb; ++i)
-                  row[i + 1] = basis[i].ptr<float>(y - st.a)[x] - bsum[i].ptr<float>(y - st.y0)[x] * inv;
-                for (int i = 0; i < terms; ++i) {
-                  for (int j = 0; j <= i; ++j) nk.ata[i][j] += row[i] * row[j];
-                  nk.atb[i] += row[i] * h[x];
+              if (design)
+                for (int i = 0; i < nb; ++i) {
+                  bp[i] = basis[i].ptr<float>(y - st.a);
+                  bs[i] = bsum[i].ptr<float>(y - st.y0);
                 }
-              }
+              if (terms == 7)  // the default three orders
+                AccumulateRow<7>(h, d, m, bp, bs, box.width, terms, full, options.outlier_rad, design, &nk);
+              else
+                AccumulateRow<0>(h, d, m, bp, bs, box.width, terms, full, options.outlier_rad, design, &nk);
             }
             return acc;
           },
