@@ -36,6 +36,9 @@ struct Pass {
   double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0;
   // Per destination row: the smallest and largest valid coordinate (a crossing needs c_src in between).
   std::vector<float> row_min, row_max;
+  // Per destination cell (index v0 * cols + u0, the cell's top-left pixel): 1 if its four corners
+  // are valid and span at most max_span, the cells EvalAt and LineCrossing interpolate.
+  std::vector<uchar> cell_ok;
   // Per kTile x kTile tile of destination cells: the smallest and largest valid coordinate of
   // the cells' corners (pixels tile..tile+kTile inclusive); +inf/-inf if none. The full search
   // skips the samples of tiles that cannot hold a crossing (TileSign).
@@ -259,12 +262,10 @@ struct Matcher {
     const double u = s.pix.x(), v = s.pix.y();
     const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
+    if (!p.cell_ok[static_cast<std::size_t>(v0) * p.dst_coord.cols + u0]) return s;
     const float* r0 = p.dst_coord.ptr<float>(v0);
     const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
     const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
-    if (!(std::isfinite(c00) && std::isfinite(c10) && std::isfinite(c01) && std::isfinite(c11))) return s;
-    const double lo = std::min({c00, c10, c01, c11}), hi = std::max({c00, c10, c01, c11});
-    if (hi - lo > p.max_span) return s;
     const double fu = u - u0, fv = v - v0;
     const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
     s.f = w00 * c00 + w10 * c10 + w01 * c01 + w11 * c11 - c_src;
@@ -363,11 +364,10 @@ struct Matcher {
     double s_in = 0;
     for (int cells = 0; cells < 64; ++cells) {
       if (u0 < 0 || v0 < 0 || u0 + 1 >= cols || v0 + 1 >= rows) return false;
+      if (!p.cell_ok[static_cast<std::size_t>(v0) * cols + u0]) return false;
       const float* r0 = p.dst_coord.ptr<float>(v0);
       const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
       const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
-      if (!(std::isfinite(c00) && std::isfinite(c10) && std::isfinite(c01) && std::isfinite(c11))) return false;
-      if (std::max({c00, c10, c01, c11}) - std::min({c00, c10, c01, c11}) > p.max_span) return false;
       // f(s) = A + B s + C s^2 on this cell (fu = au + vel.x s, fv = av + vel.y s).
       const double au = pix.x() - u0, av = pix.y() - v0;
       const double ka = c10 - c00, kb = c01 - c00, kc = c11 - c10 - c01 + c00;
@@ -702,10 +702,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
   // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
   // start as good as the left neighbour's). The blocks do not depend on the thread count, so
-  // the result is deterministic. Progress is reported (and cancellation checked) per chunk of
-  // 16 blocks: enough tasks per chunk that the threads finish it together (with 4 blocks per
-  // chunk, 2 threads waited for the slowest block at every chunk: 1.55x from 2 cores).
-  const int kBlock = 16, chunk = 16 * kBlock;
+  // the result is deterministic. With a progress callback, progress is reported (and
+  // cancellation checked) per chunk of 16 blocks: enough tasks per chunk that the threads finish
+  // it together (with 4 blocks per chunk, 2 threads waited for the slowest block at every chunk:
+  // 1.55x from 2 cores). Without one the pass is one chunk: no thread waits at a chunk's end
+  // (on SLMaster's 64 blocks per pass, 2 threads lost ~10 % of the match at those 4 waits).
+  const int kBlock = 16, chunk = options.progress ? 16 * kBlock : std::max(H, 1);
   for (int r0 = 0; r0 < H; r0 += chunk) {
     const int r1 = std::min(H, r0 + chunk);
     const int blocks = (r1 - r0 + kBlock - 1) / kBlock;
@@ -979,6 +981,19 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.period = period;
     p.max_sigma = options.max_sigma_periods * period;
     p.max_span = options.max_cell_span_periods * period;
+    p.cell_ok.assign(static_cast<std::size_t>(d.coordinate.rows) * d.coordinate.cols, 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, d.coordinate.rows - 1, 32), [&](const tbb::blocked_range<int>& r) {
+      for (int y = r.begin(); y < r.end(); ++y) {
+        const float* r0 = d.coordinate.ptr<float>(y);
+        const float* r1 = d.coordinate.ptr<float>(y + 1);
+        uchar* ok = p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols;
+        for (int x = 0; x + 1 < d.coordinate.cols; ++x) {
+          const double c00 = r0[x], c10 = r0[x + 1], c01 = r1[x], c11 = r1[x + 1];
+          const bool finite = std::isfinite(c00) && std::isfinite(c10) && std::isfinite(c01) && std::isfinite(c11);
+          ok[x] = finite && !(std::max({c00, c10, c01, c11}) - std::min({c00, c10, c01, c11}) > p.max_span);
+        }
+      }
+    });
     p.step_px = options.search_step_px;
     p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
     p.sub_stretch = std::max(1, static_cast<int>(8.0 / p.step_px));
