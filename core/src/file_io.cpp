@@ -1,10 +1,10 @@
 #include "ramtk/core/file_io.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 #include <sstream>
-
-#include <unistd.h>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
@@ -21,6 +21,10 @@ std::string ReadTextFile(const std::string& path) {
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& contents) {
+  WriteFileAtomically(path, [&contents](std::ostream& out) { out << contents; });
+}
+
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   RegisterTemporary(tmp);
   struct Unregister {
@@ -30,7 +34,13 @@ void WriteFileAtomically(const std::string& path, const std::string& contents) {
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw InputError({path, 0, ""}, "cannot write file");
-    out << contents;
+    try {
+      write(out);
+    } catch (...) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw;
+    }
     out.flush();
     if (!out) {
       out.close();

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "error_message.h"
 #include "ramtk/core/error.h"
@@ -59,6 +61,30 @@ TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemporary) {
   std::remove(path.c_str());
   EXPECT_THROW(WriteFileAtomically("/nonexistent-dir/x.txt", "x"), InputError);
   EXPECT_THROW(ReadTextFile("/nonexistent-dir/x.txt"), InputError);
+}
+
+// The streamed form: the contents written by a callback land whole; a callback that throws
+// leaves the old file as it was and no temporary beside it.
+TEST(FileIo, StreamedAtomicWriteLeavesTheOldFileWhenTheWriterThrows) {
+  const std::string dir = ::testing::TempDir() + "/streamed_atomic";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/out.bin";
+  WriteFileAtomically(path, [](std::ostream& out) {
+    for (int i = 0; i < 3; ++i) out << "block" << i << ";";
+  });
+  EXPECT_EQ(ReadTextFile(path), "block0;block1;block2;");
+  EXPECT_THROW(WriteFileAtomically(path,
+                                   [](std::ostream& out) {
+                                     out << "partial";
+                                     throw std::runtime_error("writer failed");
+                                   }),
+               std::runtime_error);
+  EXPECT_EQ(ReadTextFile(path), "block0;block1;block2;");
+  long files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) files += entry.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(files, 1);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // File helpers. Outputs are written to a temporary file beside the target and renamed into
 // place, so a failure never leaves a half-written output.
 
+#include <functional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +14,9 @@ namespace ramtk {
 std::string ReadTextFile(const std::string& path);
 // Writes `contents` to `path` atomically (temporary file + rename); InputError on failure.
 void WriteFileAtomically(const std::string& path, const std::string& contents);
+// The same with the contents streamed by `write` (large outputs need no copy in memory); an
+// exception from `write` removes the temporary and propagates.
+void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 // Writes several files as one unit: every temporary is written first and the renames happen
 // only when all of them succeeded, so a failure (or an interruption, which removes the
 // registered temporaries) leaves none of the new files. The paths must be distinct.
