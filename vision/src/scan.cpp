@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -527,18 +529,50 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
 }
 
 cv::Mat DepthPreview(const cv::Mat& depth) {
-  cv::Mat valid = depth == depth;  // false for NaN
-  double lo = 0, hi = 1;
-  cv::minMaxLoc(depth, &lo, &hi, nullptr, nullptr, valid);
-  if (!(hi > lo)) hi = lo + 1;
-  cv::Mat clean = depth.clone();
-  clean.setTo(hi, ~valid);
-  cv::Mat grey;
-  // Near = 255 (red end of turbo), far = 0 (blue).
-  clean.convertTo(grey, CV_8U, -255.0 / (hi - lo), 255.0 * hi / (hi - lo));
-  cv::Mat colour;
-  cv::applyColorMap(grey, colour, cv::COLORMAP_TURBO);
-  colour.setTo(cv::Scalar::all(0), ~valid);
+  CV_Assert(depth.type() == CV_32F);
+  // Row by row (in parallel, with row-sized buffers): full-frame temporaries of a thesis frame
+  // (a mask, a float copy, a grey image: ~50 MB) cost more in first touches than the work.
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  std::mutex range_mutex;
+  cv::parallel_for_(cv::Range(0, depth.rows), [&](const cv::Range& rows) {
+    float l = std::numeric_limits<float>::infinity(), h = -l;
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* z = depth.ptr<float>(y);
+      for (int x = 0; x < depth.cols; ++x)
+        if (z[x] == z[x]) l = std::min(l, z[x]), h = std::max(h, z[x]);
+    }
+    std::lock_guard<std::mutex> lock(range_mutex);
+    lo = std::min(lo, l);
+    hi = std::max(hi, h);
+  });
+  double zlo = lo, zhi = hi;
+  if (!(zlo <= zhi)) zlo = 0, zhi = 1;  // no point at all
+  if (!(zhi > zlo)) zhi = zlo + 1;
+  // The turbo table once (applyColorMap builds it on every call), then a lookup per pixel.
+  cv::Mat ramp(1, 256, CV_8U), table;
+  for (int i = 0; i < 256; ++i) ramp.at<uchar>(0, i) = static_cast<uchar>(i);
+  cv::applyColorMap(ramp, table, cv::COLORMAP_TURBO);
+  const uchar* lut = table.ptr<uchar>(0);
+  cv::Mat colour(depth.size(), CV_8UC3);
+  cv::parallel_for_(cv::Range(0, depth.rows), [&](const cv::Range& rows) {
+    cv::Mat clean(1, depth.cols, CV_32F), grey;
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* z = depth.ptr<float>(y);
+      float* c = clean.ptr<float>(0);
+      for (int x = 0; x < depth.cols; ++x) c[x] = z[x] == z[x] ? z[x] : static_cast<float>(zhi);
+      // Near = 255 (red end of turbo), far = 0 (blue).
+      clean.convertTo(grey, CV_8U, -255.0 / (zhi - zlo), 255.0 * zhi / (zhi - zlo));
+      const uchar* g = grey.ptr<uchar>(0);
+      uchar* out = colour.ptr<uchar>(y);
+      for (int x = 0; x < depth.cols; ++x) {
+        const uchar* rgb = lut + 3 * g[x];
+        const bool point = z[x] == z[x];
+        out[3 * x] = point ? rgb[0] : 0;
+        out[3 * x + 1] = point ? rgb[1] : 0;
+        out[3 * x + 2] = point ? rgb[2] : 0;
+      }
+    }
+  });
   return colour;
 }
 
