@@ -106,21 +106,21 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
   }
 }
 
-// The match's own points (StereoMatch::points_in_left) against intersecting the two rays again
-// (the points removed from the match). The rays meet at the match's point, so the two differ by
-// the float rounding of the stored right pixel (half an ulp per coordinate, moving the point by
-// |dX/ds| times that) and of the stored points. The sigmas are the same first-order quantity,
+// The match's own depths (StereoMatch::depth_mm) against intersecting the two rays again (the
+// depths removed from the match). The rays meet at the match's point, so the two differ by the
+// float rounding of the stored right pixel (half an ulp per coordinate, moving the point by
+// |dX/ds| times that), of the stored depth and of the points. The sigmas are the same first-order quantity,
 // |dX/dw| sigma_w against a central difference of 1e-3 px: with the full search, whose speed is
 // taken at the root itself, they agree to the difference's truncation and float rounding.
-TEST(ScanMatch, MatchPointsEqualTheRayIntersection) {
+TEST(ScanMatch, MatchDepthsGiveTheRayIntersection) {
   const DecodedStereo& s = SmallSet();
   const StereoCalibration calib = SmallCalibration();
   StereoMatchOptions o;
   o.full_search = true;
   const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, o);
-  ASSERT_FALSE(match.points_in_left.empty());
+  ASSERT_FALSE(match.depth_mm.empty());
   StereoMatch rays = match;
-  rays.points_in_left = cv::Mat();
+  rays.depth_mm = cv::Mat();
   rays.point_sigma_mm = cv::Mat();
   TriangulationSummary fast_sum, rays_sum;
   cv::Mat fast_depth, rays_depth;
@@ -153,8 +153,9 @@ TEST(ScanMatch, MatchPointsEqualTheRayIntersection) {
       ASSERT_EQ(std::isfinite(fast_depth.at<float>(y, x)), std::isfinite(rays_depth.at<float>(y, x)));
 }
 
-// Maps of the wrong shape are an input error naming the field, not a crash.
-TEST(ScanMatch, MatchPointsOfTheWrongShapeAreAnInputError) {
+// Maps of the wrong shape are an input error naming the field, not a crash. Without the right
+// pixels (StereoMatchOptions::right_pixels false, as the scan runs) the cloud is the same.
+TEST(ScanMatch, BadDepthMapsAreAnInputErrorAndRightPixelsAreOptional) {
   const DecodedStereo& s = SmallSet();
   const StereoCalibration calib = SmallCalibration();
   StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
@@ -163,8 +164,16 @@ TEST(ScanMatch, MatchPointsOfTheWrongShapeAreAnInputError) {
     TriangulateMatches(calib, s.left, match, {});
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.where().field, "points_in_left");
+    EXPECT_EQ(e.where().field, "depth_mm");
   }
+  StereoMatchOptions o;
+  o.right_pixels = false;
+  const StereoMatch lean = MatchStereo(calib, s.left, s.right, s.period, o);
+  EXPECT_TRUE(lean.right_u.empty() && lean.right_v.empty());
+  const StereoMatch full = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  const PointCloud a = TriangulateMatches(calib, s.left, lean, {}), b = TriangulateMatches(calib, s.left, full, {});
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a.points_in_left[k], b.points_in_left[k]) << k;
 }
 
 // The phase-domain filter (DecodeOptions::coordinate_filter) on both cameras: the depth error

@@ -111,6 +111,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   auto t0 = std::chrono::steady_clock::now();
   StereoMatchOptions mo = options.match;
   mo.progress = {};
+  mo.right_pixels = false;  // the cloud needs the depths only
   StereoMatch match = MatchStereo(calibration, left, right, period, mo, calibration_path);
   right = DecodedCamera();
   sum.match = match.summary;

@@ -84,7 +84,8 @@ struct Pass {
   // the tolerance by the back match's sigma (cv::Mat::empty is not inlined).
   bool lr_check = false, lr_sigma = false;
   double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
-  bool points = false;                  // also write each match's point and its sigma (the left-to-right pass)
+  bool points = false;                  // also write each match's depth and point sigma (the left-to-right pass)
+  bool pixels = true;                   // write the matched pixels (u, v); false: only the forward pass may skip them
   bool full_search = false;             // StereoMatchOptions::full_search
   bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
 };
@@ -688,7 +689,7 @@ void CellRow(const float* __restrict r0, const float* __restrict r1, int n, doub
 
 struct PassResult {
   cv::Mat u, v, sigma;
-  cv::Mat points, point_sigma;  // Pass::points only
+  cv::Mat depth, point_sigma;  // Pass::points only
   std::atomic<long> noisy{0}, no_match{0}, lr{0}, full{0}, matched{0}, valid{0};
 };
 
@@ -696,20 +697,19 @@ struct PassResult {
 bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, const std::string& stage) {
   const int W = p.src_coord.cols, H = p.src_coord.rows;
   // The output maps are filled with NaN in parallel (their first touch costs page faults).
-  out->u.create(H, W, CV_32F);
-  out->v.create(H, W, CV_32F);
+  if (p.pixels) {
+    out->u.create(H, W, CV_32F);
+    out->v.create(H, W, CV_32F);
+  }
   out->sigma.create(H, W, CV_32F);
   if (p.points) {
-    out->points.create(H, W, CV_32FC3);
+    out->depth.create(H, W, CV_32F);
     out->point_sigma.create(H, W, CV_32F);
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
-      for (cv::Mat* m : {&out->u, &out->v, &out->sigma}) std::fill_n(m->ptr<float>(y), W, kNaN);
-      if (p.points) {
-        std::fill_n(out->points.ptr<float>(y), 3 * W, kNaN);
-        std::fill_n(out->point_sigma.ptr<float>(y), W, kNaN);
-      }
+      for (cv::Mat* m : {&out->u, &out->v, &out->sigma, &out->depth, &out->point_sigma})
+        if (!m->empty()) std::fill_n(m->ptr<float>(y), W, kNaN);
     }
   });
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
@@ -814,16 +814,15 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           Vec2 d = root.vel, unused;
           if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
           const double speed = d.norm();
-          out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
-          out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
+          if (p.pixels) {
+            out->u.at<float>(y, x) = static_cast<float>(root.at.pix.x());
+            out->v.at<float>(y, x) = static_cast<float>(root.at.pix.y());
+          }
           out->sigma.at<float>(y, x) = static_cast<float>(speed * sigma_w);
           if (p.points) {
-            // X(w) = (ideal, 1) / w on the source ray: |dX/dw| = |(ideal, 1)| / w^2.
+            // X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2.
             const double z = 1.0 / root.w;
-            float* X = out->points.ptr<float>(y) + 3 * x;
-            X[0] = static_cast<float>(ideal.x() * z);
-            X[1] = static_cast<float>(ideal.y() * z);
-            X[2] = static_cast<float>(z);
+            out->depth.at<float>(y, x) = static_cast<float>(z);
             const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
             out->point_sigma.at<float>(y, x) = static_cast<float>(ray * z * z * sigma_w);
           }
@@ -1045,6 +1044,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   }
   Pass lrp = make_pass(true);
   lrp.points = true;
+  lrp.pixels = options.right_pixels;
   if (lr) {
     lrp.back_u = back.u;
     lrp.back_v = back.v;
@@ -1063,7 +1063,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   result.right_u = fwd.u;
   result.right_v = fwd.v;
   result.sigma_px = fwd.sigma;
-  result.points_in_left = fwd.points;
+  result.depth_mm = fwd.depth;
   result.point_sigma_mm = fwd.point_sigma;
   sum.left_valid = fwd.valid;
   sum.matched = fwd.matched;

@@ -63,14 +63,20 @@ std::string TriangulationSummary::BriefReport() const {
 PointCloud TriangulateMatches(const StereoCalibration& calibration, const DecodedCamera& left, const StereoMatch& match,
                               const TriangulationOptions& options, TriangulationSummary* summary, cv::Mat* depth) {
   ThrowIfInvalid(options.Validate(), "TriangulationOptions");
-  const int W = match.right_u.cols, H = match.right_u.rows;
-  // The match's own points (StereoMatch::points_in_left): its right pixel is the projection of
-  // that point of the left ray, so the rays meet there (gap 0) and nothing is intersected again.
-  const bool from_match = !match.points_in_left.empty();
-  if (from_match && (match.points_in_left.type() != CV_32FC3 || match.points_in_left.size() != match.right_u.size() ||
-                     match.point_sigma_mm.type() != CV_32F || match.point_sigma_mm.size() != match.right_u.size()))
-    throw InputError({"", 0, "points_in_left"},
-                     "the match's points must be CV_32FC3 with a CV_32F point sigma, both of the match's size");
+  // The match's own depths (StereoMatch::depth_mm): its right pixel is the projection of that
+  // point of the left ray, so the rays meet there (gap 0) and nothing is intersected again; the
+  // point is the left ray at that depth.
+  const bool from_match = !match.depth_mm.empty();
+  const cv::Mat& matched = from_match ? match.depth_mm : match.right_u;  // finite where a point is
+  const int W = matched.cols, H = matched.rows;
+  if (from_match && (match.depth_mm.type() != CV_32F || match.point_sigma_mm.type() != CV_32F ||
+                     match.point_sigma_mm.size() != match.depth_mm.size() ||
+                     (!match.right_u.empty() && match.right_u.size() != match.depth_mm.size())))
+    throw InputError({"", 0, "depth_mm"}, "the match's depth and point sigma must be CV_32F maps of the match's size");
+  if (!from_match && (match.right_v.size() != match.right_u.size() || match.sigma_px.size() != match.right_u.size()))
+    throw InputError({"", 0, "right_u"}, "the match's right pixels and sigma are not maps of one size");
+  if (W * H > 0 && left.modulation.size() != cv::Size(W, H))
+    throw InputError({"", 0, "modulation"}, "the left modulation map is not of the match's size");
   const float nan = std::numeric_limits<float>::quiet_NaN();
   cv::Mat z(H, W, CV_32F);  // NaN-filled row by row below (in parallel: first touches fault)
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
@@ -85,7 +91,7 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
   std::vector<std::size_t> first(static_cast<std::size_t>(H) + 1, 0);
   cv::parallel_for_(cv::Range(0, H), [&](const cv::Range& rows) {
     for (int y = rows.start; y < rows.end; ++y) {
-      const float* u = match.right_u.ptr<float>(y);
+      const float* u = matched.ptr<float>(y);
       std::size_t n = 0;
       for (int x = 0; x < W; ++x) n += std::isfinite(u[x]) ? 1 : 0;
       first[y + 1] = n;
@@ -109,27 +115,40 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
       Vec2 right_offset_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       std::size_t slot = first[y];
       std::fill_n(z.ptr<float>(y), W, nan);
-      const float* ru = match.right_u.ptr<float>(y);
-      const float* rv = match.right_v.ptr<float>(y);
       if (from_match) {
-        const float* P = match.points_in_left.ptr<float>(y);
+        const float* zm = match.depth_mm.ptr<float>(y);
         const float* ps = match.point_sigma_mm.ptr<float>(y);
         const float* b = left.modulation.ptr<float>(y);
         float* zr = z.ptr<float>(y);
+        // The left ray as the match found it: undistorted from the previous pixels' rays,
+        // extrapolated along the row when the two before were points (one Gauss-Newton round).
+        Vec2 left_ideal_prev2 = left_ideal_prev;
+        int x_prev = -10, x_prev2 = -10;
         for (int x = 0; x < W; ++x) {
-          if (!std::isfinite(ru[x])) continue;
+          if (!std::isfinite(zm[x])) continue;
           const std::size_t k = slot++;
-          const Eigen::Vector3f X(P[3 * x], P[3 * x + 1], P[3 * x + 2]);
-          if (!X.allFinite()) continue;
+          const Vec2 ln = Normalized(lc, Vec2(x, y));
+          const Vec2 seed = x_prev == x - 1 && x_prev2 == x - 2  ? Vec2(2.0 * left_ideal_prev - left_ideal_prev2)
+                            : std::isfinite(left_ideal_prev.x()) ? left_ideal_prev
+                                                                 : ln;
+          const Vec2 left_ideal = UndistortNormalized(lc.distortion, ln, seed);
+          left_ideal_prev2 = left_ideal_prev;
+          left_ideal_prev = left_ideal;
+          x_prev2 = x_prev;
+          x_prev = x;
+          const double zx = zm[x];
           kept[k] = 1;
-          cloud.points_in_left[k] = X;
+          cloud.points_in_left[k] =
+              Eigen::Vector3f(static_cast<float>(left_ideal.x() * zx), static_cast<float>(left_ideal.y() * zx), zm[x]);
           cloud.sigma_mm[k] = ps[x];
           cloud.quality[k] = static_cast<float>(b[x] / sigma_i);
           if (options.keep_pixels) cloud.left_pixels[k] = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y));
-          zr[x] = X.z();
+          zr[x] = zm[x];
         }
         continue;
       }
+      const float* ru = match.right_u.ptr<float>(y);
+      const float* rv = match.right_v.ptr<float>(y);
       for (int x = 0; x < W; ++x) {
         const float u = ru[x], v = rv[x];
         if (!std::isfinite(u)) continue;

@@ -38,9 +38,10 @@ struct TriangulationSummary {
 // Triangulates every matched left pixel. Per point: position (mm, left frame), sigma (mm, along
 // the point's left ray: |dX/ds|·sigma_s with s the right position along the epipolar curve) and
 // quality (left modulation / sigma_I). `depth` (optional) receives a CV_32F left-image map of z
-// (mm, NaN where there is no point). A match carrying its points (StereoMatch::points_in_left,
-// as MatchStereo writes) is taken as it is: no ray is intersected again and no gap is measured.
-// InputError (field points_in_left) if those maps are of the wrong type or size.
+// (mm, NaN where there is no point). A match carrying its depths (StereoMatch::depth_mm, as
+// MatchStereo writes) places each point on its left pixel's ray at that depth: no ray is
+// intersected again and no gap is measured. InputError (field depth_mm, right_u or modulation)
+// if the maps are of the wrong type or size.
 PointCloud TriangulateMatches(const StereoCalibration& calibration, const DecodedCamera& left, const StereoMatch& match,
                               const TriangulationOptions& options, TriangulationSummary* summary = nullptr,
                               cv::Mat* depth = nullptr);
