@@ -1,18 +1,19 @@
 // Transparent huge pages for the image-heavy commands (scan, decode, simulate, diagnose).
 //
-// A scan touches ~250 MB of fresh buffers; with 4 KiB pages that is ~60 000 page faults, which
-// cost 25-35 % of a 1.3 Mpx scan's wall time on the (virtualised) machines measured in
-// docs/performance.md. glibc's allocator asks the kernel for 2 MiB pages only when its tunable
-// glibc.malloc.hugetlb=1 is set, and tunables are read only when a program starts. So, when the
-// kernel's THP mode is "madvise" (huge pages on request) and the tunable is not set, the program
-// re-executes itself once with it set. RAMTK_HUGEPAGES=0 turns this off; an explicit
-// GLIBC_TUNABLES containing glibc.malloc.hugetlb is respected as given.
+// A scan touches ~100-500 MB of fresh buffers; with 4 KiB pages that is tens of thousands of page
+// faults, which cost 25-35 % of a 1.3 Mpx scan's wall time on the (virtualised) machines
+// measured in docs/performance.md. When the kernel's THP mode is "madvise" (huge pages on
+// request), the heap is grown once by 1.5 GiB of address space (no page touched) marked
+// MADV_HUGEPAGE, and every block is cut from that one heap: glibc is told to keep one arena for
+// all threads, to map nothing on its own below 2 GiB and never to trim. Until 2026-11-26 the
+// program re-executed itself with GLIBC_TUNABLES=glibc.malloc.hugetlb=1 instead, which paid the
+// start-up of 46 shared libraries twice. RAMTK_HUGEPAGES=0 turns the huge pages off (the heap
+// settings stay); an explicit GLIBC_TUNABLES containing glibc.malloc.hugetlb is respected.
 #pragma once
 
 namespace ramtk::tools {
 
-// Returns without effect when not applicable; otherwise does not return (exec), except when the
-// exec itself fails, in which case the program continues with ordinary pages.
-void ReexecWithHugePages(int argc, char** argv);
+// Call first in main, before any other thread exists. Without effect for other commands.
+void UseHugePagesForTheHeap(int argc, char** argv);
 
 }  // namespace ramtk::tools

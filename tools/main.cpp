@@ -33,15 +33,15 @@ int Fail(const std::string& message, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Before anything else: possibly re-executes with huge pages for the heap (huge_pages.h).
-  ramtk::tools::ReexecWithHugePages(argc, argv);
+  // Before anything else: the heap's settings and huge pages (huge_pages.h).
+  ramtk::tools::UseHugePagesForTheHeap(argc, argv);
   // Before any other thread exists: SIGINT/SIGTERM remove unfinished outputs, then exit 128+n.
   ramtk::InstallInterruptCleanup("ramtk");
   CLI::App app{"ramtk — robot accuracy maintenance toolkit"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "ramtk 0.1.0");
-  app.add_flag_callback("-v,--verbose", [] { ramtk::SetLogThreshold(ramtk::LogLevel::kDebug); },
-                        "Log debug messages");
+  app.add_flag_callback(
+      "-v,--verbose", [] { ramtk::SetLogThreshold(ramtk::LogLevel::kDebug); }, "Log debug messages");
   ramtk::SetLogSink([](ramtk::LogLevel level, const std::string& message) {
     std::cerr << "ramtk: " << ramtk::LogLevelName(level) << ": " << message << '\n';
   });

@@ -1,5 +1,4 @@
 // ramtk scan: fringe set + stereo calibration -> point cloud (PLY), sphere JSON, depth preview.
-#include <malloc.h>
 
 #include <cmath>
 #include <cstdio>
@@ -59,12 +58,10 @@ int RunScan(const ScanCommandOptions& opt) {
   if (opt.set.empty() == opt.batch.empty())
     throw InputError({"", 0, "SET/--batch"}, "give either one fringe set or --batch LIST");
   if (!(opt.radius >= 0)) throw InputError({"", 0, "--radius"}, "must be >= 0 mm (0 = unknown)");
-  // Keep freed image-sized blocks in the heap instead of returning them to the kernel: the scan
-  // frees and re-allocates frames and maps of the same sizes (left then right camera, stage
-  // after stage, set after set), and fresh pages cost a page fault each (a third fewer faults
-  // and ~15 % less CPU on the SLMaster set, docs/performance.md).
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  // The heap keeps freed image-sized blocks instead of returning them to the kernel (main.cpp,
+  // huge_pages.h): the scan frees and re-allocates frames and maps of the same sizes (left then
+  // right camera, stage after stage, set after set), and fresh pages cost a page fault each (a
+  // third fewer faults and ~15 % less CPU on the SLMaster set, docs/performance.md).
   ScanOptions options;
   options.calibration_path = opt.calib;
   options.sphere.radius_mm = opt.radius;
