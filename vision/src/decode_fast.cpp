@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "decode_internal.h"
+#include "fast_atan2.h"
 #include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
@@ -286,7 +287,8 @@ std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& 
 }  // namespace
 
 float WrappedPhase(float s, float c) {
-  float p = std::atan2(-s, c);
+  // In double without a library call (fast_atan2.h), rounded to float as atan2f rounds.
+  float p = static_cast<float>(Atan2(-static_cast<double>(s), static_cast<double>(c)));
   if (p >= static_cast<float>(CV_PI)) p -= static_cast<float>(kTwoPi);
   return p;
 }
