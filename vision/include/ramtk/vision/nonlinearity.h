@@ -83,7 +83,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase, const cv::
 // signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over
 // the pixels where `mask` is non-zero, for h = 2 .. ceil(N/2) - 1. Empty for N < 5.
 std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask);
-// r_2 = B_2 / B_1 of a power-law response (0.5 + 0.5 cos)^gamma.
+// r_2 = B_2 / B_1 of a power-law response (0.5 + 0.5 cos)^gamma: (gamma - 1) / (gamma + 2).
 double SecondHarmonicOfGamma(double gamma);
 // Inverse of SecondHarmonicOfGamma over [0.3, 5]; NaN if out of range.
 double GammaFromSecondHarmonic(double r2);
