@@ -585,7 +585,7 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads) {
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
   if (mode == "decode" || mode == "match") {
-    // The heap `ramtk scan` runs with (freed blocks stay in the process): without it each
+    // Freed blocks stay in the process, as in `ramtk scan` (tools/huge_pages.h): without it each
     // repetition's fresh maps cost page faults that the scan does not pay, and the decode
     // stages measured 2-3x slower (vision_scan_speed sets the same, for the same reason).
     mallopt(M_MMAP_THRESHOLD, 1 << 30);

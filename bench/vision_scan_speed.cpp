@@ -13,9 +13,11 @@
 // process (heap and threads warm), so they face the driver's repeated runs; a fresh process's
 // first run (page faults of every new buffer, thread start) faces the other's first run. Until
 // 2026-11-26 the warm ramtk figure faced SLMaster's cold one, which overstated the ratio
-// (SLMaster's pipeline: ~0.83 s warm against ~1.29 s cold on the same machine). With --reference the reference decode
-// path (DecodeOptions:: reference_path) runs too, for the before/after ratio in the same run. The in-process run uses
-// the heap settings of `ramtk scan` (freed blocks kept, main() below).
+// (SLMaster's pipeline: ~0.83 s warm against ~1.29 s cold on the same machine).
+// With --reference the reference decode path (DecodeOptions::reference_path) runs too, for the
+// before/after ratio in the same run. The in-process run keeps freed blocks in the heap, as
+// `ramtk scan` does (main() below); it does not take the scan's single arena and huge-page
+// reserve (tools/huge_pages.h), which matter to a cold process, not to warm repetitions.
 //
 // The peer driver comes from --peer or the environment variable RAMTK_SLMASTER_DRIVER; if it is
 // absent the peer columns are skipped with a message. Also reported: the memory-bandwidth floor
@@ -194,10 +196,9 @@ void Floor(const std::string& set, int reps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The heap as `ramtk scan` sets it (tools/vision_scan_command.cpp): freed image-sized blocks
-  // stay in the heap. Without it the in-process stage times depended on which blocks glibc's
-  // adaptive mmap threshold happened to return to the kernel (decode 110 against 185 ms on the
-  // same binary's SLMaster set, depending on the allocations before it).
+  // Freed image-sized blocks stay in the heap, as in `ramtk scan` (tools/huge_pages.h). Without it the in-process stage
+  // times depended on which blocks glibc's adaptive mmap threshold happened to return to the kernel (decode 110 against
+  // 185 ms on the same binary's SLMaster set, depending on the allocations before it).
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   const std::string set = Arg(argc, argv, "--set", "datasets/vision/slmaster_binocular.json");

@@ -287,7 +287,8 @@ std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& 
 }  // namespace
 
 float WrappedPhase(float s, float c) {
-  // In double without a library call (fast_atan2.h), rounded to float as atan2f rounds.
+  // In double without a library call (fast_atan2.h), then rounded to float: the correctly
+  // rounded phase (glibc's atan2f, used before, was for ~84 % of pixels).
   float p = static_cast<float>(Atan2(-static_cast<double>(s), static_cast<double>(c)));
   if (p >= static_cast<float>(CV_PI)) p -= static_cast<float>(kTwoPi);
   return p;
