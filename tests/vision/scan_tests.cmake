@@ -12,6 +12,7 @@ ramtk_add_gtest(vision_scan_tests
   nonlinearity_gate_test.cpp
   stereo_walk_test.cpp
   stereo_full_search_test.cpp
+  stereo_back_reach_test.cpp
   scan_shard_test.cpp
   scan_roi_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)

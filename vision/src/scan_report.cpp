@@ -140,8 +140,9 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
                         std::to_string(s.match.matched) + " of " + std::to_string(s.match.left_valid),
                         "rejected: noisy " + std::to_string(s.match.rejected_noisy) + ", no match " +
                             std::to_string(s.match.rejected_no_match) + ", left–right " +
-                            std::to_string(s.match.rejected_lr) + "; median σ " + Fmt(s.match.median_sigma_px, 3) +
-                            " px"});
+                            std::to_string(s.match.rejected_lr) + ", no back match " +
+                            std::to_string(s.match.rejected_no_back_match) + "; median σ " +
+                            Fmt(s.match.median_sigma_px, 3) + " px"});
   stage_rows.push_back({"triangulate", FormatFixed(s.triangulate_s, 2),
                         std::to_string(s.triangulation.points) + " points",
                         "median σ " + FormatFixed(s.triangulation.median_sigma_mm * 1000.0, 2) + " µm"});

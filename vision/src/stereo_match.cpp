@@ -78,6 +78,9 @@ struct Pass {
   std::vector<double> jump_far;  // the same for kFarStretches * stretch steps
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
   cv::Mat back_u, back_v, back_sigma;
+  // With the check: per source pixel, 1 if some destination cell's back matches can pass Consistent
+  // for it (BackReach), else no crossing of it can be accepted and it is not searched.
+  cv::Mat reach;
   double lr_tolerance = 0;
   double lr_sigma_factor = 0;
   // Set with the maps above (MatchStereo): whether Consistent checks at all, and whether it widens
@@ -687,10 +690,71 @@ void CellRow(const float* __restrict r0, const float* __restrict r1, int n, doub
   }
 }
 
+// Pass::reach: the source pixels (integer positions) that Consistent can accept for some
+// destination cell. Consistent takes the cell under the crossing; with its four back matches
+// finite and within 4 px of the first, it accepts a source pixel within the tolerance of their
+// bilinear mean, which lies in their bounding box; otherwise one within tolerance + 1 px of the
+// back match of the nearest finite corner. The tolerance is the cell's (its corners' largest
+// sigma times lr_sigma_factor, at least lr_tolerance). Every such pixel is marked: a superset.
+cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
+  cv::Mat reach(src_rows, src_cols, CV_8U, cv::Scalar(0));
+  const int cols = p.back_u.cols, rows = p.back_u.rows;
+  // Marks the source pixels in [u0, u1] x [v0, v1]. Cells of several rows mark the same pixels
+  // at once: relaxed atomic stores of the same value (plain byte stores on x86).
+  auto mark = [&](double u0, double u1, double v0, double v1) {
+    if (!(u1 >= 0 && v1 >= 0 && u0 <= src_cols - 1 && v0 <= src_rows - 1)) return;
+    const int x0 = std::max(0, -FloorToInt(-u0)), x1 = std::min(src_cols - 1, FloorToInt(u1));
+    const int y0 = std::max(0, -FloorToInt(-v0)), y1 = std::min(src_rows - 1, FloorToInt(v1));
+    for (int y = y0; y <= y1; ++y) {
+      uchar* r = reach.ptr<uchar>(y);
+      for (int x = x0; x <= x1; ++x) __atomic_store_n(r + x, uchar{1}, __ATOMIC_RELAXED);
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows - 1, 16), [&](const tbb::blocked_range<int>& range) {
+    for (int v = range.begin(); v < range.end(); ++v) {
+      const float* u_r[2] = {p.back_u.ptr<float>(v), p.back_u.ptr<float>(v + 1)};
+      const float* v_r[2] = {p.back_v.ptr<float>(v), p.back_v.ptr<float>(v + 1)};
+      const float* s_r[2] = {p.lr_sigma ? p.back_sigma.ptr<float>(v) : nullptr,
+                             p.lr_sigma ? p.back_sigma.ptr<float>(v + 1) : nullptr};
+      for (int u = 0; u + 1 < cols; ++u) {
+        // back_u and back_v are NaN together (unmatched) or both finite.
+        if (std::isnan(u_r[0][u]) && std::isnan(u_r[0][u + 1]) && std::isnan(u_r[1][u]) && std::isnan(u_r[1][u + 1]))
+          continue;
+        double bu[4], bv[4];
+        bool all = true;
+        double tolerance = p.lr_tolerance;
+        for (int k = 0; k < 4; ++k) {
+          bu[k] = u_r[k / 2][u + k % 2];
+          bv[k] = v_r[k / 2][u + k % 2];
+          all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
+          if (p.lr_sigma) {
+            const double sk = s_r[k / 2][u + k % 2];
+            if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
+          }
+        }
+        if (all) {
+          double spread = 0;
+          for (int k = 0; k < 4; ++k) spread = std::max(spread, Sq(bu[k] - bu[0]) + Sq(bv[k] - bv[0]));
+          if (spread < 16.0) {
+            mark(std::min({bu[0], bu[1], bu[2], bu[3]}) - tolerance, std::max({bu[0], bu[1], bu[2], bu[3]}) + tolerance,
+                 std::min({bv[0], bv[1], bv[2], bv[3]}) - tolerance,
+                 std::max({bv[0], bv[1], bv[2], bv[3]}) + tolerance);
+            continue;
+          }
+        }
+        for (int k = 0; k < 4; ++k)
+          if (std::isfinite(bu[k]) && std::isfinite(bv[k]))
+            mark(bu[k] - tolerance - 1, bu[k] + tolerance + 1, bv[k] - tolerance - 1, bv[k] + tolerance + 1);
+      }
+    }
+  });
+  return reach;
+}
+
 struct PassResult {
   cv::Mat u, v, sigma;
   cv::Mat depth, point_sigma;  // Pass::points only
-  std::atomic<long> noisy{0}, no_match{0}, lr{0}, full{0}, matched{0}, valid{0};
+  std::atomic<long> noisy{0}, no_match{0}, lr{0}, unreachable{0}, full{0}, matched{0}, valid{0};
 };
 
 // Runs one pass over `rows`; returns false if cancelled.
@@ -736,10 +800,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         double w_last = std::numeric_limits<double>::quiet_NaN();  // the row's last match, past gaps
         Vec2 ideal_prev(kNaN, kNaN), ideal_prev2(kNaN, kNaN);
         int x_prev = -10, x_prev2 = -10;
-        long noisy = 0, no_match = 0, lr = 0, full = 0, matched = 0, valid = 0;
+        long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
         const float* crow = p.src_coord.ptr<float>(y);
         const float* srow = p.src_sigma.ptr<float>(y);
         const uchar* mrow = p.src_mask.ptr<uchar>(y);
+        const uchar* reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
         for (int x = 0; x < W; ++x) {
           if (!mrow[x] || !std::isfinite(crow[x])) {
             w_prev = std::numeric_limits<double>::quiet_NaN();
@@ -748,6 +813,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           ++valid;
           if (!(srow[x] <= p.max_sigma)) {
             ++noisy;
+            w_prev = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
+          if (reach_row && !reach_row[x]) {
+            // No back match can accept it: any crossing would fail the left-right check.
+            ++unreachable;
             w_prev = std::numeric_limits<double>::quiet_NaN();
             continue;
           }
@@ -830,6 +901,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         out->noisy += noisy;
         out->no_match += no_match;
         out->lr += lr;
+        out->unreachable += unreachable;
         out->full += full;
         out->matched += matched;
         out->valid += valid;
@@ -871,8 +943,8 @@ std::string StereoMatchSummary::BriefReport() const {
   s.precision(3);
   s << "match " << message << ": " << matched << " of " << left_valid << " left px matched ("
     << (left_valid ? 100.0 * matched / left_valid : 0.0) << "%; rejected " << rejected_noisy << " noisy, "
-    << rejected_no_match << " no match, " << rejected_lr << " left-right; " << full_searches
-    << " full searches), median sigma " << median_sigma_px << " px";
+    << rejected_no_match << " no match, " << rejected_lr << " left-right, " << rejected_no_back_match
+    << " without a back match; " << full_searches << " full searches), median sigma " << median_sigma_px << " px";
   return s.str();
 }
 
@@ -1053,6 +1125,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.lr_sigma_factor = options.lr_sigma_factor;
     lrp.lr_check = !lrp.back_u.empty() && lrp.lr_tolerance > 0;
     lrp.lr_sigma = lrp.lr_sigma_factor > 0 && !lrp.back_sigma.empty();
+    if (lrp.lr_check && options.skip_without_back_match)
+      lrp.reach = BackReach(lrp, left.coordinate.cols, left.coordinate.rows);
   }
   PassResult fwd;
   if (!RunPass(lrp, &fwd, options, "match left->right")) {
@@ -1070,6 +1144,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   sum.rejected_noisy = fwd.noisy;
   sum.rejected_no_match = fwd.no_match;
   sum.rejected_lr = fwd.lr;
+  sum.rejected_no_back_match = fwd.unreachable;
   sum.full_searches = fwd.full;
   const float median_sigma = detail::UpperMedian(fwd.sigma);
   if (std::isfinite(median_sigma)) sum.median_sigma_px = median_sigma;

@@ -65,6 +65,12 @@ struct StereoMatchOptions {
   // whole frame); it should find the same crossings as the pruned search (ctest
   // StereoFullSearch.*). For comparisons only.
   bool exhaustive_search = false;
+  // With the left-right check: a left pixel that no right pixel's own match can accept (none
+  // lands within the check's tolerance of it, BackReach in stereo_match.cpp) is not searched and
+  // is counted in rejected_no_back_match: any crossing would fail the check. The matches are the
+  // same either way (ctest StereoBackReach.*); on a real capture most occlusion-shadow pixels are
+  // skipped, which had each cost a whole-range search. false: search them (for comparisons).
+  bool skip_without_back_match = true;
   // Write the matched right pixels (StereoMatch::right_u, right_v). The scan needs only the
   // depths and sigmas: without the two maps a thesis frame's match holds 66 MB less.
   bool right_pixels = true;
@@ -81,7 +87,10 @@ struct StereoMatchSummary {
   long matched = 0;                                 // left pixels with an accepted match
   long rejected_noisy = 0;                          // left sigma above max_sigma_periods
   long rejected_no_match = 0;                       // no crossing within the depth range
-  long rejected_lr = 0;        // a crossing was found but failed the modulation or left-right check
+  long rejected_lr = 0;  // a crossing was found but failed the modulation or left-right check
+  // No right pixel's own match lands near it (within the left-right tolerance): any crossing
+  // would fail the left-right check, so it is not searched (with the check only).
+  long rejected_no_back_match = 0;
   long full_searches = 0;      // pixels searched over the whole depth range (no warm start)
   double median_sigma_px = 0;  // median match sigma along the epipolar curve, right px
   std::string BriefReport() const;
