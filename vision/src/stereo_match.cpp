@@ -699,12 +699,17 @@ void CellRow(const float* __restrict r0, const float* __restrict r1, int n, doub
 cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
   cv::Mat reach(src_rows, src_cols, CV_8U, cv::Scalar(0));
   const int cols = p.back_u.cols, rows = p.back_u.rows;
+  // Boxes are widened by kSlack px: the float bounds here against Consistent's double sums.
+  constexpr float kSlack = 1e-3f;
+  const float lr_tolerance = static_cast<float>(p.lr_tolerance), factor = static_cast<float>(p.lr_sigma_factor);
   // Marks the source pixels in [u0, u1] x [v0, v1]. Cells of several rows mark the same pixels
   // at once: relaxed atomic stores of the same value (plain byte stores on x86).
-  auto mark = [&](double u0, double u1, double v0, double v1) {
+  auto mark = [&](float u0, float u1, float v0, float v1) {
     if (!(u1 >= 0 && v1 >= 0 && u0 <= src_cols - 1 && v0 <= src_rows - 1)) return;
-    const int x0 = std::max(0, -FloorToInt(-u0)), x1 = std::min(src_cols - 1, FloorToInt(u1));
-    const int y0 = std::max(0, -FloorToInt(-v0)), y1 = std::min(src_rows - 1, FloorToInt(v1));
+    // Clamped to the image first: a huge tolerance (a back sigma from a nearly flat slope)
+    // must not overflow the integer bounds.
+    const int x0 = -FloorToInt(-std::max(u0, 0.0f)), x1 = FloorToInt(std::min(u1, src_cols - 1.0f));
+    const int y0 = -FloorToInt(-std::max(v0, 0.0f)), y1 = FloorToInt(std::min(v1, src_rows - 1.0f));
     for (int y = y0; y <= y1; ++y) {
       uchar* r = reach.ptr<uchar>(y);
       for (int x = x0; x <= x1; ++x) __atomic_store_n(r + x, uchar{1}, __ATOMIC_RELAXED);
@@ -712,39 +717,50 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
   };
   tbb::parallel_for(tbb::blocked_range<int>(0, rows - 1, 16), [&](const tbb::blocked_range<int>& range) {
     for (int v = range.begin(); v < range.end(); ++v) {
-      const float* u_r[2] = {p.back_u.ptr<float>(v), p.back_u.ptr<float>(v + 1)};
-      const float* v_r[2] = {p.back_v.ptr<float>(v), p.back_v.ptr<float>(v + 1)};
-      const float* s_r[2] = {p.lr_sigma ? p.back_sigma.ptr<float>(v) : nullptr,
-                             p.lr_sigma ? p.back_sigma.ptr<float>(v + 1) : nullptr};
+      // back_u and back_v are written together: NaN in both (unmatched) or finite in both.
+      const float *u0 = p.back_u.ptr<float>(v), *u1 = p.back_u.ptr<float>(v + 1);
+      const float *v0 = p.back_v.ptr<float>(v), *v1 = p.back_v.ptr<float>(v + 1);
+      const float* s0 = p.lr_sigma ? p.back_sigma.ptr<float>(v) : nullptr;
+      const float* s1 = p.lr_sigma ? p.back_sigma.ptr<float>(v + 1) : nullptr;
+      // Whether column u + 1 of the two rows holds a back match (the next cell's left column).
+      bool next_column = !(std::isnan(u0[0]) && std::isnan(u1[0]));
       for (int u = 0; u + 1 < cols; ++u) {
-        // back_u and back_v are NaN together (unmatched) or both finite.
-        if (std::isnan(u_r[0][u]) && std::isnan(u_r[0][u + 1]) && std::isnan(u_r[1][u]) && std::isnan(u_r[1][u + 1]))
-          continue;
-        double bu[4], bv[4];
-        bool all = true;
-        double tolerance = p.lr_tolerance;
-        for (int k = 0; k < 4; ++k) {
-          bu[k] = u_r[k / 2][u + k % 2];
-          bv[k] = v_r[k / 2][u + k % 2];
-          all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
-          if (p.lr_sigma) {
-            const double sk = s_r[k / 2][u + k % 2];
-            if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
-          }
+        const bool this_column = next_column;
+        next_column = !(std::isnan(u0[u + 1]) && std::isnan(u1[u + 1]));
+        if (!this_column && !next_column) continue;
+        const float bu[4] = {u0[u], u0[u + 1], u1[u], u1[u + 1]};
+        const bool fin[4] = {bu[0] == bu[0], bu[1] == bu[1], bu[2] == bu[2], bu[3] == bu[3]};
+        const float bv[4] = {v0[u], v0[u + 1], v1[u], v1[u + 1]};
+        // The cell's tolerance, from its finite sigmas only (as Consistent).
+        float tolerance = lr_tolerance;
+        if (s0) {
+          for (const float sk : {s0[u], s0[u + 1], s1[u], s1[u + 1]})
+            if (std::isfinite(sk)) tolerance = std::max(tolerance, factor * sk);
         }
-        if (all) {
-          double spread = 0;
-          for (int k = 0; k < 4; ++k) spread = std::max(spread, Sq(bu[k] - bu[0]) + Sq(bv[k] - bv[0]));
-          if (spread < 16.0) {
-            mark(std::min({bu[0], bu[1], bu[2], bu[3]}) - tolerance, std::max({bu[0], bu[1], bu[2], bu[3]}) + tolerance,
-                 std::min({bv[0], bv[1], bv[2], bv[3]}) - tolerance,
-                 std::max({bv[0], bv[1], bv[2], bv[3]}) + tolerance);
+        if (fin[0] & fin[1] & fin[2] & fin[3]) {
+          const float umin = std::min(std::min(bu[0], bu[1]), std::min(bu[2], bu[3]));
+          const float umax = std::max(std::max(bu[0], bu[1]), std::max(bu[2], bu[3]));
+          const float vmin = std::min(std::min(bv[0], bv[1]), std::min(bv[2], bv[3]));
+          const float vmax = std::max(std::max(bv[0], bv[1]), std::max(bv[2], bv[3]));
+          // Consistent's spread (largest squared distance from the first corner) < 16: certain
+          // when the box's diagonal is shorter, else computed as Consistent does.
+          bool bilinear = Sq(umax - umin) + Sq(vmax - vmin) < 15.9;
+          if (!bilinear) {
+            double spread = 0;
+            for (int k = 0; k < 4; ++k)
+              spread =
+                  std::max(spread, Sq(static_cast<double>(bu[k]) - bu[0]) + Sq(static_cast<double>(bv[k]) - bv[0]));
+            bilinear = spread < 16.0;
+          }
+          if (bilinear) {
+            const float t = tolerance + kSlack;
+            mark(umin - t, umax + t, vmin - t, vmax + t);
             continue;
           }
         }
+        const float t = tolerance + 1 + kSlack;
         for (int k = 0; k < 4; ++k)
-          if (std::isfinite(bu[k]) && std::isfinite(bv[k]))
-            mark(bu[k] - tolerance - 1, bu[k] + tolerance + 1, bv[k] - tolerance - 1, bv[k] + tolerance + 1);
+          if (fin[k]) mark(bu[k] - t, bu[k] + t, bv[k] - t, bv[k] + t);
       }
     }
   });
