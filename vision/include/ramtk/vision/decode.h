@@ -49,7 +49,7 @@ struct DecodeOptions {
   bool reference_path = false;
   // Fast path: the harmonic ratios (a diagnostic, not used for the coordinate) are averaged
   // over every harmonic_stride-th pixel in x and y (1 = all, as the reference path).
-  int harmonic_stride = 2;
+  int harmonic_stride = 4;
   // Keep the diagnostic maps (DecodedCamera::wrapped, background, sigma_phase, fit_residual).
   // false: they are left empty and, on the fast path, never allocated; a scan needs only the
   // coordinate, its sigma, the modulation and the mask (ScanOptions() sets false). The
