@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <climits>
 #include <cstdint>
 #include <cstdlib>
@@ -30,6 +31,21 @@ bool ThpOnRequest() {
   return mode.find("[madvise]") != std::string::npos;
 }
 
+// What a first touch of fresh memory costs with 4 KiB pages here, ms per MiB: 2 MiB mapped
+// without huge pages, one byte written per page, timed (~1 ms on a host where it is cheap).
+double SmallPageFirstTouchMsPerMiB() {
+  constexpr std::size_t kProbe = std::size_t{2} << 20, kPage = 4096;
+  void* map = ::mmap(nullptr, kProbe, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (map == MAP_FAILED) return 0;
+  ::madvise(map, kProbe, MADV_NOHUGEPAGE);
+  volatile char* bytes = static_cast<volatile char*>(map);
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < kProbe; i += kPage) bytes[i] = 1;
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ::munmap(map, kProbe);
+  return ms / 2.0;
+}
+
 }  // namespace
 
 void UseHugePagesForTheHeap(int argc, char** argv) {
@@ -42,10 +58,17 @@ void UseHugePagesForTheHeap(int argc, char** argv) {
   mallopt(M_ARENA_MAX, 1);
   mallopt(M_MMAP_THRESHOLD, INT_MAX);
   mallopt(M_TRIM_THRESHOLD, INT_MAX);
-  if (const char* off = std::getenv("RAMTK_HUGEPAGES"); off && std::strcmp(off, "0") == 0) return;
+  const char* choice = std::getenv("RAMTK_HUGEPAGES");
+  if (choice && std::strcmp(choice, "0") == 0) return;
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;  // the user's choice
   if (!ThpOnRequest()) return;
+  // Unless asked for (RAMTK_HUGEPAGES=1), only where small pages are dear: on a host whose
+  // 4 KiB first touches cost ~0.5 ms/MiB, huge pages saved nothing and their faults sometimes
+  // stalled (the kernel compacting memory for them after another process had run); on one where
+  // they cost 3-4 ms/MiB they saved a third of a scan (docs/performance.md).
+  constexpr double kDearMsPerMiB = 1.5;
+  if (!(choice && std::strcmp(choice, "1") == 0) && SmallPageFirstTouchMsPerMiB() < kDearMsPerMiB) return;
   // The heap grown once by kReserve (address space only: no page is touched), marked for huge
   // pages and freed back to the heap's top, from which later blocks are cut.
   constexpr std::size_t kReserve = std::size_t{3} << 29;  // 1.5 GiB
