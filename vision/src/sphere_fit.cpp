@@ -11,6 +11,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
+#include "rank_select.h"
 #include "sphere_fit_internal.h"
 
 namespace ramtk::vision {
@@ -135,7 +136,11 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
   }
   // The points' median sigma (once: a thesis frame has 6.4 M points).
   double median_sigma = 0;
-  if (weighted) {
+  if (weighted && static_cast<int>(active.size()) == n && n > 0) {
+    // Every point active (a scan's cloud): the element nth_element would put at n / 2, from a
+    // parallel histogram of the float sigmas (rank_select.h) instead of a sorted double copy.
+    median_sigma = detail::ValuesAtRanks(sigma_mm, {static_cast<std::size_t>(n / 2)})[0];
+  } else if (weighted) {
     std::vector<double> s;
     s.reserve(active.size());
     for (int i : active) s.push_back(sigma[i]);

@@ -49,7 +49,18 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
     : cell_(cell_mm),
       origin_(active.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
                              : Eigen::Vector3d(points[active.front()].cast<double>())) {
-  for (int i : active) cells_[Key(points[i].cast<double>())].push_back(i);
+  // Points come in image order, so a point mostly falls in its predecessor's cell: that cell's
+  // list is kept at hand instead of looked up again (the same lists, in the same order).
+  int64_t last_key = 0;
+  std::vector<int>* last = nullptr;
+  for (int i : active) {
+    const int64_t key = Key(points[i].cast<double>());
+    if (!last || key != last_key) {
+      last = &cells_[key];
+      last_key = key;
+    }
+    last->push_back(i);
+  }
 }
 
 const CellNeighbourhood& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
