@@ -140,6 +140,28 @@ TEST(DecodeFast, SixteenBitGrayAndHeterodyneSetsAsTheReferencePath) {
   }
 }
 
+// 8-bit frames whose width is not a multiple of four: the fused decode sums four pixels at once
+// over the frames (OpenCV universal intrinsics) and the last columns one by one. Both against
+// the reference path, on a 12-step Gray set and a 4-step complementary one.
+TEST(DecodeFast, EightBitFramesOfAnOddWidthAsTheReferencePath) {
+  testing::SynthOptions o;
+  o.width = 403;
+  o.gamma = 2.0;
+  o.noise_dn = 1.0;
+  for (const FringeManifest& m : {testing::GrayManifest(12, 64, true), testing::GrayManifest(4, 32, false)}) {
+    const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
+    std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+    for (cv::Mat& f : frames) f.convertTo(f, CV_8U);  // rounded, as an 8-bit camera gives them
+    DecodeOptions ref_opt;
+    ref_opt.reference_path = true;
+    const DecodedCamera ref = DecodeFrames(m, frames, 255.0, ref_opt, "cam");
+    const DecodedCamera fast = DecodeFrames(m, frames, 255.0, DecodeOptions{}, "cam");
+    ExpectSameDecode(fast, ref, (std::to_string(m.sequence[0].steps) + "-step, 403 px wide").c_str());
+    // The last three columns (the one-by-one tail) hold valid pixels too.
+    EXPECT_GT(cv::countNonZero(fast.mask.colRange(400, 403)), 100);
+  }
+}
+
 // The ripple fitted on a quarter of the rows (NonlinearityOptions::row_subsample) against the
 // fit on every row, for a 4-step set with projector gamma 2.2 (a first-order ripple of ~0.1
 // rad): the coefficients agree within their noise, sigma_hp / sqrt(pixels / 2) for a sine basis
