@@ -87,13 +87,15 @@ void AccumulateRowU8(const cv::Mat* const* frames, int n, int y, int width, cons
   for (int k = 0; k < n; ++k) rows[k] = frames[k]->ptr<uchar>(y);
   int x = 0;
 #if CV_SIMD128
+  cv::v_float32x4 vsn[kMaxFrames], vcs[kMaxFrames];
+  for (int k = 0; k < n; ++k) vsn[k] = cv::v_setall_f32(sn[k]), vcs[k] = cv::v_setall_f32(cs[k]);
   for (; x + 4 <= width; x += 4) {
     cv::v_float32x4 vs = cv::v_setzero_f32(), vc = cv::v_setzero_f32(), va = cv::v_setzero_f32(),
                     va2 = cv::v_setzero_f32(), vt = cv::v_setall_f32(-std::numeric_limits<float>::infinity());
     for (int k = 0; k < n; ++k) {
       const cv::v_float32x4 v = cv::v_cvt_f32(cv::v_reinterpret_as_s32(cv::v_load_expand_q(rows[k] + x)));
-      vs = vs + v * cv::v_setall_f32(sn[k]);
-      vc = vc + v * cv::v_setall_f32(cs[k]);
+      vs = vs + v * vsn[k];
+      vc = vc + v * vcs[k];
       va = va + v;
       va2 = va2 + v * v;
       vt = cv::v_max(vt, v);
