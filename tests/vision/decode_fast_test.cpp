@@ -140,7 +140,7 @@ TEST(DecodeFast, SixteenBitGrayAndHeterodyneSetsAsTheReferencePath) {
   }
 }
 
-// 8-bit frames whose width is not a multiple of four: the fused decode sums four pixels at once
+// 8-bit frames whose width is not a multiple of eight: the fused decode sums eight pixels at once
 // over the frames (OpenCV universal intrinsics) and the last columns one by one. Both against
 // the reference path, on a 12-step Gray set and a 4-step complementary one.
 TEST(DecodeFast, EightBitFramesOfAnOddWidthAsTheReferencePath) {

@@ -72,7 +72,7 @@ void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const 
   }
 }
 
-// AccumulateRow for 8-bit frames with the five sums of four pixels held in registers over all the
+// AccumulateRow for 8-bit frames with the five sums of eight pixels held in registers over all the
 // frames (OpenCV universal intrinsics), so they are not loaded and stored once per frame. Each
 // pixel's sums take the same float operations in the same order as AccumulateFrame's, so the
 // results are the same bit for bit.
@@ -89,22 +89,33 @@ void AccumulateRowU8(const cv::Mat* const* frames, int n, int y, int width, cons
 #if CV_SIMD128
   cv::v_float32x4 vsn[kMaxFrames], vcs[kMaxFrames];
   for (int k = 0; k < n; ++k) vsn[k] = cv::v_setall_f32(sn[k]), vcs[k] = cv::v_setall_f32(cs[k]);
-  for (; x + 4 <= width; x += 4) {
-    cv::v_float32x4 vs = cv::v_setzero_f32(), vc = cv::v_setzero_f32(), va = cv::v_setzero_f32(),
-                    va2 = cv::v_setzero_f32(), vt = cv::v_setall_f32(-std::numeric_limits<float>::infinity());
-    for (int k = 0; k < n; ++k) {
-      const cv::v_float32x4 v = cv::v_cvt_f32(cv::v_reinterpret_as_s32(cv::v_load_expand_q(rows[k] + x)));
-      vs = vs + v * vsn[k];
-      vc = vc + v * vcs[k];
-      va = va + v;
-      va2 = va2 + v * v;
-      vt = cv::v_max(vt, v);
+  // Eight pixels per step: v_load_expand reads their 8 bytes with an unaligned 64-bit load (the
+  // 4-byte v_load_expand_q dereferences an int pointer, which UBSan reports as misaligned).
+  for (; x + 8 <= width; x += 8) {
+    cv::v_float32x4 vs[2], vc[2], va[2], va2[2], vt[2];
+    for (int h = 0; h < 2; ++h) {
+      vs[h] = vc[h] = va[h] = va2[h] = cv::v_setzero_f32();
+      vt[h] = cv::v_setall_f32(-std::numeric_limits<float>::infinity());
     }
-    cv::v_store(s + x, vs);
-    cv::v_store(c + x, vc);
-    cv::v_store(sum + x, va);
-    cv::v_store(sum2 + x, va2);
-    cv::v_store(top + x, vt);
+    for (int k = 0; k < n; ++k) {
+      cv::v_uint32x4 half[2];
+      cv::v_expand(cv::v_load_expand(rows[k] + x), half[0], half[1]);
+      for (int h = 0; h < 2; ++h) {
+        const cv::v_float32x4 v = cv::v_cvt_f32(cv::v_reinterpret_as_s32(half[h]));
+        vs[h] = vs[h] + v * vsn[k];
+        vc[h] = vc[h] + v * vcs[k];
+        va[h] = va[h] + v;
+        va2[h] = va2[h] + v * v;
+        vt[h] = cv::v_max(vt[h], v);
+      }
+    }
+    for (int h = 0; h < 2; ++h) {
+      cv::v_store(s + x + 4 * h, vs[h]);
+      cv::v_store(c + x + 4 * h, vc[h]);
+      cv::v_store(sum + x + 4 * h, va[h]);
+      cv::v_store(sum2 + x + 4 * h, va2[h]);
+      cv::v_store(top + x + 4 * h, vt[h]);
+    }
   }
 #endif
   for (; x < width; ++x) {
