@@ -276,6 +276,15 @@ struct Matcher {
     s.ok = true;
     return s;
   }
+  // EvalAt without the interpolated value: whether the cell under `pix` is one EvalAt reads.
+  Sample CellAt(const Vec2& pix) const {
+    Sample s;
+    s.pix = pix;
+    const int u0 = FloorToInt(pix.x()), v0 = FloorToInt(pix.y());
+    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
+    s.ok = p.cell_ok[static_cast<std::size_t>(v0) * p.dst_coord.cols + u0] != 0;
+    return s;
+  }
   // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
   // crossing's own sample needs them).
   void Complete(Sample* sample) const {
@@ -452,7 +461,7 @@ struct Matcher {
     if (!done || !InRange(w)) return false;
     const Vec2 at = pix + vel * s;
     root->w = w;
-    root->at = EvalAt(at);
+    root->at = CellAt(at);  // no one reads a crossing's f (it is ~0): only its cell's validity
     if (!root->at.ok) return false;
     const double hs = 0.25 * p.step_px / speed;
     const Sample sa = EvalAt(at - vel * hs), sb = EvalAt(at + vel * hs);
@@ -651,12 +660,17 @@ struct Matcher {
     double bu[4], bv[4];
     bool all = true;
     double tolerance = p.lr_tolerance;
+    const float* u_rows[2] = {p.back_u.ptr<float>(v0) + u0, p.back_u.ptr<float>(v0 + 1) + u0};
+    const float* v_rows[2] = {p.back_v.ptr<float>(v0) + u0, p.back_v.ptr<float>(v0 + 1) + u0};
     for (int k = 0; k < 4; ++k) {
-      bu[k] = p.back_u.at<float>(v0 + k / 2, u0 + k % 2);
-      bv[k] = p.back_v.at<float>(v0 + k / 2, u0 + k % 2);
+      bu[k] = u_rows[k / 2][k % 2];
+      bv[k] = v_rows[k / 2][k % 2];
       all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
-      if (p.lr_sigma) {
-        const double sk = p.back_sigma.at<float>(v0 + k / 2, u0 + k % 2);
+    }
+    if (p.lr_sigma) {
+      const float* s_rows[2] = {p.back_sigma.ptr<float>(v0) + u0, p.back_sigma.ptr<float>(v0 + 1) + u0};
+      for (int k = 0; k < 4; ++k) {
+        const double sk = s_rows[k / 2][k % 2];
         if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
       }
     }
