@@ -1004,10 +1004,13 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.row_max.assign(static_cast<std::size_t>(d.coordinate.rows), -std::numeric_limits<float>::infinity());
     tbb::parallel_for(tbb::blocked_range<int>(0, d.coordinate.rows, 32), [&](const tbb::blocked_range<int>& r) {
       for (int y = r.begin(); y < r.end(); ++y) {
+        // A coordinate is finite or NaN (unmatched), and std::min(lo, NaN) / std::max(hi, NaN) keep
+        // lo / hi (the comparison with NaN is false): the NaNs drop out without a branch.
         const float* row = d.coordinate.ptr<float>(y);
-        for (int x = 0; x < d.coordinate.cols; ++x)
-          if (std::isfinite(row[x]))
-            p.row_min[y] = std::min(p.row_min[y], row[x]), p.row_max[y] = std::max(p.row_max[y], row[x]);
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        for (int x = 0; x < d.coordinate.cols; ++x) lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);
+        p.row_min[y] = lo;
+        p.row_max[y] = hi;
       }
     });
     p.tiles_x = (d.coordinate.cols + Pass::kTile - 1) / Pass::kTile;
@@ -1020,7 +1023,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
         for (int tx = 0; tx < p.tiles_x; ++tx) {
           float lo = p.tile_min[ty * p.tiles_x + tx], hi = p.tile_max[ty * p.tiles_x + tx];
           for (int x = tx * Pass::kTile; x <= std::min(d.coordinate.cols - 1, (tx + 1) * Pass::kTile); ++x)
-            if (std::isfinite(row[x])) lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);
+            lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);  // NaNs drop out (as for the rows)
           p.tile_min[ty * p.tiles_x + tx] = lo;
           p.tile_max[ty * p.tiles_x + tx] = hi;
         }
