@@ -118,21 +118,16 @@ void AccumulateRowU8(const cv::Mat* const* frames, int n, int y, int width, cons
     }
   }
 #endif
-  for (; x < width; ++x) {
-    float fs = 0, fc = 0, fa = 0, fa2 = 0, ft = -std::numeric_limits<float>::infinity();
-    for (int k = 0; k < n; ++k) {
-      const float v = static_cast<float>(rows[k][x]);
-      fs += v * sn[k];
-      fc += v * cs[k];
-      fa += v;
-      fa2 += v * v;
-      ft = v > ft ? v : ft;
-    }
-    s[x] = fs;
-    c[x] = fc;
-    sum[x] = fa;
-    sum2[x] = fa2;
-    top[x] = ft;
+  // The last columns (fewer than eight) as AccumulateRow sums them, frame by frame.
+  if (x < width) {
+    const int len = width - x;
+    std::fill(s + x, s + width, 0.0f);
+    std::fill(c + x, c + width, 0.0f);
+    std::fill(sum + x, sum + width, 0.0f);
+    std::fill(sum2 + x, sum2 + width, 0.0f);
+    std::fill(top + x, top + width, -std::numeric_limits<float>::infinity());
+    for (int k = 0; k < n; ++k)
+      AccumulateFrame<uchar, float>(rows[k] + x, len, sn[k], cs[k], s + x, c + x, sum + x, sum2 + x, top + x);
   }
 }
 

@@ -135,16 +135,16 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     radius_hi = options.radius_mm + options.radius_tolerance_mm;
   }
   // The points' median sigma (once: a thesis frame has 6.4 M points).
+  // The element nth_element would put in the middle, from a parallel histogram of the float
+  // sigmas (rank_select.h): of all of them when every point is active (a scan's cloud), else of
+  // the active points' copy.
   double median_sigma = 0;
-  if (weighted && static_cast<int>(active.size()) == n && n > 0) {
-    // Every point active (a scan's cloud): the element nth_element would put at n / 2, from a
-    // parallel histogram of the float sigmas (rank_select.h) instead of a sorted double copy.
-    median_sigma = detail::ValuesAtRanks(sigma_mm, {static_cast<std::size_t>(n / 2)})[0];
-  } else if (weighted) {
-    std::vector<double> s;
-    s.reserve(active.size());
-    for (int i : active) s.push_back(sigma[i]);
-    median_sigma = Median(std::move(s));
+  if (weighted && !active.empty()) {
+    std::vector<float> subset;
+    if (active.size() != sigma_mm.size())
+      for (int i : active) subset.push_back(sigma_mm[i]);
+    const std::vector<float>& s = subset.empty() ? sigma_mm : subset;
+    median_sigma = detail::ValuesAtRanks(s, {s.size() / 2})[0];
   }
   double band = options.inlier_threshold_mm;
   if (band <= 0) {

@@ -260,13 +260,20 @@ struct Matcher {
     if (c_src > hi + margin) return -1;
     return 0;
   }
+  // The cell under `pix` (its top-left pixel u0, v0): true if it lies in the image and is one of
+  // the cells EvalAt and LineCrossing interpolate (Pass::cell_ok).
+  bool ValidCell(const Vec2& pix, int* u0, int* v0) const {
+    *u0 = FloorToInt(pix.x());
+    *v0 = FloorToInt(pix.y());
+    if (*u0 < 0 || *v0 < 0 || *u0 + 1 >= p.dst_coord.cols || *v0 + 1 >= p.dst_coord.rows) return false;
+    return p.cell_ok[static_cast<std::size_t>(*v0) * p.dst_coord.cols + *u0] != 0;
+  }
   Sample EvalAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
     const double u = s.pix.x(), v = s.pix.y();
-    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
-    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
-    if (!p.cell_ok[static_cast<std::size_t>(v0) * p.dst_coord.cols + u0]) return s;
+    int u0, v0;
+    if (!ValidCell(pix, &u0, &v0)) return s;
     const float* r0 = p.dst_coord.ptr<float>(v0);
     const float* r1 = p.dst_coord.ptr<float>(v0 + 1);
     const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
@@ -280,9 +287,8 @@ struct Matcher {
   Sample CellAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
-    const int u0 = FloorToInt(pix.x()), v0 = FloorToInt(pix.y());
-    if (u0 < 0 || v0 < 0 || u0 + 1 >= p.dst_coord.cols || v0 + 1 >= p.dst_coord.rows) return s;
-    s.ok = p.cell_ok[static_cast<std::size_t>(v0) * p.dst_coord.cols + u0] != 0;
+    int u0, v0;
+    s.ok = ValidCell(pix, &u0, &v0);
     return s;
   }
   // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
