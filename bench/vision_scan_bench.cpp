@@ -241,7 +241,8 @@ Vec3 SweepPose(int p) {
   return Vec3(-40 + 20 * ix, -30 + 20 * iy, q % 2 ? 720 : 680);
 }
 
-int Accuracy(int first_pose, int poses, int seeds) {
+// `rectified` 0 / 1 sets StereoMatchOptions::rectified_back_pass, -1 keeps the default.
+int Accuracy(int first_pose, int poses, int seeds, int rectified) {
   MethodStats ours, all_points, pcl;
   for (int p = first_pose; p < first_pose + poses; ++p) {
     const Vec3 ball = SweepPose(p);
@@ -254,7 +255,8 @@ int Accuracy(int first_pose, int poses, int seeds) {
       c.seed = 1000 + s;
       const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
       const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
-      const ScanOptions options;
+      ScanOptions options;
+      if (rectified >= 0) options.match.rectified_back_pass = rectified != 0;
       const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
       if (res.summary.spheres.spheres.empty()) {
         std::printf("pose %d seed %d: %s\n", p, s, res.summary.BriefReport().c_str());
@@ -531,7 +533,8 @@ int DecodeStages(const std::string& manifest_path, int repeat) {
 // The match of one set, repeated on the decoded cameras: each pass's time (min / median) and the
 // summary. `threads` > 0 caps TBB's threads (1: the per-pixel cost without the machine's
 // scheduling noise).
-int MatchPasses(const std::string& manifest_path, int repeat, int threads) {
+// `rectified` 0 / 1 sets StereoMatchOptions::rectified_back_pass, -1 keeps the default.
+int MatchPasses(const std::string& manifest_path, int repeat, int threads, int rectified) {
   if (manifest_path.empty()) {
     std::fprintf(stderr, "match: --manifest SET/manifest.json is required\n");
     return 2;
@@ -552,6 +555,7 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads) {
   std::vector<std::vector<double>> times;
   for (int r = 0; r < repeat; ++r) {
     StereoMatchOptions o = so.match;
+    if (rectified >= 0) o.rectified_back_pass = rectified != 0;
     auto last = Clock::now();
     std::string stage;
     std::size_t k = 0;
@@ -597,13 +601,16 @@ int main(int argc, char** argv) {
   if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
   if (mode == "match")
     return MatchPasses(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5),
-                       Arg(argc, argv, "--threads", 0));
+                       Arg(argc, argv, "--threads", 0), Arg(argc, argv, "--rectified-back-pass", -1));
   if (mode == "accuracy")
-    return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50));
+    return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50),
+                    Arg(argc, argv, "--rectified-back-pass", -1));
   std::fprintf(
       stderr,
-      "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] | "
+      "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] "
+      "[--rectified-back-pass 0|1] | "
       "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
-      "SET/manifest.json [--repeat N] | match --manifest SET/manifest.json [--repeat N] [--threads T]\n");
+      "SET/manifest.json [--repeat N] | match --manifest SET/manifest.json [--repeat N] [--threads T] "
+      "[--rectified-back-pass 0|1]\n");
   return 2;
 }

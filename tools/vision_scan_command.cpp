@@ -33,6 +33,7 @@ struct ScanCommandOptions {
   bool quiet = false;                         // no progress bar; a batch prints only its totals
   bool reference_decode = false;              // the reference (unfused) decode path
   bool full_search = false;                   // match every pixel by the whole-range search
+  bool curve_back_pass = false;               // the back pass along distorted curves, not rectified rows
   bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   int phase_filter = 0;                       // coordinate filter radius (px), 0 = off
@@ -73,6 +74,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.decode.correct_nonlinearity = !opt.no_nonlinearity;
   options.decode.coordinate_filter.radius_px = opt.phase_filter;
   options.match.full_search = opt.full_search;
+  options.match.rectified_back_pass = !opt.curve_back_pass;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
   options.roi = ParseScanRoi(opt.roi);
@@ -194,6 +196,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--full-search", opt->full_search,
                 "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
                 "match (the reference; nearly the same matches, slower): for comparisons");
+  sub->add_flag("--curve-back-pass", opt->curve_back_pass,
+                "Search the right-to-left pass of the left-right check along the distorted epipolar curves, as the "
+                "left-to-right pass, instead of along rectified rows (slower; the same points, the check accepts "
+                "slightly different pixels at edges): for comparisons");
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity (as decode)");
   sub->add_option("--phase-filter", opt->phase_filter,
                   "Smooth each decoded coordinate map with a quadratic fit over a (2R+1)^2 window, R px (0 = off, "

@@ -77,32 +77,41 @@ cv::Mat SigmaMap(const PointCloud& cloud, cv::Size size) {
   return m;
 }
 
+// With either back pass (StereoMatchOptions::rectified_back_pass): along the distorted epipolar
+// curves, and along rectified rows (the default).
 TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
-  const DecodedStereo& s = SmallSet();
-  const StereoCalibration calib = SmallCalibration();
-  const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
-  ASSERT_EQ(match.summary.termination, Termination::kSuccess);
-  TriangulationSummary tsum;
-  cv::Mat depth;
-  const PointCloud cloud = TriangulateMatches(calib, s.left, match, {}, &tsum, &depth);
-  RecordProperty("match", match.summary.BriefReport());
-  RecordProperty("triangulate", tsum.BriefReport());
-  ASSERT_GT(cloud.size(), 100000u);
-  const cv::Mat sigma = SigmaMap(cloud, depth.size());
-  for (int object : {0, 1}) {  // the ball, the backdrop
-    const DepthErrors e = CompareDepth(s, calib, depth, sigma, object);
-    RecordProperty("object" + std::to_string(object),
-                   std::to_string(e.n) + " px, along-ray RMS " + std::to_string(e.rms_um) + " um, worst " +
-                       std::to_string(e.worst_um) + " um, RMS(error/sigma) " + std::to_string(e.normalised_rms));
-    std::cout << "object " << object << ": " << e.n << " px, RMS " << e.rms_um << " um, worst " << e.worst_um
-              << " um, RMS(err/sigma) " << e.normalised_rms << "\n";
-    EXPECT_GT(e.n, 20000);
-    // Unbiased matching: the errors are the predicted noise, error/sigma has unit RMS. The
-    // per-pixel truth is the pixel-centre ray, the decoded phase the pixel mean (~1e-3 px apart
-    // on clean pixels, docs/vision_simulator.md), far below the noise.
-    EXPECT_NEAR(e.normalised_rms, 1.0, 0.15);
-    // No gross mismatch: nothing beyond 6 sigma of the largest point sigma.
-    EXPECT_LT(e.worst_um, 6 * 1000 * 0.2);
+  for (const bool rectified : {false, true}) {
+    SCOPED_TRACE(rectified ? "rectified back pass" : "curve back pass");
+    std::cout << (rectified ? "rectified back pass\n" : "curve back pass\n");
+    const DecodedStereo& s = SmallSet();
+    const StereoCalibration calib = SmallCalibration();
+    StereoMatchOptions options;
+    options.rectified_back_pass = rectified;
+    const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, options);
+    ASSERT_EQ(match.summary.termination, Termination::kSuccess);
+    std::cout << match.summary.BriefReport() << "\n";
+    TriangulationSummary tsum;
+    cv::Mat depth;
+    const PointCloud cloud = TriangulateMatches(calib, s.left, match, {}, &tsum, &depth);
+    RecordProperty("match", match.summary.BriefReport());
+    RecordProperty("triangulate", tsum.BriefReport());
+    ASSERT_GT(cloud.size(), 100000u);
+    const cv::Mat sigma = SigmaMap(cloud, depth.size());
+    for (int object : {0, 1}) {  // the ball, the backdrop
+      const DepthErrors e = CompareDepth(s, calib, depth, sigma, object);
+      RecordProperty("object" + std::to_string(object),
+                     std::to_string(e.n) + " px, along-ray RMS " + std::to_string(e.rms_um) + " um, worst " +
+                         std::to_string(e.worst_um) + " um, RMS(error/sigma) " + std::to_string(e.normalised_rms));
+      std::cout << "object " << object << ": " << e.n << " px, RMS " << e.rms_um << " um, worst " << e.worst_um
+                << " um, RMS(err/sigma) " << e.normalised_rms << "\n";
+      EXPECT_GT(e.n, 20000);
+      // Unbiased matching: the errors are the predicted noise, error/sigma has unit RMS. The
+      // per-pixel truth is the pixel-centre ray, the decoded phase the pixel mean (~1e-3 px apart
+      // on clean pixels, docs/vision_simulator.md), far below the noise.
+      EXPECT_NEAR(e.normalised_rms, 1.0, 0.15);
+      // No gross mismatch: nothing beyond 6 sigma of the largest point sigma.
+      EXPECT_LT(e.worst_um, 6 * 1000 * 0.2);
+    }
   }
 }
 

@@ -14,6 +14,7 @@
 #include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "rank_select.h"
+#include "stereo_rectified_grid.h"
 
 namespace ramtk::vision {
 namespace {
@@ -91,6 +92,23 @@ struct Pass {
   bool pixels = true;                   // write the matched pixels u, v (the back pass must: the check reads them)
   bool full_search = false;             // StereoMatchOptions::full_search
   bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
+  // StereoMatchOptions::rectified_back_pass: the search runs on the destination coordinate map resampled
+  // onto the rectified grid (RectifiedGrid), whose rows are epipolar lines. A point X in the
+  // rectified frame of a camera (its rotation rect_from_src / rect_from_dst, the camera centre at
+  // the origin) lies at rectified pixel f (X_x, X_y) / X_z; the two frames differ by the baseline
+  // along x, so a point at inverse depth w on the source ray r = rect_from_src (ideal, 1) lies on
+  // the destination's row v = f r_y / r_z at u = f r_x / r_z + rect_sign f B w / r_z.
+  bool rect = false;
+  Mat3 rect_from_src = Mat3::Identity(), dst_from_rect = Mat3::Identity();
+  double rect_f = 1, rect_fb = 0, rect_sign = -1;  // f (px), f times the baseline (px mm), -1 or +1
+  int rect_u0 = 0, rect_v0 = 0;                    // rectified pixel of the grid's column 0 and row 0
+  cv::Mat rect_coord;                              // CV_32F destination coordinate on the grid, NaN invalid
+  std::vector<float> rect_row_min, rect_row_max;   // per grid row, as row_min / row_max
+  // Per grid row and block of kRectBlock cells (columns k kRectBlock .. (k + 1) kRectBlock): the
+  // smallest and largest valid sample (+inf / -inf if none). RectFullSearch skips blocks whose
+  // bounds leave out c_src.
+  static constexpr int kRectBlock = 16;
+  std::vector<float> rect_block_min, rect_block_max;
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -108,6 +126,9 @@ struct Matcher {
   double c_src = 0;
   double w_lo = 0, w_hi = 0;           // the full search's range: the pass's, clipped to the image (SetRange)
   double speed_k = 0, step_per_k = 0;  // Speed(w) = speed_k / q_z(w)^2; step_px / speed_k (SetRange)
+  // Pass::rect: the source ray r = rect_from_src (ideal, 1): its rectified pixel f r_x / r_z,
+  // f r_y / r_z (the destination row) and r_z (SetRectRay).
+  double rs_u = 0, rs_v = 0, rs_z = 1;
 
   // Narrows [lo, hi] to where g(w) = (ac + tc w) / (az + tz w) lies in [b0, b1]; g is monotonic
   // (a Moebius function) while az + tz w > 0.
@@ -262,13 +283,13 @@ struct Matcher {
   }
   // The cell under `pix` (its top-left pixel u0, v0): true if it lies in the image and is one of
   // the cells EvalAt and LineCrossing interpolate (Pass::cell_ok).
-  bool ValidCell(const Vec2& pix, int* u0, int* v0) const {
+  [[gnu::always_inline]] bool ValidCell(const Vec2& pix, int* u0, int* v0) const {
     *u0 = FloorToInt(pix.x());
     *v0 = FloorToInt(pix.y());
     if (*u0 < 0 || *v0 < 0 || *u0 + 1 >= p.dst_coord.cols || *v0 + 1 >= p.dst_coord.rows) return false;
     return p.cell_ok[static_cast<std::size_t>(*v0) * p.dst_coord.cols + *u0] != 0;
   }
-  Sample EvalAt(const Vec2& pix) const {
+  [[gnu::always_inline]] Sample EvalAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
     const double u = s.pix.x(), v = s.pix.y();
@@ -284,7 +305,7 @@ struct Matcher {
     return s;
   }
   // EvalAt without the interpolated value: whether the cell under `pix` is one EvalAt reads.
-  Sample CellAt(const Vec2& pix) const {
+  [[gnu::always_inline]] Sample CellAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
     int u0, v0;
@@ -293,7 +314,7 @@ struct Matcher {
   }
   // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
   // crossing's own sample needs them).
-  void Complete(Sample* sample) const {
+  [[gnu::always_inline]] void Complete(Sample* sample) const {
     Sample& s = *sample;
     if (!s.ok) return;
     const double u = s.pix.x(), v = s.pix.y();
@@ -476,6 +497,119 @@ struct Matcher {
     root->vel = vel;
     Complete(&root->at);
     return true;
+  }
+
+  // ---- The rectified search (Pass::rect) ----
+
+  // The source ray in the rectified frame; false if it points behind the rectified cameras.
+  bool SetRectRay(const Vec2& ideal) {
+    const Vec3 r = p.rect_from_src * Vec3(ideal.x(), ideal.y(), 1.0);
+    if (!(r.z() > 1e-9)) return false;
+    rs_z = r.z();
+    rs_u = p.rect_f * r.x() / r.z();
+    rs_v = p.rect_f * r.y() / r.z();
+    return true;
+  }
+  // Grid column of the destination point at inverse depth w, and back.
+  double RectColumn(double w) const { return rs_u + p.rect_sign * p.rect_fb * w / rs_z - p.rect_u0; }
+  double RectW(double column) const { return (column + p.rect_u0 - rs_u) * p.rect_sign * rs_z / p.rect_fb; }
+  // The grid row pair (j, j + 1) around the source's rectified v, and v's fraction between them.
+  bool RectRows(int* j, double* fv) const {
+    const double v = rs_v - p.rect_v0;
+    if (!(v >= 0 && v < p.rect_coord.rows - 1)) return false;
+    *j = FloorToInt(v);
+    *fv = v - *j;
+    return true;
+  }
+  // Cell i of the row pair (r0, r1) read at the source's v: the coordinate minus c_src at its two
+  // columns (linear between them along the row); false if a corner is invalid or the cell holds
+  // a jump (its four corners span more than max_span, as Pass::cell_ok).
+  bool RectCell(const float* r0, const float* r1, int i, double fv, double* g0, double* g1) const {
+    const float a0 = r0[i], a1 = r0[i + 1], b0 = r1[i], b1 = r1[i + 1];
+    const float hi = std::max(std::max(a0, a1), std::max(b0, b1));
+    const float lo = std::min(std::min(a0, a1), std::min(b0, b1));
+    if (!(static_cast<double>(hi) - static_cast<double>(lo) <= p.max_span)) return false;  // NaN fails
+    if (!(((a0 - a0) + (a1 - a1) + (b0 - b0) + (b1 - b1)) == 0.0f)) return false;
+    *g0 = a0 + fv * (static_cast<double>(b0) - a0) - c_src;
+    *g1 = a1 + fv * (static_cast<double>(b1) - a1) - c_src;
+    return true;
+  }
+  // The root at grid column `column` (g rising by dg_du per column there): its inverse depth, its
+  // pixel on the distorted image with the pixel's velocity per unit w (PixelAndVelocity: the same
+  // epipolar curve, parametrised by the same w), the slope of the coordinate per unit w from the
+  // grid cell, and the destination's variance and modulation at the pixel (Complete). False
+  // outside the pass's range or if the pixel's own cell is not one the curve search interpolates.
+  // The crossing is the grid's (the coordinate interpolated twice): ~0.01 px from the distorted
+  // map's own crossing inside a surface, more at its edges, against the left-right check's 0.5 px.
+  bool RectRoot(double column, double dg_du, Root* root) const {
+    root->w = RectW(column);
+    if (!(root->w >= p.w_lo && root->w <= p.w_hi) || !InRange(root->w)) return false;
+    Vec2 pix;
+    if (!PixelAndVelocity(root->w, &pix, &root->vel)) return false;
+    root->at = CellAt(pix);
+    if (!root->at.ok) return false;
+    root->slope = dg_du * p.rect_sign * p.rect_fb / rs_z;
+    Complete(&root->at);
+    return true;
+  }
+  // The crossing near a neighbour's inverse depth w0, walked cell by cell along the row pair in
+  // the direction in which |g| falls at the first cell (as LineCrossing), at most 32 cells.
+  bool RectLocalSearch(double w0, Root* root) const {
+    int j;
+    double fv;
+    if (!RectRows(&j, &fv)) return false;
+    const double c0 = RectColumn(w0);
+    const int cols = p.rect_coord.cols;
+    if (!(c0 >= 0 && c0 < cols - 1)) return false;
+    const float* r0 = p.rect_coord.ptr<float>(j);
+    const float* r1 = p.rect_coord.ptr<float>(j + 1);
+    int i = FloorToInt(c0), dir = 0;
+    for (int n = 0; n < 32 && i >= 0 && i + 1 < cols; ++n, i += dir) {
+      double g0, g1;
+      if (!RectCell(r0, r1, i, fv, &g0, &g1)) return false;
+      if ((g0 > 0) != (g1 > 0) || g0 == 0) {
+        if (g0 == g1) return false;
+        return RectRoot(i + g0 / (g0 - g1), g1 - g0, root);
+      }
+      if (dir == 0) dir = ((g0 > 0) == (g1 > g0)) ? -1 : +1;
+    }
+    return false;
+  }
+  // Every crossing over the pass's depth range along the row pair, in order of column.
+  void RectFullSearch(std::vector<Root>* roots) const {
+    roots->clear();
+    int j;
+    double fv;
+    if (!RectRows(&j, &fv)) return;
+    const float lo = std::min(p.rect_row_min[j], p.rect_row_min[j + 1]);
+    const float hi = std::max(p.rect_row_max[j], p.rect_row_max[j + 1]);
+    if (!(c_src >= lo && c_src <= hi)) return;
+    double ca = RectColumn(p.w_lo), cb = RectColumn(p.w_hi);
+    if (ca > cb) std::swap(ca, cb);
+    const int cols = p.rect_coord.cols;
+    if (!(cb >= 0 && ca <= cols - 2)) return;
+    const int i0 = std::max(0, FloorToInt(ca)), i1 = std::min(cols - 2, FloorToInt(cb));
+    const float* r0 = p.rect_coord.ptr<float>(j);
+    const float* r1 = p.rect_coord.ptr<float>(j + 1);
+    // Blocks of kRectBlock cells whose corners' bounds (both rows) leave out c_src hold no
+    // crossing: a cell's g lies between its corners' smallest and largest value.
+    constexpr int kBlock = Pass::kRectBlock;
+    const int blocks = static_cast<int>(p.rect_block_min.size() / p.rect_coord.rows);
+    const float* lo0 = p.rect_block_min.data() + static_cast<std::size_t>(j) * blocks;
+    const float* lo1 = lo0 + blocks;
+    const float* hi0 = p.rect_block_max.data() + static_cast<std::size_t>(j) * blocks;
+    const float* hi1 = hi0 + blocks;
+    for (int b = i0 / kBlock; b <= i1 / kBlock; ++b) {
+      if (!(c_src >= std::min(lo0[b], lo1[b]) && c_src <= std::max(hi0[b], hi1[b]))) continue;
+      for (int i = std::max(i0, b * kBlock); i <= std::min(i1, b * kBlock + kBlock - 1); ++i) {
+        double g0, g1;
+        if (!RectCell(r0, r1, i, fv, &g0, &g1)) continue;
+        if ((g0 > 0) == (g1 > 0) && g0 != 0) continue;
+        if (g0 == g1) continue;
+        Root r;
+        if (RectRoot(i + g0 / (g0 - g1), g1 - g0, &r)) roots->push_back(r);
+      }
+    }
   }
 
   // The search's rule between consecutive samples: a crossing lies between two valid samples of
@@ -871,6 +1005,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           x_prev = x;
           m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
           m.c_src = crow[x];
+          if (p.rect && !m.SetRectRay(ideal)) {
+            ++no_match;
+            w_prev = std::numeric_limits<double>::quiet_NaN();
+            continue;
+          }
           Matcher::Root root;
           bool found = false, any = false;
           if (!p.full_search) {
@@ -881,7 +1020,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
             for (int k = 0; k < 3 && !found; ++k) {
               const double w_seed = seeds[k];
               if (!std::isfinite(w_seed) || (k >= 1 && w_seed == seeds[0]) || (k == 2 && w_seed == seeds[1])) continue;
-              if (m.LocalSearch(w_seed, &root)) {
+              if (p.rect ? m.RectLocalSearch(w_seed, &root) : m.LocalSearch(w_seed, &root)) {
                 any = true;
                 found = m.Accept(root, p.src_modulation.at<float>(y, x), x, y);
               }
@@ -889,8 +1028,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           }
           if (!found) {
             ++full;
-            m.SetRange();
-            m.FullSearch(&roots);
+            if (p.rect) {
+              m.RectFullSearch(&roots);
+            } else {
+              m.SetRange();
+              m.FullSearch(&roots);
+            }
             any = any || !roots.empty();
             // Several crossings (another surface lit by the same projector column on the same
             // epipolar curve): try first the one whose modulation agrees best with the source's.
@@ -949,6 +1092,129 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   return true;
 }
 
+// Pass::box_*: the destination image's bounding box in ideal normalised coordinates, from its
+// border pixels, 2 px margin.
+void SetIdealBox(Pass* pass) {
+  Pass& p = *pass;
+  const CameraIntrinsics& dc = *p.dst;
+  p.box_x0 = p.box_y0 = 1e300;
+  p.box_x1 = p.box_y1 = -1e300;
+  auto add = [&](double u, double v) {
+    const Vec2 q = UndistortNormalized(dc.distortion, Vec2((u - dc.cx) / dc.fx, (v - dc.cy) / dc.fy));
+    p.box_x0 = std::min(p.box_x0, q.x());
+    p.box_x1 = std::max(p.box_x1, q.x());
+    p.box_y0 = std::min(p.box_y0, q.y());
+    p.box_y1 = std::max(p.box_y1, q.y());
+  };
+  for (int i = 0; i <= 64; ++i) {
+    const double fu = (dc.width - 1.0) * i / 64, fv = (dc.height - 1.0) * i / 64;
+    add(fu, 0);
+    add(fu, dc.height - 1.0);
+    add(0, fv);
+    add(dc.width - 1.0, fv);
+  }
+  p.box_x0 -= 2 / dc.fx;
+  p.box_x1 += 2 / dc.fx;
+  p.box_y0 -= 2 / dc.fy;
+  p.box_y1 += 2 / dc.fy;
+}
+
+// The tables of the search along the distorted epipolar curve (everything it needs beyond
+// Pass::cell_ok): row and tile bounds of the destination coordinates, the destination image's
+// ideal bounding box, and the full search's stepping.
+void BuildCurveTables(const StereoMatchOptions& options, const cv::Mat& dst_coord, Pass* pass) {
+  Pass& p = *pass;
+  p.row_min.assign(static_cast<std::size_t>(dst_coord.rows), std::numeric_limits<float>::infinity());
+  p.row_max.assign(static_cast<std::size_t>(dst_coord.rows), -std::numeric_limits<float>::infinity());
+  tbb::parallel_for(tbb::blocked_range<int>(0, dst_coord.rows, 32), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      // A coordinate is finite or NaN (unmatched), and std::min(lo, NaN) / std::max(hi, NaN) keep
+      // lo / hi (the comparison with NaN is false): the NaNs drop out without a branch.
+      const float* row = dst_coord.ptr<float>(y);
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int x = 0; x < dst_coord.cols; ++x) lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);
+      p.row_min[y] = lo;
+      p.row_max[y] = hi;
+    }
+  });
+  p.tiles_x = (dst_coord.cols + Pass::kTile - 1) / Pass::kTile;
+  p.tiles_y = (dst_coord.rows + Pass::kTile - 1) / Pass::kTile;
+  p.tile_min.assign(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, std::numeric_limits<float>::infinity());
+  p.tile_max.assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
+  tbb::parallel_for(0, p.tiles_y, [&](int ty) {
+    for (int y = ty * Pass::kTile; y <= std::min(dst_coord.rows - 1, (ty + 1) * Pass::kTile); ++y) {
+      const float* row = dst_coord.ptr<float>(y);
+      for (int tx = 0; tx < p.tiles_x; ++tx) {
+        float lo = p.tile_min[ty * p.tiles_x + tx], hi = p.tile_max[ty * p.tiles_x + tx];
+        for (int x = tx * Pass::kTile; x <= std::min(dst_coord.cols - 1, (tx + 1) * Pass::kTile); ++x)
+          lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);  // NaNs drop out (as for the rows)
+        p.tile_min[ty * p.tiles_x + tx] = lo;
+        p.tile_max[ty * p.tiles_x + tx] = hi;
+      }
+    }
+  });
+  // The tile bounds over the (2 r + 1)^2 tiles around each tile.
+  auto dilate = [&](int r, std::vector<float>* lo_of, std::vector<float>* hi_of) {
+    lo_of->assign(p.tile_min.size(), std::numeric_limits<float>::infinity());
+    hi_of->assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
+    tbb::parallel_for(0, p.tiles_y, [&](int ty) {
+      for (int tx = 0; tx < p.tiles_x; ++tx) {
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        for (int y = std::max(0, ty - r); y <= std::min(p.tiles_y - 1, ty + r); ++y)
+          for (int x = std::max(0, tx - r); x <= std::min(p.tiles_x - 1, tx + r); ++x) {
+            lo = std::min(lo, p.tile_min[y * p.tiles_x + x]);
+            hi = std::max(hi, p.tile_max[y * p.tiles_x + x]);
+          }
+        (*lo_of)[ty * p.tiles_x + tx] = lo;
+        (*hi_of)[ty * p.tiles_x + tx] = hi;
+      }
+    });
+  };
+  dilate(Pass::kDilate, &p.near_min, &p.near_max);
+  dilate(1, &p.mid_min, &p.mid_max);
+  p.levels = 1;
+  while ((1 << p.levels) <= p.tiles_x) ++p.levels;
+  {
+    const std::size_t plane = p.tile_min.size();
+    p.run_min.resize(plane * p.levels);
+    p.run_max.resize(plane * p.levels);
+    std::copy(p.tile_min.begin(), p.tile_min.end(), p.run_min.begin());
+    std::copy(p.tile_max.begin(), p.tile_max.end(), p.run_max.begin());
+    tbb::parallel_for(0, p.tiles_y, [&](int ty) {
+      for (int k = 1; k < p.levels; ++k) {
+        const float* lo_prev = p.run_min.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+        const float* hi_prev = p.run_max.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+        float* lo = p.run_min.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+        float* hi = p.run_max.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
+        const int half = 1 << (k - 1);
+        for (int tx = 0; tx < p.tiles_x; ++tx) {
+          const bool both = tx + half < p.tiles_x;
+          lo[tx] = both ? std::min(lo_prev[tx], lo_prev[tx + half]) : lo_prev[tx];
+          hi[tx] = both ? std::max(hi_prev[tx], hi_prev[tx + half]) : hi_prev[tx];
+        }
+      }
+    });
+  }
+  p.step_px = options.search_step_px;
+  p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
+  p.sub_stretch = std::max(1, static_cast<int>(8.0 / p.step_px));
+  // The coefficients c_2..c_8 of `steps` compositions of x -> x + x^2 (truncated at degree 8).
+  auto composed = [](int steps) {
+    constexpr int kDegree = 8;
+    std::vector<double> g(kDegree + 1, 0.0);  // g = identity, then composed with x + x^2
+    g[1] = 1;
+    for (int k = 0; k < steps; ++k) {
+      std::vector<double> sq(kDegree + 1, 0.0);
+      for (int i = 0; i <= kDegree; ++i)
+        for (int j = 0; i + j <= kDegree; ++j) sq[i + j] += g[i] * g[j];
+      for (int i = 0; i <= kDegree; ++i) g[i] += sq[i];
+    }
+    return std::vector<double>(g.begin() + 2, g.end());
+  };
+  p.jump = composed(p.stretch);
+  p.jump_far = composed(p.stretch * Pass::kFarStretches);
+}
+
 void CheckSize(const CameraIntrinsics& cam, const DecodedCamera& d, const std::string& name, const std::string& path) {
   if (d.coordinate.cols != cam.width || d.coordinate.rows != cam.height)
     throw InputError({path, 0, "image_size"}, "the " + name + " calibration is " + std::to_string(cam.width) + "x" +
@@ -993,6 +1259,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   const Mat3 R = calibration.right_from_left.linear();
   const Vec3 T = calibration.right_from_left.translation();
 
+  const detail::RectifiedPair rectified =
+      options.rectified_back_pass ? detail::MakeRectifiedPair(calibration) : detail::RectifiedPair{};
   auto make_pass = [&](bool left_to_right) {
     Pass p;
     const DecodedCamera& s = left_to_right ? left : right;
@@ -1006,101 +1274,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.src_mask = s.mask;
     p.dst_coord = d.coordinate;
     p.dst_sigma = d.sigma_coordinate;
-    p.row_min.assign(static_cast<std::size_t>(d.coordinate.rows), std::numeric_limits<float>::infinity());
-    p.row_max.assign(static_cast<std::size_t>(d.coordinate.rows), -std::numeric_limits<float>::infinity());
-    tbb::parallel_for(tbb::blocked_range<int>(0, d.coordinate.rows, 32), [&](const tbb::blocked_range<int>& r) {
-      for (int y = r.begin(); y < r.end(); ++y) {
-        // A coordinate is finite or NaN (unmatched), and std::min(lo, NaN) / std::max(hi, NaN) keep
-        // lo / hi (the comparison with NaN is false): the NaNs drop out without a branch.
-        const float* row = d.coordinate.ptr<float>(y);
-        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-        for (int x = 0; x < d.coordinate.cols; ++x) lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);
-        p.row_min[y] = lo;
-        p.row_max[y] = hi;
-      }
-    });
-    p.tiles_x = (d.coordinate.cols + Pass::kTile - 1) / Pass::kTile;
-    p.tiles_y = (d.coordinate.rows + Pass::kTile - 1) / Pass::kTile;
-    p.tile_min.assign(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, std::numeric_limits<float>::infinity());
-    p.tile_max.assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
-    tbb::parallel_for(0, p.tiles_y, [&](int ty) {
-      for (int y = ty * Pass::kTile; y <= std::min(d.coordinate.rows - 1, (ty + 1) * Pass::kTile); ++y) {
-        const float* row = d.coordinate.ptr<float>(y);
-        for (int tx = 0; tx < p.tiles_x; ++tx) {
-          float lo = p.tile_min[ty * p.tiles_x + tx], hi = p.tile_max[ty * p.tiles_x + tx];
-          for (int x = tx * Pass::kTile; x <= std::min(d.coordinate.cols - 1, (tx + 1) * Pass::kTile); ++x)
-            lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);  // NaNs drop out (as for the rows)
-          p.tile_min[ty * p.tiles_x + tx] = lo;
-          p.tile_max[ty * p.tiles_x + tx] = hi;
-        }
-      }
-    });
-    // The tile bounds over the (2 r + 1)^2 tiles around each tile.
-    auto dilate = [&](int r, std::vector<float>* lo_of, std::vector<float>* hi_of) {
-      lo_of->assign(p.tile_min.size(), std::numeric_limits<float>::infinity());
-      hi_of->assign(p.tile_min.size(), -std::numeric_limits<float>::infinity());
-      tbb::parallel_for(0, p.tiles_y, [&](int ty) {
-        for (int tx = 0; tx < p.tiles_x; ++tx) {
-          float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-          for (int y = std::max(0, ty - r); y <= std::min(p.tiles_y - 1, ty + r); ++y)
-            for (int x = std::max(0, tx - r); x <= std::min(p.tiles_x - 1, tx + r); ++x) {
-              lo = std::min(lo, p.tile_min[y * p.tiles_x + x]);
-              hi = std::max(hi, p.tile_max[y * p.tiles_x + x]);
-            }
-          (*lo_of)[ty * p.tiles_x + tx] = lo;
-          (*hi_of)[ty * p.tiles_x + tx] = hi;
-        }
-      });
-    };
-    dilate(Pass::kDilate, &p.near_min, &p.near_max);
-    dilate(1, &p.mid_min, &p.mid_max);
-    p.levels = 1;
-    while ((1 << p.levels) <= p.tiles_x) ++p.levels;
-    {
-      const std::size_t plane = p.tile_min.size();
-      p.run_min.resize(plane * p.levels);
-      p.run_max.resize(plane * p.levels);
-      std::copy(p.tile_min.begin(), p.tile_min.end(), p.run_min.begin());
-      std::copy(p.tile_max.begin(), p.tile_max.end(), p.run_max.begin());
-      tbb::parallel_for(0, p.tiles_y, [&](int ty) {
-        for (int k = 1; k < p.levels; ++k) {
-          const float* lo_prev = p.run_min.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
-          const float* hi_prev = p.run_max.data() + (k - 1) * plane + static_cast<std::size_t>(ty) * p.tiles_x;
-          float* lo = p.run_min.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
-          float* hi = p.run_max.data() + k * plane + static_cast<std::size_t>(ty) * p.tiles_x;
-          const int half = 1 << (k - 1);
-          for (int tx = 0; tx < p.tiles_x; ++tx) {
-            const bool both = tx + half < p.tiles_x;
-            lo[tx] = both ? std::min(lo_prev[tx], lo_prev[tx + half]) : lo_prev[tx];
-            hi[tx] = both ? std::max(hi_prev[tx], hi_prev[tx + half]) : hi_prev[tx];
-          }
-        }
-      });
-    }
     p.src_modulation = s.modulation;
     p.dst_modulation = d.modulation;
-    // Ideal bounding box of the destination image from its border pixels, 2 px margin.
-    const CameraIntrinsics& dc = *p.dst;
-    p.box_x0 = p.box_y0 = 1e300;
-    p.box_x1 = p.box_y1 = -1e300;
-    auto add = [&](double u, double v) {
-      const Vec2 q = UndistortNormalized(dc.distortion, Vec2((u - dc.cx) / dc.fx, (v - dc.cy) / dc.fy));
-      p.box_x0 = std::min(p.box_x0, q.x());
-      p.box_x1 = std::max(p.box_x1, q.x());
-      p.box_y0 = std::min(p.box_y0, q.y());
-      p.box_y1 = std::max(p.box_y1, q.y());
-    };
-    for (int i = 0; i <= 64; ++i) {
-      const double fu = (dc.width - 1.0) * i / 64, fv = (dc.height - 1.0) * i / 64;
-      add(fu, 0);
-      add(fu, dc.height - 1.0);
-      add(0, fv);
-      add(dc.width - 1.0, fv);
-    }
-    p.box_x0 -= 2 / dc.fx;
-    p.box_x1 += 2 / dc.fx;
-    p.box_y0 -= 2 / dc.fy;
-    p.box_y1 += 2 / dc.fy;
     p.period = period;
     p.max_sigma = options.max_sigma_periods * period;
     p.max_span = options.max_cell_span_periods * period;
@@ -1110,24 +1285,44 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
         CellRow(d.coordinate.ptr<float>(y), d.coordinate.ptr<float>(y + 1), d.coordinate.cols - 1, p.max_span,
                 p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols);
     });
-    p.step_px = options.search_step_px;
-    p.stretch = std::max(1, static_cast<int>(24.0 / p.step_px));
-    p.sub_stretch = std::max(1, static_cast<int>(8.0 / p.step_px));
-    // The coefficients c_2..c_8 of `steps` compositions of x -> x + x^2 (truncated at degree 8).
-    auto composed = [](int steps) {
-      constexpr int kDegree = 8;
-      std::vector<double> g(kDegree + 1, 0.0);  // g = identity, then composed with x + x^2
-      g[1] = 1;
-      for (int k = 0; k < steps; ++k) {
-        std::vector<double> sq(kDegree + 1, 0.0);
-        for (int i = 0; i <= kDegree; ++i)
-          for (int j = 0; i + j <= kDegree; ++j) sq[i + j] += g[i] * g[j];
-        for (int i = 0; i <= kDegree; ++i) g[i] += sq[i];
+    if (options.rectified_back_pass && !left_to_right) {
+      // The destination's map on its rectified grid (at most 16 times the image's pixels; a
+      // larger one falls back to the curve search).
+      const Mat3& rect_from_dst = left_to_right ? rectified.rect_from_right : rectified.rect_from_left;
+      detail::RectifiedGrid grid = detail::ResampleOnRectifiedGrid(*p.dst, rect_from_dst, rectified.f, d.coordinate,
+                                                                   p.cell_ok, 16.0 * d.coordinate.total());
+      if (!grid.coord.empty()) {
+        p.rect = true;
+        p.rect_from_src = left_to_right ? rectified.rect_from_left : rectified.rect_from_right;
+        p.dst_from_rect = rect_from_dst.transpose();
+        p.rect_f = rectified.f;
+        p.rect_fb = rectified.f * rectified.baseline_mm;
+        p.rect_sign = left_to_right ? -1.0 : 1.0;
+        p.rect_u0 = grid.u0;
+        p.rect_v0 = grid.v0;
+        p.rect_coord = grid.coord;
+        p.rect_row_min = std::move(grid.row_min);
+        p.rect_row_max = std::move(grid.row_max);
+        const int gcols = p.rect_coord.cols, grows = p.rect_coord.rows;
+        const int blocks = (gcols - 1 + Pass::kRectBlock - 1) / Pass::kRectBlock;
+        p.rect_block_min.assign(static_cast<std::size_t>(blocks) * grows, std::numeric_limits<float>::infinity());
+        p.rect_block_max.assign(p.rect_block_min.size(), -std::numeric_limits<float>::infinity());
+        tbb::parallel_for(tbb::blocked_range<int>(0, grows, 32), [&](const tbb::blocked_range<int>& r) {
+          for (int y = r.begin(); y < r.end(); ++y) {
+            const float* row = p.rect_coord.ptr<float>(y);
+            for (int b = 0; b < blocks; ++b) {
+              float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+              for (int x = b * Pass::kRectBlock; x <= std::min(gcols - 1, (b + 1) * Pass::kRectBlock); ++x)
+                lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);  // NaNs drop out
+              p.rect_block_min[static_cast<std::size_t>(y) * blocks + b] = lo;
+              p.rect_block_max[static_cast<std::size_t>(y) * blocks + b] = hi;
+            }
+          }
+        });
       }
-      return std::vector<double>(g.begin() + 2, g.end());
-    };
-    p.jump = composed(p.stretch);
-    p.jump_far = composed(p.stretch * Pass::kFarStretches);
+    }
+    SetIdealBox(&p);
+    if (!p.rect) BuildCurveTables(options, d.coordinate, &p);
     p.full_search = options.full_search;
     p.exhaustive = options.exhaustive_search;
     p.max_modulation_ratio = options.max_modulation_ratio;
@@ -1172,6 +1367,11 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     sum.termination = Termination::kCancelled;
     sum.message = "cancelled";
     return result;
+  }
+  if (options.keep_back_matches) {
+    result.back_u = back.u;
+    result.back_v = back.v;
+    result.back_sigma_px = back.sigma;
   }
   result.right_u = fwd.u;
   result.right_v = fwd.v;

@@ -6,8 +6,10 @@
 // parametrised by the inverse depth w = 1/z of the point on the left ray, each sample is a
 // bilinear read of the right coordinate map inside one pixel cell whose four corners are valid
 // and lie within one period (no unwrap jump, no occlusion edge), and the crossing
-// c_right(w) = c_left is refined by regula falsi on that bilinear surface. Nothing is rectified
-// or resampled into another grid, so the phase is never interpolated across a jump.
+// c_right(w) = c_left is refined on that bilinear surface. The points are never taken from a
+// rectified or resampled grid, and the phase is never interpolated across a jump. Only the
+// left-right check's back pass (right to left) searches a rectified grid of the left map by
+// default (StereoMatchOptions::rectified_back_pass): its matches decide which points are kept.
 //
 // Rejections: invalid or noisy left pixels, no crossing in the depth range, a modulation that
 // differs between the cameras (another surface lit by the same projector column on the same
@@ -71,9 +73,23 @@ struct StereoMatchOptions {
   // same either way (ctest StereoBackReach.*); on a real capture most occlusion-shadow pixels are
   // skipped, which had each cost a whole-range search. false: search them (for comparisons).
   bool skip_without_back_match = true;
+  // The right-to-left pass, whose matches only feed the left-right check, searches rectified rows:
+  // both cameras are turned about their centres to one orientation whose x axis is the baseline,
+  // so every epipolar curve becomes a row; the left camera's coordinate map is resampled once onto
+  // integer rectified pixels (bilinear reads of the cells the curve search interpolates), and each
+  // right pixel's crossing is found along one row pair, in closed form per cell. Its distorted
+  // pixel, variance and modulation are then read as in the curve search. The crossing itself is
+  // the grid's (the coordinate interpolated twice): ~0.01 px from the curve search's inside a
+  // surface, against the check's 0.5 px tolerance. The left-to-right pass, which gives the points,
+  // always searches along the curves: the points are those of the curve search, and only which
+  // pixels the check accepts can differ, at edges (ctest StereoRectified.*). false: both passes
+  // along the curves (for comparisons).
+  bool rectified_back_pass = true;
   // Write the matched right pixels (StereoMatch::right_u, right_v). The scan needs only the
   // depths and sigmas: without the two maps a thesis frame's match holds 66 MB less.
   bool right_pixels = true;
+  // Keep the right-to-left pass's matches (StereoMatch::back_u, back_v): for comparisons.
+  bool keep_back_matches = false;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // Throws InputError naming the field if a value is out of range.
@@ -108,6 +124,10 @@ struct StereoMatch {
   // places the point on the left ray at this depth (empty: it intersects the rays itself).
   cv::Mat depth_mm;
   cv::Mat point_sigma_mm;
+  // Per right pixel: its own match in the left image (the left-right check's back match) and that
+  // match's sigma along its epipolar curve (left px), CV_32F, NaN unmatched; empty unless
+  // StereoMatchOptions::keep_back_matches (and the check is on).
+  cv::Mat back_u, back_v, back_sigma_px;
   StereoMatchSummary summary;
 };
 

@@ -1,0 +1,111 @@
+// The rectified grid of the stereo match's rectified search (stereo_rectified_grid.h).
+#include "stereo_rectified_grid.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fast_round.h"
+
+namespace ramtk::vision::detail {
+
+RectifiedPair MakeRectifiedPair(const StereoCalibration& calibration) {
+  const Mat3 R = calibration.right_from_left.linear();
+  const Vec3 T = calibration.right_from_left.translation();
+  RectifiedPair pair;
+  const Vec3 right_centre_in_left = -R.transpose() * T;
+  pair.baseline_mm = right_centre_in_left.norm();
+  const Vec3 x = right_centre_in_left / pair.baseline_mm;
+  // The right camera's optical axis in the left frame is R^T e_z, the third row of R.
+  const Vec3 mean_axis = (Vec3::UnitZ() + R.row(2).transpose()).normalized();
+  const Vec3 y = mean_axis.cross(x).normalized();
+  const Vec3 z = x.cross(y);
+  pair.rect_from_left.row(0) = x.transpose();
+  pair.rect_from_left.row(1) = y.transpose();
+  pair.rect_from_left.row(2) = z.transpose();
+  // X_right = R X_left + T, and the right camera's rectified frame is the left's moved by the
+  // baseline along x: rect_from_right = rect_from_left R^T.
+  pair.rect_from_right = pair.rect_from_left * R.transpose();
+  pair.f = 0.25 * (calibration.left.fx + calibration.left.fy + calibration.right.fx + calibration.right.fy);
+  return pair;
+}
+
+RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3& rect_from_camera, double f,
+                                      const cv::Mat& coord, const std::vector<uchar>& cell_ok, double max_pixels) {
+  RectifiedGrid grid;
+  const int cols = coord.cols, rows = coord.rows;
+  // The valid cells' bounding box (cell x spans pixels x .. x + 1).
+  int x0 = cols, x1 = -1, y0 = rows, y1 = -1;
+  for (int y = 0; y + 1 < rows; ++y) {
+    const uchar* ok = cell_ok.data() + static_cast<std::size_t>(y) * cols;
+    const uchar* first = std::find(ok, ok + cols - 1, uchar{1});
+    if (first == ok + cols - 1) continue;
+    int last = cols - 2;
+    while (!ok[last]) --last;
+    x0 = std::min(x0, static_cast<int>(first - ok));
+    x1 = std::max(x1, last + 1);
+    y0 = std::min(y0, y);
+    y1 = y + 1;
+  }
+  if (x1 < 0) return grid;
+  // Its rectified image: bounded by the image of its border (the map is one-to-one).
+  double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
+  auto add = [&](double u, double v) {
+    const Vec2 ideal =
+        UndistortNormalized(camera.distortion, Vec2((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy));
+    const Vec3 r = rect_from_camera * Vec3(ideal.x(), ideal.y(), 1.0);
+    if (!(r.z() > 1e-9)) {
+      u_lo = v_lo = -1e300;  // the box sees behind the rectified frame: no grid
+      return;
+    }
+    u_lo = std::min(u_lo, f * r.x() / r.z()), u_hi = std::max(u_hi, f * r.x() / r.z());
+    v_lo = std::min(v_lo, f * r.y() / r.z()), v_hi = std::max(v_hi, f * r.y() / r.z());
+  };
+  for (int k = 0; k <= 64; ++k) {
+    const double u = x0 + (x1 - x0) * k / 64.0, v = y0 + (y1 - y0) * k / 64.0;
+    add(u, y0), add(u, y1), add(x0, v), add(x1, v);
+  }
+  const double width = u_hi - u_lo + 5, height = v_hi - v_lo + 5;
+  if (!(width > 0 && height > 0 && width * height <= max_pixels)) return grid;
+  grid.u0 = static_cast<int>(std::floor(u_lo)) - 2;
+  grid.v0 = static_cast<int>(std::floor(v_lo)) - 2;
+  const int gcols = static_cast<int>(std::ceil(u_hi)) + 2 - grid.u0 + 1;
+  const int grows = static_cast<int>(std::ceil(v_hi)) + 2 - grid.v0 + 1;
+  grid.coord.create(grows, gcols, CV_32F);
+  grid.row_min.assign(grows, std::numeric_limits<float>::infinity());
+  grid.row_max.assign(grows, -std::numeric_limits<float>::infinity());
+  const Mat3 camera_from_rect = rect_from_camera.transpose();
+  const Vec3 ray_du = camera_from_rect.col(0) / f;
+  tbb::parallel_for(tbb::blocked_range<int>(0, grows, 8), [&](const tbb::blocked_range<int>& range) {
+    for (int j = range.begin(); j < range.end(); ++j) {
+      float* out = grid.coord.ptr<float>(j);
+      const Vec3 ray0 = camera_from_rect * Vec3(grid.u0 / f, (grid.v0 + j) / f, 1.0);
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int i = 0; i < gcols; ++i) {
+        const Vec3 ray = ray0 + ray_du * i;
+        out[i] = std::numeric_limits<float>::quiet_NaN();
+        if (!(ray.z() > 1e-12)) continue;
+        const Vec2 d = DistortNormalized(camera.distortion, Vec2(ray.x() / ray.z(), ray.y() / ray.z()));
+        const double u = camera.fx * d.x() + camera.cx, v = camera.fy * d.y() + camera.cy;
+        if (!(u >= x0 && u < x1 && v >= y0 && v < y1)) continue;
+        const int cu = FloorToInt(u), cv = FloorToInt(v);
+        if (!cell_ok[static_cast<std::size_t>(cv) * cols + cu]) continue;
+        const float* c0 = coord.ptr<float>(cv) + cu;
+        const float* c1 = coord.ptr<float>(cv + 1) + cu;
+        const double fu = u - cu, fv = v - cv;
+        const double value =
+            (1 - fu) * (1 - fv) * c0[0] + fu * (1 - fv) * c0[1] + (1 - fu) * fv * c1[0] + fu * fv * c1[1];
+        out[i] = static_cast<float>(value);
+        lo = std::min(lo, out[i]), hi = std::max(hi, out[i]);
+      }
+      grid.row_min[j] = lo;
+      grid.row_max[j] = hi;
+    }
+  });
+  return grid;
+}
+
+}  // namespace ramtk::vision::detail
