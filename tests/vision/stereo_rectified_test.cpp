@@ -119,6 +119,22 @@ TEST(StereoRectified, ResampledGridReadsTheMapAtTheRectifiedPixel) {
   EXPECT_GT(invalid, 100);
 }
 
+// A rig without a usable baseline gives no grid (the match then keeps the curve search), and
+// never an integer overflow from NaN or infinite bounds.
+TEST(StereoRectified, NoGridForARigWithoutAUsableBaseline) {
+  StereoCalibration c = VergingRig();
+  cv::Mat coord(c.right.height, c.right.width, CV_32F, cv::Scalar(100.0f));
+  const std::vector<uchar> cell_ok(coord.total(), 1);
+  c.right_from_left = Isometry3::Identity();  // one centre
+  detail::RectifiedPair pair = detail::MakeRectifiedPair(c);
+  EXPECT_TRUE(
+      detail::ResampleOnRectifiedGrid(c.right, pair.rect_from_right, pair.f, coord, cell_ok, 1e9).coord.empty());
+  c.right_from_left.translation() = Vec3(0, 0, -100);  // one camera behind the other, same axis
+  pair = detail::MakeRectifiedPair(c);
+  EXPECT_TRUE(
+      detail::ResampleOnRectifiedGrid(c.right, pair.rect_from_right, pair.f, coord, cell_ok, 1e9).coord.empty());
+}
+
 // Same bytes, not merely close values.
 bool SameFloat(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 

@@ -53,12 +53,13 @@ RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3
   if (x1 < 0) return grid;
   // Its rectified image: bounded by the image of its border (the map is one-to-one).
   double u_lo = 1e300, u_hi = -1e300, v_lo = 1e300, v_hi = -1e300;
+  bool usable = true;  // false if a border ray points behind the rectified frame (or is NaN)
   auto add = [&](double u, double v) {
     const Vec2 ideal =
         UndistortNormalized(camera.distortion, Vec2((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy));
     const Vec3 r = rect_from_camera * Vec3(ideal.x(), ideal.y(), 1.0);
-    if (!(r.z() > 1e-9)) {
-      u_lo = v_lo = -1e300;  // the box sees behind the rectified frame: no grid
+    if (!(r.z() > 1e-9 && std::isfinite(r.x()) && std::isfinite(r.y()))) {
+      usable = false;
       return;
     }
     u_lo = std::min(u_lo, f * r.x() / r.z()), u_hi = std::max(u_hi, f * r.x() / r.z());
@@ -69,7 +70,10 @@ RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3
     add(u, y0), add(u, y1), add(x0, v), add(x1, v);
   }
   const double width = u_hi - u_lo + 5, height = v_hi - v_lo + 5;
-  if (!(width > 0 && height > 0 && width * height <= max_pixels)) return grid;
+  // The bounds also keep the grid's integer origin and size far inside int.
+  if (!usable || !(width > 0 && height > 0 && width * height <= max_pixels) || !(std::abs(u_lo) < 1e8) ||
+      !(std::abs(v_lo) < 1e8) || !(std::abs(u_hi) < 1e8) || !(std::abs(v_hi) < 1e8))
+    return grid;
   grid.u0 = static_cast<int>(std::floor(u_lo)) - 2;
   grid.v0 = static_cast<int>(std::floor(v_lo)) - 2;
   const int gcols = static_cast<int>(std::ceil(u_hi)) + 2 - grid.u0 + 1;

@@ -22,7 +22,9 @@ struct RectifiedPair {
 };
 
 // x along the baseline, z the mean of the two optical axes made orthogonal to it, y = z × x; f the
-// mean of the four focal lengths.
+// mean of the four focal lengths. Not finite (NaN rotations) for a rig without a usable baseline
+// (cameras at one centre, or one behind the other along the mean axis, or facing opposite ways):
+// ResampleOnRectifiedGrid then gives no grid and the match keeps the curve search.
 RectifiedPair MakeRectifiedPair(const StereoCalibration& calibration);
 
 // One camera's coordinate map on its rectified grid: sample (column i, row j) is the map's
@@ -35,7 +37,8 @@ struct RectifiedGrid {
 };
 
 // The grid spans the rectified image of the valid cells' bounding box (2 px margin). It is left
-// empty when it would exceed `max_pixels` (a calibration turning a camera far from its own axis).
+// empty when it would exceed `max_pixels` (a calibration turning a camera far from its own axis),
+// when the box's border reaches behind the rectified frame, or when the pair is not finite.
 RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3& rect_from_camera, double f,
                                       const cv::Mat& coord, const std::vector<uchar>& cell_ok, double max_pixels);
 
