@@ -158,6 +158,8 @@ Agreement Compare(const StereoCalibration& calib, const DecodedCamera& l, const 
   const StereoMatch rect = MatchStereo(calib, l, r, period, o);
   std::cout << "curve back pass: " << curve.summary.BriefReport()
             << "\nrectified back pass: " << rect.summary.BriefReport() << "\n";
+  EXPECT_EQ(curve.summary.back_pass, "curve");
+  EXPECT_EQ(rect.summary.back_pass, "rectified");
   Agreement a;
   a.curve = curve.summary.matched;
   a.rectified = rect.summary.matched;

@@ -594,11 +594,14 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["termination"] = s.message;
   j["image_size"] = {s.width, s.height};
   j["decode"] = {{"left", s.left.BriefReport()}, {"right", s.right.BriefReport()}};
-  j["match"] = {
-      {"left_valid", s.match.left_valid},           {"matched", s.match.matched},
-      {"rejected_noisy", s.match.rejected_noisy},   {"rejected_no_match", s.match.rejected_no_match},
-      {"rejected_left_right", s.match.rejected_lr}, {"rejected_no_back_match", s.match.rejected_no_back_match},
-      {"median_sigma_px", s.match.median_sigma_px}};
+  j["match"] = {{"left_valid", s.match.left_valid},
+                {"matched", s.match.matched},
+                {"rejected_noisy", s.match.rejected_noisy},
+                {"rejected_no_match", s.match.rejected_no_match},
+                {"rejected_left_right", s.match.rejected_lr},
+                {"rejected_no_back_match", s.match.rejected_no_back_match},
+                {"back_pass", s.match.back_pass},
+                {"median_sigma_px", s.match.median_sigma_px}};
   j["points"] = s.triangulation.points;
   j["median_point_sigma_mm"] = s.triangulation.median_sigma_mm;
   j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};

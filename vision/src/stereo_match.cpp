@@ -1342,6 +1342,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   if (lr) {
     Pass rl = make_pass(false);
     rl.lr_tolerance = 0;
+    sum.back_pass = rl.rect ? "rectified" : "curve";
     if (!RunPass(rl, &back, options, "match right->left")) {
       sum.termination = Termination::kCancelled;
       sum.message = "cancelled";

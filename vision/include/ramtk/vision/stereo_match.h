@@ -107,7 +107,10 @@ struct StereoMatchSummary {
   // No right pixel's own match lands near it (within the left-right tolerance): any crossing
   // would fail the left-right check, so it is not searched (with the check only).
   long rejected_no_back_match = 0;
-  long full_searches = 0;      // pixels searched over the whole depth range (no warm start)
+  long full_searches = 0;  // pixels searched over the whole depth range (no warm start)
+  // How the left-right check's back pass searched: "rectified" (the left map's rectified grid),
+  // "curve" (along the distorted curves: asked for, or no usable grid for this rig), "" (no check).
+  std::string back_pass;
   double median_sigma_px = 0;  // median match sigma along the epipolar curve, right px
   std::string BriefReport() const;
 };
