@@ -94,21 +94,14 @@ struct Pass {
   bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
   // StereoMatchOptions::rectified_back_pass: the search runs on the destination coordinate map resampled
   // onto the rectified grid (RectifiedGrid), whose rows are epipolar lines. A point X in the
-  // rectified frame of a camera (its rotation rect_from_src / rect_from_dst, the camera centre at
+  // rectified frame of a camera (its rotation, rect_from_src for the source, the camera centre at
   // the origin) lies at rectified pixel f (X_x, X_y) / X_z; the two frames differ by the baseline
   // along x, so a point at inverse depth w on the source ray r = rect_from_src (ideal, 1) lies on
   // the destination's row v = f r_y / r_z at u = f r_x / r_z + rect_sign f B w / r_z.
   bool rect = false;
-  Mat3 rect_from_src = Mat3::Identity(), dst_from_rect = Mat3::Identity();
+  Mat3 rect_from_src = Mat3::Identity();
   double rect_f = 1, rect_fb = 0, rect_sign = -1;  // f (px), f times the baseline (px mm), -1 or +1
-  int rect_u0 = 0, rect_v0 = 0;                    // rectified pixel of the grid's column 0 and row 0
-  cv::Mat rect_coord;                              // CV_32F destination coordinate on the grid, NaN invalid
-  std::vector<float> rect_row_min, rect_row_max;   // per grid row, as row_min / row_max
-  // Per grid row and block of kRectBlock cells (columns k kRectBlock .. (k + 1) kRectBlock): the
-  // smallest and largest valid sample (+inf / -inf if none). RectFullSearch skips blocks whose
-  // bounds leave out c_src.
-  static constexpr int kRectBlock = 16;
-  std::vector<float> rect_block_min, rect_block_max;
+  detail::RectifiedGrid grid;                      // the destination's coordinate map on the grid
 };
 
 // A sample of the destination coordinate map on the epipolar curve.
@@ -283,13 +276,13 @@ struct Matcher {
   }
   // The cell under `pix` (its top-left pixel u0, v0): true if it lies in the image and is one of
   // the cells EvalAt and LineCrossing interpolate (Pass::cell_ok).
-  [[gnu::always_inline]] bool ValidCell(const Vec2& pix, int* u0, int* v0) const {
+  bool ValidCell(const Vec2& pix, int* u0, int* v0) const {
     *u0 = FloorToInt(pix.x());
     *v0 = FloorToInt(pix.y());
     if (*u0 < 0 || *v0 < 0 || *u0 + 1 >= p.dst_coord.cols || *v0 + 1 >= p.dst_coord.rows) return false;
     return p.cell_ok[static_cast<std::size_t>(*v0) * p.dst_coord.cols + *u0] != 0;
   }
-  [[gnu::always_inline]] Sample EvalAt(const Vec2& pix) const {
+  Sample EvalAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
     const double u = s.pix.x(), v = s.pix.y();
@@ -305,7 +298,7 @@ struct Matcher {
     return s;
   }
   // EvalAt without the interpolated value: whether the cell under `pix` is one EvalAt reads.
-  [[gnu::always_inline]] Sample CellAt(const Vec2& pix) const {
+  Sample CellAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
     int u0, v0;
@@ -314,7 +307,7 @@ struct Matcher {
   }
   // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
   // crossing's own sample needs them).
-  [[gnu::always_inline]] void Complete(Sample* sample) const {
+  void Complete(Sample* sample) const {
     Sample& s = *sample;
     if (!s.ok) return;
     const double u = s.pix.x(), v = s.pix.y();
@@ -511,12 +504,12 @@ struct Matcher {
     return true;
   }
   // Grid column of the destination point at inverse depth w, and back.
-  double RectColumn(double w) const { return rs_u + p.rect_sign * p.rect_fb * w / rs_z - p.rect_u0; }
-  double RectW(double column) const { return (column + p.rect_u0 - rs_u) * p.rect_sign * rs_z / p.rect_fb; }
+  double RectColumn(double w) const { return rs_u + p.rect_sign * p.rect_fb * w / rs_z - p.grid.u0; }
+  double RectW(double column) const { return (column + p.grid.u0 - rs_u) * p.rect_sign * rs_z / p.rect_fb; }
   // The grid row pair (j, j + 1) around the source's rectified v, and v's fraction between them.
   bool RectRows(int* j, double* fv) const {
-    const double v = rs_v - p.rect_v0;
-    if (!(v >= 0 && v < p.rect_coord.rows - 1)) return false;
+    const double v = rs_v - p.grid.v0;
+    if (!(v >= 0 && v < p.grid.coord.rows - 1)) return false;
     *j = FloorToInt(v);
     *fv = v - *j;
     return true;
@@ -543,7 +536,7 @@ struct Matcher {
   // map's own crossing inside a surface, more at its edges, against the left-right check's 0.5 px.
   bool RectRoot(double column, double dg_du, Root* root) const {
     root->w = RectW(column);
-    if (!(root->w >= p.w_lo && root->w <= p.w_hi) || !InRange(root->w)) return false;
+    if (!InRange(root->w)) return false;
     Vec2 pix;
     if (!PixelAndVelocity(root->w, &pix, &root->vel)) return false;
     root->at = CellAt(pix);
@@ -559,10 +552,10 @@ struct Matcher {
     double fv;
     if (!RectRows(&j, &fv)) return false;
     const double c0 = RectColumn(w0);
-    const int cols = p.rect_coord.cols;
+    const int cols = p.grid.coord.cols;
     if (!(c0 >= 0 && c0 < cols - 1)) return false;
-    const float* r0 = p.rect_coord.ptr<float>(j);
-    const float* r1 = p.rect_coord.ptr<float>(j + 1);
+    const float* r0 = p.grid.coord.ptr<float>(j);
+    const float* r1 = p.grid.coord.ptr<float>(j + 1);
     int i = FloorToInt(c0), dir = 0;
     for (int n = 0; n < 32 && i >= 0 && i + 1 < cols; ++n, i += dir) {
       double g0, g1;
@@ -581,23 +574,23 @@ struct Matcher {
     int j;
     double fv;
     if (!RectRows(&j, &fv)) return;
-    const float lo = std::min(p.rect_row_min[j], p.rect_row_min[j + 1]);
-    const float hi = std::max(p.rect_row_max[j], p.rect_row_max[j + 1]);
+    const float lo = std::min(p.grid.row_min[j], p.grid.row_min[j + 1]);
+    const float hi = std::max(p.grid.row_max[j], p.grid.row_max[j + 1]);
     if (!(c_src >= lo && c_src <= hi)) return;
     double ca = RectColumn(p.w_lo), cb = RectColumn(p.w_hi);
     if (ca > cb) std::swap(ca, cb);
-    const int cols = p.rect_coord.cols;
+    const int cols = p.grid.coord.cols;
     if (!(cb >= 0 && ca <= cols - 2)) return;
     const int i0 = std::max(0, FloorToInt(ca)), i1 = std::min(cols - 2, FloorToInt(cb));
-    const float* r0 = p.rect_coord.ptr<float>(j);
-    const float* r1 = p.rect_coord.ptr<float>(j + 1);
-    // Blocks of kRectBlock cells whose corners' bounds (both rows) leave out c_src hold no
-    // crossing: a cell's g lies between its corners' smallest and largest value.
-    constexpr int kBlock = Pass::kRectBlock;
-    const int blocks = static_cast<int>(p.rect_block_min.size() / p.rect_coord.rows);
-    const float* lo0 = p.rect_block_min.data() + static_cast<std::size_t>(j) * blocks;
+    const float* r0 = p.grid.coord.ptr<float>(j);
+    const float* r1 = p.grid.coord.ptr<float>(j + 1);
+    // Blocks of cells whose corners' bounds (both rows) leave out c_src hold no crossing: a
+    // cell's g lies between its corners' smallest and largest value.
+    constexpr int kBlock = detail::RectifiedGrid::kBlock;
+    const int blocks = p.grid.blocks;
+    const float* lo0 = p.grid.block_min.data() + static_cast<std::size_t>(j) * blocks;
     const float* lo1 = lo0 + blocks;
-    const float* hi0 = p.rect_block_max.data() + static_cast<std::size_t>(j) * blocks;
+    const float* hi0 = p.grid.block_max.data() + static_cast<std::size_t>(j) * blocks;
     const float* hi1 = hi0 + blocks;
     for (int b = i0 / kBlock; b <= i1 / kBlock; ++b) {
       if (!(c_src >= std::min(lo0[b], lo1[b]) && c_src <= std::max(hi0[b], hi1[b]))) continue;
@@ -1286,39 +1279,16 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
                 p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols);
     });
     if (options.rectified_back_pass && !left_to_right) {
-      // The destination's map on its rectified grid (at most 16 times the image's pixels; a
-      // larger one falls back to the curve search).
-      const Mat3& rect_from_dst = left_to_right ? rectified.rect_from_right : rectified.rect_from_left;
-      detail::RectifiedGrid grid = detail::ResampleOnRectifiedGrid(*p.dst, rect_from_dst, rectified.f, d.coordinate,
-                                                                   p.cell_ok, 16.0 * d.coordinate.total());
-      if (!grid.coord.empty()) {
+      // The back pass (right to left): the left map on its rectified grid (at most 16 times the
+      // image's pixels; without a grid the pass keeps the curve search).
+      p.grid = detail::ResampleOnRectifiedGrid(*p.dst, rectified.rect_from_left, rectified.f, d.coordinate, p.cell_ok,
+                                               16.0 * d.coordinate.total());
+      if (!p.grid.coord.empty()) {
         p.rect = true;
-        p.rect_from_src = left_to_right ? rectified.rect_from_left : rectified.rect_from_right;
-        p.dst_from_rect = rect_from_dst.transpose();
+        p.rect_from_src = rectified.rect_from_right;
         p.rect_f = rectified.f;
         p.rect_fb = rectified.f * rectified.baseline_mm;
-        p.rect_sign = left_to_right ? -1.0 : 1.0;
-        p.rect_u0 = grid.u0;
-        p.rect_v0 = grid.v0;
-        p.rect_coord = grid.coord;
-        p.rect_row_min = std::move(grid.row_min);
-        p.rect_row_max = std::move(grid.row_max);
-        const int gcols = p.rect_coord.cols, grows = p.rect_coord.rows;
-        const int blocks = (gcols - 1 + Pass::kRectBlock - 1) / Pass::kRectBlock;
-        p.rect_block_min.assign(static_cast<std::size_t>(blocks) * grows, std::numeric_limits<float>::infinity());
-        p.rect_block_max.assign(p.rect_block_min.size(), -std::numeric_limits<float>::infinity());
-        tbb::parallel_for(tbb::blocked_range<int>(0, grows, 32), [&](const tbb::blocked_range<int>& r) {
-          for (int y = r.begin(); y < r.end(); ++y) {
-            const float* row = p.rect_coord.ptr<float>(y);
-            for (int b = 0; b < blocks; ++b) {
-              float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-              for (int x = b * Pass::kRectBlock; x <= std::min(gcols - 1, (b + 1) * Pass::kRectBlock); ++x)
-                lo = std::min(lo, row[x]), hi = std::max(hi, row[x]);  // NaNs drop out
-              p.rect_block_min[static_cast<std::size_t>(y) * blocks + b] = lo;
-              p.rect_block_max[static_cast<std::size_t>(y) * blocks + b] = hi;
-            }
-          }
-        });
+        p.rect_sign = 1.0;  // the left camera sits at -B along the rectified x of the right one
       }
     }
     SetIdealBox(&p);

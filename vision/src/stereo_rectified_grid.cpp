@@ -81,6 +81,9 @@ RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3
   grid.coord.create(grows, gcols, CV_32F);
   grid.row_min.assign(grows, std::numeric_limits<float>::infinity());
   grid.row_max.assign(grows, -std::numeric_limits<float>::infinity());
+  grid.blocks = (gcols - 1 + RectifiedGrid::kBlock - 1) / RectifiedGrid::kBlock;
+  grid.block_min.assign(static_cast<std::size_t>(grid.blocks) * grows, std::numeric_limits<float>::infinity());
+  grid.block_max.assign(grid.block_min.size(), -std::numeric_limits<float>::infinity());
   const Mat3 camera_from_rect = rect_from_camera.transpose();
   const Vec3 ray_du = camera_from_rect.col(0) / f;
   tbb::parallel_for(tbb::blocked_range<int>(0, grows, 8), [&](const tbb::blocked_range<int>& range) {
@@ -114,6 +117,13 @@ RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3
       }
       grid.row_min[j] = lo;
       grid.row_max[j] = hi;
+      float* block_lo = grid.block_min.data() + static_cast<std::size_t>(j) * grid.blocks;
+      float* block_hi = grid.block_max.data() + static_cast<std::size_t>(j) * grid.blocks;
+      for (int b = 0; b < grid.blocks; ++b) {
+        const int end = std::min(gcols - 1, (b + 1) * RectifiedGrid::kBlock);
+        for (int i = b * RectifiedGrid::kBlock; i <= end; ++i)  // NaNs drop out of min / max
+          block_lo[b] = std::min(block_lo[b], out[i]), block_hi[b] = std::max(block_hi[b], out[i]);
+      }
     }
   });
   return grid;

@@ -34,6 +34,11 @@ struct RectifiedGrid {
   int u0 = 0, v0 = 0;
   cv::Mat coord;                        // CV_32F; empty if no cell is valid or the grid is too large
   std::vector<float> row_min, row_max;  // per grid row: the smallest and largest valid sample
+  // Per grid row and block of kBlock cells (samples k kBlock .. (k + 1) kBlock, `blocks` per row,
+  // index row * blocks + k): the smallest and largest valid sample, +inf / -inf if none.
+  static constexpr int kBlock = 16;
+  int blocks = 0;
+  std::vector<float> block_min, block_max;
 };
 
 // The grid spans the rectified image of the valid cells' bounding box (2 px margin). It is left
