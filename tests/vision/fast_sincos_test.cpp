@@ -6,12 +6,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace {
 
 using ramtk::vision::detail::SinCos;
+#if CV_SIMD128_64F
+using ramtk::vision::detail::SinCos2;
+#endif
 
 // Distance in units of the last place of the reference value (at least the ulp of 2^-1022 near 0).
 double Ulps(double got, double want) {
@@ -56,5 +61,36 @@ TEST(FastSinCos, QuadrantBoundariesAndIdentities) {
     }
   }
 }
+
+#if CV_SIMD128_64F
+// The two-lane version gives each lane exactly the scalar result (the basis is then the same
+// bit for bit), over the basis's arguments, beyond them and at the quadrant boundaries.
+TEST(FastSinCos, TwoLanesAreBitIdenticalToTheScalarVersion) {
+  std::mt19937_64 rng(11);
+  std::vector<double> args;
+  for (const double range : {1.0, 64 * M_PI, 1e6}) {
+    std::uniform_real_distribution<double> u(-range, range);
+    for (int i = 0; i < 100000; ++i) args.push_back(u(rng));
+  }
+  for (int k = -80; k <= 80; ++k)
+    for (const double d : {-1e-12, 0.0, 1e-12}) args.push_back(k * M_PI / 4 + d);
+  args.push_back(0.0);
+  args.push_back(-0.0);
+  long differ = 0;
+  for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
+    cv::v_float64x2 s, c;
+    SinCos2(cv::v_float64x2(args[i], args[i + 1]), &s, &c);
+    double sv[2], cv_[2];
+    cv::v_store(sv, s);
+    cv::v_store(cv_, c);
+    for (int lane = 0; lane < 2; ++lane) {
+      double ss, cc;
+      SinCos(args[i + lane], &ss, &cc);
+      differ += std::memcmp(&ss, &sv[lane], sizeof ss) != 0 || std::memcmp(&cc, &cv_[lane], sizeof cc) != 0;
+    }
+  }
+  EXPECT_EQ(differ, 0);
+}
+#endif
 
 }  // namespace

@@ -1,21 +1,27 @@
 #pragma once
 // sin and cos of one double argument together, without branches or a library call, for the
 // ripple basis of the nonlinearity estimate (nonlinearity_fast.cpp), where glibc's sincos was
-// ~9 % of a decode. (GCC does not vectorise the row loop over it: the quadrant's integer
-// conversion and selects stay scalar.) Accuracy: within 2 ulp of std::sin / std::cos for |a| < 2^20 (checked in
+// ~9 % of a decode. GCC does not vectorise a row loop over it (the quadrant's integer
+// conversion and selects stay scalar), so SinCos2 below runs it on two lanes with OpenCV's
+// universal intrinsics. Accuracy: within 2 ulp of std::sin / std::cos for |a| < 2^20 (checked in
 // tests/vision/fast_sincos_test.cpp over that range against std::sin / std::cos).
 #include <cmath>
+#include <opencv2/core/hal/intrin.hpp>
 
 namespace ramtk::vision::detail {
 
+// a = q pi/2 + r, |r| <= pi/4: q rounded to nearest by the 1.5 * 2^52 shift, r by pi/2 in three
+// parts whose products with q (< 2^20) are exact (Cody and Waite).
+namespace sincos_constants {
+constexpr double kTwoOverPi = 0.63661977236758134308;
+constexpr double kShift = 6755399441055744.0;          // 1.5 * 2^52
+constexpr double kPio2a = 1.57079632673412561417e+00;  // pi/2, first 33 bits
+constexpr double kPio2b = 6.07710050630396597660e-11;  // next 33 bits
+constexpr double kPio2c = 2.02226624871116645580e-21;  // the rest
+}  // namespace sincos_constants
+
 inline void SinCos(double a, double* s, double* c) {
-  // a = q pi/2 + r, |r| <= pi/4: q rounded to nearest by the 1.5 * 2^52 shift, r by pi/2 in three
-  // parts whose products with q (< 2^20) are exact (Cody and Waite).
-  constexpr double kTwoOverPi = 0.63661977236758134308;
-  constexpr double kShift = 6755399441055744.0;          // 1.5 * 2^52
-  constexpr double kPio2a = 1.57079632673412561417e+00;  // pi/2, first 33 bits
-  constexpr double kPio2b = 6.07710050630396597660e-11;  // next 33 bits
-  constexpr double kPio2c = 2.02226624871116645580e-21;  // the rest
+  using namespace sincos_constants;
   const double qd = (a * kTwoOverPi + kShift) - kShift;
   const double r = ((a - qd * kPio2a) - qd * kPio2b) - qd * kPio2c;
   const double r2 = r * r;
@@ -41,5 +47,48 @@ inline void SinCos(double a, double* s, double* c) {
   *s = (q & 2) ? -s0 : s0;
   *c = ((q + 1) & 2) ? -c0 : c0;
 }
+
+#if CV_SIMD128_64F
+// SinCos on two lanes: the same operations in the same order (no fused multiply-add on either
+// path in a baseline x86-64 build), so each lane is bit-identical to SinCos of its element
+// (tests/vision/fast_sincos_test.cpp). The quadrant q mod 4 is read from the low bits of
+// a 2/pi + 1.5 * 2^52, whose mantissa holds 2^51 + q.
+inline void SinCos2(const cv::v_float64x2& a, cv::v_float64x2* s, cv::v_float64x2* c) {
+  using namespace sincos_constants;
+  using cv::v_float64x2;
+  using cv::v_int64x2;
+  auto k = [](double v) { return cv::v_setall_f64(v); };
+  const v_float64x2 t = a * k(kTwoOverPi) + k(kShift);
+  const v_float64x2 qd = t - k(kShift);
+  const v_float64x2 r = ((a - qd * k(kPio2a)) - qd * k(kPio2b)) - qd * k(kPio2c);
+  const v_float64x2 r2 = r * r;
+  // The scalar version's nested polynomials, innermost coefficient first (Horner: the same
+  // products and sums in the same order).
+  const double sin_coef[] = {1.0 / 355687428096000, -1.0 / 1307674368000, 1.0 / 6227020800, -1.0 / 39916800,
+                             1.0 / 362880,          -1.0 / 5040,          1.0 / 120,        -1.0 / 6};
+  const double cos_coef[] = {-1.0 / 6402373705728000,
+                             1.0 / 20922789888000,
+                             -1.0 / 87178291200,
+                             1.0 / 479001600,
+                             -1.0 / 3628800,
+                             1.0 / 40320,
+                             -1.0 / 720,
+                             1.0 / 24,
+                             -0.5};
+  v_float64x2 ps = k(sin_coef[0]);
+  for (int i = 1; i < 8; ++i) ps = k(sin_coef[i]) + r2 * ps;
+  const v_float64x2 sp = r + r * r2 * ps;
+  v_float64x2 pc = k(cos_coef[0]);
+  for (int i = 1; i < 9; ++i) pc = k(cos_coef[i]) + r2 * pc;
+  const v_float64x2 cp = k(1.0) + r2 * pc;
+  const v_int64x2 q = cv::v_reinterpret_as_s64(t);
+  const v_int64x2 one = cv::v_setall_s64(1), two = cv::v_setall_s64(2);
+  const v_float64x2 odd = cv::v_reinterpret_as_f64((q & one) == one);
+  const v_int64x2 s0 = cv::v_reinterpret_as_s64(cv::v_select(odd, cp, sp));
+  const v_int64x2 c0 = cv::v_reinterpret_as_s64(cv::v_select(odd, sp, cp));
+  *s = cv::v_reinterpret_as_f64(s0 ^ ((q & two) << 62));          // negated in quadrants 2, 3
+  *c = cv::v_reinterpret_as_f64(c0 ^ (((q + one) & two) << 62));  // negated in quadrants 1, 2
+}
+#endif
 
 }  // namespace ramtk::vision::detail

@@ -2,7 +2,7 @@
 // and memory: only the bounding box of the mask is processed (every pixel the fit uses has its
 // whole window inside it), in strips of rows whose buffers are a few window heights deep (not
 // maps of the box: 12 basis maps of a 1.3 Mpx frame were 60 MB), the basis functions are
-// evaluated with a branch-free sincos (fast_sincos.h; the higher orders by angle addition) and stored as
+// evaluated with a branch-free sincos on two lanes (fast_sincos.h; the higher orders by angle addition) and stored as
 // float, the box filters of the basis run in parallel, and the normal equations are accumulated
 // per row in parallel without per-pixel allocation.
 #include <tbb/blocked_range.h>
@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "fast_sincos.h"
@@ -91,17 +92,16 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
   for (cv::Mat& b : *basis) b.create(st.b - st.a, wrapped.cols, CV_32F);
   tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 8), [&](const tbb::blocked_range<int>& r) {
     std::vector<float*> out(nb);
-    std::vector<double> s1_row(wrapped.cols), c1_row(wrapped.cols);
     for (int y = r.begin(); y < r.end(); ++y) {
       const float* p = wrapped.ptr<float>(y);
       const uchar* m = mask.ptr<uchar>(y);
-      for (int i = 0; i < nb; ++i) out[i] = (*basis)[i].ptr<float>(y - st.a);
-      float* s_out = out[0];
-      float* c_out = out[1];
-      // First order on the row's runs of valid pixels (a branch-free loop over each run); 0
-      // where masked, which on a sparse mask is most of the row.
-      std::fill_n(s_out, wrapped.cols, 0.0f);
-      std::fill_n(c_out, wrapped.cols, 0.0f);
+      for (int i = 0; i < nb; ++i) {
+        out[i] = (*basis)[i].ptr<float>(y - st.a);
+        std::fill_n(out[i], wrapped.cols, 0.0f);  // 0 where masked, on a sparse mask most of the row
+      }
+      // The row's runs of valid pixels, four pixels at a time on two lanes (SinCos2, bit-identical
+      // to SinCos), the rest one by one. The higher orders by angle addition from the first, in
+      // double.
       for (int x0 = 0; x0 < wrapped.cols;) {
         if (!m[x0]) {
           ++x0;
@@ -109,32 +109,41 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
         }
         int x1 = x0 + 1;
         while (x1 < wrapped.cols && m[x1]) ++x1;
-        for (int x = x0; x < x1; ++x) {
+        int x = x0;
+#if CV_SIMD128_64F
+        const cv::v_float64x2 n2 = cv::v_setall_f64(static_cast<double>(steps));
+        for (; x + 4 <= x1; x += 4) {
+          const cv::v_float32x4 phase = cv::v_load(p + x);
+          cv::v_float64x2 s1a, c1a, s1b, c1b;
+          detail::SinCos2(n2 * cv::v_cvt_f64(phase), &s1a, &c1a);
+          detail::SinCos2(n2 * cv::v_cvt_f64_high(phase), &s1b, &c1b);
+          cv::v_store(out[0] + x, cv::v_cvt_f32(s1a, s1b));
+          cv::v_store(out[1] + x, cv::v_cvt_f32(c1a, c1b));
+          cv::v_float64x2 sa = s1a, ca = c1a, sb = s1b, cb = c1b;
+          for (int o = 1; o < orders; ++o) {
+            const cv::v_float64x2 sna = sa * c1a + ca * s1a, cna = ca * c1a - sa * s1a;
+            const cv::v_float64x2 snb = sb * c1b + cb * s1b, cnb = cb * c1b - sb * s1b;
+            sa = sna, ca = cna, sb = snb, cb = cnb;
+            cv::v_store(out[2 * o] + x, cv::v_cvt_f32(sa, sb));
+            cv::v_store(out[2 * o + 1] + x, cv::v_cvt_f32(ca, cb));
+          }
+        }
+#endif
+        for (; x < x1; ++x) {
           double s1, c1;
           SinCos(static_cast<double>(steps) * p[x], &s1, &c1);
-          s1_row[x] = s1;
-          c1_row[x] = c1;
-          s_out[x] = static_cast<float>(s1);
-          c_out[x] = static_cast<float>(c1);
+          out[0][x] = static_cast<float>(s1);
+          out[1][x] = static_cast<float>(c1);
+          double s = s1, c = c1;
+          for (int o = 1; o < orders; ++o) {
+            const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
+            s = sn;
+            c = cn;
+            out[2 * o][x] = static_cast<float>(s);
+            out[2 * o + 1][x] = static_cast<float>(c);
+          }
         }
         x0 = x1;
-      }
-      if (orders < 2) continue;
-      for (int x = 0; x < wrapped.cols; ++x) {
-        if (!m[x]) {
-          for (int i = 2; i < nb; ++i) out[i][x] = 0.0f;
-          continue;
-        }
-        // Higher orders by angle addition from the first (in double, as before).
-        const double s1 = s1_row[x], c1 = c1_row[x];
-        double s = s1, c = c1;
-        for (int o = 1; o < orders; ++o) {
-          const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
-          s = sn;
-          c = cn;
-          out[2 * o][x] = static_cast<float>(s);
-          out[2 * o + 1][x] = static_cast<float>(c);
-        }
       }
     }
   });
@@ -217,20 +226,25 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   // as float, the phase and its high-pass as double, mask and counts as float).
   const double strip_row_bytes = static_cast<double>(box.width) * (8.0 * nb + 24.0);
   const int strip_rows = std::clamp(static_cast<int>(24e6 / strip_row_bytes) - 2 * half, 64, 512);
-  // The rows of the fit (NonlinearityOptions::row_subsample): all, or the first 1/k of each band.
+  // The rows of the fit (NonlinearityOptions::row_subsample): all, or 1/k of each band's rows.
   const int subsample =
       detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
   est.row_subsample = subsample;
   std::vector<Strip> strips;
-  for (const auto& [from, to] : detail::RippleFitRows(box.height, subsample))
-    for (int y0 = from; y0 < to; y0 += strip_rows) {
+  // A range is cut into strips of about strip_rows rows (a 70-row range is one strip, not 64
+  // rows and 6 rows that would each compute the 2 * half rows of margin).
+  for (const auto& [from, to] : detail::RippleFitRows(box.height, subsample)) {
+    const int count = std::max(1, static_cast<int>(std::lround(static_cast<double>(to - from) / strip_rows)));
+    const int rows = (to - from + count - 1) / count;
+    for (int y0 = from; y0 < to; y0 += rows) {
       Strip st;
       st.y0 = y0;
-      st.y1 = std::min(to, y0 + strip_rows);
+      st.y1 = std::min(to, y0 + rows);
       st.a = std::max(0, y0 - half);
       st.b = std::min(box.height, st.y1 + half);
       strips.push_back(st);
     }
+  }
   // The strip buffers, reused from strip to strip.
   cv::Mat mf, den, clean, hp;
   std::vector<cv::Mat> basis(nb), bsum(nb);

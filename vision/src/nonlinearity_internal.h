@@ -21,8 +21,10 @@ inline int RippleBand(int y, int height) { return static_cast<int>(static_cast<l
 int RippleRowSubsample(long valid, int row_subsample, long min_pixels);
 
 // The rows of a box `height` rows tall that the fit reads with subsample k, as [first, last)
-// ranges relative to the box's first row: every row for k = 1, else the first ceil(rows / k)
-// rows of each band (the rows y with RippleBand(y) = b).
+// ranges relative to the box's first row: every row for k = 1, else ceil(rows / k) rows of each
+// band (the rows y with RippleBand(y) = b), the last ones of an even band and the first ones of
+// an odd band, so that each pair of bands gives one range (the fast path's strips then compute
+// the window margin once per pair, not once per band).
 std::vector<std::pair<int, int>> RippleFitRows(int height, int k);
 
 // T² of the first-order ripple coefficients (entries 1 and 2; entry 0 is the intercept) of the

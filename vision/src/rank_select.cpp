@@ -64,17 +64,28 @@ std::vector<float> Select(const std::vector<Segment>& segments,
     bins.push_back(bin);
     below.push_back(b);
   }
+  // Per thread, then joined: nth_element's value does not depend on the order of the list.
+  tbb::enumerable_thread_specific<std::vector<std::vector<float>>> gathered(
+      [&] { return std::vector<std::vector<float>>(ranks.size()); });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<std::vector<float>>& lists = gathered.local();
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const Segment& s = segments[k];
+                        for (int x = 0; x < s.length; ++x) {
+                          if (!Counts(s, x)) continue;
+                          const int bin = BinOf(s.values[x]);
+                          for (std::size_t i = 0; i < bins.size(); ++i)
+                            if (bin == bins[i]) {
+                              lists[i].push_back(s.values[x]);
+                              break;  // equal bins: the first rank's list serves both (below)
+                            }
+                        }
+                      }
+                    });
   std::vector<std::vector<float>> in_bin(ranks.size());
-  for (const Segment& s : segments)
-    for (int x = 0; x < s.length; ++x) {
-      if (!Counts(s, x)) continue;
-      const int bin = BinOf(s.values[x]);
-      for (std::size_t i = 0; i < bins.size(); ++i)
-        if (bin == bins[i]) {
-          in_bin[i].push_back(s.values[x]);
-          break;  // equal bins: the first rank's list serves both (below)
-        }
-    }
+  for (const std::vector<std::vector<float>>& lists : gathered)
+    for (std::size_t i = 0; i < ranks.size(); ++i) in_bin[i].insert(in_bin[i].end(), lists[i].begin(), lists[i].end());
   std::vector<float> out;
   for (std::size_t i = 0; i < ranks.size(); ++i) {
     std::size_t first = 0;  // the first rank in the same bin holds the bin's values

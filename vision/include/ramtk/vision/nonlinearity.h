@@ -37,7 +37,8 @@ struct NonlinearityOptions {
   // campaign twin's 12-step balls had biased each apex by up to 27 µm (docs/scan.md,
   // "Projector nonlinearity on small balls"). 0 disables the test.
   double min_ripple_t2 = 25.2;
-  // The fit reads only the first 1/k of the rows of each of those bands, k = the smaller of
+  // The fit reads only 1/k of the rows of each of those bands (the last ones of even bands, the
+  // first ones of odd bands: each pair's rows adjoin), k = the smaller of
   // row_subsample and (valid pixels / row_subsample_min_pixels), at least 1; the ripple is still
   // removed from every pixel. A fit to millions of pixels gains nothing from more of them (its
   // coefficients' noise is ~sigma_phi / sqrt(pixels), 1e-5 rad at 1 M), but the sweep cost ~0.5 s
@@ -64,7 +65,7 @@ struct NonlinearityEstimate {
   int passes = 0;         // passes run
   bool applied = false;   // false if too few pixels or the ripple is not significant: phase unchanged
   double ripple_t2 = 0;   // T² of (s_1, c_1) against its jackknife covariance (first pass)
-  int row_subsample = 1;  // k: the fit read the first 1/k of each band's rows
+  int row_subsample = 1;  // k: the fit read 1/k of each band's rows
   std::string BriefReport() const;
 };
 
