@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <opencv2/calib3d.hpp>
@@ -183,6 +184,43 @@ TEST(ScanMatch, BadDepthMapsAreAnInputErrorAndRightPixelsAreOptional) {
   const PointCloud a = TriangulateMatches(calib, s.left, lean, {}), b = TriangulateMatches(calib, s.left, full, {});
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a.points_in_left[k], b.points_in_left[k]) << k;
+}
+
+// The match's own points (StereoMatch::x_mm, y_mm, copied by TriangulateMatches) against the
+// left ray undistorted again from the pixel and placed at the stored depth (the maps removed):
+// the same cloud bit for bit, the same depth map, and maps of another size are an input error.
+TEST(ScanMatch, MatchPointsAreTheUndistortedRayAtTheStoredDepth) {
+  const DecodedStereo& s = SmallSet();
+  const StereoCalibration calib = SmallCalibration();
+  const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  ASSERT_FALSE(match.x_mm.empty());
+  ASSERT_FALSE(match.y_mm.empty());
+  StereoMatch again = match;
+  again.x_mm = cv::Mat();
+  again.y_mm = cv::Mat();
+  TriangulationOptions to;
+  to.keep_pixels = true;
+  cv::Mat copied_depth, again_depth;
+  const PointCloud copied = TriangulateMatches(calib, s.left, match, to, nullptr, &copied_depth);
+  const PointCloud undistorted = TriangulateMatches(calib, s.left, again, to, nullptr, &again_depth);
+  ASSERT_EQ(copied.size(), undistorted.size());
+  ASSERT_GT(copied.size(), 100000u);
+  for (std::size_t k = 0; k < copied.size(); ++k) {
+    ASSERT_EQ(copied.left_pixels[k], undistorted.left_pixels[k]) << k;
+    ASSERT_EQ(copied.points_in_left[k], undistorted.points_in_left[k]) << k;
+    ASSERT_EQ(copied.sigma_mm[k], undistorted.sigma_mm[k]) << k;
+    ASSERT_EQ(copied.quality[k], undistorted.quality[k]) << k;
+  }
+  ASSERT_EQ(copied_depth.size(), again_depth.size());
+  EXPECT_EQ(0, std::memcmp(copied_depth.data, again_depth.data, copied_depth.total() * sizeof(float)));
+  StereoMatch bad = match;
+  bad.y_mm = cv::Mat(3, 3, CV_32F, cv::Scalar(0));
+  try {
+    TriangulateMatches(calib, s.left, bad, {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, "x_mm");
+  }
 }
 
 // The phase-domain filter (DecodeOptions::coordinate_filter) on both cameras: the depth error

@@ -132,6 +132,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     kept.modulation = left.modulation;
     left = std::move(kept);
   }
+  match.sigma_px.release();  // the points carry their own sigma (StereoMatch::point_sigma_mm)
   result.cloud = TriangulateMatches(calibration, left, match, to, &sum.triangulation, &result.depth);
   left = DecodedCamera();
   match = StereoMatch();

@@ -916,7 +916,7 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
 
 struct PassResult {
   cv::Mat u, v, sigma;
-  cv::Mat depth, point_sigma;  // Pass::points only
+  cv::Mat depth, point_sigma, x, y;  // Pass::points only
   std::atomic<long> noisy{0}, no_match{0}, lr{0}, unreachable{0}, full{0}, matched{0}, valid{0};
 };
 
@@ -932,10 +932,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   if (p.points) {
     out->depth.create(H, W, CV_32F);
     out->point_sigma.create(H, W, CV_32F);
+    out->x.create(H, W, CV_32F);
+    out->y.create(H, W, CV_32F);
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
-      for (cv::Mat* m : {&out->u, &out->v, &out->sigma, &out->depth, &out->point_sigma})
+      for (cv::Mat* m : {&out->u, &out->v, &out->sigma, &out->depth, &out->point_sigma, &out->x, &out->y})
         if (!m->empty()) std::fill_n(m->ptr<float>(y), W, kNaN);
     }
   });
@@ -1065,7 +1067,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           if (p.points) {
             // X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2.
             const double z = 1.0 / root.w;
-            out->depth.at<float>(y, x) = static_cast<float>(z);
+            const float zf = static_cast<float>(z);
+            out->depth.at<float>(y, x) = zf;
+            // x and y from the depth as stored (StereoMatch::x_mm): the point TriangulateMatches
+            // formed from the depth map when it undistorted the pixel again.
+            out->x.at<float>(y, x) = static_cast<float>(ideal.x() * static_cast<double>(zf));
+            out->y.at<float>(y, x) = static_cast<float>(ideal.y() * static_cast<double>(zf));
             const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
             out->point_sigma.at<float>(y, x) = static_cast<float>(ray * z * z * sigma_w);
           }
@@ -1349,6 +1356,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   result.sigma_px = fwd.sigma;
   result.depth_mm = fwd.depth;
   result.point_sigma_mm = fwd.point_sigma;
+  result.x_mm = fwd.x;
+  result.y_mm = fwd.y;
   sum.left_valid = fwd.valid;
   sum.matched = fwd.matched;
   sum.rejected_noisy = fwd.noisy;

@@ -73,12 +73,18 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
                      match.point_sigma_mm.size() != match.depth_mm.size() ||
                      (!match.right_u.empty() && match.right_u.size() != match.depth_mm.size())))
     throw InputError({"", 0, "depth_mm"}, "the match's depth and point sigma must be CV_32F maps of the match's size");
+  const bool has_xy = from_match && !match.x_mm.empty();
+  if (has_xy && (match.x_mm.type() != CV_32F || match.y_mm.type() != CV_32F ||
+                 match.x_mm.size() != match.depth_mm.size() || match.y_mm.size() != match.depth_mm.size()))
+    throw InputError({"", 0, "x_mm"}, "the match's x and y must be CV_32F maps of its depth map's size");
   if (!from_match && (match.right_v.size() != match.right_u.size() || match.sigma_px.size() != match.right_u.size()))
     throw InputError({"", 0, "right_u"}, "the match's right pixels and sigma are not maps of one size");
   if (W * H > 0 && left.modulation.size() != cv::Size(W, H))
     throw InputError({"", 0, "modulation"}, "the left modulation map is not of the match's size");
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  cv::Mat z(H, W, CV_32F);  // NaN-filled row by row below (in parallel: first touches fault)
+  // NaN-filled row by row below (in parallel: first touches fault); with the match's own points
+  // their depth map is the answer (shared, not copied).
+  cv::Mat z = has_xy ? match.depth_mm : cv::Mat(H, W, CV_32F);
   const double sigma_i = left.summary.sigma_intensity_dn > 0 ? left.summary.sigma_intensity_dn : 1.0;
   const Mat3 R = calibration.right_from_left.linear();
   const Mat3 Rt = R.transpose();
@@ -114,6 +120,24 @@ PointCloud TriangulateMatches(const StereoCalibration& calibration, const Decode
       Vec2 left_ideal_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       Vec2 right_offset_prev(std::numeric_limits<double>::quiet_NaN(), 0);
       std::size_t slot = first[y];
+      if (has_xy) {
+        // The match's own points (StereoMatch::x_mm, y_mm): the same numbers as below, copied.
+        const float* zm = match.depth_mm.ptr<float>(y);
+        const float* xm = match.x_mm.ptr<float>(y);
+        const float* ym = match.y_mm.ptr<float>(y);
+        const float* ps = match.point_sigma_mm.ptr<float>(y);
+        const float* b = left.modulation.ptr<float>(y);
+        for (int x = 0; x < W; ++x) {
+          if (!std::isfinite(zm[x])) continue;
+          const std::size_t k = slot++;
+          kept[k] = 1;
+          cloud.points_in_left[k] = Eigen::Vector3f(xm[x], ym[x], zm[x]);
+          cloud.sigma_mm[k] = ps[x];
+          cloud.quality[k] = static_cast<float>(b[x] / sigma_i);
+          if (options.keep_pixels) cloud.left_pixels[k] = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y));
+        }
+        continue;
+      }
       std::fill_n(z.ptr<float>(y), W, nan);
       if (from_match) {
         const float* zm = match.depth_mm.ptr<float>(y);

@@ -127,6 +127,10 @@ struct StereoMatch {
   // places the point on the left ray at this depth (empty: it intersects the rays itself).
   cv::Mat depth_mm;
   cv::Mat point_sigma_mm;
+  // The point's x and y (mm, left-camera frame; with depth_mm its z), CV_32F, NaN unmatched: the
+  // left ray's ideal coordinates times the depth as stored, so TriangulateMatches copies the
+  // point instead of undistorting the left pixel again (empty: it undistorts).
+  cv::Mat x_mm, y_mm;
   // Per right pixel: its own match in the left image (the left-right check's back match) and that
   // match's sigma along its epipolar curve (left px), CV_32F, NaN unmatched; empty unless
   // StereoMatchOptions::keep_back_matches (and the check is on).

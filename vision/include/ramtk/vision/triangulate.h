@@ -40,8 +40,9 @@ struct TriangulationSummary {
 // quality (left modulation / sigma_I). `depth` (optional) receives a CV_32F left-image map of z
 // (mm, NaN where there is no point). A match carrying its depths (StereoMatch::depth_mm, as
 // MatchStereo writes) places each point on its left pixel's ray at that depth: no ray is
-// intersected again and no gap is measured. InputError (field depth_mm, right_u or modulation)
-// if the maps are of the wrong type or size.
+// intersected again and no gap is measured; with its points' x and y too (StereoMatch::x_mm,
+// y_mm) the points are copied, and `depth` shares the match's depth map. InputError (field
+// depth_mm, x_mm, right_u or modulation) if the maps are of the wrong type or size.
 PointCloud TriangulateMatches(const StereoCalibration& calibration, const DecodedCamera& left, const StereoMatch& match,
                               const TriangulationOptions& options, TriangulationSummary* summary = nullptr,
                               cv::Mat* depth = nullptr);
