@@ -204,9 +204,12 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     }
     if (f > 0) {  // heterodyne: this frequency's wrapped phase where the pixel may be valid
       float* w = out->coarse_wrapped[f - 1].ptr<float>(y);
-      for (int x = 0; x < width; ++x) w[x] = (dark[x] | sat[x] | low[x]) ? 0.0f : WrappedPhase(s[x], c[x]);
+      WrappedPhaseRow(s.data(), c.data(), width, w);
+      for (int x = 0; x < width; ++x)
+        if (dark[x] | sat[x] | low[x]) w[x] = 0.0f;
     }
   }
+  WrappedPhaseRow(s.data(), c.data(), width, phi);  // every pixel: cheaper on lanes than a branch per pixel
   for (int x = 0; x < width; ++x) {
     if (dark[x]) {
       ++rc->dark;
@@ -215,7 +218,6 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     } else if (low[x]) {
       ++rc->low;
     } else {
-      phi[x] = WrappedPhase(s[x], c[x]);
       continue;
     }
     mk[x] = 0;
@@ -349,6 +351,24 @@ std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& 
 }
 
 }  // namespace
+
+void WrappedPhaseRow(const float* s, const float* c, int n, float* phi) {
+  int x = 0;
+#if CV_SIMD128_64F
+  const cv::v_int64x2 sign = cv::v_setall_s64(static_cast<int64_t>(0x8000000000000000ull));
+  auto negate = [&](const cv::v_float64x2& v) { return cv::v_reinterpret_as_f64(cv::v_reinterpret_as_s64(v) ^ sign); };
+  const cv::v_float32x4 pi = cv::v_setall_f32(static_cast<float>(CV_PI));
+  const cv::v_float32x4 two_pi = cv::v_setall_f32(static_cast<float>(kTwoPi));
+  for (; x + 4 <= n; x += 4) {
+    const cv::v_float32x4 sv = cv::v_load(s + x), cv4 = cv::v_load(c + x);
+    const cv::v_float64x2 lo = Atan2x2(negate(cv::v_cvt_f64(sv)), cv::v_cvt_f64(cv4));
+    const cv::v_float64x2 hi = Atan2x2(negate(cv::v_cvt_f64_high(sv)), cv::v_cvt_f64_high(cv4));
+    const cv::v_float32x4 p = cv::v_cvt_f32(lo, hi);
+    cv::v_store(phi + x, cv::v_select(p >= pi, p - two_pi, p));
+  }
+#endif
+  for (; x < n; ++x) phi[x] = WrappedPhase(s[x], c[x]);
+}
 
 float WrappedPhase(float s, float c) {
   // In double without a library call (fast_atan2.h), then rounded to float: the correctly

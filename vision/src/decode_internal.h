@@ -44,6 +44,8 @@ DecodedCamera DecodeFramesFast(const FringeManifest& manifest, const std::vector
 
 // LS phase atan2(-S, C) in [-pi, pi).
 float WrappedPhase(float s, float c);
+// WrappedPhase of n pixels, on two lanes where the build has them (the same bits).
+void WrappedPhaseRow(const float* s, const float* c, int n, float* phi);
 
 // The fused pass. Pixels masked by darkness, saturation or modulation get phase 0 and a NaN
 // coordinate; for heterodyne sets the coordinate and the counts of valid pixels are left to the caller.
