@@ -204,12 +204,18 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     }
     if (f > 0) {  // heterodyne: this frequency's wrapped phase where the pixel may be valid
       float* w = out->coarse_wrapped[f - 1].ptr<float>(y);
-      WrappedPhaseRow(s.data(), c.data(), width, w);
-      for (int x = 0; x < width; ++x)
-        if (dark[x] | sat[x] | low[x]) w[x] = 0.0f;
+      for (int x0 = 0; x0 < width;) {  // runs of pixels that may be valid; 0 elsewhere
+        if (dark[x0] | sat[x0] | low[x0]) {
+          w[x0++] = 0.0f;
+          continue;
+        }
+        int x1 = x0 + 1;
+        while (x1 < width && !(dark[x1] | sat[x1] | low[x1])) ++x1;
+        WrappedPhaseRow(s.data() + x0, c.data() + x0, x1 - x0, w + x0);
+        x0 = x1;
+      }
     }
   }
-  WrappedPhaseRow(s.data(), c.data(), width, phi);  // every pixel: cheaper on lanes than a branch per pixel
   for (int x = 0; x < width; ++x) {
     if (dark[x]) {
       ++rc->dark;
@@ -223,6 +229,16 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     mk[x] = 0;
     phi[x] = 0;
     coord[x] = kNaN;
+  }
+  for (int x0 = 0; x0 < width;) {  // the phase on the row's runs of valid pixels, on lanes
+    if (!mk[x0]) {
+      ++x0;
+      continue;
+    }
+    int x1 = x0 + 1;
+    while (x1 < width && mk[x1]) ++x1;
+    WrappedPhaseRow(s.data() + x0, c.data() + x0, x1 - x0, phi + x0);
+    x0 = x1;
   }
   // Absolute coordinate.
   const double period = in.period;
