@@ -66,6 +66,17 @@ std::vector<std::pair<int, int>> RippleFitRows(int height, int k) {
   return ranges;
 }
 
+NonlinearityEstimate FinishRippleEstimate(NonlinearityEstimate* est) {
+  double r2 = 0;
+  for (std::size_t o = 0; o < est->sin_rad.size(); ++o)
+    r2 += est->sin_rad[o] * est->sin_rad[o] + est->cos_rad[o] * est->cos_rad[o];
+  est->ripple_rms_rad = std::sqrt(r2 / 2);
+  // Only a significant ripple has a gamma worth naming (and the search costs ~30 ms once per N).
+  est->equivalent_gamma =
+      est->applied ? EquivalentGamma(est->sin_rad[0], est->steps) : std::numeric_limits<double>::quiet_NaN();
+  return *est;
+}
+
 int RippleRowSubsample(long valid, int row_subsample, long min_pixels) {
   const long by_pixels = min_pixels > 0 ? valid / min_pixels : row_subsample;
   return static_cast<int>(std::max(1L, std::min<long>(row_subsample, by_pixels)));
@@ -183,6 +194,47 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   for (const auto& [from, to] : detail::RippleFitRows(box.height, k))
     std::fill(fit_rows.begin() + box.y + from, fit_rows.begin() + box.y + to, uchar(1));
   auto fit_row = [&](int y) { return fit_rows[y] != 0; };
+  // The significance test first, on a first-order fit (detail::FirstOrderRippleGate).
+  if (detail::FirstOrderRippleGate(options)) {
+    std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(3, 3));
+    std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(3));
+    cv::Mat clean;
+    abs_phase.convertTo(clean, CV_64F);
+    clean.setTo(0, mask == 0);
+    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    double ss = 0;
+    long used = 0;
+    for (int y = 0; y < hp.rows; ++y) {
+      if (!fit_row(y)) continue;
+      const double* r = hp.ptr<double>(y);
+      const double* d = den.ptr<double>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < hp.cols; ++x) {
+        if (!m[x] || d[x] < full || !(std::abs(r[x]) < options.outlier_rad)) continue;
+        const Eigen::Vector3d row(1.0, hp_basis[0].ptr<double>(y)[x], hp_basis[1].ptr<double>(y)[x]);
+        ata += row * row.transpose();
+        atb += row * r[x];
+        const int band = detail::RippleBand(y - box.y, box.height);
+        band_ata[band] += row * row.transpose();
+        band_atb[band] += row * r[x];
+        ss += r[x] * r[x];
+        ++used;
+      }
+    }
+    est.pixels_used = used;
+    est.passes = 1;
+    if (used < options.min_pixels) return detail::FinishRippleEstimate(&est);
+    est.residual_rms_before_rad = std::sqrt(ss / used);
+    est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+    if (!(est.ripple_t2 >= options.min_ripple_t2)) {
+      const Eigen::Vector3d coef = ata.ldlt().solve(atb);
+      est.sin_rad[0] = coef[1];
+      est.cos_rad[0] = coef[2];
+      return detail::FinishRippleEstimate(&est);
+    }
+  }
   for (int pass = 0; pass < options.passes; ++pass) {
     std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(nb + 1, nb + 1));
     std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(nb + 1));
@@ -260,13 +312,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
     }
     est.residual_rms_after_rad = used ? std::sqrt(ss / used) : 0;
   }
-  double r2 = 0;
-  for (int m = 0; m < options.orders; ++m) r2 += est.sin_rad[m] * est.sin_rad[m] + est.cos_rad[m] * est.cos_rad[m];
-  est.ripple_rms_rad = std::sqrt(r2 / 2);
-  // Only a significant ripple has a gamma worth naming (and the search costs ~30 ms once per N).
-  est.equivalent_gamma =
-      est.applied ? EquivalentGamma(est.sin_rad[0], steps) : std::numeric_limits<double>::quiet_NaN();
-  return est;
+  return detail::FinishRippleEstimate(&est);
 }
 
 std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, const cv::Mat& mask) {

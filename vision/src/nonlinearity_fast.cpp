@@ -250,14 +250,15 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   std::vector<cv::Mat> basis(nb), bsum(nb);
 
   // Normal equations over the pixels whose whole window is valid and whose high-pass is small,
-  // per band of rows (the ripple's jackknife test, detail::RippleBand). With `design` false only
-  // the sum of squares and the count.
-  auto sweep = [&](bool design) {
+  // per band of rows (the ripple's jackknife test, detail::RippleBand), with the ripple basis of
+  // orders 1..`orders`. With `design` false only the sum of squares and the count.
+  auto sweep = [&](bool design, int orders) {
+    const int nbo = 2 * orders, to = nbo + 1;
     std::vector<Normal> bands(detail::kRippleBands);
     for (const Strip& st : strips) {
       StripDen(mask, st, w, &mf, &den);
       StripHighPass(abs_phase, mask, den, st, w, &clean, &hp);
-      if (design) StripBasis(wrapped, mask, steps, options.orders, st, w, &basis, &bsum);
+      if (design) StripBasis(wrapped, mask, steps, orders, st, w, &basis, &bsum);
       // Row by row in parallel; each row adds to its own band (rows of one band are contiguous).
       const std::vector<Normal> rows = tbb::parallel_reduce(
           tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
@@ -270,28 +271,72 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
               const float* d = den.ptr<float>(y - st.y0);
               const uchar* m = mask.ptr<uchar>(y);
               if (design)
-                for (int i = 0; i < nb; ++i) {
+                for (int i = 0; i < nbo; ++i) {
                   bp[i] = basis[i].ptr<float>(y - st.a);
                   bs[i] = bsum[i].ptr<float>(y - st.y0);
                 }
-              if (terms == 7)  // the default three orders
-                AccumulateRow<7>(h, d, m, bp, bs, box.width, terms, full, options.outlier_rad, design, &nk);
+              if (to == 7)  // the default three orders
+                AccumulateRow<7>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
+              else if (to == 3)  // the first order (the significance test)
+                AccumulateRow<3>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
               else
-                AccumulateRow<0>(h, d, m, bp, bs, box.width, terms, full, options.outlier_rad, design, &nk);
+                AccumulateRow<0>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
             }
             return acc;
           },
           [&](std::vector<Normal> a, const std::vector<Normal>& b) {
-            for (int k = 0; k < detail::kRippleBands; ++k) a[k].Add(b[k], terms);
+            for (int k = 0; k < detail::kRippleBands; ++k) a[k].Add(b[k], to);
             return a;
           });
-      for (int k = 0; k < detail::kRippleBands; ++k) bands[k].Add(rows[k], terms);
+      for (int k = 0; k < detail::kRippleBands; ++k) bands[k].Add(rows[k], to);
     }
     return bands;
   };
+  // Per band, the normal equations as Eigen matrices (FirstOrderRippleT2).
+  auto band_systems = [](const std::vector<Normal>& bands, int to, std::vector<Eigen::MatrixXd>* band_ata,
+                         std::vector<Eigen::VectorXd>* band_atb) {
+    for (const Normal& nk : bands) {
+      Eigen::MatrixXd a(to, to);
+      Eigen::VectorXd b(to);
+      for (int i = 0; i < to; ++i) {
+        for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
+        b[i] = nk.atb[i];
+      }
+      band_ata->push_back(a);
+      band_atb->push_back(b);
+    }
+  };
+
+  // The significance test first, on a first-order fit (detail::FirstOrderRippleGate): without a
+  // significant ripple (a 12-step set, a linear projector) the higher orders are never fitted.
+  if (detail::FirstOrderRippleGate(options)) {
+    const std::vector<Normal> bands = sweep(true, 1);
+    Normal ne;
+    for (const Normal& nk : bands) ne.Add(nk, 3);
+    est.pixels_used = ne.used;
+    est.passes = 1;
+    if (ne.used < options.min_pixels) return detail::FinishRippleEstimate(&est);
+    est.residual_rms_before_rad = std::sqrt(ne.ss / ne.used);
+    std::vector<Eigen::MatrixXd> band_ata;
+    std::vector<Eigen::VectorXd> band_atb;
+    band_systems(bands, 3, &band_ata, &band_atb);
+    est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+    if (!(est.ripple_t2 >= options.min_ripple_t2)) {
+      Eigen::Matrix3d ata;
+      Eigen::Vector3d atb;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j <= i; ++j) ata(i, j) = ata(j, i) = ne.ata[i][j];
+        atb[i] = ne.atb[i];
+      }
+      const Eigen::Vector3d coef = ata.ldlt().solve(atb);
+      est.sin_rad[0] = coef[1];
+      est.cos_rad[0] = coef[2];
+      return detail::FinishRippleEstimate(&est);
+    }
+  }
 
   for (int pass = 0; pass < options.passes; ++pass) {
-    const std::vector<Normal> bands = sweep(true);
+    const std::vector<Normal> bands = sweep(true, options.orders);
     Normal ne;
     for (const Normal& nk : bands) ne.Add(nk, terms);
     est.pixels_used = ne.used;
@@ -312,16 +357,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     if (pass == 0) {
       std::vector<Eigen::MatrixXd> band_ata;
       std::vector<Eigen::VectorXd> band_atb;
-      for (const Normal& nk : bands) {
-        Eigen::MatrixXd a(terms, terms);
-        Eigen::VectorXd b(terms);
-        for (int i = 0; i < terms; ++i) {
-          for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
-          b[i] = nk.atb[i];
-        }
-        band_ata.push_back(a);
-        band_atb.push_back(b);
-      }
+      band_systems(bands, terms, &band_ata, &band_atb);
       est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
       if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
@@ -351,16 +387,10 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   }
   if (est.applied) {
     Normal after;
-    for (const Normal& nk : sweep(false)) after.Add(nk, terms);
+    for (const Normal& nk : sweep(false, options.orders)) after.Add(nk, terms);
     est.residual_rms_after_rad = after.used ? std::sqrt(after.ss / after.used) : 0;
   }
-  double r2 = 0;
-  for (int o = 0; o < options.orders; ++o) r2 += est.sin_rad[o] * est.sin_rad[o] + est.cos_rad[o] * est.cos_rad[o];
-  est.ripple_rms_rad = std::sqrt(r2 / 2);
-  // Only a significant ripple has a gamma worth naming (and the search costs ~30 ms once per N).
-  est.equivalent_gamma =
-      est.applied ? EquivalentGamma(est.sin_rad[0], steps) : std::numeric_limits<double>::quiet_NaN();
-  return est;
+  return detail::FinishRippleEstimate(&est);
 }
 
 }  // namespace ramtk::vision

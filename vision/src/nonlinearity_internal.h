@@ -6,6 +6,8 @@
 #include <utility>
 #include <vector>
 
+#include "ramtk/vision/nonlinearity.h"
+
 namespace ramtk::vision::detail {
 
 // Median camera fringe period (px) from the gradient of the unwrapped phase (CV_32F) over the
@@ -32,5 +34,18 @@ std::vector<std::pair<int, int>> RippleFitRows(int height, int k);
 // (jackknife) covariance. `ata` are full symmetric terms × terms matrices, one per band. 0 if a
 // leave-one-out system is singular or fewer than 4 bands hold pixels.
 double FirstOrderRippleT2(const std::vector<Eigen::MatrixXd>& ata, const std::vector<Eigen::VectorXd>& atb);
+
+// Whether the ripple's significance is tested first on a fit of the first order alone (a test
+// is asked for, min_ripple_t2 > 0, and there are higher orders): T² reads only the first-order
+// coefficients, and a ripple that is not significant is never fitted with all orders (on a
+// 12-step set or a linear projector that is every time, at a third of the basis's cost). A
+// significant one is fitted with every order from the start, as without the test.
+inline bool FirstOrderRippleGate(const NonlinearityOptions& options) {
+  return options.min_ripple_t2 > 0 && options.orders > 1;
+}
+
+// Fills the estimate's ripple RMS (from its coefficients) and its equivalent gamma (only for an
+// applied correction; NaN otherwise) and returns it.
+NonlinearityEstimate FinishRippleEstimate(NonlinearityEstimate* est);
 
 }  // namespace ramtk::vision::detail
