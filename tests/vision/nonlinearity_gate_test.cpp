@@ -57,5 +57,37 @@ TEST(NonlinearityGate, GammaRippleOnASmallBallIsStillCorrected) {
   EXPECT_GT(nl.ripple_t2, 25.2) << nl.BriefReport();
 }
 
+// The test's first-order fit (FirstOrderRippleGate) only decides: a significant ripple is then
+// fitted with every order from the start. The same gamma set decoded without the test
+// (min_ripple_t2 = 0, every order fitted and applied) gives the same coefficients and the same
+// coordinates, bit for bit; with the test, both fits' T² pass it.
+TEST(NonlinearityGate, ASignificantRippleGetsTheSameFitAsWithoutTheTest) {
+  FringeSimulationConfig c = SmallBall(Vec3(0, 0, 700), 0.5, 7);
+  c.sequence = {PhaseShiftBlock(4, 64.0), GrayCodeBlock(7, true)};
+  c.effects.projector_nonlinearity = 2.2;
+  const SimulatedCamera sim = SimulateCamera(c, 0);
+  DecodeOptions untested;
+  untested.nonlinearity.min_ripple_t2 = 0;
+  const DecodedCamera gated = testing::DecodeSimulated(c, sim);
+  const DecodedCamera full = testing::DecodeSimulated(c, sim, untested);
+  const NonlinearityEstimate &g = gated.summary.nonlinearity, &f = full.summary.nonlinearity;
+  ASSERT_TRUE(g.applied) << g.BriefReport();
+  ASSERT_TRUE(f.applied) << f.BriefReport();
+  EXPECT_EQ(g.ripple_t2, f.ripple_t2);  // the all-order fit's first pass, as before the gate
+  EXPECT_GT(g.ripple_t2, 25.2);
+  for (std::size_t k = 0; k < g.sin_rad.size(); ++k) {
+    EXPECT_EQ(g.sin_rad[k], f.sin_rad[k]) << "order " << k + 1;
+    EXPECT_EQ(g.cos_rad[k], f.cos_rad[k]) << "order " << k + 1;
+  }
+  ASSERT_EQ(gated.coordinate.size(), full.coordinate.size());
+  long differ = 0;
+  for (int y = 0; y < gated.coordinate.rows; ++y)
+    for (int x = 0; x < gated.coordinate.cols; ++x) {
+      const float a = gated.coordinate.at<float>(y, x), b = full.coordinate.at<float>(y, x);
+      differ += !(a == b || (std::isnan(a) && std::isnan(b)));
+    }
+  EXPECT_EQ(differ, 0);
+}
+
 }  // namespace
 }  // namespace ramtk::vision
