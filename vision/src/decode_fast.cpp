@@ -132,14 +132,97 @@ void AccumulateRowU8(const cv::Mat* const* frames, int n, int y, int width, cons
 }
 
 // One Gray-code frame's bit of every pixel of a row (sample above the pixel's background A),
-// folded into the running binary code: bit ^= g > A, code = code << 1 | bit.
+// folded into the running binary code: bit ^= g > A, code = code << 1 | bit. 8-bit frames take
+// sixteen pixels at a time (the same float comparison).
 template <typename T>
 void GrayBit(const T* __restrict g, const float* __restrict a, int width, int* __restrict bit, int* __restrict code) {
-  for (int x = 0; x < width; ++x) {
+  int x0 = 0;
+#if CV_SIMD128
+  if constexpr (std::is_same_v<T, uchar>) {
+    const cv::v_int32x4 one = cv::v_setall_s32(1);
+    for (; x0 + 16 <= width; x0 += 16) {
+      cv::v_uint16x8 g16[2];
+      cv::v_expand(cv::v_load(g + x0), g16[0], g16[1]);
+      for (int h = 0; h < 2; ++h) {
+        cv::v_uint32x4 g32[2];
+        cv::v_expand(g16[h], g32[0], g32[1]);
+        for (int q = 0; q < 2; ++q) {
+          const int x = x0 + 8 * h + 4 * q;
+          const cv::v_float32x4 above = cv::v_cvt_f32(cv::v_reinterpret_as_s32(g32[q])) > cv::v_load(a + x);
+          const cv::v_int32x4 b = cv::v_load(bit + x) ^ (cv::v_reinterpret_as_s32(above) & one);
+          cv::v_store(bit + x, b);
+          cv::v_store(code + x, (cv::v_load(code + x) << 1) | b);
+        }
+      }
+    }
+  }
+#endif
+  for (int x = x0; x < width; ++x) {
     bit[x] ^= static_cast<float>(g[x]) > a[x] ? 1 : 0;
     code[x] = (code[x] << 1) | bit[x];
   }
 }
+
+#if CV_SIMD128_64F
+// The finest block's per-pixel statistics of DecodeRow for 8-bit frames (float sums), eight
+// pixels at a time: the same operations in the same order on lanes (double products and square
+// roots as there, the flags as 0/1 bytes), so every output is bit-identical. Returns the pixels
+// done; the caller finishes the row.
+int FinestStatsU8(int n, int width, const float* s, const float* c, const float* sum, const float* sum2,
+                  const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark, uchar* sat,
+                  uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row, float* brightest) {
+  using cv::v_float32x4;
+  using cv::v_float64x2;
+  const v_float64x2 k2 = cv::v_setall_f64(2.0 / n), nd = cv::v_setall_f64(static_cast<double>(n)),
+                    zero = cv::v_setall_f64(0.0);
+  const v_float32x4 dark_v = cv::v_setall_f32(dark_dn), sat_v = cv::v_setall_f32(saturation_dn),
+                    bmin_v = cv::v_setall_f32(b_min), dof = cv::v_setall_f32(static_cast<float>(n - 3));
+  const cv::v_int32x4 one = cv::v_setall_s32(1);
+  v_float32x4 bright = cv::v_setall_f32(*brightest);
+  // 0/1 bytes of two float masks, ORed into flags[x .. x + 8).
+  auto or_flags = [&](uchar* flags, int x, const v_float32x4& m0, const v_float32x4& m1) {
+    const cv::v_int16x8 w = cv::v_pack(cv::v_reinterpret_as_s32(m0) & one, cv::v_reinterpret_as_s32(m1) & one);
+    cv::v_store_low(flags + x, cv::v_load_low(flags + x) | cv::v_pack_u(w, w));
+  };
+  int x = 0;
+  for (; x + 8 <= width; x += 8) {
+    v_float32x4 b4[2], a4[2], ss4[2];
+    for (int q = 0; q < 2; ++q) {
+      const int i = x + 4 * q;
+      const v_float32x4 sf = cv::v_load(s + i), cf = cv::v_load(c + i);
+      const v_float32x4 mf = cv::v_load(sum + i), m2f = cv::v_load(sum2 + i);
+      v_float64x2 b2[2], a2[2], r2[2];
+      for (int h = 0; h < 2; ++h) {
+        const v_float64x2 sd = h ? cv::v_cvt_f64_high(sf) : cv::v_cvt_f64(sf);
+        const v_float64x2 cd = h ? cv::v_cvt_f64_high(cf) : cv::v_cvt_f64(cf);
+        const v_float64x2 amp2 = sd * sd + cd * cd;
+        b2[h] = k2 * cv::v_sqrt(amp2);
+        const v_float64x2 mean = (h ? cv::v_cvt_f64_high(mf) : cv::v_cvt_f64(mf)) / nd;
+        a2[h] = mean;
+        const v_float64x2 sq = h ? cv::v_cvt_f64_high(m2f) : cv::v_cvt_f64(m2f);
+        r2[h] = cv::v_max((sq - nd * mean * mean) - k2 * amp2, zero);
+      }
+      b4[q] = cv::v_cvt_f32(b2[0], b2[1]);
+      a4[q] = cv::v_cvt_f32(a2[0], a2[1]);
+      ss4[q] = cv::v_cvt_f32(r2[0], r2[1]);
+      cv::v_store(a_row + i, a4[q]);
+      cv::v_store(b_row + i, b4[q]);
+      cv::v_store(res_ss + i, ss4[q]);
+      cv::v_store(res_row + i, n > 3 ? cv::v_sqrt(ss4[q] / dof) : cv::v_setall_f32(0.0f));
+    }
+    const v_float32x4 t0 = cv::v_load(top + x), t1 = cv::v_load(top + x + 4);
+    or_flags(dark, x, t0 < dark_v, t1 < dark_v);
+    or_flags(sat, x, t0 >= sat_v, t1 >= sat_v);
+    or_flags(low, x, b4[0] < bmin_v, b4[1] < bmin_v);
+    bright = cv::v_max(t0, bright);  // top > bright ? top : bright, lane by lane
+    bright = cv::v_max(t1, bright);
+  }
+  float lanes[4];
+  cv::v_store(lanes, bright);
+  for (const float v : lanes) *brightest = v > *brightest ? v : *brightest;
+  return x;
+}
+#endif
 
 // Row buffers of DecodeRow, one set per thread (allocated once, not per row).
 template <typename Acc>
@@ -187,7 +270,15 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     else
       AccumulateRow<T, Acc>(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(),
                             s.data(), c.data(), sum.data(), sum2.data(), top.data());
-    for (int x = 0; x < width; ++x) {
+    int done = 0;
+#if CV_SIMD128_64F
+    if constexpr (std::is_same_v<T, uchar>)
+      if (f == 0)
+        done = FinestStatsU8(n, width, s.data(), c.data(), sum.data(), sum2.data(), top.data(), in.dark, in.saturation,
+                             in.b_min, dark.data(), sat.data(), low.data(), a_row, b_row, res_ss.data(), res_row,
+                             &rc->brightest);
+#endif
+    for (int x = done; x < width; ++x) {
       const double amp2 = static_cast<double>(s[x]) * s[x] + static_cast<double>(c[x]) * c[x];
       const float b = static_cast<float>(2.0 / n * std::sqrt(amp2));
       dark[x] |= top[x] < in.dark;
