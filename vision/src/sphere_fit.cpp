@@ -3,6 +3,9 @@
 
 #include "ramtk/vision/sphere_fit.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -118,16 +121,35 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
   std::vector<double> sigma(points_mm.size(), 1.0);
   std::vector<int> active;
   active.reserve(points_mm.size());
-  for (int i = 0; i < n; ++i) {
-    if (!points[i].allFinite()) continue;
-    if (weighted) {
-      if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0))
-        throw InputError({"", 0, "sigma_mm[" + std::to_string(i) + "]"},
-                         "must be finite and > 0, got " + std::to_string(sigma_mm[i]));
-      sigma[i] = sigma_mm[i];
+  // The finite points in order, in parallel chunks joined in order; a bad sigma is reported at
+  // its first index, as one pass would.
+  constexpr int kChunk = 1 << 16;
+  const int chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<int>> chunk_active(chunks);
+  std::vector<int> first_bad(chunks, -1);
+  tbb::parallel_for(0, chunks, [&](int c) {
+    const int end = std::min(n, (c + 1) * kChunk);
+    for (int i = c * kChunk; i < end; ++i) {
+      if (!points[i].allFinite()) continue;
+      if (weighted) {
+        if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0)) {
+          first_bad[c] = i;
+          return;
+        }
+        sigma[i] = sigma_mm[i];
+      }
+      chunk_active[c].push_back(i);
     }
-    active.push_back(i);
+  });
+  for (int c = 0; c < chunks; ++c) {
+    if (first_bad[c] >= 0) {
+      const int i = first_bad[c];
+      throw InputError({"", 0, "sigma_mm[" + std::to_string(i) + "]"},
+                       "must be finite and > 0, got " + std::to_string(sigma_mm[i]));
+    }
+    active.insert(active.end(), chunk_active[c].begin(), chunk_active[c].end());
   }
+  std::vector<std::vector<int>>().swap(chunk_active);
 
   double radius_lo = options.min_radius_mm, radius_hi = options.max_radius_mm;
   if (options.radius_mm > 0) {
@@ -175,12 +197,26 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
                                  " mm, fewer than min_points " + std::to_string(options.min_points);
       break;
     }
-    // Points near the candidate: the RANSAC band and a wider shell the robust fit sorts out.
+    // Points near the candidate: the RANSAC band and a wider shell the robust fit sorts out
+    // (in parallel chunks of the active list, joined in order).
     std::vector<int> in_band, near;
-    for (int i : active) {
-      const double r = std::abs((points[i].cast<double>() - candidate.centre).norm() - candidate.radius);
-      if (r <= 5 * band) near.push_back(i);
-      if (r <= band) in_band.push_back(i);
+    {
+      const int count = static_cast<int>(active.size());
+      const int parts = (count + kChunk - 1) / kChunk;
+      std::vector<std::vector<int>> part_near(parts), part_band(parts);
+      tbb::parallel_for(0, parts, [&](int c) {
+        const int end = std::min(count, (c + 1) * kChunk);
+        for (int k = c * kChunk; k < end; ++k) {
+          const int i = active[k];
+          const double r = std::abs((points[i].cast<double>() - candidate.centre).norm() - candidate.radius);
+          if (r <= 5 * band) part_near[c].push_back(i);
+          if (r <= band) part_band[c].push_back(i);
+        }
+      });
+      for (int c = 0; c < parts; ++c) {
+        near.insert(near.end(), part_near[c].begin(), part_near[c].end());
+        in_band.insert(in_band.end(), part_band[c].begin(), part_band[c].end());
+      }
     }
     double radius0 = options.fix_radius ? options.radius_mm : candidate.radius;
     normal_sigma.Evaluate(near, candidate.centre, &sigma_n);

@@ -3,6 +3,8 @@
 // the prior, scoring on a strided subset of the neighbourhood, and a local optimisation (LO)
 // of every new best candidate by iterated algebraic fits on its inliers.
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -49,18 +51,38 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
     : cell_(cell_mm),
       origin_(active.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
                              : Eigen::Vector3d(points[active.front()].cast<double>())) {
-  // Points come in image order, so a point mostly falls in its predecessor's cell: that cell's
-  // list is kept at hand instead of looked up again (the same lists, in the same order).
-  int64_t last_key = 0;
-  std::vector<int>* last = nullptr;
-  for (int i : active) {
-    const int64_t key = Key(points[i].cast<double>());
-    if (!last || key != last_key) {
-      last = &cells_[key];
-      last_key = key;
+  // Chunks of the active list are grouped in parallel, each into its own cells; the chunks'
+  // lists are then appended in chunk order, so every cell lists its points in the order of
+  // `active`, as one pass would (a thesis frame's 6.4 M points: 82 ms in one pass). Points come
+  // in image order, so a point mostly falls in its predecessor's cell: that cell's list is kept
+  // at hand instead of looked up again.
+  constexpr std::size_t kChunk = 1 << 16;
+  const std::size_t chunks = (active.size() + kChunk - 1) / kChunk;
+  std::vector<std::unordered_map<int64_t, std::vector<int>>> local(chunks);
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
+    std::unordered_map<int64_t, std::vector<int>>& cells = local[c];
+    int64_t last_key = 0;
+    std::vector<int>* last = nullptr;
+    const std::size_t end = std::min(active.size(), (c + 1) * kChunk);
+    for (std::size_t k = c * kChunk; k < end; ++k) {
+      const int i = active[k];
+      const int64_t key = Key(points[i].cast<double>());
+      if (!last || key != last_key) {
+        last = &cells[key];
+        last_key = key;
+      }
+      last->push_back(i);
     }
-    last->push_back(i);
+  });
+  if (chunks == 1) {
+    cells_.swap(local[0]);
+    return;
   }
+  for (std::unordered_map<int64_t, std::vector<int>>& cells : local)
+    for (auto& [key, list] : cells) {
+      std::vector<int>& all = cells_[key];
+      all.insert(all.end(), list.begin(), list.end());
+    }
 }
 
 const CellNeighbourhood& PointGrid::Neighbourhood(const Eigen::Vector3d& x) {
