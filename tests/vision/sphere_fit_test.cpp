@@ -266,6 +266,22 @@ TEST(FindSpheres, BadInputNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().field, "sigma_mm[0]");
   }
+  {
+    // The first bad sigma is named, also when the points are checked in parallel chunks (of
+    // 65 536): two bad ones in later chunks, and a NaN point (skipped) before them.
+    std::vector<Eigen::Vector3f> many(200000, Eigen::Vector3f(1, 2, 3));
+    std::vector<float> sigma(many.size(), 0.01f);
+    many[120000].x() = std::numeric_limits<float>::quiet_NaN();
+    sigma[120000] = -1.0f;
+    sigma[150001] = 0.0f;
+    sigma[190000] = -2.0f;
+    try {
+      FindSpheres(many, sigma, SphereFitOptions{});
+      FAIL();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().field, "sigma_mm[150001]");
+    }
+  }
   o.fix_radius = true;  // without a radius
   try {
     FindSpheres(points, {}, o);
