@@ -9,6 +9,7 @@
 
 #include "decode_internal.h"
 #include "ramtk/core/log.h"
+#include "rank_select.h"
 
 namespace ramtk::vision::detail {
 namespace {
@@ -167,36 +168,53 @@ double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, cons
 }
 
 double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride) {
-  // Second differences of the phase (rad) along rows and along columns, 3 valid pixels each.
+  // Second differences of the phase (rad) along rows and along columns, 3 valid pixels each,
+  // per sampled row in parallel; the gradient sums are added in row order.
   const double to_rad = 2 * CV_PI / period_px;
-  std::vector<float> along_x, along_y;
-  double grad_x = 0, grad_y = 0;
   stride = std::max(1, stride);
-  for (int y = 1; y + 1 < mask.rows; y += stride) {
-    const uchar* mu = mask.ptr<uchar>(y - 1);
-    const uchar* m0 = mask.ptr<uchar>(y);
-    const uchar* md = mask.ptr<uchar>(y + 1);
-    const float* cu = coordinate.ptr<float>(y - 1);
-    const float* c0 = coordinate.ptr<float>(y);
-    const float* cd = coordinate.ptr<float>(y + 1);
-    for (int x = 1; x + 1 < mask.cols; x += stride) {
-      if (!m0[x]) continue;
-      if (m0[x - 1] && m0[x + 1]) {
-        along_x.push_back(static_cast<float>(to_rad * (c0[x - 1] - 2.0 * c0[x] + c0[x + 1])));
-        grad_x += std::abs(c0[x + 1] - c0[x - 1]);
-      }
-      if (mu[x] && md[x]) {
-        along_y.push_back(static_cast<float>(to_rad * (cu[x] - 2.0 * c0[x] + cd[x])));
-        grad_y += std::abs(cd[x] - cu[x]);
+  const int rows = mask.rows > 2 ? (mask.rows - 2 + stride - 1) / stride : 0;
+  struct Row {
+    std::vector<float> along_x, along_y;
+    double grad_x = 0, grad_y = 0;
+  };
+  std::vector<Row> per_row(static_cast<std::size_t>(rows));
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 8), [&](const tbb::blocked_range<int>& range) {
+    for (int i = range.begin(); i < range.end(); ++i) {
+      const int y = 1 + i * stride;
+      Row& row = per_row[i];
+      const uchar* mu = mask.ptr<uchar>(y - 1);
+      const uchar* m0 = mask.ptr<uchar>(y);
+      const uchar* md = mask.ptr<uchar>(y + 1);
+      const float* cu = coordinate.ptr<float>(y - 1);
+      const float* c0 = coordinate.ptr<float>(y);
+      const float* cd = coordinate.ptr<float>(y + 1);
+      for (int x = 1; x + 1 < mask.cols; x += stride) {
+        if (!m0[x]) continue;
+        if (m0[x - 1] && m0[x + 1]) {
+          row.along_x.push_back(static_cast<float>(to_rad * (c0[x - 1] - 2.0 * c0[x] + c0[x + 1])));
+          row.grad_x += std::abs(c0[x + 1] - c0[x - 1]);
+        }
+        if (mu[x] && md[x]) {
+          row.along_y.push_back(static_cast<float>(to_rad * (cu[x] - 2.0 * c0[x] + cd[x])));
+          row.grad_y += std::abs(cd[x] - cu[x]);
+        }
       }
     }
+  });
+  std::vector<float> along_x, along_y;
+  double grad_x = 0, grad_y = 0;
+  for (const Row& row : per_row) {
+    along_x.insert(along_x.end(), row.along_x.begin(), row.along_x.end());
+    along_y.insert(along_y.end(), row.along_y.begin(), row.along_y.end());
+    grad_x += row.grad_x;
+    grad_y += row.grad_y;
   }
   if (along_x.size() < 200 || along_y.size() < 200) return 0;
-  // Robust variances (MAD): occlusion edges and code-edge errors are outliers.
+  // Robust variances (MAD): occlusion edges and code-edge errors are outliers. The median of
+  // the magnitudes by histogram select (rank_select.h: the element nth_element would give).
   auto robust_var = [](std::vector<float>& v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end(),
-                     [](float a, float b) { return std::abs(a) < std::abs(b); });
-    const double mad = 1.4826 * std::abs(v[v.size() / 2]);
+    for (float& e : v) e = std::abs(e);
+    const double mad = 1.4826 * ValuesAtRanks(v, {v.size() / 2})[0];
     return mad * mad;
   };
   const bool fringes_vertical = grad_x / along_x.size() >= grad_y / along_y.size();  // phase changes along x
