@@ -1,6 +1,7 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
+#include <tbb/parallel_invoke.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -625,15 +626,20 @@ void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool
   const fs::path& tmp = staged.path();
   std::ostringstream comment;
   comment << "frame " << kScanFrame << "; set " << result.summary.set;
-  WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str());
+  // cloud.ply (on a thesis frame 128 MB for the kernel to copy, ~0.2 s) and the depth picture
+  // (its colour map and PNG encoding, ~0.13 s) are independent files: written side by side.
+  tbb::parallel_invoke(
+      [&] { WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str()); },
+      [&] {
+        if (result.depth.empty()) return;
+        // With windows (--roi) the preview shows the left window only: the rest
+        // holds no point.
+        const cv::Rect w = result.summary.windows.left;
+        const bool windowed = w.area() > 0 && (w & cv::Rect(0, 0, result.depth.cols, result.depth.rows)) == w &&
+                              w.size() != result.depth.size();
+        WriteImage((tmp / "depth.png").string(), DepthPreview(windowed ? result.depth(w) : result.depth));
+      });
   WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-  if (!result.depth.empty()) {
-    // With windows (--roi) the preview shows the left window only: the rest holds no point.
-    const cv::Rect w = result.summary.windows.left;
-    const bool windowed = w.area() > 0 && (w & cv::Rect(0, 0, result.depth.cols, result.depth.rows)) == w &&
-                          w.size() != result.depth.size();
-    WriteImage((tmp / "depth.png").string(), DepthPreview(windowed ? result.depth(w) : result.depth));
-  }
   WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
   if (html_report) {
     for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {
