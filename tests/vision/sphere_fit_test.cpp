@@ -5,6 +5,7 @@
 
 #include "ramtk/vision/sphere_fit.h"
 
+#include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -15,7 +16,7 @@
 #include <numeric>
 #include <random>
 
-#include "../../vision/src/sphere_fit_internal.h"  // AlongRayResidual, for its gradient check
+#include "../../vision/src/sphere_fit_internal.h"  // AlongRayResidual, FitGeometric
 #include "ramtk/core/error.h"
 #include "sphere_synth.h"
 
@@ -249,6 +250,67 @@ TEST(FindSpheres, UnweightedFitEstimatesTheNoiseLevel) {
   EXPECT_NEAR(s.spheres[0].rms_mm, 0.02, 0.002);
   const Eigen::Vector3d err = s.spheres[0].centre_mm - scene.centre;
   for (int k = 0; k < 3; ++k) EXPECT_LT(std::abs(err[k]), 4 * s.spheres[0].CentreSigma()[k]);
+}
+
+// The robust fit holds all residuals in one block, each r as sign(r) sqrt(rho(r^2)). Its cost is
+// Ceres' robust cost with one block per point and the loss on each (the formulation it
+// replaced), here with an autodiff residual. On the points within 2 mm of a noisy cap's surface
+// (as FindSpheres hands the robust fit its candidate's shell: sphere points, spikes 0.2-1 mm
+// off it, the outliers that fall there) both reach the same cost and the same centre and radius,
+// for Huber and Cauchy, to 1 nm: a thousandth of the centre's sigma (~1 um), the scale of the
+// solvers' stopping rules (1e-12 relative cost change).
+struct PerPointResidual {
+  PerPointResidual(const Eigen::Vector3d& p, double sigma) : p_(p), sigma_(sigma) {}
+  template <typename T>
+  bool operator()(const T* centre, const T* radius, T* residual) const {
+    const T dx = T(p_.x()) - centre[0], dy = T(p_.y()) - centre[1], dz = T(p_.z()) - centre[2];
+    residual[0] = (ceres::sqrt(dx * dx + dy * dy + dz * dz) - radius[0]) / T(sigma_);
+    return true;
+  }
+  Eigen::Vector3d p_;
+  double sigma_;
+};
+
+TEST(SphereFitRobust, OneBlockReachesCeresPerPointRobustMinimum) {
+  const CapScene scene;
+  const SynthCloud cloud = MakeCapCloud(scene, 5);
+  std::vector<int> indices;
+  for (int i = 0; i < static_cast<int>(cloud.points.size()); ++i)
+    if (std::abs((cloud.points[i].cast<double>() - scene.centre).norm() - scene.radius) < 2.0) indices.push_back(i);
+  ASSERT_GT(indices.size(), 1000u);
+  ASSERT_LT(indices.size(), cloud.points.size());  // the backdrop is left out
+  std::vector<double> sigma(cloud.sigma.begin(), cloud.sigma.end());
+  const Eigen::Vector3d start = scene.centre + Eigen::Vector3d(0.3, -0.2, 0.4);
+  const double start_radius = scene.radius + 0.2;
+  for (const SphereLoss loss : {SphereLoss::kHuber, SphereLoss::kCauchy}) {
+    const double scale = 3.0;
+    const sphere_internal::GeometricFit one =
+        sphere_internal::FitGeometric(cloud.points, sigma, indices, start, start_radius, false, loss, scale, 200, true);
+    double centre[3] = {start.x(), start.y(), start.z()}, radius = start_radius;
+    ceres::Problem problem;
+    for (int i : indices) {
+      ceres::LossFunction* rho = loss == SphereLoss::kHuber
+                                     ? static_cast<ceres::LossFunction*>(new ceres::HuberLoss(scale))
+                                     : new ceres::CauchyLoss(scale);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PerPointResidual, 1, 3, 1>(
+                                   new PerPointResidual(cloud.points[i].cast<double>(), sigma[i])),
+                               rho, centre, &radius);
+    }
+    ceres::Solver::Options o;
+    o.linear_solver_type = ceres::DENSE_QR;
+    o.max_num_iterations = 200;
+    o.function_tolerance = 1e-14;
+    o.parameter_tolerance = 1e-14;
+    o.gradient_tolerance = 1e-16;
+    ceres::Solver::Summary summary;
+    ceres::Solve(o, &problem, &summary);
+    const char* name = loss == SphereLoss::kHuber ? "Huber" : "Cauchy";
+    EXPECT_LT((one.centre - Eigen::Vector3d(centre[0], centre[1], centre[2])).norm(), 1e-6) << name;
+    EXPECT_NEAR(one.radius, radius, 1e-6) << name;
+    EXPECT_NEAR(one.final_cost, summary.final_cost, 1e-9 * summary.final_cost) << name;
+    // And both well away from the start: the outliers were down-weighted, not fitted.
+    EXPECT_LT((one.centre - scene.centre).norm(), 0.01) << name;
+  }
 }
 
 TEST(FindSpheres, BadInputNamesTheField) {

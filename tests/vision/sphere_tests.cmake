@@ -6,6 +6,6 @@ ramtk_add_gtest(vision_sphere_tests
   sphere_fit_test.cpp
   sphere_mc_test.cpp
   sphere_pcl_test.cpp)
-target_link_libraries(vision_sphere_tests PRIVATE ramtk::vision nlohmann_json::nlohmann_json
+target_link_libraries(vision_sphere_tests PRIVATE ramtk::vision nlohmann_json::nlohmann_json Ceres::ceres
                       pcl_common pcl_sample_consensus pcl_segmentation)
 target_include_directories(vision_sphere_tests PRIVATE ${PCL_INCLUDE_DIRS})

@@ -1,5 +1,5 @@
 // Geometric sphere fit with Ceres: residual (|p - c| - R) / sigma per point (analytic Jacobian),
-// optional Huber or Cauchy loss, radius free or held constant.
+// optional Huber or Cauchy loss, radius free or held constant; all points in one residual block.
 
 #include <ceres/ceres.h>
 
@@ -12,29 +12,6 @@
 
 namespace ramtk::vision::sphere_internal {
 namespace {
-
-class SphereResidual final : public ceres::SizedCostFunction<1, 3, 1> {
- public:
-  SphereResidual(const Eigen::Vector3d& p, double inv_sigma) : p_(p), inv_sigma_(inv_sigma) {}
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const Eigen::Vector3d d = p_ - Eigen::Map<const Eigen::Vector3d>(parameters[0]);
-    const double n = d.norm();
-    if (!(n > 0)) return false;
-    residuals[0] = (n - parameters[1][0]) * inv_sigma_;
-    if (jacobians != nullptr) {
-      if (jacobians[0] != nullptr) {
-        Eigen::Map<Eigen::Vector3d> dc(jacobians[0]);
-        dc = -d * (inv_sigma_ / n);
-      }
-      if (jacobians[1] != nullptr) jacobians[1][0] = -inv_sigma_;
-    }
-    return true;
-  }
-
- private:
-  Eigen::Vector3d p_;
-  double inv_sigma_;
-};
 
 // Distance along the normal over sigma, and its gradient with respect to (centre, radius).
 double NormalResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vector3d& c, double radius,
@@ -82,6 +59,50 @@ class PointResiduals final : public ceres::CostFunction {
   const std::vector<int>& indices_;
   bool along_ray_;
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
+};
+
+// All points in one residual block with a robust loss: each residual r (NormalResidual) becomes
+// sign(r) sqrt(rho(r^2)), rho the Ceres loss's own Evaluate, so the block's cost, half the sum of
+// squares, is Ceres' robust cost (1/2) sum rho(r^2); its Jacobian is rho'(r^2) r / sqrt(rho(r^2))
+// times r's (sqrt(rho'(0)) at r = 0). The same minimum as one block per point with the loss on
+// each, with one evaluation call per iteration: 2 000 blocks cost Ceres ~2 000 instructions
+// each per evaluation (36 iterations, 12 ms, on a scene without a ball).
+class RobustPointResiduals final : public ceres::CostFunction {
+ public:
+  RobustPointResiduals(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
+                       const std::vector<int>& indices, const ceres::LossFunction& loss)
+      : points_(points), sigma_(sigma), indices_(indices), loss_(loss) {
+    set_num_residuals(static_cast<int>(indices.size()));
+    mutable_parameter_block_sizes()->push_back(3);
+    mutable_parameter_block_sizes()->push_back(1);
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const Eigen::Vector3d c(parameters[0][0], parameters[0][1], parameters[0][2]);
+    const double radius = parameters[1][0];
+    Eigen::Vector4d g;
+    for (size_t k = 0; k < indices_.size(); ++k) {
+      const int i = indices_[k];
+      const double r = NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
+      if (!std::isfinite(r)) return false;
+      double rho[3];
+      loss_.Evaluate(r * r, rho);
+      const double rt = std::sqrt(std::max(0.0, rho[0]));
+      residuals[k] = r < 0 ? -rt : rt;
+      if (jacobians != nullptr) {
+        const double scale = rt > 0 ? rho[1] * std::abs(r) / rt : std::sqrt(std::max(0.0, rho[1]));
+        if (jacobians[0] != nullptr)
+          for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = scale * g[a];
+        if (jacobians[1] != nullptr) jacobians[1][k] = scale * g[3];
+      }
+    }
+    return true;
+  }
+
+ private:
+  const std::vector<Eigen::Vector3f>& points_;
+  const std::vector<double>& sigma_;
+  const std::vector<int>& indices_;
+  const ceres::LossFunction& loss_;
 };
 
 // Solves a sphere problem over (centre, radius) and collects the result. A start-and-classify
@@ -144,20 +165,16 @@ GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const std:
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise) {
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
   double radius = radius0;
-  // One loss object shared by all residuals; it outlives the problem, which does not own it.
+  // The loss object outlives the problem (its residual block holds a reference).
   std::unique_ptr<ceres::LossFunction> loss_function;
   if (loss == SphereLoss::kHuber) loss_function = std::make_unique<ceres::HuberLoss>(loss_scale);
   if (loss == SphereLoss::kCauchy) loss_function = std::make_unique<ceres::CauchyLoss>(loss_scale);
-  ceres::Problem::Options problem_options;
-  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  ceres::Problem problem(problem_options);
-  if (loss == SphereLoss::kNone) {
+  ceres::Problem problem;
+  if (!loss_function)
     problem.AddResidualBlock(new PointResiduals(points, sigma, indices, nullptr), nullptr, centre, &radius);
-  } else {
-    for (int i : indices)
-      problem.AddResidualBlock(new SphereResidual(points[i].cast<double>(), 1.0 / sigma[i]), loss_function.get(),
-                               centre, &radius);
-  }
+  else
+    problem.AddResidualBlock(new RobustPointResiduals(points, sigma, indices, *loss_function), nullptr, centre,
+                             &radius);
   return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, precise);
 }
 
