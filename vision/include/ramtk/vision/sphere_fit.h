@@ -95,7 +95,7 @@ struct SphereFitOptions {
   // and with thousands of points the factor is known to a few percent. Without sigmas the
   // covariance is always scaled (the residual scatter is then the only noise level there is).
   bool scale_covariance = true;
-  // The robust fit (one Ceres residual block per point, for the per-point loss) runs on a strided
+  // The robust fit (the per-point loss on all points in one Ceres residual block) runs on a strided
   // subset of at most this many candidate points; it only starts the final fit and sorts out the
   // outliers. The final weighted least-squares fit uses every inlier.
   int max_robust_points = 2000;
