@@ -194,59 +194,32 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   for (const auto& [from, to] : detail::RippleFitRows(box.height, k))
     std::fill(fit_rows.begin() + box.y + from, fit_rows.begin() + box.y + to, uchar(1));
   auto fit_row = [&](int y) { return fit_rows[y] != 0; };
-  // The significance test first, on a first-order fit (detail::FirstOrderRippleGate).
-  if (detail::FirstOrderRippleGate(options)) {
-    std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(3, 3));
-    std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(3));
+  // The phase's high-pass, the masked phase less its window mean.
+  auto high_pass = [&]() {
     cv::Mat clean;
     abs_phase.convertTo(clean, CV_64F);
     clean.setTo(0, mask == 0);
-    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
-    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    return cv::Mat(clean - MaskedMean(clean, mf, den, w));
+  };
+  // The normal equations of the fit with the first `nbf` basis functions over the pixels whose
+  // whole window is valid and whose high-pass is small; with `bands` also per band of rows.
+  struct Normal {
+    Eigen::MatrixXd ata;  // full (symmetric)
+    Eigen::VectorXd atb;
+    std::vector<Eigen::MatrixXd> band_ata;
+    std::vector<Eigen::VectorXd> band_atb;
     double ss = 0;
     long used = 0;
-    for (int y = 0; y < hp.rows; ++y) {
-      if (!fit_row(y)) continue;
-      const double* r = hp.ptr<double>(y);
-      const double* d = den.ptr<double>(y);
-      const uchar* m = mask.ptr<uchar>(y);
-      for (int x = 0; x < hp.cols; ++x) {
-        if (!m[x] || d[x] < full || !(std::abs(r[x]) < options.outlier_rad)) continue;
-        const Eigen::Vector3d row(1.0, hp_basis[0].ptr<double>(y)[x], hp_basis[1].ptr<double>(y)[x]);
-        ata += row * row.transpose();
-        atb += row * r[x];
-        const int band = detail::RippleBand(y - box.y, box.height);
-        band_ata[band] += row * row.transpose();
-        band_atb[band] += row * r[x];
-        ss += r[x] * r[x];
-        ++used;
-      }
+  };
+  auto accumulate = [&](const cv::Mat& hp, int nbf, bool bands) {
+    Normal ne;
+    ne.ata = Eigen::MatrixXd::Zero(nbf + 1, nbf + 1);
+    ne.atb = Eigen::VectorXd::Zero(nbf + 1);
+    if (bands) {
+      ne.band_ata.assign(detail::kRippleBands, Eigen::MatrixXd::Zero(nbf + 1, nbf + 1));
+      ne.band_atb.assign(detail::kRippleBands, Eigen::VectorXd::Zero(nbf + 1));
     }
-    est.pixels_used = used;
-    est.passes = 1;
-    if (used < options.min_pixels) return detail::FinishRippleEstimate(&est);
-    est.residual_rms_before_rad = std::sqrt(ss / used);
-    est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
-    if (!(est.ripple_t2 >= options.min_ripple_t2)) {
-      const Eigen::Vector3d coef = ata.ldlt().solve(atb);
-      est.sin_rad[0] = coef[1];
-      est.cos_rad[0] = coef[2];
-      return detail::FinishRippleEstimate(&est);
-    }
-  }
-  for (int pass = 0; pass < options.passes; ++pass) {
-    std::vector<Eigen::MatrixXd> band_ata(detail::kRippleBands, Eigen::MatrixXd::Zero(nb + 1, nb + 1));
-    std::vector<Eigen::VectorXd> band_atb(detail::kRippleBands, Eigen::VectorXd::Zero(nb + 1));
-    cv::Mat clean;
-    abs_phase.convertTo(clean, CV_64F);
-    clean.setTo(0, mask == 0);
-    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
-    Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(nb + 1, nb + 1);
-    Eigen::VectorXd atb = Eigen::VectorXd::Zero(nb + 1);
-    Eigen::VectorXd row(nb + 1);
-    double ss = 0;
-    long used = 0;
+    Eigen::VectorXd row(nbf + 1);
     for (int y = 0; y < hp.rows; ++y) {
       if (!fit_row(y)) continue;
       const double* r = hp.ptr<double>(y);
@@ -255,30 +228,50 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
       for (int x = 0; x < hp.cols; ++x) {
         if (!m[x] || d[x] < full || !(std::abs(r[x]) < options.outlier_rad)) continue;
         row[0] = 1.0;
-        for (int i = 0; i < nb; ++i) row[i + 1] = hp_basis[i].ptr<double>(y)[x];
-        ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
-        atb += row * r[x];
-        if (pass == 0) {
+        for (int i = 0; i < nbf; ++i) row[i + 1] = hp_basis[i].ptr<double>(y)[x];
+        ne.ata.selfadjointView<Eigen::Lower>().rankUpdate(row);
+        ne.atb += row * r[x];
+        if (bands) {
           const int band = detail::RippleBand(y - box.y, box.height);
-          band_ata[band] += row * row.transpose();
-          band_atb[band] += row * r[x];
+          ne.band_ata[band] += row * row.transpose();
+          ne.band_atb[band] += row * r[x];
         }
-        ss += r[x] * r[x];
-        ++used;
+        ne.ss += r[x] * r[x];
+        ++ne.used;
       }
     }
+    ne.ata = ne.ata.selfadjointView<Eigen::Lower>();
+    return ne;
+  };
+  // The significance test first, on a first-order fit (detail::FirstOrderRippleGate).
+  if (detail::FirstOrderRippleGate(options)) {
+    const Normal ne = accumulate(high_pass(), 2, true);
+    est.pixels_used = ne.used;
+    est.passes = 1;
+    if (ne.used < options.min_pixels) return detail::FinishRippleEstimate(&est);
+    est.residual_rms_before_rad = std::sqrt(ne.ss / ne.used);
+    est.ripple_t2 = detail::FirstOrderRippleT2(ne.band_ata, ne.band_atb);
+    if (!(est.ripple_t2 >= options.min_ripple_t2)) {
+      const Eigen::VectorXd coef = ne.ata.ldlt().solve(ne.atb);
+      est.sin_rad[0] = coef[1];
+      est.cos_rad[0] = coef[2];
+      return detail::FinishRippleEstimate(&est);
+    }
+  }
+  for (int pass = 0; pass < options.passes; ++pass) {
+    const Normal ne = accumulate(high_pass(), nb, pass == 0);
+    const long used = ne.used;
     est.pixels_used = used;
     est.passes = pass + 1;
     if (used < options.min_pixels) break;
-    if (pass == 0) est.residual_rms_before_rad = std::sqrt(ss / used);
-    const Eigen::MatrixXd full_ata = ata.selfadjointView<Eigen::Lower>();
-    const Eigen::VectorXd coef = full_ata.ldlt().solve(atb);
+    if (pass == 0) est.residual_rms_before_rad = std::sqrt(ne.ss / used);
+    const Eigen::VectorXd coef = ne.ata.ldlt().solve(ne.atb);
     for (int mo = 0; mo < options.orders; ++mo) {
       est.sin_rad[mo] += coef[1 + 2 * mo];
       est.cos_rad[mo] += coef[2 + 2 * mo];
     }
     if (pass == 0) {
-      est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+      est.ripple_t2 = detail::FirstOrderRippleT2(ne.band_ata, ne.band_atb);
       if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
     // Subtract this pass's ripple.
@@ -296,10 +289,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat&
   }
   if (est.applied) {
     // Residual after the correction, same pixel selection rule.
-    cv::Mat clean;
-    abs_phase.convertTo(clean, CV_64F);
-    clean.setTo(0, mask == 0);
-    const cv::Mat hp = clean - MaskedMean(clean, mf, den, w);
+    const cv::Mat hp = high_pass();
     double ss = 0;
     long used = 0;
     for (int y = 0; y < hp.rows; ++y) {
