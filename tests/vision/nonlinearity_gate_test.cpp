@@ -59,8 +59,10 @@ TEST(NonlinearityGate, GammaRippleOnASmallBallIsStillCorrected) {
 
 // The test's first-order fit (FirstOrderRippleGate) only decides: a significant ripple is then
 // fitted with every order from the start. The same gamma set decoded without the test
-// (min_ripple_t2 = 0, every order fitted and applied) gives the same coefficients and the same
-// coordinates, bit for bit; with the test, both fits' T² pass it.
+// (min_ripple_t2 = 0, every order fitted and applied) gives the same T², coefficients and
+// coordinates. "The same" up to rounding: the fit's sums are a parallel reduction whose grouping
+// varies from run to run, so coefficients agree to 1e-12 rad (of ~1e-4..1e-1) and coordinates
+// to 1e-5 projector px (float rounding is ~3e-5 px at 500 px; the match sigma ~0.02 px).
 TEST(NonlinearityGate, ASignificantRippleGetsTheSameFitAsWithoutTheTest) {
   FringeSimulationConfig c = SmallBall(Vec3(0, 0, 700), 0.5, 7);
   c.sequence = {PhaseShiftBlock(4, 64.0), GrayCodeBlock(7, true)};
@@ -73,19 +75,22 @@ TEST(NonlinearityGate, ASignificantRippleGetsTheSameFitAsWithoutTheTest) {
   const NonlinearityEstimate &g = gated.summary.nonlinearity, &f = full.summary.nonlinearity;
   ASSERT_TRUE(g.applied) << g.BriefReport();
   ASSERT_TRUE(f.applied) << f.BriefReport();
-  EXPECT_EQ(g.ripple_t2, f.ripple_t2);  // the all-order fit's first pass, as before the gate
+  EXPECT_NEAR(g.ripple_t2, f.ripple_t2, 1e-9 * f.ripple_t2);  // the all-order fit's first pass
   EXPECT_GT(g.ripple_t2, 25.2);
   for (std::size_t k = 0; k < g.sin_rad.size(); ++k) {
-    EXPECT_EQ(g.sin_rad[k], f.sin_rad[k]) << "order " << k + 1;
-    EXPECT_EQ(g.cos_rad[k], f.cos_rad[k]) << "order " << k + 1;
+    EXPECT_NEAR(g.sin_rad[k], f.sin_rad[k], 1e-12) << "order " << k + 1;
+    EXPECT_NEAR(g.cos_rad[k], f.cos_rad[k], 1e-12) << "order " << k + 1;
   }
   ASSERT_EQ(gated.coordinate.size(), full.coordinate.size());
-  long differ = 0;
+  long differ = 0, valid = 0;
   for (int y = 0; y < gated.coordinate.rows; ++y)
     for (int x = 0; x < gated.coordinate.cols; ++x) {
       const float a = gated.coordinate.at<float>(y, x), b = full.coordinate.at<float>(y, x);
-      differ += !(a == b || (std::isnan(a) && std::isnan(b)));
+      if (std::isnan(a) && std::isnan(b)) continue;
+      ++valid;
+      differ += !(std::abs(a - b) <= 1e-5f);
     }
+  EXPECT_GT(valid, 1000);
   EXPECT_EQ(differ, 0);
 }
 
