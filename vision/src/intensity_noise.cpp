@@ -16,30 +16,23 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-// The fitted (cos, sin) amplitudes of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N),
-// whose angle is the phase, and the frame sum (the fit's mean times N).
+// Residual vector of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N), and the
+// fitted (cos, sin) amplitudes, whose angle is the phase.
 template <typename T>
-void Amplitudes(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
-                int y, int x, double* sum_out, Vec2* phase) {
+void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
+              int y, int x, double* r, Vec2* phase) {
   const int n = static_cast<int>(frames.size());
   double sum = 0, sc = 0, ss = 0;
   for (int k = 0; k < n; ++k) {
     const double v = frames[k]->ptr<T>(y)[x];
+    r[k] = v;
     sum += v;
     sc += v * c[k];
     ss += v * s[k];
   }
-  *sum_out = sum;
-  *phase = Vec2(2 * sc / n, 2 * ss / n);
-}
-
-// The fit's residual vector at (y, x) from its amplitudes (Amplitudes).
-template <typename T>
-void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
-              int y, int x, double sum, const Vec2& phase, double* r) {
-  const int n = static_cast<int>(frames.size());
-  const double a0 = sum / n, a = phase.x(), b = phase.y();
-  for (int k = 0; k < n; ++k) r[k] = frames[k]->ptr<T>(y)[x] - (a0 + a * c[k] + b * s[k]);
+  const double a0 = sum / n, a = 2 * sc / n, b = 2 * ss / n;
+  for (int k = 0; k < n; ++k) r[k] -= a0 + a * c[k] + b * s[k];
+  *phase = Vec2(a, b);
 }
 
 template <typename T>
@@ -60,7 +53,7 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
   const int rows = mask.rows > 2 ? (mask.rows - 2 + stride - 1) / stride : 0;
   std::vector<RowSums> per_row(rows);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> r0(n), ra(n), rb(n);
+    std::vector<double> r0(n), ra(n), rb(n), rc(n), rd(n);
     for (int i = range.begin(); i < range.end(); ++i) {
       const int y = 1 + i * stride;
       RowSums& rs = per_row[i];
@@ -71,26 +64,18 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
         if (!m0[x]) continue;
         const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
         if (!horizontal && !vertical) continue;
-        // The amplitudes of the neighbours first; the residual vectors of the three pixels used.
         Vec2 p0, pa, pb, pc, pd;
-        double s0 = 0, sa = 0, sb = 0, sc = 0, sd = 0;
+        Residual<T>(frames, c, s, y, x, r0.data(), &p0);
         if (horizontal)
-          Amplitudes<T>(frames, c, s, y, x - 1, &sa, &pa), Amplitudes<T>(frames, c, s, y, x + 1, &sb, &pb);
-        if (vertical) Amplitudes<T>(frames, c, s, y - 1, x, &sc, &pc), Amplitudes<T>(frames, c, s, y + 1, x, &sd, &pd);
+          Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
+        if (vertical)
+          Residual<T>(frames, c, s, y - 1, x, rc.data(), &pc), Residual<T>(frames, c, s, y + 1, x, rd.data(), &pd);
         // The direction along the fringe (smaller phase change): there the phase-dependent
         // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and
         // the second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
         const bool use_h = horizontal && (!vertical || cos_between(pa, pb) >= cos_between(pc, pd));
-        Amplitudes<T>(frames, c, s, y, x, &s0, &p0);
-        Residual<T>(frames, c, s, y, x, s0, p0, r0.data());
-        if (use_h)
-          Residual<T>(frames, c, s, y, x - 1, sa, pa, ra.data()),
-              Residual<T>(frames, c, s, y, x + 1, sb, pb, rb.data());
-        else
-          Residual<T>(frames, c, s, y - 1, x, sc, pc, ra.data()),
-              Residual<T>(frames, c, s, y + 1, x, sd, pd, rb.data());
-        const std::vector<double>& q1 = ra;
-        const std::vector<double>& q2 = rb;
+        const std::vector<double>& q1 = use_h ? ra : rc;
+        const std::vector<double>& q2 = use_h ? rb : rd;
         for (int k = 0; k < n; ++k) {
           const double dd = q1[k] - 2 * r0[k] + q2[k];
           rs.diff_ss += dd * dd;

@@ -41,6 +41,22 @@ struct Normal {
     ss += o.ss;
     used += o.used;
   }
+  // The first `terms` equations as Eigen's (the full symmetric matrix).
+  void ToEigen(int terms, Eigen::MatrixXd* a, Eigen::VectorXd* b) const {
+    a->resize(terms, terms);
+    b->resize(terms);
+    for (int i = 0; i < terms; ++i) {
+      for (int j = 0; j <= i; ++j) (*a)(i, j) = (*a)(j, i) = ata[i][j];
+      (*b)[i] = atb[i];
+    }
+  }
+  // The least-squares coefficients of the first `terms` equations.
+  Eigen::VectorXd Solve(int terms) const {
+    Eigen::MatrixXd a;
+    Eigen::VectorXd b;
+    ToEigen(terms, &a, &b);
+    return a.ldlt().solve(b);
+  }
 };
 
 // One strip of output rows [y0, y1) of the box with the rows its windows reach, [a, b) =
@@ -295,16 +311,9 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
   // Per band, the normal equations as Eigen matrices (FirstOrderRippleT2).
   auto band_systems = [](const std::vector<Normal>& bands, int to, std::vector<Eigen::MatrixXd>* band_ata,
                          std::vector<Eigen::VectorXd>* band_atb) {
-    for (const Normal& nk : bands) {
-      Eigen::MatrixXd a(to, to);
-      Eigen::VectorXd b(to);
-      for (int i = 0; i < to; ++i) {
-        for (int j = 0; j <= i; ++j) a(i, j) = a(j, i) = nk.ata[i][j];
-        b[i] = nk.atb[i];
-      }
-      band_ata->push_back(a);
-      band_atb->push_back(b);
-    }
+    band_ata->resize(bands.size());
+    band_atb->resize(bands.size());
+    for (std::size_t k = 0; k < bands.size(); ++k) bands[k].ToEigen(to, &(*band_ata)[k], &(*band_atb)[k]);
   };
 
   // The significance test first, on a first-order fit (detail::FirstOrderRippleGate): without a
@@ -322,13 +331,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     band_systems(bands, 3, &band_ata, &band_atb);
     est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
     if (!(est.ripple_t2 >= options.min_ripple_t2)) {
-      Eigen::Matrix3d ata;
-      Eigen::Vector3d atb;
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j <= i; ++j) ata(i, j) = ata(j, i) = ne.ata[i][j];
-        atb[i] = ne.atb[i];
-      }
-      const Eigen::Vector3d coef = ata.ldlt().solve(atb);
+      const Eigen::VectorXd coef = ne.Solve(3);
       est.sin_rad[0] = coef[1];
       est.cos_rad[0] = coef[2];
       return detail::FinishRippleEstimate(&est);
@@ -343,13 +346,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     est.passes = pass + 1;
     if (ne.used < options.min_pixels) break;
     if (pass == 0) est.residual_rms_before_rad = std::sqrt(ne.ss / ne.used);
-    Eigen::MatrixXd ata(terms, terms);
-    Eigen::VectorXd atb(terms);
-    for (int i = 0; i < terms; ++i) {
-      for (int j = 0; j <= i; ++j) ata(i, j) = ata(j, i) = ne.ata[i][j];
-      atb[i] = ne.atb[i];
-    }
-    const Eigen::VectorXd coef = ata.ldlt().solve(atb);
+    const Eigen::VectorXd coef = ne.Solve(terms);
     for (int o = 0; o < options.orders; ++o) {
       est.sin_rad[o] += coef[1 + 2 * o];
       est.cos_rad[o] += coef[2 + 2 * o];
