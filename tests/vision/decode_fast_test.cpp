@@ -122,7 +122,7 @@ TEST(DecodeFast, SixteenBitGrayAndHeterodyneSetsAsTheReferencePath) {
     std::vector<cv::Mat> as16(frames.size());
     for (std::size_t i = 0; i < frames.size(); ++i) frames[i].convertTo(as16[i], CV_16U, 257.0);  // 8 -> 16 bit
     // The nonlinearity fit on every row, and on a quarter of each band's rows (what a
-    // frame of >= 2 M valid pixels gets by default; here forced by a low pixel floor).
+    // frame of >= 400 k valid pixels gets by default; here forced by a low pixel floor).
     for (const long floor : {500000L, 1000L}) {
       DecodeOptions fast_opt;
       fast_opt.nonlinearity.row_subsample_min_pixels = floor;
