@@ -25,14 +25,14 @@ class CellNeighbourhood {
   int operator[](std::size_t k) const {
     int c = 0;
     while (k >= start_[c + 1]) ++c;
-    return (*cells_[c])[k - start_[c]];
+    return cells_[c][k - start_[c]];
   }
   // Calls f(index) for the elements k = first, first + stride, ... (stride >= 1).
   template <class F>
   void ForEachStrided(std::size_t first, std::size_t stride, F&& f) const {
     std::size_t k = first;
     for (int c = 0; c < count_; ++c) {
-      const std::vector<int>& v = *cells_[c];
+      const int* v = cells_[c];
       for (; k < start_[c + 1]; k += stride) f(v[k - start_[c]]);
     }
   }
@@ -43,7 +43,7 @@ class CellNeighbourhood {
 
  private:
   friend class PointGrid;
-  std::array<const std::vector<int>*, 27> cells_{};
+  std::array<const int*, 27> cells_{};
   std::array<std::size_t, 28> start_{};
   int count_ = 0;
   std::size_t size_ = 0;
@@ -59,9 +59,14 @@ class PointGrid {
  private:
   int64_t Key(const Eigen::Vector3d& x) const;
   static int64_t Pack(int64_t i, int64_t j, int64_t k);
+  // A cell's points: index_[begin, begin + size).
+  struct Span {
+    std::size_t begin = 0, size = 0;
+  };
   double cell_;
   Eigen::Vector3d origin_;
-  std::unordered_map<int64_t, std::vector<int>> cells_;
+  std::vector<int> index_;  // the active indices grouped by cell, each cell's in active order
+  std::unordered_map<int64_t, Span> cells_;
   std::unordered_map<int64_t, CellNeighbourhood> cache_;
 };
 
