@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "../../vision/src/decode_internal.h"
 #include "decode_synth.h"
 #include "ramtk/vision/decode.h"
 #include "ramtk/vision/phase_shift.h"
@@ -108,6 +109,39 @@ TEST(WrappedPhaseNoise, RandomIntensityNoiseSeparatedFromTheHarmonics) {
     const DecodedCamera old = DecodeFrames(m, frames, 255.0, opt, "cam");
     EXPECT_DOUBLE_EQ(old.summary.sigma_intensity_dn, old.summary.fit_residual_rms_dn);
   }
+}
+
+// The per-pixel estimates' stride follows the valid pixel count (DecodeOptions::
+// estimate_max_samples): closed-form cases, then a frame sampled at every 8th pixel instead of
+// every 4th still finds the synthesised noise, and agrees with the denser sampling within their
+// statistical scatter.
+TEST(WrappedPhaseNoise, SparserSamplingOfLargeFramesStillFindsTheNoise) {
+  EXPECT_EQ(detail::EstimateStride(4, 6650600, 200000), 6);  // a thesis frame: 33 x the samples
+  EXPECT_EQ(detail::EstimateStride(4, 410613, 200000), 4);   // SLMaster: the stride
+  EXPECT_EQ(detail::EstimateStride(4, 1883935, 200000), 4);  // a 2048x1536 set
+  EXPECT_EQ(detail::EstimateStride(4, 6650600, 0), 4);       // off
+  EXPECT_EQ(detail::EstimateStride(0, 0, 200000), 1);
+  SynthOptions o;
+  o.noise_dn = 1.0;
+  o.gamma = 2.2;
+  o.seed = 2025;
+  FringeManifest m = testing::GrayManifest(8, 32, true);
+  const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
+  const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+  DecodeOptions dense, sparse;
+  const DecodedCamera d = DecodeFrames(m, frames, 255.0, dense, "cam");
+  const long valid = d.summary.valid_pixels;
+  sparse.estimate_max_samples = valid / 64;  // every 8th pixel in x and y
+  ASSERT_EQ(detail::EstimateStride(sparse.noise_stride, valid, sparse.estimate_max_samples), 8);
+  const DecodedCamera e = DecodeFrames(m, frames, 255.0, sparse, "cam");
+  const double a = d.summary.sigma_intensity_random_dn, b = e.summary.sigma_intensity_random_dn;
+  std::cout << "sigma_I random: every 4th pixel " << a << " DN, every 8th " << b << " DN (" << valid << " valid)\n";
+  EXPECT_NEAR(b, EffectiveSigma(1.0), 0.05 * EffectiveSigma(1.0));
+  // Relative error of each ~1 / sqrt(2 pixels (N - 3)); the sparse set is a subset of the dense.
+  const double rel = 1.0 / std::sqrt(2.0 * (valid / 64.0) * (8 - 3));
+  EXPECT_NEAR(b / a, 1.0, 4 * rel);
+  EXPECT_EQ(e.summary.valid_pixels, valid);
+  EXPECT_EQ(cv::norm(d.coordinate, e.coordinate, cv::NORM_INF, d.mask), 0.0);  // the phase itself is untouched
 }
 
 TEST(PhaseShift, ExactSinusoidClosedForm) {

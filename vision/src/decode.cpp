@@ -45,6 +45,7 @@ std::string DecodeOptions::Validate() const {
     if (const std::string p = nonlinearity.Validate(); !p.empty()) return "nonlinearity." + p;
   if (harmonic_stride < 1) return "harmonic_stride: must be >= 1";
   if (noise_stride < 1) return "noise_stride: must be >= 1";
+  if (estimate_max_samples < 0) return "estimate_max_samples: must be >= 0 (0 = the strides alone)";
   if (const std::string p = coordinate_filter.Validate(); !p.empty()) return "coordinate_filter." + p;
   return "";
 }
@@ -242,7 +243,7 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     return out;
   }
 
-  const double ripple = detail::PhaseRipple(options, coord, mask, n, sum.period_px);
+  const double ripple = detail::PhaseRipple(options, coord, mask, n, sum.period_px, sum.valid_pixels);
   sum.phase_ripple_rad = ripple;
   std::vector<float> sig;
   out.sigma_coordinate.create(mask.size(), CV_32F);

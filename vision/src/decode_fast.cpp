@@ -672,7 +672,8 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     sum.median_modulation_dn = at[0];
     sum.median_sigma_phase_rad = static_cast<float>(k_sigma / at[1]);
   }
-  sum.harmonic_ratios = MeasureHarmonicRatiosFast(in.ps_frames[0], mask, options.harmonic_stride);
+  sum.harmonic_ratios = MeasureHarmonicRatiosFast(
+      in.ps_frames[0], mask, EstimateStride(options.harmonic_stride, count, options.estimate_max_samples));
   sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                          : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
 
@@ -714,7 +715,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     return out;
   }
 
-  const double ripple = PhaseRipple(options, coord, mask, n, sum.period_px);
+  const double ripple = PhaseRipple(options, coord, mask, n, sum.period_px, count);
   sum.phase_ripple_rad = ripple;
   sum.median_sigma_phase_rad = std::sqrt(sum.median_sigma_phase_rad * sum.median_sigma_phase_rad + ripple * ripple);
   if (options.keep_diagnostic_maps) out.sigma_phase.create(mask.size(), CV_32F);

@@ -77,9 +77,15 @@ IntensityNoise EstimateIntensityNoise(const std::vector<const cv::Mat*>& frames,
 // points; 0 if too few pixels. Every `stride`-th pixel.
 double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride);
 
-// EstimatePhaseRipple when DecodeOptions::noise_from_neighbours and N > 3, else 0.
+// EstimatePhaseRipple when DecodeOptions::noise_from_neighbours and N > 3, else 0; `valid`
+// pixels in the mask (EstimateStride).
 double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n,
-                   double period_px);
+                   double period_px, long valid);
+
+// The sampling stride of a per-pixel estimate over `valid` pixels: `stride`, or the smallest
+// larger one that reads at most ~max_samples of them (DecodeOptions::estimate_max_samples;
+// 0: `stride`).
+int EstimateStride(int stride, long valid, long max_samples);
 
 // Sets sum->sigma_intensity_dn (and the random/systematic split) from the options, the fit
 // residual RMS already in `sum`, and the finest phase-shift frames (both decode paths).

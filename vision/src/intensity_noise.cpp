@@ -131,7 +131,8 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
   }
   sum->sigma_intensity_dn = sum->fit_residual_rms_dn;
   if (!options.noise_from_neighbours) return;
-  const IntensityNoise noise = EstimateIntensityNoise(frames, mask, options.noise_stride);
+  const IntensityNoise noise =
+      EstimateIntensityNoise(frames, mask, EstimateStride(options.noise_stride, valid, options.estimate_max_samples));
   constexpr long kMinPairs = 200;  // the estimate's relative error is ~1 / sqrt(2 pairs (N - 3))
   if (noise.pairs < kMinPairs || !(noise.random_dn > 0)) {
     RAMTK_LOG(kInfo) << "intensity noise: " << noise.pairs
@@ -147,9 +148,17 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
 }
 
 double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n,
-                   double period_px) {
+                   double period_px, long valid) {
   if (!options.noise_from_neighbours || options.intensity_sigma_dn > 0 || n <= 3) return 0;
-  return EstimatePhaseRipple(coordinate, mask, period_px, options.noise_stride);
+  return EstimatePhaseRipple(coordinate, mask, period_px,
+                             EstimateStride(options.noise_stride, valid, options.estimate_max_samples));
+}
+
+int EstimateStride(int stride, long valid, long max_samples) {
+  stride = std::max(1, stride);
+  if (max_samples <= 0 || valid <= 0) return stride;
+  const int by_count = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(valid) / max_samples)));
+  return std::max(stride, by_count);
 }
 
 double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride) {

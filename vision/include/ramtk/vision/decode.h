@@ -35,6 +35,13 @@ struct DecodeOptions {
   // term, as before 2026-11-24 (sigma was then 7x too large on SLMaster).
   bool noise_from_neighbours = true;
   int noise_stride = 4;  // every noise_stride-th pixel in x and y for those estimates (1/16 of them)
+  // Those estimates and the fast path's harmonic ratios read every s-th pixel in x and y with
+  // s = the larger of their stride and ceil(sqrt(valid pixels / estimate_max_samples)): on a
+  // frame of more than ~16 times this many valid pixels they sample more sparsely, so that their
+  // cost follows their precision, not the frame's size (200 000 pixels give sigma_I to ~0.05 %,
+  // 1 / sqrt(2 pixels (N - 3))). A 3312x2488 frame reads every 6th pixel; 1280x1024 and
+  // 2048x1536 ones keep the strides. 0: the strides alone.
+  long estimate_max_samples = 200000;
   // Estimate the projector nonlinearity from the phase-shift frames and remove its ripple.
   bool correct_nonlinearity = true;
   NonlinearityOptions nonlinearity;  // used when correct_nonlinearity
