@@ -2,6 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "../../vision/src/decode_internal.h"
 #include "decode_synth.h"
@@ -142,6 +147,48 @@ TEST(WrappedPhaseNoise, SparserSamplingOfLargeFramesStillFindsTheNoise) {
   EXPECT_NEAR(b / a, 1.0, 4 * rel);
   EXPECT_EQ(e.summary.valid_pixels, valid);
   EXPECT_EQ(cv::norm(d.coordinate, e.coordinate, cv::NORM_INF, d.mask), 0.0);  // the phase itself is untouched
+}
+
+// The sigma maps' row (detail::SigmaRow, eight pixels at a time on two double lanes) against
+// its formula evaluated one pixel at a time: the same bits, for a row with masked pixels, a
+// modulation of 0, negative, NaN or tiny, and a width that leaves a one-by-one tail.
+TEST(WrappedPhaseNoise, SigmaRowIsTheFormulaBitForBit) {
+  const int width = 203;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> modulation(0.5f, 200.0f);
+  std::vector<uchar> mask(width);
+  std::vector<float> b(width), c(width);
+  for (int x = 0; x < width; ++x) {
+    mask[x] = (x % 7 == 3) ? 0 : 255;
+    b[x] = modulation(rng);
+    c[x] = static_cast<float>(x) * 0.37f;
+  }
+  b[5] = 0.0f;
+  b[6] = -3.0f;
+  b[9] = std::numeric_limits<float>::quiet_NaN();
+  b[12] = 1e-30f;
+  b[201] = 0.0f;  // in the tail
+  for (const double ripple : {0.0, 0.003}) {
+    std::vector<float> c_out = c, sp(width, -1.0f), sc(width, -1.0f);
+    const double k = 0.41, to_px = 20.0 / (2 * M_PI);
+    detail::SigmaRow(mask.data(), b.data(), width, k, ripple, to_px, c_out.data(), sp.data(), sc.data());
+    std::vector<float> sc_only(width, -1.0f), c_only = c;
+    detail::SigmaRow(mask.data(), b.data(), width, k, ripple, to_px, c_only.data(), nullptr, sc_only.data());
+    auto same = [](float u, float v) { return std::memcmp(&u, &v, sizeof u) == 0; };
+    for (int x = 0; x < width; ++x) {
+      SCOPED_TRACE("x " + std::to_string(x) + ", ripple " + std::to_string(ripple));
+      if (!mask[x]) {
+        EXPECT_TRUE(std::isnan(c_out[x]) && std::isnan(sp[x]) && std::isnan(sc[x]));
+        continue;
+      }
+      const float s = b[x] > 0 ? static_cast<float>(std::sqrt(k * k / (double(b[x]) * b[x]) + ripple * ripple))
+                               : std::numeric_limits<float>::infinity();
+      EXPECT_TRUE(same(c_out[x], c[x]));
+      EXPECT_TRUE(same(sp[x], s)) << sp[x] << " vs " << s;
+      EXPECT_TRUE(same(sc[x], static_cast<float>(s * to_px)));
+      EXPECT_TRUE(same(sc_only[x], sc[x]));
+    }
+  }
 }
 
 TEST(PhaseShift, ExactSinusoidClosedForm) {

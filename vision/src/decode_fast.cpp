@@ -537,6 +537,49 @@ std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>&
   }
 }
 
+// One row of the sigma maps (decode_internal.h): sigma_phi = sqrt(k^2 / B^2 + ripple^2) (+inf where B <= 0) into
+// `sp` (if not null) and sigma_phi * to_px into `sc`; where the mask is 0, NaN in both and in the
+// coordinate `c`. Eight pixels at a time on two double lanes: division and square root are
+// correctly rounded there as in scalar code, so the maps are the same bit for bit.
+void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
+              float* sp, float* sc) {
+  int x = 0;
+#if CV_SIMD128_64F
+  const cv::v_float64x2 k2 = cv::v_setall_f64(k_sigma * k_sigma), r2 = cv::v_setall_f64(ripple * ripple);
+  const cv::v_float64x2 px = cv::v_setall_f64(to_px);
+  const cv::v_float32x4 nan = cv::v_setall_f32(kNaN), inf = cv::v_setall_f32(std::numeric_limits<float>::infinity());
+  const cv::v_float32x4 zero = cv::v_setzero_f32();
+  for (; x + 8 <= width; x += 8) {
+    cv::v_uint32x4 m32[2];
+    cv::v_expand(cv::v_load_expand(mk + x), m32[0], m32[1]);
+    for (int h = 0; h < 2; ++h) {
+      const int i = x + 4 * h;
+      const cv::v_float32x4 valid = cv::v_reinterpret_as_f32(m32[h] != cv::v_setzero_u32());
+      const cv::v_float32x4 bf = cv::v_load(b + i);
+      const cv::v_float64x2 b0 = cv::v_cvt_f64(bf), b1 = cv::v_cvt_f64_high(bf);
+      const cv::v_float32x4 root = cv::v_cvt_f32(cv::v_sqrt(k2 / (b0 * b0) + r2), cv::v_sqrt(k2 / (b1 * b1) + r2));
+      const cv::v_float32x4 sigma = cv::v_select(bf > zero, root, inf);
+      const cv::v_float32x4 coord_sigma = cv::v_cvt_f32(cv::v_cvt_f64(sigma) * px, cv::v_cvt_f64_high(sigma) * px);
+      cv::v_store(c + i, cv::v_select(valid, cv::v_load(c + i), nan));
+      if (sp) cv::v_store(sp + i, cv::v_select(valid, sigma, nan));
+      cv::v_store(sc + i, cv::v_select(valid, coord_sigma, nan));
+    }
+  }
+#endif
+  for (; x < width; ++x) {
+    if (!mk[x]) {
+      c[x] = sc[x] = kNaN;
+      if (sp) sp[x] = kNaN;
+      continue;
+    }
+    const float s = b[x] > 0
+                        ? static_cast<float>(std::sqrt(k_sigma * k_sigma / (double(b[x]) * b[x]) + ripple * ripple))
+                        : std::numeric_limits<float>::infinity();
+    if (sp) sp[x] = s;
+    sc[x] = static_cast<float>(s * to_px);
+  }
+}
+
 namespace {
 
 bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
@@ -729,18 +772,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
       float* c = coord.ptr<float>(y);
       float* sp = keep_sp ? out.sigma_phase.ptr<float>(y) : nullptr;
       float* sc = out.sigma_coordinate.ptr<float>(y);
-      for (int x = 0; x < mask.cols; ++x) {
-        if (!mk[x]) {
-          c[x] = sc[x] = kNaN;
-          if (sp) sp[x] = kNaN;
-          continue;
-        }
-        const float s = b[x] > 0
-                            ? static_cast<float>(std::sqrt(k_sigma * k_sigma / (double(b[x]) * b[x]) + ripple * ripple))
-                            : std::numeric_limits<float>::infinity();
-        if (sp) sp[x] = s;
-        sc[x] = static_cast<float>(s * to_px);
-      }
+      SigmaRow(mk, b, mask.cols, k_sigma, ripple, to_px, c, sp, sc);
     }
   });
   out.coordinate = coord;

@@ -92,4 +92,10 @@ int EstimateStride(int stride, long valid, long max_samples);
 void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
                           int n, long valid, DecodeSummary* sum);
 
+// One row of a decode's sigma maps (the fast path): sigma_phi = sqrt(k_sigma^2 / B^2 + ripple^2),
+// +inf where B <= 0 or NaN, into `sp` (if not null) and sigma_phi * to_px (as float) into `sc`;
+// where the mask byte is 0, NaN in both and in the coordinate `c` (otherwise left as it is).
+void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
+              float* sp, float* sc);
+
 }  // namespace ramtk::vision::detail
