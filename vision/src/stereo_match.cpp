@@ -79,6 +79,10 @@ struct Pass {
   std::vector<double> jump_far;  // the same for kFarStretches * stretch steps
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
   cv::Mat back_u, back_v, back_sigma;
+  // Their rows as raw floats (continuous CV_32F maps of one size; set with lr_check): Consistent
+  // reads them per crossing, and cv::Mat::ptr costs loads of its own.
+  const float *back_u_at = nullptr, *back_v_at = nullptr, *back_sigma_at = nullptr;
+  std::size_t back_stride = 0;
   // With the check: per source pixel, 1 if some destination cell's back matches can pass Consistent
   // for it (BackReach), else no crossing of it can be accepted and it is not searched.
   cv::Mat reach;
@@ -790,22 +794,21 @@ struct Matcher {
     const double u = dst_pix.x(), v = dst_pix.y();
     const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.back_u.cols || v0 + 1 >= p.back_u.rows) return false;
-    double bu[4], bv[4];
-    bool all = true;
+    // The four corners' back matches and sigmas, read through the maps' raw rows (Pass::back_*).
+    const std::size_t at0 = static_cast<std::size_t>(v0) * p.back_stride + static_cast<std::size_t>(u0);
+    const std::size_t at1 = at0 + p.back_stride;
+    const float fu4[4] = {p.back_u_at[at0], p.back_u_at[at0 + 1], p.back_u_at[at1], p.back_u_at[at1 + 1]};
+    const float fv4[4] = {p.back_v_at[at0], p.back_v_at[at0 + 1], p.back_v_at[at1], p.back_v_at[at1 + 1]};
+    // All eight finite: x - x is 0 for a finite x and NaN otherwise, and so is the sum.
+    const bool all = ((fu4[0] - fu4[0]) + (fu4[1] - fu4[1]) + (fu4[2] - fu4[2]) + (fu4[3] - fu4[3]) +
+                      (fv4[0] - fv4[0]) + (fv4[1] - fv4[1]) + (fv4[2] - fv4[2]) + (fv4[3] - fv4[3])) == 0.0f;
+    const double bu[4] = {fu4[0], fu4[1], fu4[2], fu4[3]}, bv[4] = {fv4[0], fv4[1], fv4[2], fv4[3]};
     double tolerance = p.lr_tolerance;
-    const float* u_rows[2] = {p.back_u.ptr<float>(v0) + u0, p.back_u.ptr<float>(v0 + 1) + u0};
-    const float* v_rows[2] = {p.back_v.ptr<float>(v0) + u0, p.back_v.ptr<float>(v0 + 1) + u0};
-    for (int k = 0; k < 4; ++k) {
-      bu[k] = u_rows[k / 2][k % 2];
-      bv[k] = v_rows[k / 2][k % 2];
-      all = all && std::isfinite(bu[k]) && std::isfinite(bv[k]);
-    }
     if (p.lr_sigma) {
-      const float* s_rows[2] = {p.back_sigma.ptr<float>(v0) + u0, p.back_sigma.ptr<float>(v0 + 1) + u0};
-      for (int k = 0; k < 4; ++k) {
-        const double sk = s_rows[k / 2][k % 2];
-        if (std::isfinite(sk)) tolerance = std::max(tolerance, p.lr_sigma_factor * sk);
-      }
+      const float s4[4] = {p.back_sigma_at[at0], p.back_sigma_at[at0 + 1], p.back_sigma_at[at1],
+                           p.back_sigma_at[at1 + 1]};
+      for (const float sk : s4)
+        if (sk - sk == 0.0f) tolerance = std::max(tolerance, p.lr_sigma_factor * static_cast<double>(sk));  // finite
     }
     const double fu = u - u0, fv = v - v0;
     if (all) {
@@ -1337,6 +1340,16 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.lr_sigma_factor = options.lr_sigma_factor;
     lrp.lr_check = !lrp.back_u.empty() && lrp.lr_tolerance > 0;
     lrp.lr_sigma = lrp.lr_sigma_factor > 0 && !lrp.back_sigma.empty();
+    if (lrp.lr_check) {
+      CV_Assert(lrp.back_u.type() == CV_32F && lrp.back_v.type() == CV_32F && lrp.back_v.size == lrp.back_u.size &&
+                lrp.back_u.step == lrp.back_v.step &&
+                (!lrp.lr_sigma || (lrp.back_sigma.type() == CV_32F && lrp.back_sigma.size == lrp.back_u.size &&
+                                   lrp.back_sigma.step == lrp.back_u.step)));
+      lrp.back_u_at = lrp.back_u.ptr<float>();
+      lrp.back_v_at = lrp.back_v.ptr<float>();
+      lrp.back_sigma_at = lrp.lr_sigma ? lrp.back_sigma.ptr<float>() : nullptr;
+      lrp.back_stride = lrp.back_u.step1();
+    }
     if (lrp.lr_check && options.skip_without_back_match)
       lrp.reach = BackReach(lrp, left.coordinate.cols, left.coordinate.rows);
   }
