@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -130,6 +132,7 @@ struct Sample {
   double var = 0;         // variance of the interpolated c_dst, projector px^2 (Complete)
   double modulation = 0;  // interpolated destination modulation B, DN (Complete)
   Vec2 pix = Vec2::Zero();
+  int u0 = 0, v0 = 0;  // the cell under pix (its top-left pixel) when ok
 };
 
 struct Matcher {
@@ -307,6 +310,7 @@ struct Matcher {
     const double u = s.pix.x(), v = s.pix.y();
     int u0, v0;
     if (!ValidCell(pix, &u0, &v0)) return s;
+    s.u0 = u0, s.v0 = v0;
     const float* r0 = p.dst_coord_rows.Row(v0);
     const float* r1 = p.dst_coord_rows.Row(v0 + 1);
     const double c00 = r0[u0], c10 = r0[u0 + 1], c01 = r1[u0], c11 = r1[u0 + 1];
@@ -320,8 +324,7 @@ struct Matcher {
   Sample CellAt(const Vec2& pix) const {
     Sample s;
     s.pix = pix;
-    int u0, v0;
-    s.ok = ValidCell(pix, &u0, &v0);
+    s.ok = ValidCell(pix, &s.u0, &s.v0);
     return s;
   }
   // Fills the variance and modulation of a valid sample (EvalAt leaves them out: only the
@@ -330,7 +333,7 @@ struct Matcher {
     Sample& s = *sample;
     if (!s.ok) return;
     const double u = s.pix.x(), v = s.pix.y();
-    const int u0 = FloorToInt(u), v0 = FloorToInt(v);
+    const int u0 = s.u0, v0 = s.v0;  // the cell EvalAt / CellAt found
     const double fu = u - u0, fv = v - v0;
     const double w00 = (1 - fu) * (1 - fv), w10 = fu * (1 - fv), w01 = (1 - fu) * fv, w11 = fu * fv;
     const float* s0 = p.dst_sigma_rows.Row(v0);
@@ -1000,6 +1003,13 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         for (int x = 0; x < W; ++x) {
           if (!mrow[x] || !std::isfinite(crow[x])) {
             w_prev = std::numeric_limits<double>::quiet_NaN();
+            // Masked runs (most of a frame outside the object) eight mask bytes at a time.
+            while (x + 9 <= W) {
+              std::uint64_t next8;
+              std::memcpy(&next8, mrow + x + 1, sizeof next8);
+              if (next8) break;
+              x += 8;
+            }
             continue;
           }
           ++valid;
