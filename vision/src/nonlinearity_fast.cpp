@@ -7,6 +7,7 @@
 // per row in parallel without per-pixel allocation.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <Eigen/Dense>
@@ -76,9 +77,9 @@ void StripDen(const cv::Mat& mask, const Strip& st, int w, cv::Mat* mf, cv::Mat*
 }
 
 // High-passed phase on rows [y0, y1) (CV_64F): clean - box(clean) / den, with clean = the phase
-// where the mask is set and 0 elsewhere.
-void StripHighPass(const cv::Mat& phase, const cv::Mat& mask, const cv::Mat& den, const Strip& st, int w,
-                   cv::Mat* clean, cv::Mat* hp) {
+// where the mask is set and 0 elsewhere. In two parts: the window sums box(clean) into `hp`
+// (StripPhaseSums, which does not need den), then the difference in place (StripHighPass).
+void StripPhaseSums(const cv::Mat& phase, const cv::Mat& mask, const Strip& st, int w, cv::Mat* clean, cv::Mat* hp) {
   clean->create(st.b - st.a, phase.cols, CV_64F);
   tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
@@ -90,9 +91,12 @@ void StripHighPass(const cv::Mat& phase, const cv::Mat& mask, const cv::Mat& den
   });
   cv::boxFilter((*clean)(st.Rows(phase.cols)), *hp, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false,
                 cv::BORDER_CONSTANT);
+}
+
+void StripHighPass(const cv::Mat& phase, const cv::Mat& den, const Strip& st, const cv::Mat& clean, cv::Mat* hp) {
   tbb::parallel_for(tbb::blocked_range<int>(st.y0, st.y1, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
-      const double* c = clean->ptr<double>(y - st.a);
+      const double* c = clean.ptr<double>(y - st.a);
       const float* d = den.ptr<float>(y - st.y0);
       double* h = hp->ptr<double>(y - st.y0);
       for (int x = 0; x < phase.cols; ++x) h[x] = c[x] - h[x] / std::max(static_cast<double>(d[x]), 1e-6);
@@ -272,9 +276,14 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
     const int nbo = 2 * orders, to = nbo + 1;
     std::vector<Normal> bands(detail::kRippleBands);
     for (const Strip& st : strips) {
-      StripDen(mask, st, w, &mf, &den);
-      StripHighPass(abs_phase, mask, den, st, w, &clean, &hp);
-      if (design) StripBasis(wrapped, mask, steps, orders, st, w, &basis, &bsum);
+      // The window sums side by side: OpenCV runs each box filter on one thread, and the
+      // mask's, the phase's and the basis' do not depend on each other.
+      tbb::parallel_invoke([&] { StripDen(mask, st, w, &mf, &den); },
+                           [&] { StripPhaseSums(abs_phase, mask, st, w, &clean, &hp); },
+                           [&] {
+                             if (design) StripBasis(wrapped, mask, steps, orders, st, w, &basis, &bsum);
+                           });
+      StripHighPass(abs_phase, den, st, clean, &hp);
       // Row by row in parallel; each row adds to its own band (rows of one band are contiguous).
       const std::vector<Normal> rows = tbb::parallel_reduce(
           tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
