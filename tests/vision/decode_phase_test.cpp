@@ -89,15 +89,19 @@ TEST(WrappedPhaseNoise, IntensitySigmaEstimatedFromTheFitResiduals) {
 // A projector with gamma 2.2 adds harmonics: a phase-dependent residual that is systematic,
 // smooth across the image and not noise. The random part of sigma_I must still be the
 // synthesised noise, on both decode paths, while the whole residual RMS is much larger.
+// 8-step Gray frames of a gamma-2.2 projector with 1 DN of noise (the synthesiser's seed given).
+std::vector<cv::Mat> GammaFrames(const FringeManifest& m, unsigned seed) {
+  SynthOptions o;
+  o.noise_dn = 1.0;
+  o.gamma = 2.2;
+  o.seed = seed;
+  return testing::SynthesizeFrames(m, testing::TruthCoordinate(o, m.Extent()), o);
+}
+
 TEST(WrappedPhaseNoise, RandomIntensityNoiseSeparatedFromTheHarmonics) {
   for (bool reference : {false, true}) {
-    SynthOptions o;
-    o.noise_dn = 1.0;
-    o.gamma = 2.2;
-    o.seed = 2024;
-    FringeManifest m = testing::GrayManifest(8, 32, true);
-    const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
-    const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+    const FringeManifest m = testing::GrayManifest(8, 32, true);
+    const std::vector<cv::Mat> frames = GammaFrames(m, 2024);
     DecodeOptions opt;
     opt.reference_path = reference;
     const DecodedCamera d = DecodeFrames(m, frames, 255.0, opt, "cam");
@@ -126,13 +130,8 @@ TEST(WrappedPhaseNoise, SparserSamplingOfLargeFramesStillFindsTheNoise) {
   EXPECT_EQ(detail::EstimateStride(4, 1883935, 200000), 4);  // a 2048x1536 set
   EXPECT_EQ(detail::EstimateStride(4, 6650600, 0), 4);       // off
   EXPECT_EQ(detail::EstimateStride(0, 0, 200000), 1);
-  SynthOptions o;
-  o.noise_dn = 1.0;
-  o.gamma = 2.2;
-  o.seed = 2025;
-  FringeManifest m = testing::GrayManifest(8, 32, true);
-  const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
-  const std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
+  const FringeManifest m = testing::GrayManifest(8, 32, true);
+  const std::vector<cv::Mat> frames = GammaFrames(m, 2025);
   DecodeOptions dense, sparse;
   const DecodedCamera d = DecodeFrames(m, frames, 255.0, dense, "cam");
   const long valid = d.summary.valid_pixels;
