@@ -95,10 +95,7 @@ struct Pass {
   std::vector<double> jump_far;  // the same for kFarStretches * stretch steps
   // Optional validator: for each dst pixel, its match back in src (the other pass's output).
   cv::Mat back_u, back_v, back_sigma;
-  // Their rows as raw floats (continuous CV_32F maps of one size; set with lr_check): Consistent
-  // reads them per crossing, and cv::Mat::ptr costs loads of its own.
-  const float *back_u_at = nullptr, *back_v_at = nullptr, *back_sigma_at = nullptr;
-  std::size_t back_stride = 0;
+  RowView back_u_rows, back_v_rows, back_sigma_rows;  // of the maps above (Consistent reads them)
   // With the check: per source pixel, 1 if some destination cell's back matches can pass Consistent
   // for it (BackReach), else no crossing of it can be accepted and it is not searched.
   cv::Mat reach;
@@ -812,19 +809,21 @@ struct Matcher {
     const double u = dst_pix.x(), v = dst_pix.y();
     const int u0 = FloorToInt(u), v0 = FloorToInt(v);
     if (u0 < 0 || v0 < 0 || u0 + 1 >= p.back_u.cols || v0 + 1 >= p.back_u.rows) return false;
-    // The four corners' back matches and sigmas, read through the maps' raw rows (Pass::back_*).
-    const std::size_t at0 = static_cast<std::size_t>(v0) * p.back_stride + static_cast<std::size_t>(u0);
-    const std::size_t at1 = at0 + p.back_stride;
-    const float fu4[4] = {p.back_u_at[at0], p.back_u_at[at0 + 1], p.back_u_at[at1], p.back_u_at[at1 + 1]};
-    const float fv4[4] = {p.back_v_at[at0], p.back_v_at[at0 + 1], p.back_v_at[at1], p.back_v_at[at1 + 1]};
+    // The four corners' back matches and sigmas (Pass::back_u_rows ...).
+    // The three maps share one layout (the back pass's outputs; MatchStereo checks): one offset.
+    const std::size_t at0 = static_cast<std::size_t>(v0) * p.back_u_rows.stride + static_cast<std::size_t>(u0);
+    const std::size_t at1 = at0 + p.back_u_rows.stride;
+    const float *bu_f = p.back_u_rows.data, *bv_f = p.back_v_rows.data;
+    const float fu4[4] = {bu_f[at0], bu_f[at0 + 1], bu_f[at1], bu_f[at1 + 1]};
+    const float fv4[4] = {bv_f[at0], bv_f[at0 + 1], bv_f[at1], bv_f[at1 + 1]};
     // All eight finite: x - x is 0 for a finite x and NaN otherwise, and so is the sum.
     const bool all = ((fu4[0] - fu4[0]) + (fu4[1] - fu4[1]) + (fu4[2] - fu4[2]) + (fu4[3] - fu4[3]) +
                       (fv4[0] - fv4[0]) + (fv4[1] - fv4[1]) + (fv4[2] - fv4[2]) + (fv4[3] - fv4[3])) == 0.0f;
     const double bu[4] = {fu4[0], fu4[1], fu4[2], fu4[3]}, bv[4] = {fv4[0], fv4[1], fv4[2], fv4[3]};
     double tolerance = p.lr_tolerance;
     if (p.lr_sigma) {
-      const float s4[4] = {p.back_sigma_at[at0], p.back_sigma_at[at0 + 1], p.back_sigma_at[at1],
-                           p.back_sigma_at[at1 + 1]};
+      const float* bs_f = p.back_sigma_rows.data;
+      const float s4[4] = {bs_f[at0], bs_f[at0 + 1], bs_f[at1], bs_f[at1 + 1]};
       for (const float sk : s4)
         if (sk - sk == 0.0f) tolerance = std::max(tolerance, p.lr_sigma_factor * static_cast<double>(sk));  // finite
     }
@@ -1378,16 +1377,14 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.lr_sigma_factor = options.lr_sigma_factor;
     lrp.lr_check = !lrp.back_u.empty() && lrp.lr_tolerance > 0;
     lrp.lr_sigma = lrp.lr_sigma_factor > 0 && !lrp.back_sigma.empty();
-    if (lrp.lr_check) {
-      CV_Assert(lrp.back_u.type() == CV_32F && lrp.back_v.type() == CV_32F && lrp.back_v.size == lrp.back_u.size &&
-                lrp.back_u.step == lrp.back_v.step &&
-                (!lrp.lr_sigma || (lrp.back_sigma.type() == CV_32F && lrp.back_sigma.size == lrp.back_u.size &&
-                                   lrp.back_sigma.step == lrp.back_u.step)));
-      lrp.back_u_at = lrp.back_u.ptr<float>();
-      lrp.back_v_at = lrp.back_v.ptr<float>();
-      lrp.back_sigma_at = lrp.lr_sigma ? lrp.back_sigma.ptr<float>() : nullptr;
-      lrp.back_stride = lrp.back_u.step1();
-    }
+    // The back maps are the back pass's own outputs, of the right image's size.
+    lrp.back_u_rows = RowView(lrp.back_u);
+    lrp.back_v_rows = RowView(lrp.back_v);
+    lrp.back_sigma_rows = RowView(lrp.back_sigma);
+    CV_Assert(!lrp.lr_check ||
+              (lrp.back_v.size == lrp.back_u.size && lrp.back_v_rows.stride == lrp.back_u_rows.stride &&
+               (!lrp.lr_sigma ||
+                (lrp.back_sigma.size == lrp.back_u.size && lrp.back_sigma_rows.stride == lrp.back_u_rows.stride))));
     if (lrp.lr_check && options.skip_without_back_match)
       lrp.reach = BackReach(lrp, left.coordinate.cols, left.coordinate.rows);
   }
