@@ -194,6 +194,11 @@ TEST(DecodeOptions, ValidateNamesTheField) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().field, "saturation_fraction");
   }
+  DecodeOptions sampling;
+  sampling.estimate_max_samples = -1;
+  EXPECT_EQ(SplitOptionsProblem(sampling.Validate()).field, "estimate_max_samples");
+  sampling.estimate_max_samples = 0;  // the strides alone
+  EXPECT_EQ(sampling.Validate(), "");
 }
 
 }  // namespace
