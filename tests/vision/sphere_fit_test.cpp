@@ -284,8 +284,8 @@ TEST(SphereFitRobust, OneBlockReachesCeresPerPointRobustMinimum) {
   const double start_radius = scene.radius + 0.2;
   for (const SphereLoss loss : {SphereLoss::kHuber, SphereLoss::kCauchy}) {
     const double scale = 3.0;
-    const sphere_internal::GeometricFit one =
-        sphere_internal::FitGeometric(cloud.points, sigma, indices, start, start_radius, false, loss, scale, 200, true);
+    const sphere_internal::GeometricFit one = sphere_internal::FitGeometric(
+        cloud.points, sigma.data(), indices, start, start_radius, false, loss, scale, 200, true);
     double centre[3] = {start.x(), start.y(), start.z()}, radius = start_radius;
     ceres::Problem problem;
     for (int i : indices) {

@@ -97,16 +97,16 @@ struct GeometricFit {
 };
 
 // Ceres fit of sum rho((|p_i - c| - R) / sigma_i) over `indices`; loss scale in units of the
-// normalised residual (ignored for SphereLoss::kNone). sigma indexed like points. `precise`: run
-// to rounding level, else stop at a relative cost change of 1e-7.
-GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
+// normalised residual (ignored for SphereLoss::kNone). sigma indexed like points (read at
+// `indices` only). `precise`: run to rounding level, else stop at a relative cost change of 1e-7.
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const double* sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise);
 
 // Ceres fit of sum ((|p_i - v| - t_i) / sigma_i)^2 over `indices`, t_i the distance from the
 // viewpoint v along the ray through p_i to its first intersection with the sphere (the nearest
 // point of the ray to the centre when the ray misses it). No robust loss; runs to rounding level.
-GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const double* sigma,
                          const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
                          const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations);
 

@@ -31,9 +31,8 @@ double NormalResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vecto
 // loss on each; the Jacobian is rho'(r^2) |r| / sqrt(rho(r^2)) times r's (sqrt(rho'(0)) at 0).
 class PointResiduals final : public ceres::CostFunction {
  public:
-  PointResiduals(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
-                 const std::vector<int>& indices, const Eigen::Vector3d* viewpoint,
-                 const ceres::LossFunction* loss = nullptr)
+  PointResiduals(const std::vector<Eigen::Vector3f>& points, const double* sigma, const std::vector<int>& indices,
+                 const Eigen::Vector3d* viewpoint, const ceres::LossFunction* loss = nullptr)
       : points_(points), sigma_(sigma), indices_(indices), along_ray_(viewpoint != nullptr), loss_(loss) {
     if (viewpoint) viewpoint_ = *viewpoint;
     set_num_residuals(static_cast<int>(indices.size()));
@@ -68,7 +67,7 @@ class PointResiduals final : public ceres::CostFunction {
 
  private:
   const std::vector<Eigen::Vector3f>& points_;
-  const std::vector<double>& sigma_;
+  const double* sigma_;  // indexed like points_
   const std::vector<int>& indices_;
   bool along_ray_;
   const ceres::LossFunction* loss_;
@@ -120,7 +119,7 @@ double AlongRayResidual(const Eigen::Vector3d& p, double sigma, const Eigen::Vec
   return (length - t) / sigma;
 }
 
-GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
+GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const double* sigma,
                          const std::vector<int>& indices, const Eigen::Vector3d& viewpoint,
                          const Eigen::Vector3d& centre0, double radius0, bool fix_radius, int max_iterations) {
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
@@ -130,7 +129,7 @@ GeometricFit FitAlongRay(const std::vector<Eigen::Vector3f>& points, const std::
   return SolveSphere(&problem, centre, &radius, fix_radius, max_iterations, true);
 }
 
-GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const std::vector<double>& sigma,
+GeometricFit FitGeometric(const std::vector<Eigen::Vector3f>& points, const double* sigma,
                           const std::vector<int>& indices, const Eigen::Vector3d& centre0, double radius0,
                           bool fix_radius, SphereLoss loss, double loss_scale, int max_iterations, bool precise) {
   double centre[3] = {centre0.x(), centre0.y(), centre0.z()};
