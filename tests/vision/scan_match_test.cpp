@@ -163,6 +163,17 @@ TEST(ScanMatch, MatchDepthsGiveTheRayIntersection) {
       ASSERT_EQ(std::isfinite(fast_depth.at<float>(y, x)), std::isfinite(rays_depth.at<float>(y, x)));
 }
 
+// TriangulateMatches on `match` throws an InputError naming `field`.
+void ExpectTriangulationRefuses(const StereoCalibration& calib, const DecodedCamera& left, const StereoMatch& match,
+                                const std::string& field) {
+  try {
+    TriangulateMatches(calib, left, match, {});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().field, field);
+  }
+}
+
 // Maps of the wrong shape are an input error naming the field, not a crash. Without the right
 // pixels (StereoMatchOptions::right_pixels false, as the scan runs) the cloud is the same.
 TEST(ScanMatch, BadDepthMapsAreAnInputErrorAndRightPixelsAreOptional) {
@@ -170,12 +181,7 @@ TEST(ScanMatch, BadDepthMapsAreAnInputErrorAndRightPixelsAreOptional) {
   const StereoCalibration calib = SmallCalibration();
   StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
   match.point_sigma_mm = cv::Mat(3, 3, CV_32F, cv::Scalar(0));
-  try {
-    TriangulateMatches(calib, s.left, match, {});
-    FAIL() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where().field, "depth_mm");
-  }
+  ExpectTriangulationRefuses(calib, s.left, match, "depth_mm");
   StereoMatchOptions o;
   o.right_pixels = false;
   const StereoMatch lean = MatchStereo(calib, s.left, s.right, s.period, o);
@@ -215,12 +221,7 @@ TEST(ScanMatch, MatchPointsAreTheUndistortedRayAtTheStoredDepth) {
   EXPECT_EQ(0, std::memcmp(copied_depth.data, again_depth.data, copied_depth.total() * sizeof(float)));
   StereoMatch bad = match;
   bad.y_mm = cv::Mat(3, 3, CV_32F, cv::Scalar(0));
-  try {
-    TriangulateMatches(calib, s.left, bad, {});
-    FAIL() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.where().field, "x_mm");
-  }
+  ExpectTriangulationRefuses(calib, s.left, bad, "x_mm");
 }
 
 // The phase-domain filter (DecodeOptions::coordinate_filter) on both cameras: the depth error

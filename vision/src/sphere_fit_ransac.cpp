@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fast_round.h"
 #include "sphere_fit_internal.h"
 
 namespace ramtk::vision {
@@ -43,13 +44,8 @@ int64_t PointGrid::Pack(int64_t i, int64_t j, int64_t k) {
 
 namespace {
 
-// static_cast<int64_t>(std::floor(g)) without the rounding sequence the baseline x86-64 build
-// expands std::floor into (no roundsd before SSE4.1): the same integer for |g| < 2^62.
-inline int64_t FloorToInt64(double g) {
-  if (!(std::abs(g) < 4.6e18)) return static_cast<int64_t>(std::floor(g));
-  const int64_t i = static_cast<int64_t>(g);  // toward zero
-  return i - (g < static_cast<double>(i));
-}
+// The cell index floor(g), by fast_round.h's exact floor (no rounding instruction before SSE4.1).
+inline int64_t FloorToInt64(double g) { return static_cast<int64_t>(detail::Floor(g)); }
 
 }  // namespace
 
@@ -73,6 +69,7 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
   struct Run {
     int64_t key = 0;
     std::size_t first = 0, size = 0;  // active[first, first + size)
+    Span* cell = nullptr;             // its cell (unordered_map elements stay put on rehash)
     std::size_t to = 0;               // its place in index_
   };
   std::vector<std::vector<Run>> runs(chunks);
@@ -81,17 +78,18 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
     const std::size_t end = std::min(active.size(), (c + 1) * kChunk);
     for (std::size_t k = c * kChunk; k < end; ++k) {
       const int64_t key = Key(points[active[k]].cast<double>());
-      if (out.empty() || out.back().key != key) out.push_back({key, k, 0, 0});
+      if (out.empty() || out.back().key != key) out.push_back({key, k, 0, nullptr, 0});
       ++out.back().size;
     }
   });
   // Cell sizes, then each cell's place (in the order cells first appear), then each run's.
   std::vector<int64_t> order;
-  for (const std::vector<Run>& chunk : runs)
-    for (const Run& r : chunk) {
+  for (std::vector<Run>& chunk : runs)
+    for (Run& r : chunk) {
       auto [it, fresh] = cells_.try_emplace(r.key);
       if (fresh) order.push_back(r.key);
-      it->second.size += r.size;
+      r.cell = &it->second;
+      r.cell->size += r.size;
     }
   std::size_t next = 0;
   for (const int64_t key : order) {
@@ -102,9 +100,8 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
   }
   for (std::vector<Run>& chunk : runs)
     for (Run& r : chunk) {
-      Span& span = cells_[r.key];
-      r.to = span.begin + span.size;
-      span.size += r.size;
+      r.to = r.cell->begin + r.cell->size;
+      r.cell->size += r.size;
     }
   index_.resize(active.size());
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
