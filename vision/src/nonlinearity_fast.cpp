@@ -93,13 +93,13 @@ void StripPhaseSums(const cv::Mat& phase, const cv::Mat& mask, const Strip& st, 
                 cv::BORDER_CONSTANT);
 }
 
-void StripHighPass(const cv::Mat& phase, const cv::Mat& den, const Strip& st, const cv::Mat& clean, cv::Mat* hp) {
+void StripHighPass(int width, const cv::Mat& den, const Strip& st, const cv::Mat& clean, cv::Mat* hp) {
   tbb::parallel_for(tbb::blocked_range<int>(st.y0, st.y1, 16), [&](const tbb::blocked_range<int>& r) {
     for (int y = r.begin(); y < r.end(); ++y) {
       const double* c = clean.ptr<double>(y - st.a);
       const float* d = den.ptr<float>(y - st.y0);
       double* h = hp->ptr<double>(y - st.y0);
-      for (int x = 0; x < phase.cols; ++x) h[x] = c[x] - h[x] / std::max(static_cast<double>(d[x]), 1e-6);
+      for (int x = 0; x < width; ++x) h[x] = c[x] - h[x] / std::max(static_cast<double>(d[x]), 1e-6);
     }
   });
 }
@@ -283,7 +283,7 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
                            [&] {
                              if (design) StripBasis(wrapped, mask, steps, orders, st, w, &basis, &bsum);
                            });
-      StripHighPass(abs_phase, den, st, clean, &hp);
+      StripHighPass(abs_phase.cols, den, st, clean, &hp);
       // Row by row in parallel; each row adds to its own band (rows of one band are contiguous).
       const std::vector<Normal> rows = tbb::parallel_reduce(
           tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
