@@ -43,6 +43,7 @@ struct ScanCommandOptions {
   std::string roi = "full";                                // full, auto, or a predicted centre X,Y,Z (mm)
   double roi_margin = vision::ScanRoiOptions{}.margin_mm;  // mm added to the ball radius for the window
   int roi_stride = 0;                                      // coarse pass stride (0 = automatic)
+  bool load_whole_frames = false;                          // --roi: load frames whole, not by rows
 };
 
 void ProgressBar(std::size_t done, std::size_t total) {
@@ -80,6 +81,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.roi = ParseScanRoi(opt.roi);
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
+  options.read_rows_on_demand = !opt.load_whole_frames;
   ThrowIfInvalid(options.Validate(), "ScanOptions");
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
@@ -227,6 +229,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "--roi auto: the coarse pass keeps every N-th pixel in x and y (0: automatic, the coarse left "
                   "image at most 350 px wide)")
       ->capture_default_str();
+  sub->add_flag("--load-whole-frames", opt->load_whole_frames,
+                "With --roi: load every frame whole even when its rows can be read alone (uncompressed 8-bit grey "
+                "BMP; by default only the rows the coarse pass and the windows read are read): for comparisons");
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)");

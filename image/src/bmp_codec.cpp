@@ -35,76 +35,97 @@ FastFormat SniffFormat(const unsigned char* b, std::size_t n) {
   return FastFormat::kOther;
 }
 
-cv::Mat ReadBmp(std::FILE* file, std::string* error) {
+bool ReadBmpLayout(std::FILE* file, BmpLayout* layout, std::string* error) {
+  BmpLayout& l = *layout;
   if (std::fseek(file, 0, SEEK_END) != 0) {
     *error = "cannot seek in BMP";
-    return {};
+    return false;
   }
-  const long long file_size = std::ftell(file);
+  l.file_size = std::ftell(file);
   unsigned char h[54] = {};
-  if (file_size < 26 || !ReadAt(file, 0, h, std::min<long long>(54, file_size))) {
+  if (l.file_size < 26 || !ReadAt(file, 0, h, static_cast<std::size_t>(std::min<long long>(54, l.file_size)))) {
     *error = "BMP header truncated";
-    return {};
+    return false;
   }
-  const std::uint32_t pixel_offset = Le32(h + 10);
+  l.pixel_offset = Le32(h + 10);
   const std::uint32_t dib_size = Le32(h + 14);
-  long long width = 0, height = 0;
-  int bpp = 0;
   std::uint32_t compression = 0, colours_used = 0;
   int palette_entry = 4;
   if (dib_size == 12) {  // BITMAPCOREHEADER
-    width = Le16(h + 18);
-    height = static_cast<std::int16_t>(Le16(h + 20));
-    bpp = Le16(h + 24);
+    l.width = Le16(h + 18);
+    l.height = static_cast<std::int16_t>(Le16(h + 20));
+    l.bpp = Le16(h + 24);
     palette_entry = 3;
-  } else if (dib_size >= 40 && file_size >= 54) {
-    width = static_cast<std::int32_t>(Le32(h + 18));
-    height = static_cast<std::int32_t>(Le32(h + 22));
-    bpp = Le16(h + 28);
+  } else if (dib_size >= 40 && l.file_size >= 54) {
+    l.width = static_cast<std::int32_t>(Le32(h + 18));
+    l.height = static_cast<std::int32_t>(Le32(h + 22));
+    l.bpp = Le16(h + 28);
     compression = Le32(h + 30);
     colours_used = Le32(h + 46);
   } else {
     *error = "BMP header of " + std::to_string(dib_size) + " bytes not read here";
-    return {};
+    return false;
   }
-  if (compression != 0 || (bpp != 8 && bpp != 24 && bpp != 32)) {
-    *error = "BMP with " + std::to_string(bpp) + " bits per pixel and compression " + std::to_string(compression) +
+  if (compression != 0 || (l.bpp != 8 && l.bpp != 24 && l.bpp != 32)) {
+    *error = "BMP with " + std::to_string(l.bpp) + " bits per pixel and compression " + std::to_string(compression) +
              " not read here";
-    return {};
+    return false;
   }
-  const bool top_down = height < 0;
-  if (top_down) height = -height;
-  if (width <= 0 || height <= 0) {
+  l.top_down = l.height < 0;
+  if (l.top_down) l.height = -l.height;
+  if (l.width <= 0 || l.height <= 0) {
     *error = "BMP has no pixels";
-    return {};
+    return false;
   }
-  const long long stride = ((width * bpp + 31) / 32) * 4;
-  if (pixel_offset < 14 + dib_size || static_cast<long long>(pixel_offset) + stride * height > file_size) {
-    *error = "BMP pixel data truncated (" + std::to_string(file_size) + " bytes for " + std::to_string(width) + "x" +
-             std::to_string(height) + " at " + std::to_string(bpp) + " bits)";
-    return {};
+  l.stride = ((l.width * l.bpp + 31) / 32) * 4;
+  if (l.pixel_offset < 14 + dib_size || static_cast<long long>(l.pixel_offset) + l.stride * l.height > l.file_size) {
+    *error = "BMP pixel data truncated (" + std::to_string(l.file_size) + " bytes for " + std::to_string(l.width) +
+             "x" + std::to_string(l.height) + " at " + std::to_string(l.bpp) + " bits)";
+    return false;
   }
   // Palette: grey when every entry has equal R, G and B (the rows then map through a table into one
   // channel, as OpenCV reads such files), BGR otherwise.
-  std::array<unsigned char, 256 * 3> palette{};
-  bool grey = true;
-  if (bpp == 8) {
+  l.grey = true;
+  if (l.bpp == 8) {
     const long long palette_at = 14 + dib_size;
     long long entries = colours_used == 0 ? 256 : std::min<long long>(colours_used, 256);
-    entries = std::min<long long>(entries, (pixel_offset - palette_at) / palette_entry);
+    entries = std::min<long long>(entries, (l.pixel_offset - palette_at) / palette_entry);
     std::vector<unsigned char> raw(static_cast<std::size_t>(std::max<long long>(entries, 0) * palette_entry));
     if (!raw.empty() && !ReadAt(file, palette_at, raw.data(), raw.size())) {
       *error = "BMP palette truncated";
-      return {};
+      return false;
     }
     for (long long i = 0; i < entries; ++i)
       for (int c = 0; c < 3; ++c)
-        palette[static_cast<std::size_t>(i * 3 + c)] = raw[static_cast<std::size_t>(i * palette_entry + c)];
-    for (int i = 0; i < 256 && grey; ++i)
-      grey = palette[i * 3] == palette[i * 3 + 1] && palette[i * 3] == palette[i * 3 + 2];
+        l.palette[static_cast<std::size_t>(i * 3 + c)] = raw[static_cast<std::size_t>(i * palette_entry + c)];
+    for (int i = 0; i < 256 && l.grey; ++i)
+      l.grey = l.palette[i * 3] == l.palette[i * 3 + 1] && l.palette[i * 3] == l.palette[i * 3 + 2];
   }
-  bool identity = bpp == 8 && grey;
-  for (int i = 0; i < 256 && identity; ++i) identity = palette[static_cast<std::size_t>(i) * 3] == i;
+  l.identity = l.bpp == 8 && l.grey;
+  for (int i = 0; i < 256 && l.identity; ++i) l.identity = l.palette[static_cast<std::size_t>(i) * 3] == i;
+  return true;
+}
+
+void ReverseRows(cv::Mat* image) {
+  const std::size_t bytes = image->cols * image->elemSize();
+  std::vector<unsigned char> tmp(bytes);
+  for (int r = 0; r < image->rows / 2; ++r) {
+    unsigned char* a = image->ptr<unsigned char>(r);
+    unsigned char* b = image->ptr<unsigned char>(image->rows - 1 - r);
+    std::memcpy(tmp.data(), a, bytes);
+    std::memcpy(a, b, bytes);
+    std::memcpy(b, tmp.data(), bytes);
+  }
+}
+
+cv::Mat ReadBmp(std::FILE* file, std::string* error) {
+  BmpLayout layout;
+  if (!ReadBmpLayout(file, &layout, error)) return {};
+  const long long width = layout.width, height = layout.height, stride = layout.stride;
+  const int bpp = layout.bpp;
+  const bool top_down = layout.top_down, grey = layout.grey, identity = layout.identity;
+  const std::uint32_t pixel_offset = layout.pixel_offset;
+  const auto& palette = layout.palette;
   const int channels = bpp == 8 && grey ? 1 : 3;
   cv::Mat out(static_cast<int>(height), static_cast<int>(width), CV_8UC(channels));
   // A grey frame whose rows need no padding or palette (the usual camera frame) is read straight
@@ -115,16 +136,7 @@ cv::Mat ReadBmp(std::FILE* file, std::string* error) {
       *error = "BMP pixel data truncated";
       return {};
     }
-    if (!top_down) {
-      std::vector<unsigned char> tmp(static_cast<std::size_t>(width));
-      for (long long r = 0; r < height / 2; ++r) {
-        unsigned char* a = out.ptr<unsigned char>(static_cast<int>(r));
-        unsigned char* b = out.ptr<unsigned char>(static_cast<int>(height - 1 - r));
-        std::memcpy(tmp.data(), a, tmp.size());
-        std::memcpy(a, b, tmp.size());
-        std::memcpy(b, tmp.data(), tmp.size());
-      }
-    }
+    if (!top_down) ReverseRows(&out);
     return out;
   }
   // Otherwise the whole pixel block in one read (not cleared first), then row by row into place.

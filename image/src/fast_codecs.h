@@ -3,6 +3,8 @@
 // (BGRA) for colour; 16-bit in host order.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <cstdio>
 #include <opencv2/core.hpp>
 #include <string>
@@ -27,6 +29,31 @@ cv::Mat ReadPng(std::FILE* file, std::string* error);
 // ReadPng then takes.
 cv::Mat ReadGreyPngFast(std::FILE* file);
 cv::Mat ReadBmp(std::FILE* file, std::string* error);
+
+// An uncompressed BMP's layout, from its header and palette, every size checked against the
+// file's length.
+struct BmpLayout {
+  long long width = 0, height = 0;
+  long long stride = 0;     // bytes per stored row (rows are padded to 4 bytes)
+  long long file_size = 0;  // bytes
+  std::uint32_t pixel_offset = 0;
+  int bpp = 0;                                   // 8, 24 or 32
+  bool top_down = false;                         // rows stored top first (negative height)
+  bool grey = true;                              // 8-bit with R = G = B in every palette entry
+  bool identity = false;                         // grey with entry i = i: the stored bytes are the samples
+  std::array<unsigned char, 256 * 3> palette{};  // B, G, R per entry, as stored
+  // File offset of image row y (0 = top).
+  long long RowOffset(long long y) const { return pixel_offset + (top_down ? y : height - 1 - y) * stride; }
+};
+// Reads the layout of the open file; false with *error set as ReadBmp (damaged, or a variant not
+// read here).
+bool ReadBmpLayout(std::FILE* file, BmpLayout* layout, std::string* error);
+// Reverses the order of an image's rows in place (a bottom-up BMP read in one block).
+void ReverseRows(cv::Mat* image);
+
+// InputError naming `path` if a header's dimensions are empty or beyond kMaxImageSide /
+// kMaxImagePixels (image_file.cpp).
+void CheckDimensions(const std::string& path, long long width, long long height);
 
 // PNG bytes of an 8/16-bit matrix with 1, 3 (BGR) or 4 (BGRA) channels; false with *error set.
 // Deflate level 1 with run-length strategy, as OpenCV's default PNG writer.

@@ -73,16 +73,6 @@ const detail::OiioBackend& Backend(const std::string& for_file) {
   return *backend;
 }
 
-// Dimensions from the header, checked before anything is allocated: a corrupt or hostile header
-// must give an error naming the file, not an allocation failure.
-void CheckDimensions(const std::string& path, long long width, long long height) {
-  if (width <= 0 || height <= 0) Fail(path, "image has no pixels");
-  if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)
-    Fail(path, "image header claims " + std::to_string(width) + " x " + std::to_string(height) +
-                   " pixels; the limits are " + std::to_string(kMaxImageSide) + " px per side and " +
-                   std::to_string(kMaxImagePixels) + " pixels (kMaxImageSide, kMaxImagePixels)");
-}
-
 struct FileCloser {
   std::FILE* f;
   ~FileCloser() {
@@ -117,7 +107,7 @@ cv::Mat ReadFast(const std::string& path) {
     height = core_header ? static_cast<std::int16_t>(b[20] | (b[21] << 8)) : le32(22);
     height = std::llabs(height);  // negative: rows stored top-down
   }
-  CheckDimensions(path, width, height);
+  detail::CheckDimensions(path, width, height);
   std::rewind(file.f);
   std::string error;
   cv::Mat img;
@@ -157,6 +147,16 @@ cv::Mat GreyDn(const cv::Mat& img) {
 }
 
 }  // namespace
+
+// Dimensions from the header, checked before anything is allocated: a corrupt or hostile header
+// must give an error naming the file, not an allocation failure.
+void detail::CheckDimensions(const std::string& path, long long width, long long height) {
+  if (width <= 0 || height <= 0) Fail(path, "image has no pixels");
+  if (width > kMaxImageSide || height > kMaxImageSide || width * height > kMaxImagePixels)
+    Fail(path, "image header claims " + std::to_string(width) + " x " + std::to_string(height) +
+                   " pixels; the limits are " + std::to_string(kMaxImageSide) + " px per side and " +
+                   std::to_string(kMaxImagePixels) + " pixels (kMaxImageSide, kMaxImagePixels)");
+}
 
 cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
   if (!fs::exists(path)) Fail(path, "image file does not exist");

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "ramtk/core/error.h"
+#include "ramtk/image/frame_rows.h"
 #include "ramtk/image/image_file.h"
 #include "../../image/src/fast_codecs.h"  // the one-call grey PNG decoder, tested on its own too
 
@@ -333,4 +334,107 @@ TEST(ImageFile, RealCameraFramesDecodeAsOpenCvDecodesThem) {
     }
   }
   EXPECT_GE(files, 38);
+}
+
+namespace {
+
+// FrameRows against the pixels a file was built from: every window (including single pixels, the
+// last row and column) and every step give the built pixels at the rows and columns named.
+cv::Mat CutTruth(const cv::Mat& pixels, const cv::Rect& w, int step) {
+  cv::Mat t((w.height + step - 1) / step, (w.width + step - 1) / step, CV_8UC1);
+  for (int k = 0; k < t.rows; ++k)
+    for (int j = 0; j < t.cols; ++j) t.at<uchar>(k, j) = pixels.at<uchar>(w.y + k * step, w.x + j * step);
+  return t;
+}
+
+std::vector<cv::Vec3b> GreyRamp(bool inverted) {
+  std::vector<cv::Vec3b> p(256);
+  for (int i = 0; i < 256; ++i)
+    p[static_cast<std::size_t>(i)] = cv::Vec3b::all(static_cast<uchar>(inverted ? 255 - i : i));
+  return p;
+}
+
+}  // namespace
+
+TEST(FrameRows, WindowsAndStepsReadThePixelsTheFileWasBuiltFrom) {
+  const std::string dir = TempDir();
+  int n = 0;
+  // 37 px: padded rows (one read per row); 40 px: unpadded (whole-width windows in one read).
+  for (const int width : {37, 40}) {
+    const cv::Mat pixels = Random(29, width, CV_8UC1, static_cast<unsigned>(width));
+    for (const bool top_down : {false, true}) {
+      SCOPED_TRACE(std::to_string(width) + (top_down ? " px, top-down" : " px, bottom-up"));
+      const std::string path =
+          WriteBytes(dir + "/f" + std::to_string(n++) + ".bmp", BuildBmp(pixels, 8, top_down, GreyRamp(false)));
+      ramtk::image::FrameRows rows;
+      std::string why;
+      ASSERT_TRUE(rows.Open(path, &why)) << why;
+      EXPECT_EQ(rows.width(), width);
+      EXPECT_EQ(rows.height(), 29);
+      const cv::Rect windows[] = {{0, 0, width, 29},     {0, 5, width, 7},  {3, 5, 20, 11},
+                                  {width - 1, 28, 1, 1}, {0, 28, width, 1}, {width - 2, 0, 2, 29}};
+      for (const cv::Rect& w : windows)
+        for (const int step : {1, 2, 3, 10, 64}) {
+          SCOPED_TRACE(testing::Message() << w << " step " << step);
+          EXPECT_TRUE(Identical(rows.Read(w, step), CutTruth(pixels, w, step)));
+        }
+      EXPECT_THROW(rows.Read({1, 0, width, 29}), std::invalid_argument);
+      EXPECT_THROW(rows.Read({0, -1, 4, 4}), std::invalid_argument);
+      EXPECT_THROW(rows.Read({0, 0, 4, 4}, 0), std::invalid_argument);
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(FrameRows, OtherFilesAreLeftToTheWholeFileLoadersAndDamageIsNamed) {
+  const std::string dir = TempDir();
+  const cv::Mat pixels = Random(9, 12, CV_8UC1, 5);
+  ramtk::image::FrameRows rows;
+  std::string why;
+  // Not row-readable: load whole (the palette maps the bytes, the samples are colour, or compressed).
+  const std::string inverted = WriteBytes(dir + "/inverted.bmp", BuildBmp(pixels, 8, false, GreyRamp(true)));
+  EXPECT_FALSE(rows.Open(inverted, &why));
+  EXPECT_NE(why.find("identity"), std::string::npos) << why;
+  const std::string bgr = WriteBytes(dir + "/bgr.bmp", BuildBmp(Random(9, 12, CV_8UC3, 6), 24, false));
+  EXPECT_FALSE(rows.Open(bgr, &why));
+  const std::string png = WriteBytes(dir + "/f.png", ramtk::image::EncodePng(pixels));
+  EXPECT_FALSE(rows.Open(png, &why));
+  EXPECT_FALSE(rows.is_open());
+  // Damaged or missing: InputError naming the file.
+  std::vector<unsigned char> bmp = BuildBmp(pixels, 8, false, GreyRamp(false));
+  bmp.resize(bmp.size() - 5);
+  const std::string truncated = WriteBytes(dir + "/truncated.bmp", bmp);
+  for (const std::string& path : {truncated, dir + "/missing.bmp"}) {
+    try {
+      rows.Open(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const ramtk::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  // A file cut short after it was opened: the read names it.
+  const std::string later = WriteBytes(dir + "/later.bmp", BuildBmp(pixels, 8, false, GreyRamp(false)));
+  ASSERT_TRUE(rows.Open(later));
+  fs::resize_file(later, 100);
+  try {
+    rows.Read({0, 0, 12, 9});
+    ADD_FAILURE() << "no error";
+  } catch (const ramtk::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(later), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+// The real frames (OpenCV-written bottom-up BMPs): windows as cut from the whole frame as
+// cv::imread decodes it.
+TEST(FrameRows, RealCameraFrameWindowsAreCutsOfTheFrameOpenCvDecodes) {
+  const fs::path frame = fs::path(RAMTK_SHARED_DIR) / "data/slmaster-binocular/L/5.bmp";
+  if (!fs::exists(frame)) GTEST_SKIP() << "shared data not present: " << frame;
+  const cv::Mat truth = cv::imread(frame.string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(truth.type(), CV_8UC1);
+  ramtk::image::FrameRows rows;
+  std::string why;
+  ASSERT_TRUE(rows.Open(frame.string(), &why)) << why;
+  for (const cv::Rect& w : {cv::Rect(0, 0, truth.cols, truth.rows), cv::Rect(411, 300, 313, 314)})
+    for (const int step : {1, 4, 10}) EXPECT_TRUE(Identical(rows.Read(w, step), CutTruth(truth, w, step))) << w << step;
 }

@@ -7,11 +7,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
+#include <sstream>
 
 #include "ramtk/camera/camera_model.h"
 #include "ramtk/core/error.h"
+#include "ramtk/vision/fringe_simulator.h"
 #include "ramtk/vision/scan.h"
 #include "scan_sim.h"
 
@@ -196,6 +201,79 @@ TEST(ScanRoiPipeline, AWrongPredictionFallsBackToTheFullFrameOrSaysNoSphere) {
   const ScanResult none = ScanWide(roi);
   EXPECT_EQ(none.summary.termination, Termination::kNoResult);
   EXPECT_TRUE(none.summary.spheres.spheres.empty());
+}
+
+// The wide set on disk: as the simulator writes it (PNG), and as a capture that writes 8-bit grey
+// BMPs leaves it (each PNG re-written by OpenCV, the writer of the real SLMaster frames:
+// bottom-up rows, grey palette).
+struct WideFiles {
+  std::string png, bmp;  // manifests
+};
+
+const WideFiles& WideOnDisk() {
+  static const WideFiles files = [] {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "scan_roi_wide";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    SimulateFringeSet(Wide().config, (dir / "png").string());
+    fs::create_directories(dir / "bmp" / "left");
+    fs::create_directories(dir / "bmp" / "right");
+    fs::copy_file(dir / "png" / "calibration.yml", dir / "bmp" / "calibration.yml");
+    for (const char* cam : {"left", "right"})
+      for (const auto& e : fs::directory_iterator(dir / "png" / cam)) {
+        const cv::Mat f = cv::imread(e.path().string(), cv::IMREAD_UNCHANGED);
+        if (f.type() != CV_8UC1) throw std::runtime_error("not an 8-bit grey frame: " + e.path().string());
+        cv::imwrite((dir / "bmp" / cam / e.path().filename().replace_extension(".bmp")).string(), f);
+      }
+    std::stringstream text;
+    text << std::ifstream(dir / "png" / "manifest.json").rdbuf();
+    std::string manifest = text.str();
+    for (std::size_t at = manifest.find(".png"); at != std::string::npos; at = manifest.find(".png", at))
+      manifest.replace(at, 4, ".bmp");
+    std::ofstream(dir / "bmp" / "manifest.json") << manifest;
+    return WideFiles{(dir / "png" / "manifest.json").string(), (dir / "bmp" / "manifest.json").string()};
+  }();
+  return files;
+}
+
+// Windowed scans that read only the rows they need from BMP frames give, bit for bit, what the
+// same scans of the frames loaded whole give (from the BMPs and from the PNGs): a coarse pass
+// that finds the ball, one that needs a finer stride first, a predicted centre, and a wrong
+// prediction that falls back to the whole frame.
+TEST(ScanRoiPipeline, FramesReadByRowsGiveWhatTheFramesLoadedWholeGive) {
+  const WideFiles& files = WideOnDisk();
+  struct Case {
+    std::string roi;
+    int stride;
+    std::string reads;
+  };
+  for (const Case& c : {Case{"auto", 0, "rows"}, Case{"auto", 20, "rows, then whole"},
+                        Case{"0.8,-1.2,701.5", 0, "rows"}, Case{"60,40,700", 0, "rows"}}) {
+    SCOPED_TRACE(c.roi + " stride " + std::to_string(c.stride));
+    ScanOptions o;
+    o.roi = ParseScanRoi(c.roi);
+    o.roi.coarse_stride = c.stride;
+    const ScanResult rows = ScanFringeSet(files.bmp, o);
+    const ScanResult png = ScanFringeSet(files.png, o);
+    o.read_rows_on_demand = false;
+    const ScanResult whole = ScanFringeSet(files.bmp, o);
+    EXPECT_EQ(rows.summary.frame_reads, c.reads);
+    EXPECT_EQ(whole.summary.frame_reads, "whole");
+    EXPECT_EQ(png.summary.frame_reads, "whole");
+    ASSERT_EQ(rows.summary.spheres.spheres.size(), 1u) << rows.summary.BriefReport();
+    for (const ScanResult* r : {&whole, &png}) {
+      EXPECT_EQ(r->summary.roi_source, rows.summary.roi_source);
+      EXPECT_EQ(r->summary.windows.left, rows.summary.windows.left);
+      EXPECT_EQ(r->summary.windows.right, rows.summary.windows.right);
+      EXPECT_TRUE(r->cloud.points_in_left == rows.cloud.points_in_left);
+      EXPECT_TRUE(r->cloud.sigma_mm == rows.cloud.sigma_mm);
+      EXPECT_TRUE(r->cloud.left_pixels == rows.cloud.left_pixels);
+      ASSERT_EQ(r->summary.spheres.spheres.size(), 1u);
+      EXPECT_EQ(r->summary.spheres.spheres[0].centre_mm, rows.summary.spheres.spheres[0].centre_mm);
+    }
+    EXPECT_LT((rows.summary.spheres.spheres[0].centre_mm - Vec3(0, 0, 700)).norm(), 0.005);
+  }
 }
 
 }  // namespace

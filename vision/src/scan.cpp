@@ -1,6 +1,7 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/image/frame_rows.h"
 #include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
@@ -245,13 +247,55 @@ ScanResult Cancelled() {
   return r;
 }
 
+// A set's frames as the scan's passes read them: stacks loaded whole and cut in memory, or files
+// read by rows (image::FrameRows), of which only the rows a pass reads are ever read (a coarse
+// pass every stride-th row, a window its rows).
+class SetFrames {
+ public:
+  SetFrames(std::vector<cv::Mat> left, std::vector<cv::Mat> right) : loaded_{std::move(left), std::move(right)} {}
+  SetFrames(std::vector<image::FrameRows> left, std::vector<image::FrameRows> right)
+      : files_{std::move(left), std::move(right)}, by_rows_(true) {}
+
+  // Every stride-th pixel of `window` of each frame of camera 0 (left) or 1 (right): views of
+  // loaded frames for stride 1, copies otherwise.
+  std::vector<cv::Mat> Read(int camera, const cv::Rect& window, int stride) const {
+    const auto& files = files_[camera];
+    if (files.empty()) {
+      const std::vector<cv::Mat>& f = loaded_[camera];
+      const bool whole = !f.empty() && window == cv::Rect(0, 0, f[0].cols, f[0].rows);
+      const std::vector<cv::Mat> cut = whole ? f : CropFrames(f, window);
+      return stride == 1 ? cut : SubsampleFrames(cut, stride);
+    }
+    std::vector<cv::Mat> out(files.size());
+    tbb::parallel_for(std::size_t{0}, files.size(), [&](std::size_t i) { out[i] = files[i].Read(window, stride); });
+    return out;
+  }
+  // Camera `camera`'s frames are not read again: loaded ones are dropped (views handed out by
+  // Read keep theirs alive until they go).
+  void Release(int camera) { std::vector<cv::Mat>().swap(loaded_[camera]); }
+  // "rows" while files are read by rows, "rows, then whole" after LoadWhole, "" in memory.
+  std::string Reads() const { return by_rows_ ? (files_[0].empty() ? "rows, then whole" : "rows") : ""; }
+  // Files are read whole now, once (when more passes will read most of their rows).
+  void LoadWhole() {
+    for (int camera : {0, 1}) {
+      if (files_[camera].empty()) continue;
+      const image::FrameRows& first = files_[camera].front();
+      loaded_[camera] = Read(camera, cv::Rect(0, 0, first.width(), first.height()), 1);
+      files_[camera].clear();
+    }
+  }
+
+ private:
+  std::vector<cv::Mat> loaded_[2];
+  std::vector<image::FrameRows> files_[2];
+  bool by_rows_ = false;
+};
+
 // Decodes the windows of both cameras' frames and runs the rest of the pipeline on them; the
-// cloud's pixels and the depth image are returned in full-frame pixels.
-// The frames are taken by value: each camera's are dropped once decoded (pass them with
-// std::move on their last use to free them).
-ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration& calibration,
-                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames, double full_scale,
-                               const ScanWindows& windows, const ScanOptions& options,
+// cloud's pixels and the depth image are returned in full-frame pixels. With `last_use`, each
+// camera's frames are released once read (SetFrames::Release), so they are dropped once decoded.
+ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration& calibration, SetFrames& frames,
+                               bool last_use, double full_scale, const ScanWindows& windows, const ScanOptions& options,
                                const std::string& calibration_path) {
   const ScanWindows full = FullFrameWindows(calibration);
   const bool whole = windows.left == full.left && windows.right == full.right;
@@ -259,15 +303,14 @@ ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration&
   auto t0 = std::chrono::steady_clock::now();
   DecodeOptions dopt = options.decode;
   dopt.progress = {};
-  auto decode = [&](std::vector<cv::Mat>* frames, const cv::Rect& window, const std::string& camera) {
-    if (!whole) *frames = CropFrames(*frames, window);
-    DecodedCamera d = DecodeFrames(m, *frames, full_scale, dopt, camera);
-    std::vector<cv::Mat>().swap(*frames);
-    return d;
+  auto decode = [&](int camera, const cv::Rect& window, const std::string& name) {
+    const std::vector<cv::Mat> f = frames.Read(camera, window, 1);
+    if (last_use) frames.Release(camera);
+    return DecodeFrames(m, f, full_scale, dopt, name);
   };
-  DecodedCamera left = decode(&left_frames, windows.left, options.left_camera);
+  DecodedCamera left = decode(0, windows.left, options.left_camera);
   if (!Report(options, "decode " + options.left_camera, 1, 5)) return Cancelled();
-  DecodedCamera right = decode(&right_frames, windows.right, options.right_camera);
+  DecodedCamera right = decode(1, windows.right, options.right_camera);
   const double decode_s = Seconds(t0);
   if (!Report(options, "decode " + options.right_camera, 2, 5)) return Cancelled();
   const double period = left.summary.period_px;
@@ -293,8 +336,8 @@ ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration&
 // The coarse pass of roi auto: every stride-th pixel through the whole pipeline; the spheres it
 // finds (empty, with the reason in *why, if none).
 std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibration& calibration,
-                                  const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
-                                  double full_scale, int stride, const ScanOptions& options, std::string* why) {
+                                  const SetFrames& frames, double full_scale, int stride, const ScanOptions& options,
+                                  std::string* why) {
   const StereoCalibration coarse = SubsampleCalibration(calibration, stride);
   ScanOptions o = options;
   o.progress = {};
@@ -310,9 +353,9 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
   o.match.lr_tolerance_px = 0;
   // The coarse ball has ~1/stride^2 of the points; a few dozen fix its centre to ~0.1 mm.
   o.sphere.min_points = std::min(o.sphere.min_points, 50);
-  const ScanResult r =
-      ScanWindowsOfFrames(m, coarse, SubsampleFrames(left_frames, stride), SubsampleFrames(right_frames, stride),
-                          full_scale, FullFrameWindows(coarse), o, "");
+  const ScanWindows full = FullFrameWindows(calibration);
+  SetFrames subsampled(frames.Read(0, full.left, stride), frames.Read(1, full.right, stride));
+  const ScanResult r = ScanWindowsOfFrames(m, coarse, subsampled, true, full_scale, FullFrameWindows(coarse), o, "");
   std::vector<Sphere> spheres;
   for (const SphereResult& s : r.summary.spheres.spheres) {
     Sphere sp;
@@ -356,19 +399,10 @@ ScanOptions WithDepthWindow(const ScanOptions& options, const StereoCalibration&
   return o;
 }
 
-// ScanFrames on frames it may drop once they are no longer needed (ScanWindowsOfFrames).
-ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration,
-                               std::vector<cv::Mat> left_frames, std::vector<cv::Mat> right_frames, double full_scale,
-                               const ScanOptions& options, const std::string& calibration_path) {
-  for (const auto* frames : {&left_frames, &right_frames}) {
-    const CameraIntrinsics& k = frames == &left_frames ? calibration.left : calibration.right;
-    for (const cv::Mat& f : *frames)
-      if (f.cols != k.width || f.rows != k.height)
-        throw InputError({calibration_path, 0, "image_size"},
-                         "a frame is " + std::to_string(f.cols) + "x" + std::to_string(f.rows) +
-                             ", the calibration's " + (frames == &left_frames ? "left" : "right") + " camera " +
-                             std::to_string(k.width) + "x" + std::to_string(k.height));
-  }
+// ScanFrames on frames it may drop once they are no longer needed (ScanWindowsOfFrames); their
+// sizes are the calibration's (the callers check).
+ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration, SetFrames frames,
+                               double full_scale, const ScanOptions& options, const std::string& calibration_path) {
   const ScanRoiOptions& roi = options.roi;
   const ScanWindows full = FullFrameWindows(calibration);
   ScanWindows windows = full;
@@ -384,10 +418,11 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
     std::vector<Sphere> found;
     for (int s = stride;; s /= 2) {
       fallback_why.clear();
-      found = CoarseSpheres(m, calibration, left_frames, right_frames, full_scale, s, options, &fallback_why);
+      found = CoarseSpheres(m, calibration, frames, full_scale, s, options, &fallback_why);
       source = "auto (coarse pass, stride " + std::to_string(s) + ")";
       if (!found.empty() || s / 2 < 2) break;
       RAMTK_LOG(kInfo) << "scan --roi auto: " << fallback_why << "; trying stride " << s / 2;
+      frames.LoadWhole();  // a finer coarse pass, perhaps the full frame after it
     }
     if (!found.empty()) {
       windows = WindowsAroundSpheres(calibration, found, roi.margin_mm, roi.margin_px);
@@ -415,6 +450,7 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
     r.summary.spheres.message = "no sphere found";
     r.summary.spheres.no_sphere_reason = fallback_why;
     r.summary.roi_source = source;
+    r.summary.frame_reads = frames.Reads();
     r.summary.roi_s = roi_s;
     r.summary.width = calibration.left.width, r.summary.height = calibration.left.height;
     return r;
@@ -423,18 +459,15 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
   // The frames are needed again only for a fall-back to the full frame.
   const bool last_use = !windowed || !roi.fall_back_to_full;
   const ScanOptions& pass_options = windowed ? windowed_options : options;
-  ScanResult result = last_use ? ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames),
-                                                     full_scale, windows, pass_options, calibration_path)
-                               : ScanWindowsOfFrames(m, calibration, left_frames, right_frames, full_scale, windows,
-                                                     pass_options, calibration_path);
+  ScanResult result =
+      ScanWindowsOfFrames(m, calibration, frames, last_use, full_scale, windows, pass_options, calibration_path);
   if (windowed && result.summary.termination == Termination::kNoResult && roi.fall_back_to_full) {
     fallback_why = "the windowed scan found no sphere" + (result.summary.spheres.no_sphere_reason.empty()
                                                               ? std::string()
                                                               : ": " + result.summary.spheres.no_sphere_reason);
     const double windowed_s =
         result.summary.decode_s + result.summary.match_s + result.summary.triangulate_s + result.summary.fit_s;
-    result = ScanWindowsOfFrames(m, calibration, std::move(left_frames), std::move(right_frames), full_scale, full,
-                                 options, calibration_path);
+    result = ScanWindowsOfFrames(m, calibration, frames, true, full_scale, full, options, calibration_path);
     result.summary.roi_s = roi_s + windowed_s;
   } else {
     result.summary.roi_s = roi_s;
@@ -444,6 +477,7 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
     RAMTK_LOG(kWarning) << "scan --roi: " << fallback_why << "; scanned the full frame";
   }
   result.summary.roi_source = source;
+  result.summary.frame_reads = frames.Reads();
   return result;
 }
 
@@ -453,7 +487,17 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
                       const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
                       double full_scale, const ScanOptions& options, const std::string& calibration_path) {
   ThrowIfInvalid(options.Validate(), "ScanOptions");
-  return ScanFramesReleasing(m, calibration, left_frames, right_frames, full_scale, options, calibration_path);
+  for (const auto* frames : {&left_frames, &right_frames}) {
+    const CameraIntrinsics& k = frames == &left_frames ? calibration.left : calibration.right;
+    for (const cv::Mat& f : *frames)
+      if (f.cols != k.width || f.rows != k.height)
+        throw InputError({calibration_path, 0, "image_size"},
+                         "a frame is " + std::to_string(f.cols) + "x" + std::to_string(f.rows) +
+                             ", the calibration's " + (frames == &left_frames ? "left" : "right") + " camera " +
+                             std::to_string(k.width) + "x" + std::to_string(k.height));
+  }
+  return ScanFramesReleasing(m, calibration, SetFrames(left_frames, right_frames), full_scale, options,
+                             calibration_path);
 }
 
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
@@ -469,20 +513,35 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     calib_path = m.Resolve(m.calibration);
   }
   const StereoCalibration calibration = ReadStereoCalibration(calib_path);
+  // A camera's frame `path` against the calibration's image size.
+  auto check_size = [&](const std::string& cam, const std::string& path, const cv::Size& size) {
+    const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
+    if (size.width != k.width || size.height != k.height)
+      throw InputError({calib_path, 0, "image_size"},
+                       "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
+                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " + path +
+                           " is " + std::to_string(size.width) + "x" + std::to_string(size.height));
+  };
   // One camera's frames, checked against the calibration's image size.
   auto load = [&](const std::string& cam) {
     std::vector<std::string> paths;
     for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
     // The fast path reads 8/16-bit grey files as stored; the reference path as float.
     ImageStack stack = LoadImageStack(paths, options.decode.dark_fraction, !options.decode.reference_path);
-    const cv::Mat& im = stack.frames.front();
-    const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
-    if (im.cols != k.width || im.rows != k.height)
-      throw InputError({calib_path, 0, "image_size"},
-                       "the calibration's " + std::string(cam == options.left_camera ? "left" : "right") +
-                           " camera is " + std::to_string(k.width) + "x" + std::to_string(k.height) + " but " +
-                           paths.front() + " is " + std::to_string(im.cols) + "x" + std::to_string(im.rows));
+    check_size(cam, paths.front(), stack.frames.front().size());
     return stack;
+  };
+  // One camera's frames opened for reading by rows (image::FrameRows), checked against the
+  // calibration's image size; empty if one of them cannot be read that way (it is then loaded whole).
+  auto open_rows = [&](const std::string& cam) {
+    const std::vector<std::string>& files = m.cameras.at(cam);
+    std::vector<image::FrameRows> rows(files.size());
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      const std::string path = m.Resolve(files[i]);
+      if (!rows[i].Open(path)) return std::vector<image::FrameRows>();
+      check_size(cam, path, cv::Size(rows[i].width(), rows[i].height()));
+    }
+    return rows;
   };
   auto check_bits = [&](const ImageStack& left, const ImageStack& right) {
     if (left.bits_per_sample != right.bits_per_sample)
@@ -519,14 +578,29 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     result.summary.decode_s = decode_s;
     result.summary.roi_source = "full";
   } else {
+    // Windows: uncompressed 8-bit grey frames are read by rows as the passes need them, others
+    // loaded whole.
     auto t0 = std::chrono::steady_clock::now();
-    ImageStack left_stack = load(options.left_camera), right_stack = load(options.right_camera);
-    check_bits(left_stack, right_stack);
-    load_s = Seconds(t0);
-    result = ScanFramesReleasing(m, calibration, std::move(left_stack.frames), std::move(right_stack.frames),
-                                 left_stack.full_scale, options, calib_path);
+    std::vector<image::FrameRows> left_rows, right_rows;
+    if (options.read_rows_on_demand && !options.decode.reference_path) {
+      left_rows = open_rows(options.left_camera);
+      if (!left_rows.empty()) right_rows = open_rows(options.right_camera);
+    }
+    if (!right_rows.empty()) {
+      load_s = Seconds(t0);
+      result = ScanFramesReleasing(m, calibration, SetFrames(std::move(left_rows), std::move(right_rows)), 255.0,
+                                   options, calib_path);
+    } else {
+      ImageStack left_stack = load(options.left_camera), right_stack = load(options.right_camera);
+      check_bits(left_stack, right_stack);
+      load_s = Seconds(t0);
+      result =
+          ScanFramesReleasing(m, calibration, SetFrames(std::move(left_stack.frames), std::move(right_stack.frames)),
+                              left_stack.full_scale, options, calib_path);
+    }
   }
   result.summary.set = manifest_path;
+  if (result.summary.frame_reads.empty()) result.summary.frame_reads = "whole";
   result.summary.load_s = load_s;
   return result;
 }
@@ -609,6 +683,7 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
   j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};
   j["spheres"] = json::parse(SphereFitToJson(s.spheres, kScanFrame, -1));
   j["roi"] = {{"source", s.roi_source},
+              {"frame_reads", s.frame_reads},
               {"left", {s.windows.left.x, s.windows.left.y, s.windows.left.width, s.windows.left.height}},
               {"right", {s.windows.right.x, s.windows.right.y, s.windows.right.width, s.windows.right.height}}};
   j["seconds"] = {{"load", s.load_s},

@@ -46,6 +46,11 @@ struct ScanOptions {
   // Decode and match only windows around the ball (scan_roi.h; ScanFringeSet only): the whole
   // frame (default), a coarse pass first, or a predicted centre.
   ScanRoiOptions roi;
+  // With a window (roi auto or predicted) and frames that are uncompressed 8-bit grey BMPs
+  // (image/frame_rows.h), read from the files only the rows each pass reads: every stride-th
+  // row for the coarse pass, then the windows' rows (ScanFringeSet only). The result is the same
+  // as loading the frames whole (false), which PNG and other files always are.
+  bool read_rows_on_demand = true;
   // Called after each stage ("decode left", "decode right", "match", "triangulate", "fit");
   // returning false cancels (termination "cancelled", nothing else is computed).
   ProgressCallback progress;
@@ -70,12 +75,18 @@ struct ScanSummary {
   // "; fell back to the full frame: WHY".
   ScanWindows windows;
   std::string roi_source = "full";
+  // How the frames were read (ScanFringeSet): "whole" (loaded whole), or "rows" (read by rows
+  // on demand, ScanOptions::read_rows_on_demand; "rows, then whole" once a second coarse pass
+  // or the whole frame needed most of them). "" for frames given in memory.
+  std::string frame_reads;
   DecodeSummary left, right;
   StereoMatchSummary match;
   TriangulationSummary triangulation;
   SphereFitSummary spheres;
   // Wall time of each stage, seconds: loading the frames (ScanFringeSet), the coarse pass that
   // finds the windows (roi auto), decoding (both cameras), matching, triangulation, sphere fit.
+  // Frames read on demand (ScanOptions::read_rows_on_demand) are read inside the stage that
+  // reads them: load_s is then opening the files, roi_s holds the coarse rows, decode_s the windows.
   double load_s = 0, roi_s = 0, decode_s = 0, match_s = 0, triangulate_s = 0, fit_s = 0;
   // One line: points, sphere centre(s) with sigma, radius, RMS (or "no sphere found: why").
   std::string BriefReport() const;
