@@ -188,7 +188,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--min-depth", opt->min_depth, "Nearest depth searched, mm")->capture_default_str();
   sub->add_option("--max-depth", opt->max_depth, "Farthest depth searched, mm")->capture_default_str();
   sub->add_option("--truth", opt->truth, "Simulator truth.json: print the centre and radius errors");
-  sub->add_option("--jobs", opt->jobs, "Sets scanned at once with --batch")->capture_default_str();
+  sub->add_option("--jobs", opt->jobs,
+                  "Sets scanned at once with --batch, and the threads the batch runs on (a set in flight alone "
+                  "uses them all)")
+      ->capture_default_str();
   sub->add_flag("--force", opt->force, "Replace existing outputs");
   sub->add_flag("-q,--quiet", opt->quiet,
                 "No progress bar; with --batch, no per-set table on stdout (results.csv has it)");
