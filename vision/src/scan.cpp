@@ -1,6 +1,7 @@
 // The scan pipeline: decode -> match -> triangulate -> sphere fit (scan.h).
 #include "ramtk/vision/scan.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <unistd.h>
@@ -322,9 +323,18 @@ ScanResult ScanWindowsOfFrames(const FringeManifest& m, const StereoCalibration&
     const Eigen::Vector2f shift(static_cast<float>(windows.left.x), static_cast<float>(windows.left.y));
     for (Eigen::Vector2f& px : result.cloud.left_pixels) px += shift;
     if (!result.depth.empty()) {
-      cv::Mat depth(calibration.left.height, calibration.left.width, CV_32F,
-                    cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
-      result.depth.copyTo(depth(windows.left));
+      // The full-frame map (NaN outside the window), its rows filled in parallel: on a thesis
+      // frame it is 33 MB of fresh pages, whose first touch cost ~20 ms on one thread.
+      cv::Mat depth(calibration.left.height, calibration.left.width, CV_32F);
+      const cv::Rect w = windows.left;
+      const cv::Mat& window_depth = result.depth;
+      tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows, 64), [&](const tbb::blocked_range<int>& r) {
+        for (int y = r.begin(); y < r.end(); ++y) {
+          float* row = depth.ptr<float>(y);
+          std::fill_n(row, depth.cols, std::numeric_limits<float>::quiet_NaN());
+          if (y >= w.y && y < w.y + w.height) std::copy_n(window_depth.ptr<float>(y - w.y), w.width, row + w.x);
+        }
+      });
       result.depth = depth;
     }
     result.summary.width = calibration.left.width;
