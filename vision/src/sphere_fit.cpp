@@ -66,6 +66,30 @@ struct NoInit : std::allocator<T> {
 };
 using PointValues = std::vector<double, NoInit<double>>;
 
+// f(k) for k in [0, n), in parallel ranges (a ball's 40 k points) when there are enough.
+template <class F>
+void ForEachIndex(std::size_t n, F f) {
+  constexpr std::size_t kGrain = 4096;
+  if (n < 2 * kGrain) {
+    for (std::size_t k = 0; k < n; ++k) f(k);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k < r.end(); ++k) f(k);
+  });
+}
+
+// The elements i of `indices` with keep(i), in their order (tested in parallel, joined in order).
+template <class Keep>
+std::vector<int> KeepInOrder(const std::vector<int>& indices, Keep keep) {
+  std::vector<char> kept(indices.size());
+  ForEachIndex(indices.size(), [&](std::size_t k) { kept[k] = keep(indices[k]) ? 1 : 0; });
+  std::vector<int> out;
+  for (std::size_t k = 0; k < indices.size(); ++k)
+    if (kept[k]) out.push_back(indices[k]);
+  return out;
+}
+
 // The sigma of a point's distance to the sphere surface (along the normal at the point).
 struct NormalSigma {
   const std::vector<Eigen::Vector3f>& points;
@@ -73,27 +97,31 @@ struct NormalSigma {
   const SphereFitOptions& options;
   bool along_sight;
 
+  // `indices` distinct (each writes its own element).
   void Evaluate(const std::vector<int>& indices, const Eigen::Vector3d& centre, PointValues* out) const {
-    for (int i : indices) {
+    ForEachIndex(indices.size(), [&](std::size_t k) {
+      const int i = indices[k];
       if (!along_sight) {
         (*out)[i] = sigma[i];
-        continue;
+        return;
       }
       const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
       const Eigen::Vector3d normal = (points[i].cast<double>() - centre).normalized();
       const double c = sight.dot(normal);
       const double ratio = options.perpendicular_sigma_ratio;
       (*out)[i] = sigma[i] * std::sqrt(c * c + ratio * ratio * std::max(0.0, 1.0 - c * c));
-    }
+    });
   }
 };
 
 // Robust (MAD) scale of the normalised residuals of `indices`.
 double RobustScale(const std::vector<Eigen::Vector3f>& points, const PointValues& sigma_n,
                    const std::vector<int>& indices, const Eigen::Vector3d& centre, double radius) {
-  std::vector<double> z;
-  z.reserve(indices.size());
-  for (int i : indices) z.push_back(std::abs((points[i].cast<double>() - centre).norm() - radius) / sigma_n[i]);
+  std::vector<double> z(indices.size());
+  ForEachIndex(indices.size(), [&](std::size_t k) {
+    const int i = indices[k];
+    z[k] = std::abs((points[i].cast<double>() - centre).norm() - radius) / sigma_n[i];
+  });
   return 1.4826 * Median(std::move(z));
 }
 
@@ -264,11 +292,10 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     // Classify with the robust scale at the robust solution.
     normal_sigma.Evaluate(near, rough.centre, &sigma_n);
     scale = std::max(RobustScale(points, sigma_n, near, rough.centre, rough.radius), min_scale);
-    std::vector<int> inliers;
-    for (int i : near)
-      if (std::abs((points[i].cast<double>() - rough.centre).norm() - rough.radius) / sigma_n[i] <=
-          options.outlier_threshold * scale)
-        inliers.push_back(i);
+    std::vector<int> inliers = KeepInOrder(near, [&](int i) {
+      return std::abs((points[i].cast<double>() - rough.centre).norm() - rough.radius) / sigma_n[i] <=
+             options.outlier_threshold * scale;
+    });
     if (static_cast<int>(inliers.size()) < options.min_points) {
       summary.no_sphere_reason = "the robust fit keeps " + std::to_string(inliers.size()) +
                                  " points, fewer than min_points " + std::to_string(options.min_points);
@@ -280,8 +307,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     int grazing = 0;
     if (options.max_view_angle_deg > 0) {
       const double min_cos = std::cos(options.max_view_angle_deg * M_PI / 180.0);
-      std::vector<int> kept;
-      for (int i : inliers) {
+      std::vector<int> kept = KeepInOrder(inliers, [&](int i) {
         const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
         Eigen::Vector3d normal = (points[i].cast<double>() - rough.centre).normalized();
         if (along_ray) {
@@ -292,11 +318,11 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
           const Eigen::Vector3d w = rough.centre - options.viewpoint_mm;
           const double b = sight.dot(w);
           const double disc = b * b - w.squaredNorm() + rough.radius * rough.radius;
-          if (disc <= 0) continue;  // the ray misses the sphere: grazing
+          if (disc <= 0) return false;  // the ray misses the sphere: grazing
           normal = (options.viewpoint_mm + (b - std::sqrt(disc)) * sight - rough.centre).normalized();
         }
-        if (-sight.dot(normal) >= min_cos) kept.push_back(i);
-      }
+        return -sight.dot(normal) >= min_cos;
+      });
       grazing = static_cast<int>(inliers.size() - kept.size());
       if (static_cast<int>(kept.size()) < options.min_points) {
         summary.no_sphere_reason = "only " + std::to_string(kept.size()) + " of the sphere's points are seen within " +

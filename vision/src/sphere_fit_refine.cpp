@@ -2,7 +2,10 @@
 // optional Huber or Cauchy loss, radius free or held constant; all points in one residual block.
 
 #include <ceres/ceres.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -42,27 +45,42 @@ class PointResiduals final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const Eigen::Vector3d c(parameters[0][0], parameters[0][1], parameters[0][2]);
     const double radius = parameters[1][0];
-    Eigen::Vector4d g;
-    for (size_t k = 0; k < indices_.size(); ++k) {
-      const int i = indices_[k];
-      double r = along_ray_ ? AlongRayResidual(points_[i].cast<double>(), sigma_[i], viewpoint_, c, radius, &g)
-                            : NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
-      if (!std::isfinite(r)) return false;
-      if (loss_) {
-        double rho[3];
-        loss_->Evaluate(r * r, rho);
-        const double rt = std::sqrt(std::max(0.0, rho[0]));
-        g *= rt > 0 ? rho[1] * std::abs(r) / rt : std::sqrt(std::max(0.0, rho[1]));
-        r = r < 0 ? -rt : rt;
+    // Each residual and its row of the Jacobian depend on their point alone: ranges of points
+    // run in parallel (a ball's 40 k points, ~5 evaluations per fit) with the same results.
+    std::atomic<bool> finite{true};
+    auto range = [&](std::size_t begin, std::size_t end) {
+      Eigen::Vector4d g;
+      for (size_t k = begin; k < end; ++k) {
+        const int i = indices_[k];
+        double r = along_ray_ ? AlongRayResidual(points_[i].cast<double>(), sigma_[i], viewpoint_, c, radius, &g)
+                              : NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
+        if (!std::isfinite(r)) {
+          finite = false;
+          return;
+        }
+        if (loss_) {
+          double rho[3];
+          loss_->Evaluate(r * r, rho);
+          const double rt = std::sqrt(std::max(0.0, rho[0]));
+          g *= rt > 0 ? rho[1] * std::abs(r) / rt : std::sqrt(std::max(0.0, rho[1]));
+          r = r < 0 ? -rt : rt;
+        }
+        residuals[k] = r;
+        if (jacobians != nullptr) {
+          if (jacobians[0] != nullptr)
+            for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = g[a];
+          if (jacobians[1] != nullptr) jacobians[1][k] = g[3];
+        }
       }
-      residuals[k] = r;
-      if (jacobians != nullptr) {
-        if (jacobians[0] != nullptr)
-          for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = g[a];
-        if (jacobians[1] != nullptr) jacobians[1][k] = g[3];
-      }
+    };
+    constexpr std::size_t kGrain = 4096;
+    if (indices_.size() < 2 * kGrain) {
+      range(0, indices_.size());
+    } else {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, indices_.size(), kGrain),
+                        [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
     }
-    return true;
+    return finite;
   }
 
  private:
