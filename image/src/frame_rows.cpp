@@ -16,13 +16,6 @@
 
 namespace ramtk::image {
 
-struct FrameRows::File {
-  int fd = -1;
-  ~File() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 namespace {
 
 [[noreturn]] void Fail(const std::string& file, const std::string& message) {
@@ -33,6 +26,13 @@ struct FileCloser {
   std::FILE* f;
   ~FileCloser() {
     if (f) std::fclose(f);
+  }
+};
+
+struct FdCloser {
+  int fd;
+  ~FdCloser() {
+    if (fd >= 0) ::close(fd);
   }
 };
 
@@ -70,10 +70,7 @@ bool FrameRows::Open(const std::string& path, std::string* why) {
   }
   detail::CheckDimensions(path, layout.width, layout.height);
   if (!layout.identity) return say("not an 8-bit grey BMP with the identity palette");
-  auto f = std::make_shared<File>();
-  f->fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (f->fd < 0) Fail(path, std::string("cannot open: ") + std::strerror(errno));
-  file_ = std::move(f);
+  open_ = true;
   path_ = path;
   width_ = static_cast<int>(layout.width);
   height_ = static_cast<int>(layout.height);
@@ -84,13 +81,18 @@ bool FrameRows::Open(const std::string& path, std::string* why) {
 }
 
 cv::Mat FrameRows::Read(const cv::Rect& window, int step) const {
-  if (!file_) throw std::invalid_argument("FrameRows::Read: no file open");
+  if (!open_) throw std::invalid_argument("FrameRows::Read: no file open");
   if (step < 1 || window.width < 1 || window.height < 1 || window.x < 0 || window.y < 0 ||
       window.x + window.width > width_ || window.y + window.height > height_)
     throw std::invalid_argument("FrameRows::Read: window (" + std::to_string(window.x) + ", " +
                                 std::to_string(window.y) + ", " + std::to_string(window.width) + " x " +
                                 std::to_string(window.height) + ") step " + std::to_string(step) + " outside " +
                                 std::to_string(width_) + " x " + std::to_string(height_) + " (" + path_ + ")");
+  // The file is opened for each read and closed after it: no descriptor is held between reads
+  // (a batch with many sets in flight would otherwise hold 76 per set, beyond the usual limit
+  // of 1 024).
+  const FdCloser file{::open(path_.c_str(), O_RDONLY | O_CLOEXEC)};
+  if (file.fd < 0) Fail(path_, std::string("cannot open: ") + std::strerror(errno));
   const int rows = (window.height + step - 1) / step, cols = (window.width + step - 1) / step;
   cv::Mat out(rows, cols, CV_8UC1);
   auto row_offset = [&](long long y) { return pixel_offset_ + (top_down_ ? y : height_ - 1 - y) * stride_; };
@@ -102,7 +104,7 @@ cv::Mat FrameRows::Read(const cv::Rect& window, int step) const {
   if (step == 1 && window.width == width_ && stride_ == width_) {
     // Whole rows, contiguous in the file: one read, reversed if stored bottom-up.
     const long long first = top_down_ ? window.y : window.y + window.height - 1;
-    if (!ReadFully(file_->fd, out.data, static_cast<std::size_t>(stride_) * rows, row_offset(first)))
+    if (!ReadFully(file.fd, out.data, static_cast<std::size_t>(stride_) * rows, row_offset(first)))
       short_read(window.y);
     if (!top_down_) detail::ReverseRows(&out);
     return out;
@@ -115,7 +117,7 @@ cv::Mat FrameRows::Read(const cv::Rect& window, int step) const {
     unsigned char* dst = out.ptr<unsigned char>(k);
     unsigned char* into = step == 1 ? dst : span.data();
     const std::size_t bytes = step == 1 ? static_cast<std::size_t>(cols) : span.size();
-    if (!ReadFully(file_->fd, into, bytes, row_offset(y) + window.x)) short_read(y);
+    if (!ReadFully(file.fd, into, bytes, row_offset(y) + window.x)) short_read(y);
     if (step > 1)
       for (int j = 0; j < cols; ++j) dst[j] = span[static_cast<std::size_t>(j) * step];
   }

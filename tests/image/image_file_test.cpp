@@ -4,6 +4,7 @@
 // of the SLMaster set decode exactly as cv::imread decodes them.
 #include <gtest/gtest.h>
 #include <png.h>
+#include <sys/resource.h>
 
 #include <cmath>
 #include <cstdint>
@@ -422,6 +423,32 @@ TEST(FrameRows, OtherFilesAreLeftToTheWholeFileLoadersAndDamageIsNamed) {
   } catch (const ramtk::InputError& e) {
     EXPECT_NE(std::string(e.what()).find(later), std::string::npos) << e.what();
   }
+  fs::remove_all(dir);
+}
+
+// No descriptor is held between reads: a scan keeps 38 frames per camera open, and a batch
+// with many sets in flight would otherwise exhaust the process's descriptors (1 024 by default).
+TEST(FrameRows, OpenFramesHoldNoFileDescriptor) {
+  const std::string dir = TempDir();
+  const cv::Mat pixels = Random(6, 8, CV_8UC1, 7);
+  const std::string path = WriteBytes(dir + "/f.bmp", BuildBmp(pixels, 8, true, GreyRamp(false)));
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &saved), 0);
+  rlimit low = saved;
+  low.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &low), 0);
+  std::vector<ramtk::image::FrameRows> frames(200);
+  bool all = true, same = true;
+  try {
+    for (auto& f : frames) all = all && f.Open(path);
+    for (const auto& f : frames) same = same && Identical(f.Read({0, 0, 8, 6}), pixels);
+  } catch (const ramtk::InputError& e) {  // "Too many open files"
+    all = false;
+    ADD_FAILURE() << e.what();
+  }
+  setrlimit(RLIMIT_NOFILE, &saved);
+  EXPECT_TRUE(all);
+  EXPECT_TRUE(same);
   fs::remove_all(dir);
 }
 
