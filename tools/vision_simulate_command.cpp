@@ -20,6 +20,7 @@ struct SimulateFringeOptions {
   std::uint64_t seed = 1;              // random seed
   std::vector<std::string> effects;    // name=magnitude
   int bits = 8;                        // camera bit depth
+  std::string frame_format = "png";    // png or bmp
   int supersampling = 4;               // n×n rays per pixel
   std::string ball;                    // x,y,z of the ball centre in the left-camera frame, mm
   double radius = 0.0;                 // ball radius, mm (0 = preset)
@@ -88,6 +89,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
     for (auto& b : config.sequence) b.phase_at_origin_rad = DegToRad(opt.phase_at_origin_deg);
   }
   config.sensor.bits = opt.bits;
+  config.frame_format = opt.frame_format;
   config.sensor.noise = !opt.no_noise;
   config.supersampling = opt.supersampling;
   for (const std::string& e : opt.effects) {
@@ -143,6 +145,10 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1), soft_knee_response (knee, "
                   "fraction of full scale)");
   sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
+  sub->add_option("--frame-format", opt->frame_format,
+                  "Frame files: png, or bmp (uncompressed, 8-bit only: what many cameras write; `scan --roi` then "
+                  "reads only the rows it needs)")
+      ->capture_default_str();
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
   sub->add_option(
       "--ball", opt->ball,

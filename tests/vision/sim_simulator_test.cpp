@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "ramtk/core/error.h"
+#include "ramtk/image/frame_rows.h"
 #include "ramtk/vision/fringe_simulator.h"
 
 namespace ramtk::vision {
@@ -195,6 +196,37 @@ TEST(SimSimulator, TwelveBitImagesAreWrittenAtSixteenBitFullScale) {
       ASSERT_EQ(written.at<std::uint16_t>(v, u), static_cast<int>(std::lround(q * 65535.0 / 4095.0))) << u << "," << v;
     }
   fs::remove_all(out);
+}
+
+// frame_format "bmp": the same samples as the rendered frames, in files the scan reads by rows
+// (uncompressed 8-bit grey, identity palette), listed by the manifest; refused for a 12-bit sensor.
+TEST(SimSimulator, BmpFramesHoldTheRenderedSamplesAndAreReadByRows) {
+  FringeSimulationConfig c = FastConfig();
+  c.supersampling = 1;
+  c.frame_format = "bmp";
+  const std::string out = (fs::temp_directory_path() / ("ramtk_sim_bmp_" + std::to_string(::getpid()))).string();
+  fs::remove_all(out);
+  SimulateFringeSet(c, out);
+  const SimulatedCamera sim = SimulateCamera(c, 1);  // same seed: the same samples
+  for (std::size_t i = 0; i < sim.images.size(); i += 5) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/right/%02zu.bmp", i);
+    const cv::Mat written = cv::imread(out + name, cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(written.type(), CV_8UC1) << name;
+    EXPECT_EQ(cv::norm(written, sim.images[i], cv::NORM_INF), 0.0) << name;
+    image::FrameRows rows;
+    std::string why;
+    EXPECT_TRUE(rows.Open(out + name, &why)) << why;
+  }
+  std::ifstream manifest(out + "/manifest.json");
+  const nlohmann::json m = nlohmann::json::parse(manifest);
+  EXPECT_EQ(m["cameras"]["left"][0], "left/00.bmp");
+  fs::remove_all(out);
+  c.sensor.bits = 12;
+  EXPECT_NE(c.Validate().find("frame_format"), std::string::npos) << c.Validate();
+  c.sensor.bits = 8;
+  c.frame_format = "tiff";
+  EXPECT_NE(c.Validate().find("frame_format"), std::string::npos) << c.Validate();
 }
 
 // Mean |Δ projector x| between the two cameras' truth when left pixels are carried into the right

@@ -36,6 +36,9 @@ ramtk_cli_test(simulate_fringe_bad_direction 1
 ramtk_cli_test(simulate_fringe_bad_sequence 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --sequence ps:4
   STDERR "field '--sequence': cannot read block 'ps:4'")
+ramtk_cli_test(simulate_fringe_bmp_needs_8_bit 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --frame-format bmp --bits 12
+  STDERR "field 'frame_format': bmp holds 8-bit frames")
 ramtk_cli_test(simulate_fringe_heterodyne 0
   ARGS simulate fringe --out ${SIM_OUT}_het --force -q --supersampling 1 --sequence het:4:70/64/59
   STDOUT "simulated 2 x 12 fringe images 640x512")

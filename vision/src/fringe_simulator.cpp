@@ -92,10 +92,10 @@ void WritePng(const std::string& path, const cv::Mat& image, int bits) {
   WriteImage(path, out);
 }
 
-std::string FrameName(int i) {
+std::string FrameName(int i, const std::string& format) {
   char buf[16];
-  std::snprintf(buf, sizeof(buf), "%02d.png", i);
-  return buf;
+  std::snprintf(buf, sizeof(buf), "%02d.", i);
+  return buf + format;
 }
 
 }  // namespace
@@ -178,6 +178,9 @@ std::string FringeSimulationConfig::Validate() const {
     return "sequence: " + e.message();
   }
   if (sequence.empty()) return "sequence: the pattern sequence is empty";
+  if (frame_format != "png" && frame_format != "bmp") return "frame_format: must be png or bmp, got " + frame_format;
+  if (frame_format == "bmp" && sensor.bits != 8)
+    return "frame_format: bmp holds 8-bit frames; the sensor has " + std::to_string(sensor.bits) + " bits (use png)";
   for (const CameraIntrinsics* c : {&cameras.left, &cameras.right, &projector.intrinsics})
     if (c->width <= 0 || c->height <= 0 || !(c->fx > 0) || !(c->fy > 0))
       return "cameras: image sizes and focal lengths must be positive";
@@ -360,8 +363,12 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       }
       json images = json::array();
       for (std::size_t i = 0; i < sim.images.size(); ++i) {
-        const std::string rel = std::string(names[cam]) + "/" + FrameName(static_cast<int>(i));
-        WritePng((tmp / rel).string(), sim.images[i], config.sensor.bits);
+        const std::string rel = std::string(names[cam]) + "/" + FrameName(static_cast<int>(i), config.frame_format);
+        if (config.frame_format == "bmp") {
+          WriteImage((tmp / rel).string(), sim.images[i]);  // 8-bit (Validate)
+        } else {
+          WritePng((tmp / rel).string(), sim.images[i], config.sensor.bits);
+        }
         images.push_back(rel);
       }
       manifest_cameras[names[cam]] = images;

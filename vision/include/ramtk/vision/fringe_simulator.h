@@ -55,6 +55,9 @@ struct FringeSimulationConfig {
   SensorOptions sensor;    // bit depth, exposure, noise, (blur is set by `camera_defocus`)
   FringeEffects effects;   // effect magnitudes
   std::uint64_t seed = 1;  // seeds every random draw (effects and noise)
+  // How SimulateFringeSet writes the frames: "png" (any bit depth), or "bmp" (uncompressed, 8-bit
+  // sensors only; what many cameras write, and read by rows under `ramtk scan --roi`).
+  std::string frame_format = "png";
 
   // Throws InputError naming the field for invalid values.
   std::string Validate() const;
@@ -112,7 +115,7 @@ struct FringeSimulationSummary {
 
 // Renders both cameras and writes into `out_dir` (created; it must not exist or be empty unless
 // `overwrite`): manifest.json, calibration.yml, left/NN.png, right/NN.png (10/12-bit images scaled
-// to 16-bit full scale), and truth/ (per camera
+// to 16-bit full scale; NN.bmp with frame_format "bmp"), and truth/ (per camera
 // float TIFFs projector_x, projector_y, depth, lit_fraction and object_id, plus truth.json).
 // Everything is written into a temporary sibling folder renamed into place at the end, so a
 // failure leaves no partial output.
