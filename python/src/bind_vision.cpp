@@ -207,11 +207,12 @@ void BindVision(py::module_& m) {
   m.def(
       "simulate_fringe",
       [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise, int supersampling,
-         bool force) {
+         bool force, const std::string& frame_format) {
         vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
         config.seed = seed;
         config.sensor.noise = noise;
         config.supersampling = supersampling;
+        config.frame_format = frame_format;
         vision::FringeSimulationSummary s;
         {
           py::gil_scoped_release release;
@@ -228,7 +229,9 @@ void BindVision(py::module_& m) {
       },
       py::arg("out"), py::arg("preset") = "small", py::arg("seed") = 1, py::arg("noise") = true,
       py::arg("supersampling") = 4, py::arg("force") = false,
-      "Renders a stereo fringe set of the ball (ramtk simulate fringe) into `out`");
+      py::arg("frame_format") = vision::FringeSimulationConfig{}.frame_format,
+      "Renders a stereo fringe set of the ball (ramtk simulate fringe) into `out`; frame_format png or bmp "
+      "(8-bit uncompressed, read by rows under scan's roi)");
 
   m.def(
       "read_truth_spheres",

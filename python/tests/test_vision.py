@@ -136,6 +136,21 @@ def test_bad_manifest_names_the_file(scratch):
     assert e.value.file == str(bad)
 
 
+def test_windowed_scan_of_bmp_frames_reads_their_rows(scratch):
+    # The same rendered set written as PNG and as BMP: the windowed scan reads only the BMPs' rows
+    # it needs, and finds the same ball from the same samples.
+    png = ramtk.simulate_fringe(str(scratch / "png"), seed=3, supersampling=1, force=True)
+    bmp = ramtk.simulate_fringe(str(scratch / "bmp"), seed=3, supersampling=1, force=True, frame_format="bmp")
+    a = ramtk.scan(png["manifest"], roi="auto")
+    b = ramtk.scan(bmp["manifest"], roi="auto")
+    assert a["summary"]["roi"]["frame_reads"] == "whole"
+    assert b["summary"]["roi"]["frame_reads"] == "rows"
+    assert (a["points"] == b["points"]).all()
+    assert (a["spheres"][0]["centre_mm"] == b["spheres"][0]["centre_mm"]).all()
+    with pytest.raises(Exception, match="frame_format"):
+        ramtk.simulate_fringe(str(scratch / "tiff"), frame_format="tiff")
+
+
 def test_simulated_phase_origin_and_truth_maps(ramtk_binary, scratch):
     # `simulate fringe --phase-at-origin 0` writes that origin into the manifest, and the decoded
     # coordinate matches the simulator's true projector_x map (read back with read_image).
