@@ -5,7 +5,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_match.cpp
   src/stereo_rectified_grid.cpp
   src/triangulate.cpp
-  src/scan.cpp
+  src/scan.cpp src/scan_frames.cpp
   src/scan_roi.cpp
   src/scan_report.cpp
   src/scan_batch.cpp

@@ -19,15 +19,16 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/image/frame_rows.h"
 #include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan_report.h"
+#include "scan_frames.h"
 
 namespace ramtk::vision {
 namespace fs = std::filesystem;
+using detail::SetFrames;
 namespace {
 
 double Seconds(std::chrono::steady_clock::time_point since) {
@@ -247,50 +248,6 @@ ScanResult Cancelled() {
   r.summary.message = "cancelled";
   return r;
 }
-
-// A set's frames as the scan's passes read them: stacks loaded whole and cut in memory, or files
-// read by rows (image::FrameRows), of which only the rows a pass reads are ever read (a coarse
-// pass every stride-th row, a window its rows).
-class SetFrames {
- public:
-  SetFrames(std::vector<cv::Mat> left, std::vector<cv::Mat> right) : loaded_{std::move(left), std::move(right)} {}
-  SetFrames(std::vector<image::FrameRows> left, std::vector<image::FrameRows> right)
-      : files_{std::move(left), std::move(right)}, by_rows_(true) {}
-
-  // Every stride-th pixel of `window` of each frame of camera 0 (left) or 1 (right): views of
-  // loaded frames for stride 1, copies otherwise.
-  std::vector<cv::Mat> Read(int camera, const cv::Rect& window, int stride) const {
-    const auto& files = files_[camera];
-    if (files.empty()) {
-      const std::vector<cv::Mat>& f = loaded_[camera];
-      const bool whole = !f.empty() && window == cv::Rect(0, 0, f[0].cols, f[0].rows);
-      const std::vector<cv::Mat> cut = whole ? f : CropFrames(f, window);
-      return stride == 1 ? cut : SubsampleFrames(cut, stride);
-    }
-    std::vector<cv::Mat> out(files.size());
-    tbb::parallel_for(std::size_t{0}, files.size(), [&](std::size_t i) { out[i] = files[i].Read(window, stride); });
-    return out;
-  }
-  // Camera `camera`'s frames are not read again: loaded ones are dropped (views handed out by
-  // Read keep theirs alive until they go).
-  void Release(int camera) { std::vector<cv::Mat>().swap(loaded_[camera]); }
-  // "rows" while files are read by rows, "rows, then whole" after LoadWhole, "" in memory.
-  std::string Reads() const { return by_rows_ ? (files_[0].empty() ? "rows, then whole" : "rows") : ""; }
-  // Files are read whole now, once (when more passes will read most of their rows).
-  void LoadWhole() {
-    for (int camera : {0, 1}) {
-      if (files_[camera].empty()) continue;
-      const image::FrameRows& first = files_[camera].front();
-      loaded_[camera] = Read(camera, cv::Rect(0, 0, first.width(), first.height()), 1);
-      files_[camera].clear();
-    }
-  }
-
- private:
-  std::vector<cv::Mat> loaded_[2];
-  std::vector<image::FrameRows> files_[2];
-  bool by_rows_ = false;
-};
 
 // Decodes the windows of both cameras' frames and runs the rest of the pipeline on them; the
 // cloud's pixels and the depth image are returned in full-frame pixels. With `last_use`, each
