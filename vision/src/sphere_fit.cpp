@@ -23,6 +23,7 @@ namespace ramtk::vision {
 namespace {
 
 using sphere_internal::Candidate;
+using sphere_internal::ForEachIndex;
 using sphere_internal::GeometricFit;
 
 double Median(std::vector<double> v) {
@@ -65,19 +66,6 @@ struct NoInit : std::allocator<T> {
   }
 };
 using PointValues = std::vector<double, NoInit<double>>;
-
-// f(k) for k in [0, n), in parallel ranges (a ball's 40 k points) when there are enough.
-template <class F>
-void ForEachIndex(std::size_t n, F f) {
-  constexpr std::size_t kGrain = 4096;
-  if (n < 2 * kGrain) {
-    for (std::size_t k = 0; k < n; ++k) f(k);
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t k = r.begin(); k < r.end(); ++k) f(k);
-  });
-}
 
 // The elements i of `indices` with keep(i), in their order (tested in parallel, joined in order).
 template <class Keep>

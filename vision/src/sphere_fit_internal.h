@@ -1,6 +1,9 @@
 #pragma once
 // Internals of FindSpheres shared by sphere_fit*.cpp (not installed).
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
@@ -12,6 +15,20 @@
 #include "ramtk/vision/sphere_fit.h"
 
 namespace ramtk::vision::sphere_internal {
+
+// f(k) for k in [0, n), over parallel ranges when there are enough (a ball's 40 k points); each
+// call must touch only its own k's outputs.
+template <class F>
+void ForEachIndex(std::size_t n, F f) {
+  constexpr std::size_t kGrain = 4096;
+  if (n < 2 * kGrain) {
+    for (std::size_t k = 0; k < n; ++k) f(k);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kGrain), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k < r.end(); ++k) f(k);
+  });
+}
 
 // Points hashed into cubic cells of edge `cell_mm`; the 27-cell neighbourhood of a cell holds
 // every point within cell_mm of any point of that cell.

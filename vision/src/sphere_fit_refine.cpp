@@ -2,8 +2,6 @@
 // optional Huber or Cauchy loss, radius free or held constant; all points in one residual block.
 
 #include <ceres/ceres.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <atomic>
 #include <cmath>
@@ -48,38 +46,30 @@ class PointResiduals final : public ceres::CostFunction {
     // Each residual and its row of the Jacobian depend on their point alone: ranges of points
     // run in parallel (a ball's 40 k points, ~5 evaluations per fit) with the same results.
     std::atomic<bool> finite{true};
-    auto range = [&](std::size_t begin, std::size_t end) {
+    ForEachIndex(indices_.size(), [&](std::size_t k) {
+      if (!finite) return;
+      const int i = indices_[k];
       Eigen::Vector4d g;
-      for (size_t k = begin; k < end; ++k) {
-        const int i = indices_[k];
-        double r = along_ray_ ? AlongRayResidual(points_[i].cast<double>(), sigma_[i], viewpoint_, c, radius, &g)
-                              : NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
-        if (!std::isfinite(r)) {
-          finite = false;
-          return;
-        }
-        if (loss_) {
-          double rho[3];
-          loss_->Evaluate(r * r, rho);
-          const double rt = std::sqrt(std::max(0.0, rho[0]));
-          g *= rt > 0 ? rho[1] * std::abs(r) / rt : std::sqrt(std::max(0.0, rho[1]));
-          r = r < 0 ? -rt : rt;
-        }
-        residuals[k] = r;
-        if (jacobians != nullptr) {
-          if (jacobians[0] != nullptr)
-            for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = g[a];
-          if (jacobians[1] != nullptr) jacobians[1][k] = g[3];
-        }
+      double r = along_ray_ ? AlongRayResidual(points_[i].cast<double>(), sigma_[i], viewpoint_, c, radius, &g)
+                            : NormalResidual(points_[i].cast<double>(), sigma_[i], c, radius, &g);
+      if (!std::isfinite(r)) {
+        finite = false;
+        return;
       }
-    };
-    constexpr std::size_t kGrain = 4096;
-    if (indices_.size() < 2 * kGrain) {
-      range(0, indices_.size());
-    } else {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, indices_.size(), kGrain),
-                        [&](const tbb::blocked_range<std::size_t>& r) { range(r.begin(), r.end()); });
-    }
+      if (loss_) {
+        double rho[3];
+        loss_->Evaluate(r * r, rho);
+        const double rt = std::sqrt(std::max(0.0, rho[0]));
+        g *= rt > 0 ? rho[1] * std::abs(r) / rt : std::sqrt(std::max(0.0, rho[1]));
+        r = r < 0 ? -rt : rt;
+      }
+      residuals[k] = r;
+      if (jacobians != nullptr) {
+        if (jacobians[0] != nullptr)
+          for (int a = 0; a < 3; ++a) jacobians[0][3 * k + a] = g[a];
+        if (jacobians[1] != nullptr) jacobians[1][k] = g[3];
+      }
+    });
     return finite;
   }
 
