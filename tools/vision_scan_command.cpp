@@ -1,5 +1,6 @@
 // ramtk scan: fringe set + stereo calibration -> point cloud (PLY), sphere JSON, depth preview.
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -117,8 +118,11 @@ int RunScan(const ScanCommandOptions& opt) {
         std::cout << "shard " << opt.shard << ": no set (the list has " << sets.size() << ")\n";
       }
     }
+    const auto started = std::chrono::steady_clock::now();
     const std::vector<ScanBatchRow> rows =
         RunScanBatch(ReadScanBatchEntries(opt.batch), options, opt.out, opt.jobs, opt.force, progress, positions);
+    const ScanBatchSummary totals =
+        SummariseScanBatch(rows, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(opt.out + "/" + results_name, csv);
     if (!opt.quiet) std::cout << csv;  // a campaign's 1800 rows are in results.csv
@@ -129,14 +133,8 @@ int RunScan(const ScanCommandOptions& opt) {
       ScanBatchReport(rows, opt.out).Write(opt.out + "/" + page);
       std::cout << "wrote " << opt.out << "/" << page << "\n";
     }
-    int bad = 0, none = 0;
-    for (const ScanBatchRow& r : rows) {
-      if (r.status == "error") ++bad;
-      if (r.status == "no sphere found") ++none;
-    }
-    std::cout << "scanned " << rows.size() << " sets: " << rows.size() - bad - none << " ok, " << none
-              << " without a sphere, " << bad << " with errors; wrote " << opt.out << "/" << results_name << "\n";
-    return bad ? kExitBadInput : none ? kExitNoSolution : kExitOk;
+    std::cout << totals.BriefReport() << "; wrote " << opt.out << "/" << results_name << "\n";
+    return totals.errors ? kExitBadInput : totals.no_sphere ? kExitNoSolution : kExitOk;
   }
 
   add_set(opt.set);

@@ -98,5 +98,30 @@ TEST(ScanShard, MergeOrdersRowsAndRefusesGapsAndDuplicates) {
   EXPECT_THROW(MergeScanShards(sets, {a, (d / "c.csv").string()}), InputError);  // header differs
 }
 
+// The batch totals: rows counted by status, the rate from the wall time, the peak memory read
+// from the process (at least the memory this test holds).
+TEST(ScanBatchSummary, CountsRowsAndGivesTheRateAndPeakMemory) {
+  std::vector<ScanBatchRow> rows(7);
+  for (auto& r : rows) r.status = "ok";
+  rows[1].status = "no sphere found";
+  rows[4].status = "error";
+  rows[6].status = "cancelled";
+  std::vector<char> held(64 << 20, 1);  // 64 MiB touched
+  const ScanBatchSummary s = SummariseScanBatch(rows, 2.0);
+  EXPECT_EQ(s.sets, 7u);
+  EXPECT_EQ(s.ok, 4u);
+  EXPECT_EQ(s.no_sphere, 1u);
+  EXPECT_EQ(s.errors, 1u);
+  EXPECT_EQ(s.cancelled, 1u);
+  EXPECT_DOUBLE_EQ(s.sets_per_second, 3.5);
+  EXPECT_GE(s.peak_memory_mb, 64.0 + held[12345] - 1);
+  EXPECT_EQ(s.BriefReport().rfind("scanned 7 sets: 4 ok, 1 without a sphere, 1 with errors, 1 cancelled in 2.00 s "
+                                  "(3.50 sets/s), peak memory ",
+                                  0),
+            0u)
+      << s.BriefReport();
+  EXPECT_EQ(SummariseScanBatch({}, 0.0).sets_per_second, 0.0);
+}
+
 }  // namespace
 }  // namespace ramtk::vision

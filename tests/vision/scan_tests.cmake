@@ -82,7 +82,7 @@ ramtk_cli_test(scan_roi_bad 1
 file(WRITE ${SCAN_CLI}/batch_centres.txt "${SCAN_DEFAULT}/manifest.json 0.4,-0.3,701\n")
 ramtk_cli_test(scan_batch_predicted_centre 0
   ARGS scan --batch ${SCAN_CLI}/batch_centres.txt --out ${SCAN_CLI}/batch_centres --force
-  STDOUT "scan_default/manifest.json,ok,[0-9]+,-?(0\\.00|[1-9]\\.[0-9]+e-0[3-9]).*scanned 1 sets: 1 ok")
+  STDOUT "scan_default/manifest.json,ok,[0-9]+,-?(0\\.00|[1-9]\\.[0-9]+e-0[3-9]).*scanned 1 sets: 1 ok, 0 without a sphere, 0 with errors in [0-9.]+ s \\([0-9.]+ sets/s\\), peak memory [0-9]+ MB")
 file(WRITE ${SCAN_CLI}/batch_bad_centre.txt "# one set\n${SCAN_DEFAULT}/manifest.json 0,700\n")
 ramtk_cli_test(scan_batch_bad_centre 1
   ARGS scan --batch ${SCAN_CLI}/batch_bad_centre.txt --out ${SCAN_CLI}/batch_bad_centre -q

@@ -1,6 +1,7 @@
 // Batch scans in parallel (scan_batch.h).
 #include "ramtk/vision/scan_batch.h"
 
+#include <sys/resource.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -166,6 +167,41 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
     });
   });
   return rows;
+}
+
+ScanBatchSummary SummariseScanBatch(const std::vector<ScanBatchRow>& rows, double wall_seconds) {
+  ScanBatchSummary s;
+  s.sets = rows.size();
+  for (const ScanBatchRow& r : rows) {
+    if (r.status == "error")
+      ++s.errors;
+    else if (r.status == "cancelled")
+      ++s.cancelled;
+    else if (r.status == "no sphere found")
+      ++s.no_sphere;
+    else
+      ++s.ok;
+  }
+  s.seconds = wall_seconds;
+  s.sets_per_second = wall_seconds > 0 ? static_cast<double>(s.sets) / wall_seconds : 0.0;
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) == 0) s.peak_memory_mb = usage.ru_maxrss / 1024.0;  // KiB on Linux
+  return s;
+}
+
+std::string ScanBatchSummary::BriefReport() const {
+  std::ostringstream o;
+  o << "scanned " << sets << " sets: " << ok << " ok, " << no_sphere << " without a sphere, " << errors
+    << " with errors";
+  if (cancelled) o << ", " << cancelled << " cancelled";
+  o.setf(std::ios::fixed);
+  o.precision(seconds < 10 ? 2 : 1);
+  o << " in " << seconds << " s (";
+  o.precision(sets_per_second < 10 ? 2 : 1);
+  o << sets_per_second << " sets/s), peak memory ";
+  o.precision(0);
+  o << peak_memory_mb << " MB";
+  return o.str();
 }
 
 std::string ScanBatchCsv(const std::vector<ScanBatchRow>& rows, const std::string& relative_to) {

@@ -54,6 +54,18 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& entrie
                                        const ProgressCallback& progress = {},
                                        const std::vector<std::size_t>& positions = {});
 
+// A batch run's totals: its rows by status, its rate, and the process's peak memory.
+struct ScanBatchSummary {
+  std::size_t sets = 0, ok = 0, no_sphere = 0, errors = 0, cancelled = 0;
+  double seconds = 0;          // wall time of the run
+  double sets_per_second = 0;  // sets / seconds (0 for an empty run)
+  double peak_memory_mb = 0;   // peak resident memory of the process so far (getrusage), MiB
+  // "scanned N sets: A ok, B without a sphere, C with errors in S s (R sets/s), peak memory M MB"
+  std::string BriefReport() const;
+};
+// The totals of `rows`, scanned in `wall_seconds`.
+ScanBatchSummary SummariseScanBatch(const std::vector<ScanBatchRow>& rows, double wall_seconds);
+
 // Shard K of N of a batch (`ramtk scan --batch LIST --shard K/N`, docs/cluster.md): 1-based.
 struct ScanShard {
   int index = 1;  // K
