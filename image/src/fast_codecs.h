@@ -14,6 +14,14 @@ namespace ramtk::image::detail {
 
 inline constexpr const char* kNotReadHere = "not read here";
 
+// Closes an fopen'ed file when it goes out of scope.
+struct FileCloser {
+  std::FILE* f;
+  ~FileCloser() {
+    if (f) std::fclose(f);
+  }
+};
+
 enum class FastFormat { kOther, kPng, kBmp };
 // The format from a file's first bytes (at least 2; 8 for PNG).
 FastFormat SniffFormat(const unsigned char* bytes, std::size_t n);

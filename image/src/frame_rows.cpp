@@ -22,13 +22,6 @@ namespace {
   throw InputError({file, 0, ""}, message);
 }
 
-struct FileCloser {
-  std::FILE* f;
-  ~FileCloser() {
-    if (f) std::fclose(f);
-  }
-};
-
 struct FdCloser {
   int fd;
   ~FdCloser() {
@@ -57,7 +50,7 @@ bool FrameRows::Open(const std::string& path, std::string* why) {
     return false;
   };
   if (!std::filesystem::exists(path)) Fail(path, "image file does not exist");
-  FileCloser file{std::fopen(path.c_str(), "rb")};
+  detail::FileCloser file{std::fopen(path.c_str(), "rb")};
   if (!file.f) Fail(path, std::string("cannot open: ") + std::strerror(errno));
   unsigned char b[8] = {};
   const std::size_t n = std::fread(b, 1, sizeof(b), file.f);

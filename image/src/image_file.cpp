@@ -73,18 +73,11 @@ const detail::OiioBackend& Backend(const std::string& for_file) {
   return *backend;
 }
 
-struct FileCloser {
-  std::FILE* f;
-  ~FileCloser() {
-    if (f) std::fclose(f);
-  }
-};
-
 // A PNG or BMP whose header passed the limits, decoded here; empty when the file is another
 // format or a variant the fast decoders do not take (the backend then tries, and names the
 // problem).
 cv::Mat ReadFast(const std::string& path) {
-  FileCloser file{std::fopen(path.c_str(), "rb")};
+  detail::FileCloser file{std::fopen(path.c_str(), "rb")};
   if (!file.f) return {};
   unsigned char b[32] = {};
   const std::size_t n = std::fread(b, 1, sizeof(b), file.f);
