@@ -16,23 +16,22 @@ namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-// Residual vector of the 3-parameter sinusoid fit at (y, x) (steps 2 pi k / N), and the
-// fitted (cos, sin) amplitudes, whose angle is the phase.
-template <typename T>
-void Residual(const std::vector<const cv::Mat*>& frames, const std::vector<double>& c, const std::vector<double>& s,
-              int y, int x, double* r, Vec2* phase) {
-  const int n = static_cast<int>(frames.size());
+// The fitted (cos, sin) amplitudes of the 3-parameter sinusoid fit (steps 2 pi k / N) of the
+// samples v[0..n), whose angle is the phase, and their mean.
+void Fit(const double* v, int n, const double* c, const double* s, double* a0, Vec2* phase) {
   double sum = 0, sc = 0, ss = 0;
   for (int k = 0; k < n; ++k) {
-    const double v = frames[k]->ptr<T>(y)[x];
-    r[k] = v;
-    sum += v;
-    sc += v * c[k];
-    ss += v * s[k];
+    sum += v[k];
+    sc += v[k] * c[k];
+    ss += v[k] * s[k];
   }
-  const double a0 = sum / n, a = 2 * sc / n, b = 2 * ss / n;
-  for (int k = 0; k < n; ++k) r[k] -= a0 + a * c[k] + b * s[k];
-  *phase = Vec2(a, b);
+  *a0 = sum / n;
+  *phase = Vec2(2 * sc / n, 2 * ss / n);
+}
+
+// The fit's residual vector: r[k] = v[k] - (a0 + a c[k] + b s[k]).
+void Residual(const double* v, int n, const double* c, const double* s, double a0, const Vec2& phase, double* r) {
+  for (int k = 0; k < n; ++k) r[k] = v[k] - (a0 + phase.x() * c[k] + phase.y() * s[k]);
 }
 
 template <typename T>
@@ -53,10 +52,18 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
   const int rows = mask.rows > 2 ? (mask.rows - 2 + stride - 1) / stride : 0;
   std::vector<RowSums> per_row(rows);
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& range) {
-    std::vector<double> r0(n), ra(n), rb(n), rc(n), rd(n);
+    // The frames' rows y - 1, y, y + 1 (pointers taken once per row) and, per pixel, the samples
+    // of the pixel and its four neighbours; residual vectors only for the pair used.
+    std::vector<const T*> up(n), mid(n), down(n);
+    std::vector<double> v0(n), va(n), vb(n), vc(n), vd(n), r0(n), q1(n), q2(n);
     for (int i = range.begin(); i < range.end(); ++i) {
       const int y = 1 + i * stride;
       RowSums& rs = per_row[i];
+      for (int k = 0; k < n; ++k) {
+        up[k] = frames[k]->ptr<T>(y - 1);
+        mid[k] = frames[k]->ptr<T>(y);
+        down[k] = frames[k]->ptr<T>(y + 1);
+      }
       const uchar* mu = mask.ptr<uchar>(y - 1);
       const uchar* m0 = mask.ptr<uchar>(y);
       const uchar* md = mask.ptr<uchar>(y + 1);
@@ -64,18 +71,32 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
         if (!m0[x]) continue;
         const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
         if (!horizontal && !vertical) continue;
+        double a0, aa = 0, ab = 0, ac = 0, ad = 0;
         Vec2 p0, pa, pb, pc, pd;
-        Residual<T>(frames, c, s, y, x, r0.data(), &p0);
-        if (horizontal)
-          Residual<T>(frames, c, s, y, x - 1, ra.data(), &pa), Residual<T>(frames, c, s, y, x + 1, rb.data(), &pb);
-        if (vertical)
-          Residual<T>(frames, c, s, y - 1, x, rc.data(), &pc), Residual<T>(frames, c, s, y + 1, x, rd.data(), &pd);
+        for (int k = 0; k < n; ++k) v0[k] = mid[k][x];
+        Fit(v0.data(), n, c.data(), s.data(), &a0, &p0);
+        if (horizontal) {
+          for (int k = 0; k < n; ++k) va[k] = mid[k][x - 1], vb[k] = mid[k][x + 1];
+          Fit(va.data(), n, c.data(), s.data(), &aa, &pa);
+          Fit(vb.data(), n, c.data(), s.data(), &ab, &pb);
+        }
+        if (vertical) {
+          for (int k = 0; k < n; ++k) vc[k] = up[k][x], vd[k] = down[k][x];
+          Fit(vc.data(), n, c.data(), s.data(), &ac, &pc);
+          Fit(vd.data(), n, c.data(), s.data(), &ad, &pd);
+        }
         // The direction along the fringe (smaller phase change): there the phase-dependent
         // (systematic) part of the residual, e.g. the projector's harmonics, changes least, and
         // the second difference r(-1) - 2 r(0) + r(+1) cancels its linear change as well.
         const bool use_h = horizontal && (!vertical || cos_between(pa, pb) >= cos_between(pc, pd));
-        const std::vector<double>& q1 = use_h ? ra : rc;
-        const std::vector<double>& q2 = use_h ? rb : rd;
+        Residual(v0.data(), n, c.data(), s.data(), a0, p0, r0.data());
+        if (use_h) {
+          Residual(va.data(), n, c.data(), s.data(), aa, pa, q1.data());
+          Residual(vb.data(), n, c.data(), s.data(), ab, pb, q2.data());
+        } else {
+          Residual(vc.data(), n, c.data(), s.data(), ac, pc, q1.data());
+          Residual(vd.data(), n, c.data(), s.data(), ad, pd, q2.data());
+        }
         for (int k = 0; k < n; ++k) {
           const double dd = q1[k] - 2 * r0[k] + q2[k];
           rs.diff_ss += dd * dd;
