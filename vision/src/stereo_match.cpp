@@ -869,14 +869,18 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
   // Boxes are widened by kSlack px: the float bounds here against Consistent's double sums.
   constexpr float kSlack = 1e-3f;
   const float lr_tolerance = static_cast<float>(p.lr_tolerance), factor = static_cast<float>(p.lr_sigma_factor);
-  // Marks the source pixels in [u0, u1] x [v0, v1]. Cells of several rows mark the same pixels
-  // at once: relaxed atomic stores of the same value (plain byte stores on x86).
-  auto mark = [&](float u0, float u1, float v0, float v1) {
-    if (!(u1 >= 0 && v1 >= 0 && u0 <= src_cols - 1 && v0 <= src_rows - 1)) return;
+  // The source pixels (integer positions) in [u0, u1] x [v0, v1]: false if none.
+  auto pixels = [&](float u0, float u1, float v0, float v1, int* x0, int* x1, int* y0, int* y1) {
+    if (!(u1 >= 0 && v1 >= 0 && u0 <= src_cols - 1 && v0 <= src_rows - 1)) return false;
     // Clamped to the image first: a huge tolerance (a back sigma from a nearly flat slope)
     // must not overflow the integer bounds.
-    const int x0 = -FloorToInt(-std::max(u0, 0.0f)), x1 = FloorToInt(std::min(u1, src_cols - 1.0f));
-    const int y0 = -FloorToInt(-std::max(v0, 0.0f)), y1 = FloorToInt(std::min(v1, src_rows - 1.0f));
+    *x0 = -FloorToInt(-std::max(u0, 0.0f)), *x1 = FloorToInt(std::min(u1, src_cols - 1.0f));
+    *y0 = -FloorToInt(-std::max(v0, 0.0f)), *y1 = FloorToInt(std::min(v1, src_rows - 1.0f));
+    return *x0 <= *x1 && *y0 <= *y1;
+  };
+  // Marks pixels x0..x1 of rows y0..y1. Cells of several rows mark the same pixels at once:
+  // relaxed atomic stores of the same value (plain byte stores on x86).
+  auto mark = [&](int x0, int x1, int y0, int y1) {
     for (int y = y0; y <= y1; ++y) {
       uchar* r = reach.ptr<uchar>(y);
       for (int x = x0; x <= x1; ++x) __atomic_store_n(r + x, uchar{1}, __ATOMIC_RELAXED);
@@ -889,6 +893,18 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
       const float *v0 = p.back_v.ptr<float>(v), *v1 = p.back_v.ptr<float>(v + 1);
       const float* s0 = p.lr_sigma ? p.back_sigma.ptr<float>(v) : nullptr;
       const float* s1 = p.lr_sigma ? p.back_sigma.ptr<float>(v + 1) : nullptr;
+      // Neighbouring cells of a surface mark overlapping boxes of the same rows: they are
+      // joined into one run (rows ry0..ry1, pixels rx0..rx1) and marked when the next box does
+      // not join it. The marked pixels are the same; the loops run once per run, not per cell.
+      int rx0 = 0, rx1 = -1, ry0 = 0, ry1 = -1;
+      auto add = [&](int x0, int x1, int y0, int y1) {
+        if (y0 == ry0 && y1 == ry1 && x0 <= rx1 + 1 && x1 >= rx0 - 1) {
+          rx0 = std::min(rx0, x0), rx1 = std::max(rx1, x1);
+          return;
+        }
+        if (rx0 <= rx1) mark(rx0, rx1, ry0, ry1);
+        rx0 = x0, rx1 = x1, ry0 = y0, ry1 = y1;
+      };
       // Whether column u + 1 of the two rows holds a back match (the next cell's left column).
       bool next_column = !(std::isnan(u0[0]) && std::isnan(u1[0]));
       for (int u = 0; u + 1 < cols; ++u) {
@@ -904,6 +920,7 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
           for (const float sk : {s0[u], s0[u + 1], s1[u], s1[u + 1]})
             if (std::isfinite(sk)) tolerance = std::max(tolerance, factor * sk);
         }
+        int x0, x1, y0, y1;
         if (fin[0] & fin[1] & fin[2] & fin[3]) {
           const float umin = std::min(std::min(bu[0], bu[1]), std::min(bu[2], bu[3]));
           const float umax = std::max(std::max(bu[0], bu[1]), std::max(bu[2], bu[3]));
@@ -921,14 +938,15 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
           }
           if (bilinear) {
             const float t = tolerance + kSlack;
-            mark(umin - t, umax + t, vmin - t, vmax + t);
+            if (pixels(umin - t, umax + t, vmin - t, vmax + t, &x0, &x1, &y0, &y1)) add(x0, x1, y0, y1);
             continue;
           }
         }
         const float t = tolerance + 1 + kSlack;
         for (int k = 0; k < 4; ++k)
-          if (fin[k]) mark(bu[k] - t, bu[k] + t, bv[k] - t, bv[k] + t);
+          if (fin[k] && pixels(bu[k] - t, bu[k] + t, bv[k] - t, bv[k] + t, &x0, &x1, &y0, &y1)) add(x0, x1, y0, y1);
       }
+      if (rx0 <= rx1) mark(rx0, rx1, ry0, ry1);
     }
   });
   return reach;
