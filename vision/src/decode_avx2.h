@@ -1,0 +1,30 @@
+#pragma once
+// 256-bit (AVX2) versions of the fused decode's row kernels (decode_fast.cpp), chosen at run time
+// on CPUs that have AVX2. Each lane takes the same IEEE operations in the same order as the
+// 128-bit kernels, and no fused multiply-add is used, so every output is bit-identical to theirs
+// (tests/vision/decode_avx2_test.cpp). Each kernel returns how many leading pixels it did; the
+// caller finishes the row with its own kernels.
+#include <opencv2/core.hpp>
+
+namespace ramtk::vision::detail {
+
+// Whether the AVX2 kernels run: the CPU has AVX2 and the environment variable RAMTK_AVX2 is not
+// 0 (read once). SetAvx2Kernels overrides both (tests compare the two paths in one process).
+bool Avx2Kernels();
+void SetAvx2Kernels(bool on);
+
+// The five sums of AccumulateRowU8 (S, C, sum I, sum I^2, max I over the n frames' rows) for
+// pixels [0, 16 k), the largest such k with 16 k <= width.
+int AccumulateRowU8Avx2(const uchar* const* rows, int n, int width, const float* sn, const float* cs, float* s,
+                        float* c, float* sum, float* sum2, float* top);
+
+// WrappedPhaseRow for pixels [0, 8 k), 8 k <= n.
+int WrappedPhaseRowAvx2(const float* s, const float* c, int n, float* phi);
+
+// FinestStatsU8 (decode_fast.cpp) for pixels [0, 8 k), 8 k <= width; `brightest` is updated
+// with the largest `top` among them.
+int FinestStatsU8Avx2(int n, int width, const float* s, const float* c, const float* sum, const float* sum2,
+                      const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark, uchar* sat,
+                      uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row, float* brightest);
+
+}  // namespace ramtk::vision::detail
