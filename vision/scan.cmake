@@ -4,6 +4,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/point_cloud_ply.cpp
   src/stereo_match.cpp
   src/stereo_rectified_grid.cpp
+  src/undistort_chains.cpp
   src/triangulate.cpp
   src/scan.cpp src/scan_frames.cpp
   src/scan_roi.cpp

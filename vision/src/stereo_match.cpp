@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -17,6 +18,7 @@
 #include "ramtk/core/error.h"
 #include "rank_select.h"
 #include "stereo_rectified_grid.h"
+#include "undistort_chains.h"
 
 namespace ramtk::vision {
 namespace {
@@ -995,14 +997,37 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
       std::vector<Matcher::Root> roots;
       std::vector<double> w_up(W, kNaN), w_row(W, kNaN);
       const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
+      // The block's source rays first: the pixels each row will search (valid, not noisy,
+      // reachable), undistorted row by row in order (UndistortChains, several rows side by side).
+      thread_local std::vector<int> xs;
+      thread_local std::vector<double> ideal_x, ideal_y;
+      const std::size_t row_stride = static_cast<std::size_t>(W);
+      xs.resize(row_stride * kBlock);
+      ideal_x.resize(row_stride * kBlock);
+      ideal_y.resize(row_stride * kBlock);
+      detail::UndistortChain chains[kBlock];
+      for (int y = yb; y < ye; ++y) {
+        const float* crow = p.src_coord.ptr<float>(y);
+        const float* srow = p.src_sigma.ptr<float>(y);
+        const uchar* mrow = p.src_mask.ptr<uchar>(y);
+        const uchar* reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
+        const std::size_t at = static_cast<std::size_t>(y - yb) * row_stride;
+        int* row_xs = xs.data() + at;
+        int count = 0;
+        for (int x = 0; x < W; ++x)
+          if (mrow[x] && std::isfinite(crow[x]) && srow[x] <= p.max_sigma && (!reach_row || reach_row[x]))
+            row_xs[count++] = x;
+        chains[y - yb] = {row_xs, count, y, ideal_x.data() + at, ideal_y.data() + at};
+      }
+      detail::UndistortChains(*p.src, chains, ye - yb);
       for (int y = yb; y < ye; ++y) {
         std::swap(w_up, w_row);
         std::fill(w_row.begin(), w_row.end(), kNaN);
         Matcher m{p};
         double w_prev = std::numeric_limits<double>::quiet_NaN();
         double w_last = std::numeric_limits<double>::quiet_NaN();  // the row's last match, past gaps
-        Vec2 ideal_prev(kNaN, kNaN), ideal_prev2(kNaN, kNaN);
-        int x_prev = -10, x_prev2 = -10;
+        const detail::UndistortChain& chain = chains[y - yb];
+        int next_ray = 0;  // the chain's entry of the next pixel searched
         long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
         const float* crow = p.src_coord.ptr<float>(y);
         const float* srow = p.src_sigma.ptr<float>(y);
@@ -1041,17 +1066,10 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
             w_prev = std::numeric_limits<double>::quiet_NaN();
             continue;
           }
-          // The source ray: undistorted from the previous pixels' solutions, extrapolated
-          // linearly along the row when the two before were solved (one Gauss-Newton round less).
-          const Vec2 distorted((x - p.src->cx) / p.src->fx, (y - p.src->cy) / p.src->fy);
-          const Vec2 seed = x_prev == x - 1 && x_prev2 == x - 2 ? Vec2(2.0 * ideal_prev - ideal_prev2)
-                            : std::isfinite(ideal_prev.x())     ? ideal_prev
-                                                                : distorted;
-          const Vec2 ideal = UndistortNormalized(p.src->distortion, distorted, seed);
-          ideal_prev2 = ideal_prev;
-          x_prev2 = x_prev;
-          ideal_prev = ideal;
-          x_prev = x;
+          // The source ray (undistorted before the row's walk, in the order of the row).
+          assert(next_ray < chain.count && chain.xs[next_ray] == x);
+          const Vec2 ideal(chain.ideal_x[next_ray], chain.ideal_y[next_ray]);
+          ++next_ray;
           m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
           m.c_src = crow[x];
           if (p.rect && !m.SetRectRay(ideal)) {

@@ -1,0 +1,136 @@
+// Rows of the stereo match's undistortions side by side (undistort_chains.h).
+#include "undistort_chains.h"
+
+#include <immintrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "decode_avx2.h"  // Avx2Kernels
+
+namespace ramtk::vision::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The seed of the pixel at column x after the row's solutions `prev` (at column xp) and `prev2`
+// (at xp2), as RunPass took it.
+Vec2 Seed(int x, int xp, int xp2, const Vec2& prev, const Vec2& prev2, const Vec2& distorted) {
+  return xp == x - 1 && xp2 == x - 2 ? Vec2(2.0 * prev - prev2) : std::isfinite(prev.x()) ? prev : distorted;
+}
+
+Vec2 Distorted(const CameraIntrinsics& camera, int x, int y) {
+  return Vec2((x - camera.cx) / camera.fx, (y - camera.cy) / camera.fy);
+}
+
+void ScalarChain(const CameraIntrinsics& camera, const UndistortChain& chain) {
+  Vec2 prev(kNaN, kNaN), prev2(kNaN, kNaN);
+  int xp = -10, xp2 = -10;
+  for (int k = 0; k < chain.count; ++k) {
+    const int x = chain.xs[k];
+    const Vec2 distorted = Distorted(camera, x, chain.y);
+    const Vec2 ideal = UndistortNormalized(camera.distortion, distorted, Seed(x, xp, xp2, prev, prev2, distorted));
+    chain.ideal_x[k] = ideal.x();
+    chain.ideal_y[k] = ideal.y();
+    prev2 = prev;
+    xp2 = xp;
+    prev = ideal;
+    xp = x;
+  }
+}
+
+#define RAMTK_AVX2 __attribute__((target("avx2")))
+#define RAMTK_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+
+RAMTK_AVX2_INLINE __m256d K(double v) { return _mm256_set1_pd(v); }
+RAMTK_AVX2_INLINE __m256d Add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Sub(__m256d a, __m256d b) { return _mm256_sub_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Mul(__m256d a, __m256d b) { return _mm256_mul_pd(a, b); }
+
+// Four chains on four lanes. Each lane takes UndistortNormalized's operations in its order:
+// DistortNormalized's and DistortNormalizedJacobian's expressions as written (camera_model.h),
+// the infinity-norm test, the 2 x 2 solve. A lane whose residual is ever not finite (only a
+// diverging lens model) is redone by the scalar function, whose handling of NaN it then keeps.
+RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain* chains) {
+  const Distortion& d = camera.distortion;
+  const __m256d k1 = K(d.k1), k2 = K(d.k2), k3 = K(d.k3);
+  const __m256d two_p1 = K(2.0 * d.p1), two_p2 = K(2.0 * d.p2), p1_two = K(d.p1 * 2.0), p2_two = K(d.p2 * 2.0);
+  const __m256d p1 = K(d.p1), p2 = K(d.p2), p1_six = K(d.p1 * 6.0), p2_six = K(d.p2 * 6.0);
+  const __m256d two_k2 = K(2.0 * d.k2);
+  const __m256d one = K(1.0), two = K(2.0), three = K(3.0);
+  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
+  const __m256d tolerance = K(1e-15);
+  int steps = 0;
+  for (int i = 0; i < 4; ++i) steps = std::max(steps, chains[i].count);
+  alignas(32) double prev_x[4], prev_y[4], prev2_x[4], prev2_y[4];
+  int xp[4], xp2[4];
+  for (int i = 0; i < 4; ++i) prev_x[i] = prev_y[i] = prev2_x[i] = prev2_y[i] = kNaN, xp[i] = xp2[i] = -10;
+  for (int k = 0; k < steps; ++k) {
+    // Each lane's pixel, distorted point and seed (idle lanes: the origin, solved at once).
+    alignas(32) double dx[4], dy[4], sx[4], sy[4];
+    bool active[4];
+    for (int i = 0; i < 4; ++i) {
+      active[i] = k < chains[i].count;
+      if (!active[i]) {
+        dx[i] = dy[i] = sx[i] = sy[i] = 0.0;
+        continue;
+      }
+      const int x = chains[i].xs[k];
+      const Vec2 distorted = Distorted(camera, x, chains[i].y);
+      const Vec2 seed = Seed(x, xp[i], xp2[i], Vec2(prev_x[i], prev_y[i]), Vec2(prev2_x[i], prev2_y[i]), distorted);
+      dx[i] = distorted.x(), dy[i] = distorted.y();
+      sx[i] = seed.x(), sy[i] = seed.y();
+    }
+    const __m256d vdx = _mm256_load_pd(dx), vdy = _mm256_load_pd(dy);
+    __m256d x = _mm256_load_pd(sx), y = _mm256_load_pd(sy);
+    __m256d done = _mm256_setzero_pd(), bad = _mm256_setzero_pd();
+    for (int iter = 0; iter < 30; ++iter) {
+      const __m256d r2 = Add(Mul(x, x), Mul(y, y));
+      const __m256d radial = Add(one, Mul(r2, Add(k1, Mul(r2, Add(k2, Mul(r2, k3))))));
+      const __m256d ux = Add(Add(Mul(x, radial), Mul(Mul(two_p1, x), y)), Mul(p2, Add(r2, Mul(Mul(two, x), x))));
+      const __m256d uy = Add(Add(Mul(y, radial), Mul(p1, Add(r2, Mul(Mul(two, y), y)))), Mul(Mul(two_p2, x), y));
+      const __m256d rx = Sub(ux, vdx), ry = Sub(uy, vdy);
+      const __m256d ax = _mm256_andnot_pd(sign, rx), ay = _mm256_andnot_pd(sign, ry);
+      // Any non-finite residual: the scalar function redoes the lane.
+      bad = _mm256_or_pd(bad, _mm256_cmp_pd(Add(Mul(rx, K(0.0)), Mul(ry, K(0.0))), K(0.0), _CMP_NEQ_UQ));
+      const __m256d converged = _mm256_cmp_pd(_mm256_max_pd(ax, ay), tolerance, _CMP_LT_OQ);
+      done = _mm256_or_pd(done, converged);
+      if (_mm256_movemask_pd(done) == 0xF) break;
+      const __m256d dr = Add(k1, Mul(r2, Add(two_k2, Mul(Mul(three, r2), k3))));
+      const __m256d j00 = Add(Add(Add(radial, Mul(Mul(Mul(x, dr), two), x)), Mul(two_p1, y)), Mul(p2_six, x));
+      const __m256d j01 = Add(Add(Mul(Mul(Mul(x, dr), two), y), Mul(two_p1, x)), Mul(p2_two, y));
+      const __m256d j10 = Add(Add(Mul(Mul(Mul(y, dr), two), x), Mul(p1_two, x)), Mul(two_p2, y));
+      const __m256d j11 = Add(Add(Add(radial, Mul(Mul(Mul(y, dr), two), y)), Mul(p1_six, y)), Mul(two_p2, x));
+      const __m256d det = Sub(Mul(j00, j11), Mul(j01, j10));
+      const __m256d nx = Sub(x, _mm256_div_pd(Sub(Mul(j11, rx), Mul(j01, ry)), det));
+      const __m256d ny = Sub(y, _mm256_div_pd(Sub(Mul(j00, ry), Mul(j10, rx)), det));
+      x = _mm256_blendv_pd(nx, x, done);
+      y = _mm256_blendv_pd(ny, y, done);
+    }
+    alignas(32) double ox[4], oy[4];
+    _mm256_store_pd(ox, x);
+    _mm256_store_pd(oy, y);
+    const int redo = _mm256_movemask_pd(bad);
+    for (int i = 0; i < 4; ++i) {
+      if (!active[i]) continue;
+      Vec2 ideal(ox[i], oy[i]);
+      if (redo >> i & 1) ideal = UndistortNormalized(d, Vec2(dx[i], dy[i]), Vec2(sx[i], sy[i]));
+      chains[i].ideal_x[k] = ideal.x();
+      chains[i].ideal_y[k] = ideal.y();
+      prev2_x[i] = prev_x[i], prev2_y[i] = prev_y[i], xp2[i] = xp[i];
+      prev_x[i] = ideal.x(), prev_y[i] = ideal.y(), xp[i] = chains[i].xs[k];
+    }
+  }
+}
+
+}  // namespace
+
+void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n) {
+  int i = 0;
+  if (Avx2Kernels() && !camera.distortion.IsZero())
+    for (; i + 4 <= n; i += 4) FourChains(camera, chains + i);
+  for (; i < n; ++i) ScalarChain(camera, chains[i]);
+}
+
+}  // namespace ramtk::vision::detail
