@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
@@ -556,6 +558,13 @@ void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double
   const cv::v_float32x4 nan = cv::v_setall_f32(kNaN), inf = cv::v_setall_f32(std::numeric_limits<float>::infinity());
   const cv::v_float32x4 zero = cv::v_setzero_f32();
   for (; x + 8 <= width; x += 8) {
+    std::uint64_t any;  // eight masked pixels (most of a frame outside the object): NaN, no arithmetic
+    std::memcpy(&any, mk + x, sizeof any);
+    if (!any) {
+      for (float* out : {c, sp, sc})
+        if (out) std::fill_n(out + x, 8, kNaN);
+      continue;
+    }
     cv::v_uint32x4 m32[2];
     cv::v_expand(cv::v_load_expand(mk + x), m32[0], m32[1]);
     for (int h = 0; h < 2; ++h) {
