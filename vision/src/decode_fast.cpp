@@ -315,7 +315,27 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
       }
     }
   }
+  // The mask from the flags. Runs of eight unflagged pixels (inside the object) or eight dark
+  // ones (the background) at once; the counts are the same as pixel by pixel.
   for (int x = 0; x < width; ++x) {
+    if (x + 8 <= width) {
+      std::uint64_t d8, s8, l8;
+      std::memcpy(&d8, dark.data() + x, sizeof d8);
+      std::memcpy(&s8, sat.data() + x, sizeof s8);
+      std::memcpy(&l8, low.data() + x, sizeof l8);
+      if ((d8 | s8 | l8) == 0) {
+        x += 7;
+        continue;
+      }
+      if (d8 == 0x0101010101010101ull) {
+        rc->dark += 8;
+        std::fill_n(mk + x, 8, uchar(0));
+        std::fill_n(phi + x, 8, 0.0f);
+        std::fill_n(coord + x, 8, kNaN);
+        x += 7;
+        continue;
+      }
+    }
     if (dark[x]) {
       ++rc->dark;
     } else if (sat[x]) {
@@ -352,6 +372,14 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     std::fill(bit, bit + width, 0);
     for (int j = 0; j < bits; ++j) GrayBit(in.gray_frames[j]->ptr<T>(y), a_row, width, bit, code);
     for (int x = 0; x < width; ++x) {
+      if (x + 8 <= width) {  // eight masked pixels at once
+        std::uint64_t m8;
+        std::memcpy(&m8, mk + x, sizeof m8);
+        if (!m8) {
+          x += 7;
+          continue;
+        }
+      }
       if (!mk[x]) continue;
       const int binary = code[x];
       const double t = PeriodFractionOf(phi[x], in.phase_at_origin_rad);
@@ -377,6 +405,14 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
   }
   if (in.heterodyne) return;
   for (int x = 0; x < width; ++x) {
+    if (x + 8 <= width) {  // eight masked pixels at once
+      std::uint64_t m8;
+      std::memcpy(&m8, mk + x, sizeof m8);
+      if (!m8) {
+        x += 7;
+        continue;
+      }
+    }
     if (!mk[x]) continue;
     const float r = res_row[x];
     const float b = b_row[x];
