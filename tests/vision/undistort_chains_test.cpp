@@ -1,5 +1,6 @@
 // The match's undistortion chains (undistort_chains.h) against UndistortNormalized called pixel by
-// pixel with the seeding rule the match used before the chains existed: bit for bit, on lanes
+// pixel with the seeding rule the match used before the chains existed, and their rays against
+// Eigen's 3 x 3 products: bit for bit, on lanes
 // (AVX2) and without, for rows of different lengths with gaps, for a lens whose Gauss-Newton does
 // not converge at the corners, and for a lens term that is not a number (the lanes hand such
 // pixels back to the scalar function).
@@ -7,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -53,21 +55,35 @@ void ExpectChainsMatch(const CameraIntrinsics& cam, bool lanes) {
     for (int x = 0; x < width; ++x)
       if (uni(rng) < keep || (r == 2 && x == 7)) xs[r].push_back(x);
   }
-  std::vector<std::vector<double>> ix(11), iy(11);
+  // The rays turned by a verging rig's rotation and a rectifying one (Eigen's products are the truth).
+  detail::ChainRays turn;
+  turn.rotation = Eigen::AngleAxisd(0.31, Vec3(0.1, 0.9, -0.2).normalized()).toRotationMatrix();
+  turn.rectified = true;
+  turn.rect_from_camera = Eigen::AngleAxisd(-0.17, Vec3(0.7, 0.1, 0.3).normalized()).toRotationMatrix();
+  turn.rect_f = 812.5;
+  std::vector<std::vector<double>> out(11 * 8);
   std::vector<detail::UndistortChain> chains(11);
   for (int r = 0; r < 11; ++r) {
-    ix[r].assign(xs[r].size(), 0.0);
-    iy[r].assign(xs[r].size(), 0.0);
-    chains[r] = {xs[r].data(), static_cast<int>(xs[r].size()), 37 * r, ix[r].data(), iy[r].data()};
+    double* v[8];
+    for (int j = 0; j < 8; ++j) v[j] = (out[8 * r + j] = std::vector<double>(xs[r].size(), 0.0)).data();
+    chains[r] = {xs[r].data(), static_cast<int>(xs[r].size()), 37 * r, v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]};
   }
-  detail::UndistortChains(cam, chains.data(), 11);
+  detail::UndistortChains(cam, chains.data(), 11, &turn);
   long compared = 0;
   for (int r = 0; r < 11; ++r) {
     const std::vector<Vec2> truth = PixelByPixel(cam, 37 * r, xs[r]);
+    const detail::UndistortChain& c = chains[r];
     for (std::size_t k = 0; k < truth.size(); ++k, ++compared) {
-      ASSERT_TRUE(SameBits(ix[r][k], truth[k].x()) && SameBits(iy[r][k], truth[k].y()))
-          << "row " << r << " pixel " << xs[r][k] << ": " << ix[r][k] << ", " << iy[r][k] << " against " << truth[k].x()
-          << ", " << truth[k].y();
+      ASSERT_TRUE(SameBits(c.ideal_x[k], truth[k].x()) && SameBits(c.ideal_y[k], truth[k].y()))
+          << "row " << r << " pixel " << xs[r][k] << ": " << c.ideal_x[k] << ", " << c.ideal_y[k] << " against "
+          << truth[k].x() << ", " << truth[k].y();
+      const Vec3 ray(truth[k].x(), truth[k].y(), 1.0);
+      const Vec3 a = turn.rotation * ray, q = turn.rect_from_camera * ray;
+      ASSERT_TRUE(SameBits(c.a_x[k], a.x()) && SameBits(c.a_y[k], a.y()) && SameBits(c.a_z[k], a.z()))
+          << "row " << r << " pixel " << xs[r][k] << ": a";
+      ASSERT_TRUE(SameBits(c.rs_z[k], q.z()) && SameBits(c.rs_u[k], turn.rect_f * q.x() / q.z()) &&
+                  SameBits(c.rs_v[k], turn.rect_f * q.y() / q.z()))
+          << "row " << r << " pixel " << xs[r][k] << ": rectified ray, lanes " << lanes << ": " << c.rs_u[k] << " " << turn.rect_f * q.x() / q.z() << " " << c.rs_v[k] << " " << turn.rect_f * q.y() / q.z() << " " << c.rs_z[k] << " " << q.z();
     }
   }
   EXPECT_GT(compared, 2000);

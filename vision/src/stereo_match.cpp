@@ -515,13 +515,13 @@ struct Matcher {
 
   // ---- The rectified search (Pass::rect) ----
 
-  // The source ray in the rectified frame; false if it points behind the rectified cameras.
-  bool SetRectRay(const Vec2& ideal) {
-    const Vec3 r = p.rect_from_src * Vec3(ideal.x(), ideal.y(), 1.0);
-    if (!(r.z() > 1e-9)) return false;
-    rs_z = r.z();
-    rs_u = p.rect_f * r.x() / r.z();
-    rs_v = p.rect_f * r.y() / r.z();
+  // The source ray r = rect_from_src (ideal, 1) in the rectified frame, given as f r_x / r_z,
+  // f r_y / r_z and r_z (UndistortChains); false if it points behind the rectified cameras.
+  bool SetRectRay(double u, double v, double z) {
+    if (!(z > 1e-9)) return false;
+    rs_z = z;
+    rs_u = u;
+    rs_v = v;
     return true;
   }
   // Grid column of the destination point at inverse depth w, and back.
@@ -1000,11 +1000,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
       // The block's source rays first: the pixels each row will search (valid, not noisy,
       // reachable), undistorted row by row in order (UndistortChains, several rows side by side).
       thread_local std::vector<int> xs;
-      thread_local std::vector<double> ideal_x, ideal_y;
+      // Per pixel of the block's chains: the ideal point, a = R (ideal, 1) and the rectified ray.
+      thread_local std::vector<double> rays[8];
       const std::size_t row_stride = static_cast<std::size_t>(W);
       xs.resize(row_stride * kBlock);
-      ideal_x.resize(row_stride * kBlock);
-      ideal_y.resize(row_stride * kBlock);
+      for (std::vector<double>& r : rays) r.resize(row_stride * kBlock);
       detail::UndistortChain chains[kBlock];
       for (int y = yb; y < ye; ++y) {
         const float* crow = p.src_coord.ptr<float>(y);
@@ -1017,9 +1017,17 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         for (int x = 0; x < W; ++x)
           if (mrow[x] && std::isfinite(crow[x]) && srow[x] <= p.max_sigma && (!reach_row || reach_row[x]))
             row_xs[count++] = x;
-        chains[y - yb] = {row_xs, count, y, ideal_x.data() + at, ideal_y.data() + at};
+        chains[y - yb] = {row_xs,           count,           y,
+                          rays[0].data() + at, rays[1].data() + at, rays[2].data() + at,
+                          rays[3].data() + at, rays[4].data() + at, rays[5].data() + at,
+                          rays[6].data() + at, rays[7].data() + at};
       }
-      detail::UndistortChains(*p.src, chains, ye - yb);
+      detail::ChainRays turn;
+      turn.rotation = p.R;
+      turn.rectified = p.rect;
+      turn.rect_from_camera = p.rect_from_src;
+      turn.rect_f = p.rect_f;
+      detail::UndistortChains(*p.src, chains, ye - yb, &turn);
       for (int y = yb; y < ye; ++y) {
         std::swap(w_up, w_row);
         std::fill(w_row.begin(), w_row.end(), kNaN);
@@ -1068,11 +1076,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           }
           // The source ray (undistorted before the row's walk, in the order of the row).
           assert(next_ray < chain.count && chain.xs[next_ray] == x);
-          const Vec2 ideal(chain.ideal_x[next_ray], chain.ideal_y[next_ray]);
-          ++next_ray;
-          m.a = p.R * Vec3(ideal.x(), ideal.y(), 1.0);
+          const int ray = next_ray++;
+          const Vec2 ideal(chain.ideal_x[ray], chain.ideal_y[ray]);
+          m.a = Vec3(chain.a_x[ray], chain.a_y[ray], chain.a_z[ray]);
           m.c_src = crow[x];
-          if (p.rect && !m.SetRectRay(ideal)) {
+          if (p.rect && !m.SetRectRay(chain.rs_u[ray], chain.rs_v[ray], chain.rs_z[ray])) {
             ++no_match;
             w_prev = std::numeric_limits<double>::quiet_NaN();
             continue;

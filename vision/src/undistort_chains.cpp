@@ -24,7 +24,19 @@ Vec2 Distorted(const CameraIntrinsics& camera, int x, int y) {
   return Vec2((x - camera.cx) / camera.fx, (y - camera.cy) / camera.fy);
 }
 
-void ScalarChain(const CameraIntrinsics& camera, const UndistortChain& chain) {
+// The rays of entry k of a chain from its ideal point, by Eigen as the walk took them.
+void ScalarRays(const ChainRays& rays, const UndistortChain& chain, int k) {
+  const Vec3 ray(chain.ideal_x[k], chain.ideal_y[k], 1.0);
+  const Vec3 a = rays.rotation * ray;
+  chain.a_x[k] = a.x(), chain.a_y[k] = a.y(), chain.a_z[k] = a.z();
+  if (!rays.rectified) return;
+  const Vec3 r = rays.rect_from_camera * ray;
+  chain.rs_z[k] = r.z();
+  chain.rs_u[k] = rays.rect_f * r.x() / r.z();
+  chain.rs_v[k] = rays.rect_f * r.y() / r.z();
+}
+
+void ScalarChain(const CameraIntrinsics& camera, const UndistortChain& chain, const ChainRays* rays) {
   Vec2 prev(kNaN, kNaN), prev2(kNaN, kNaN);
   int xp = -10, xp2 = -10;
   for (int k = 0; k < chain.count; ++k) {
@@ -33,6 +45,7 @@ void ScalarChain(const CameraIntrinsics& camera, const UndistortChain& chain) {
     const Vec2 ideal = UndistortNormalized(camera.distortion, distorted, Seed(x, xp, xp2, prev, prev2, distorted));
     chain.ideal_x[k] = ideal.x();
     chain.ideal_y[k] = ideal.y();
+    if (rays) ScalarRays(*rays, chain, k);
     prev2 = prev;
     xp2 = xp;
     prev = ideal;
@@ -52,7 +65,15 @@ RAMTK_AVX2_INLINE __m256d Mul(__m256d a, __m256d b) { return _mm256_mul_pd(a, b)
 // DistortNormalized's and DistortNormalizedJacobian's expressions as written (camera_model.h),
 // the infinity-norm test, the 2 x 2 solve. A lane whose residual is ever not finite (only a
 // diverging lens model) is redone by the scalar function, whose handling of NaN it then keeps.
-RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain* chains) {
+// M (x, y, 1) on four lanes, summed as Eigen's fixed-size product sums it (checked against it in
+// tests/vision/undistort_chains_test.cpp): rows 0 and 1 as (M(i,0) x + M(i,1) y) + M(i,2), the
+// third as M(2,0) x + (M(2,1) y + M(2,2)).
+RAMTK_AVX2_INLINE void Turn(const Mat3& m, __m256d x, __m256d y, __m256d* out) {
+  for (int i = 0; i < 2; ++i) out[i] = Add(Add(Mul(K(m(i, 0)), x), Mul(K(m(i, 1)), y)), Mul(K(m(i, 2)), K(1.0)));
+  out[2] = Add(Mul(K(m(2, 0)), x), Add(Mul(K(m(2, 1)), y), Mul(K(m(2, 2)), K(1.0))));
+}
+
+RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain* chains, const ChainRays* rays) {
   const Distortion& d = camera.distortion;
   const __m256d k1 = K(d.k1), k2 = K(d.k2), k3 = K(d.k3);
   const __m256d two_p1 = K(2.0 * d.p1), two_p2 = K(2.0 * d.p2), p1_two = K(d.p1 * 2.0), p2_two = K(d.p2 * 2.0);
@@ -116,21 +137,42 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
       if (!active[i]) continue;
       Vec2 ideal(ox[i], oy[i]);
       if (redo >> i & 1) ideal = UndistortNormalized(d, Vec2(dx[i], dy[i]), Vec2(sx[i], sy[i]));
+      ox[i] = ideal.x(), oy[i] = ideal.y();
       chains[i].ideal_x[k] = ideal.x();
       chains[i].ideal_y[k] = ideal.y();
       prev2_x[i] = prev_x[i], prev2_y[i] = prev_y[i], xp2[i] = xp[i];
       prev_x[i] = ideal.x(), prev_y[i] = ideal.y(), xp[i] = chains[i].xs[k];
+    }
+    if (!rays) continue;
+    // The rays of the four solutions (idle lanes: the origin's, not stored).
+    const __m256d ix = _mm256_load_pd(ox), iy = _mm256_load_pd(oy);
+    __m256d a[3];
+    Turn(rays->rotation, ix, iy, a);
+    alignas(32) double out[6][4];
+    for (int j = 0; j < 3; ++j) _mm256_store_pd(out[j], a[j]);
+    if (rays->rectified) {
+      __m256d r[3];
+      Turn(rays->rect_from_camera, ix, iy, r);
+      const __m256d f = K(rays->rect_f);
+      _mm256_store_pd(out[3], _mm256_div_pd(Mul(f, r[0]), r[2]));
+      _mm256_store_pd(out[4], _mm256_div_pd(Mul(f, r[1]), r[2]));
+      _mm256_store_pd(out[5], r[2]);
+    }
+    for (int i = 0; i < 4; ++i) {
+      if (!active[i]) continue;
+      chains[i].a_x[k] = out[0][i], chains[i].a_y[k] = out[1][i], chains[i].a_z[k] = out[2][i];
+      if (rays->rectified) chains[i].rs_u[k] = out[3][i], chains[i].rs_v[k] = out[4][i], chains[i].rs_z[k] = out[5][i];
     }
   }
 }
 
 }  // namespace
 
-void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n) {
+void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n, const ChainRays* rays) {
   int i = 0;
   if (Avx2Kernels() && !camera.distortion.IsZero())
-    for (; i + 4 <= n; i += 4) FourChains(camera, chains + i);
-  for (; i < n; ++i) ScalarChain(camera, chains[i]);
+    for (; i + 4 <= n; i += 4) FourChains(camera, chains + i, rays);
+  for (; i < n; ++i) ScalarChain(camera, chains[i], rays);
 }
 
 }  // namespace ramtk::vision::detail

@@ -21,9 +21,24 @@ struct UndistortChain {
   int y = 0;
   double* ideal_x = nullptr;
   double* ideal_y = nullptr;
+  // With ChainRays: a = R (ideal, 1), and with a rectified frame r = rect (ideal, 1) as f r_x / r_z,
+  // f r_y / r_z and r_z (the caller tests r_z; the quotients are taken whatever its value).
+  double *a_x = nullptr, *a_y = nullptr, *a_z = nullptr;
+  double *rs_u = nullptr, *rs_v = nullptr, *rs_z = nullptr;
 };
 
-// Undistorts every chain (as described above) with the camera's intrinsics.
-void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n);
+// The rotations the chains' rays are turned by (Eigen's 3 x 3 product: each entry the row's
+// products summed left to right, as the lanes take them).
+struct ChainRays {
+  Mat3 rotation = Mat3::Identity();  // R of a
+  bool rectified = false;            // also fill rs_u, rs_v, rs_z
+  Mat3 rect_from_camera = Mat3::Identity();
+  double rect_f = 1;
+};
+
+// Undistorts every chain (as described above) with the camera's intrinsics; with `rays`, also
+// fills each chain's ray arrays.
+void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n,
+                     const ChainRays* rays = nullptr);
 
 }  // namespace ramtk::vision::detail
