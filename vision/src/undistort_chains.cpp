@@ -84,27 +84,32 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
   const __m256d tolerance = K(1e-15);
   int steps = 0;
   for (int i = 0; i < 4; ++i) steps = std::max(steps, chains[i].count);
-  alignas(32) double prev_x[4], prev_y[4], prev2_x[4], prev2_y[4];
-  int xp[4], xp2[4];
-  for (int i = 0; i < 4; ++i) prev_x[i] = prev_y[i] = prev2_x[i] = prev2_y[i] = kNaN, xp[i] = xp2[i] = -10;
+  // Lane state: the last two solutions and their columns (-10: none); each lane's row.
+  __m256d px = K(kNaN), py = K(kNaN), p2x = K(kNaN), p2y = K(kNaN);
+  __m128i xp = _mm_set1_epi32(-10), xp2 = _mm_set1_epi32(-10);
+  const __m128i counts = _mm_setr_epi32(chains[0].count, chains[1].count, chains[2].count, chains[3].count);
+  const __m256d row_dy = _mm256_setr_pd((chains[0].y - camera.cy) / camera.fy, (chains[1].y - camera.cy) / camera.fy,
+                                        (chains[2].y - camera.cy) / camera.fy, (chains[3].y - camera.cy) / camera.fy);
+  const __m256d cx = K(camera.cx), fx = K(camera.fx);
   for (int k = 0; k < steps; ++k) {
-    // Each lane's pixel, distorted point and seed (idle lanes: the origin, solved at once).
-    alignas(32) double dx[4], dy[4], sx[4], sy[4];
-    bool active[4];
-    for (int i = 0; i < 4; ++i) {
-      active[i] = k < chains[i].count;
-      if (!active[i]) {
-        dx[i] = dy[i] = sx[i] = sy[i] = 0.0;
-        continue;
-      }
-      const int x = chains[i].xs[k];
-      const Vec2 distorted = Distorted(camera, x, chains[i].y);
-      const Vec2 seed = Seed(x, xp[i], xp2[i], Vec2(prev_x[i], prev_y[i]), Vec2(prev2_x[i], prev2_y[i]), distorted);
-      dx[i] = distorted.x(), dy[i] = distorted.y();
-      sx[i] = seed.x(), sy[i] = seed.y();
-    }
-    const __m256d vdx = _mm256_load_pd(dx), vdy = _mm256_load_pd(dy);
-    __m256d x = _mm256_load_pd(sx), y = _mm256_load_pd(sy);
+    // Each lane's pixel, distorted point ((x - cx) / fx, (y - cy) / fy) and seed, as Seed picks
+    // it (idle lanes: the origin, solved at once).
+    alignas(16) int col[4];
+    for (int i = 0; i < 4; ++i) col[i] = k < chains[i].count ? chains[i].xs[k] : 0;
+    const __m128i xv = _mm_load_si128(reinterpret_cast<const __m128i*>(col));
+    const __m128i active32 = _mm_cmpgt_epi32(counts, _mm_set1_epi32(k));
+    const __m256d active = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(active32));
+    const __m256d vdx = _mm256_and_pd(active, _mm256_div_pd(Sub(_mm256_cvtepi32_pd(xv), cx), fx));
+    const __m256d vdy = _mm256_and_pd(active, row_dy);
+    const __m128i lin32 = _mm_and_si128(_mm_cmpeq_epi32(xp, _mm_sub_epi32(xv, _mm_set1_epi32(1))),
+                                        _mm_cmpeq_epi32(xp2, _mm_sub_epi32(xv, _mm_set1_epi32(2))));
+    const __m256d lin = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(lin32));
+    const __m256d finite = _mm256_cmp_pd(Sub(px, px), _mm256_setzero_pd(), _CMP_EQ_OQ);
+    const __m256d sx =
+        _mm256_and_pd(active, _mm256_blendv_pd(_mm256_blendv_pd(vdx, px, finite), Sub(Mul(two, px), p2x), lin));
+    const __m256d sy =
+        _mm256_and_pd(active, _mm256_blendv_pd(_mm256_blendv_pd(vdy, py, finite), Sub(Mul(two, py), p2y), lin));
+    __m256d x = sx, y = sy;
     __m256d done = _mm256_setzero_pd(), bad = _mm256_setzero_pd();
     for (int iter = 0; iter < 30; ++iter) {
       const __m256d r2 = Add(Mul(x, x), Mul(y, y));
@@ -132,17 +137,25 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
     alignas(32) double ox[4], oy[4];
     _mm256_store_pd(ox, x);
     _mm256_store_pd(oy, y);
-    const int redo = _mm256_movemask_pd(bad);
-    for (int i = 0; i < 4; ++i) {
-      if (!active[i]) continue;
-      Vec2 ideal(ox[i], oy[i]);
-      if (redo >> i & 1) ideal = UndistortNormalized(d, Vec2(dx[i], dy[i]), Vec2(sx[i], sy[i]));
-      ox[i] = ideal.x(), oy[i] = ideal.y();
-      chains[i].ideal_x[k] = ideal.x();
-      chains[i].ideal_y[k] = ideal.y();
-      prev2_x[i] = prev_x[i], prev2_y[i] = prev_y[i], xp2[i] = xp[i];
-      prev_x[i] = ideal.x(), prev_y[i] = ideal.y(), xp[i] = chains[i].xs[k];
+    if (const int redo = _mm256_movemask_pd(_mm256_and_pd(bad, active))) {
+      alignas(32) double dx[4], dy[4], seed_x[4], seed_y[4];
+      _mm256_store_pd(dx, vdx), _mm256_store_pd(dy, vdy), _mm256_store_pd(seed_x, sx), _mm256_store_pd(seed_y, sy);
+      for (int i = 0; i < 4; ++i) {
+        if (!(redo >> i & 1)) continue;
+        const Vec2 ideal = UndistortNormalized(d, Vec2(dx[i], dy[i]), Vec2(seed_x[i], seed_y[i]));
+        ox[i] = ideal.x(), oy[i] = ideal.y();
+      }
+      x = _mm256_load_pd(ox), y = _mm256_load_pd(oy);
     }
+    for (int i = 0; i < 4; ++i) {
+      if (k >= chains[i].count) continue;
+      chains[i].ideal_x[k] = ox[i];
+      chains[i].ideal_y[k] = oy[i];
+    }
+    p2x = _mm256_blendv_pd(p2x, px, active), p2y = _mm256_blendv_pd(p2y, py, active);
+    px = _mm256_blendv_pd(px, x, active), py = _mm256_blendv_pd(py, y, active);
+    xp2 = _mm_blendv_epi8(xp2, xp, active32);
+    xp = _mm_blendv_epi8(xp, xv, active32);
     if (!rays) continue;
     // The rays of the four solutions (idle lanes: the origin's, not stored).
     const __m256d ix = _mm256_load_pd(ox), iy = _mm256_load_pd(oy);
@@ -159,7 +172,7 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
       _mm256_store_pd(out[5], r[2]);
     }
     for (int i = 0; i < 4; ++i) {
-      if (!active[i]) continue;
+      if (k >= chains[i].count) continue;
       chains[i].a_x[k] = out[0][i], chains[i].a_y[k] = out[1][i], chains[i].a_z[k] = out[2][i];
       if (rays->rectified) chains[i].rs_u[k] = out[3][i], chains[i].rs_v[k] = out[4][i], chains[i].rs_z[k] = out[5][i];
     }
