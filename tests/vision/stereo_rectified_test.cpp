@@ -13,11 +13,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "../../vision/src/decode_avx2.h"
 #include "../../vision/src/stereo_rectified_grid.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/vision/decode.h"
@@ -117,6 +119,41 @@ TEST(StereoRectified, ResampledGridReadsTheMapAtTheRectifiedPixel) {
   }
   EXPECT_GT(valid, 10000);
   EXPECT_GT(invalid, 100);
+}
+
+// The grid's pixel positions on AVX2 lanes: the same grid bit for bit as the scalar loop (the
+// map's values and NaNs, the row and block bounds), on a non-linear map with a hole.
+TEST(StereoRectified, GridOnLanesIsTheScalarGridBitForBit) {
+  if (!detail::Avx2Kernels()) GTEST_SKIP() << "no AVX2 on this CPU (or RAMTK_AVX2=0)";
+  const StereoCalibration c = VergingRig();
+  const detail::RectifiedPair pair = detail::MakeRectifiedPair(c);
+  const CameraIntrinsics& cam = c.right;
+  cv::Mat coord(cam.height, cam.width, CV_32F);
+  for (int y = 0; y < coord.rows; ++y)
+    for (int x = 0; x < coord.cols; ++x)
+      coord.at<float>(y, x) = static_cast<float>(0.25 * x + 0.05 * y + 3 * std::sin(x / 37.0) * std::cos(y / 23.0));
+  coord(cv::Rect(900, 700, 40, 30)).setTo(std::numeric_limits<float>::quiet_NaN());
+  std::vector<uchar> cell_ok(coord.total(), 0);
+  for (int y = 0; y + 1 < coord.rows; ++y)
+    for (int x = 0; x + 1 < coord.cols; ++x)
+      cell_ok[static_cast<std::size_t>(y) * coord.cols + x] =
+          std::isfinite(coord.at<float>(y, x) + coord.at<float>(y, x + 1) + coord.at<float>(y + 1, x) +
+                        coord.at<float>(y + 1, x + 1));
+  detail::SetAvx2Kernels(false);
+  const detail::RectifiedGrid scalar =
+      detail::ResampleOnRectifiedGrid(cam, pair.rect_from_right, pair.f, coord, cell_ok, 16.0 * coord.total());
+  detail::SetAvx2Kernels(true);
+  const detail::RectifiedGrid lanes =
+      detail::ResampleOnRectifiedGrid(cam, pair.rect_from_right, pair.f, coord, cell_ok, 16.0 * coord.total());
+  ASSERT_FALSE(scalar.coord.empty());
+  ASSERT_EQ(lanes.coord.size(), scalar.coord.size());
+  EXPECT_EQ(lanes.u0, scalar.u0);
+  EXPECT_EQ(lanes.v0, scalar.v0);
+  for (int j = 0; j < scalar.coord.rows; ++j)
+    ASSERT_EQ(std::memcmp(lanes.coord.ptr(j), scalar.coord.ptr(j), scalar.coord.cols * sizeof(float)), 0)
+        << "row " << j;
+  EXPECT_EQ(std::memcmp(lanes.block_min.data(), scalar.block_min.data(), scalar.block_min.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(lanes.row_max.data(), scalar.row_max.data(), scalar.row_max.size() * sizeof(float)), 0);
 }
 
 // A rig without a usable baseline gives no grid (the match then keeps the curve search), and
