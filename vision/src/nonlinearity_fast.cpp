@@ -10,6 +10,8 @@
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
+#include <immintrin.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -17,6 +19,7 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "decode_avx2.h"  // Avx2Kernels
 #include "fast_sincos.h"
 #include "nonlinearity_internal.h"
 #include "ramtk/core/error.h"
@@ -104,11 +107,70 @@ void StripHighPass(int width, const cv::Mat& den, const Strip& st, const cv::Mat
   });
 }
 
+// SinCos2 on four lanes (AVX2), operation for operation (see fast_sincos.h).
+__attribute__((target("avx2"), always_inline)) inline void SinCos4(__m256d a, __m256d* s, __m256d* c) {
+  using namespace detail::sincos_constants;
+  const __m256d t = _mm256_add_pd(_mm256_mul_pd(a, _mm256_set1_pd(kTwoOverPi)), _mm256_set1_pd(kShift));
+  const __m256d qd = _mm256_sub_pd(t, _mm256_set1_pd(kShift));
+  const __m256d r = _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(a, _mm256_mul_pd(qd, _mm256_set1_pd(kPio2a))),
+                                                _mm256_mul_pd(qd, _mm256_set1_pd(kPio2b))),
+                                  _mm256_mul_pd(qd, _mm256_set1_pd(kPio2c)));
+  const __m256d r2 = _mm256_mul_pd(r, r);
+  const double sin_coef[] = {1.0 / 355687428096000, -1.0 / 1307674368000, 1.0 / 6227020800, -1.0 / 39916800,
+                             1.0 / 362880,          -1.0 / 5040,          1.0 / 120,        -1.0 / 6};
+  const double cos_coef[] = {-1.0 / 6402373705728000,
+                             1.0 / 20922789888000,
+                             -1.0 / 87178291200,
+                             1.0 / 479001600,
+                             -1.0 / 3628800,
+                             1.0 / 40320,
+                             -1.0 / 720,
+                             1.0 / 24,
+                             -0.5};
+  __m256d ps = _mm256_set1_pd(sin_coef[0]);
+  for (int i = 1; i < 8; ++i) ps = _mm256_add_pd(_mm256_set1_pd(sin_coef[i]), _mm256_mul_pd(r2, ps));
+  const __m256d sp = _mm256_add_pd(r, _mm256_mul_pd(_mm256_mul_pd(r, r2), ps));
+  __m256d pc = _mm256_set1_pd(cos_coef[0]);
+  for (int i = 1; i < 9; ++i) pc = _mm256_add_pd(_mm256_set1_pd(cos_coef[i]), _mm256_mul_pd(r2, pc));
+  const __m256d cp = _mm256_add_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(r2, pc));
+  const __m256i q = _mm256_castpd_si256(t);
+  const __m256i one = _mm256_set1_epi64x(1), two = _mm256_set1_epi64x(2);
+  const __m256d odd = _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(q, one), one));
+  const __m256i s0 = _mm256_castpd_si256(_mm256_blendv_pd(sp, cp, odd));
+  const __m256i c0 = _mm256_castpd_si256(_mm256_blendv_pd(cp, sp, odd));
+  *s = _mm256_castsi256_pd(_mm256_xor_si256(s0, _mm256_slli_epi64(_mm256_and_si256(q, two), 62)));
+  *c =
+      _mm256_castsi256_pd(_mm256_xor_si256(c0, _mm256_slli_epi64(_mm256_and_si256(_mm256_add_epi64(q, one), two), 62)));
+}
+
+// StripBasis's run of valid pixels [x, x1) four at a time on AVX2 lanes (the same bits as the
+// two-lane loop); returns the first pixel not done.
+__attribute__((target("avx2"))) int BasisRunAvx2(const float* p, int x, int x1, int steps, int orders,
+                                                 float* const* out) {
+  const __m256d n4 = _mm256_set1_pd(static_cast<double>(steps));
+  for (; x + 4 <= x1; x += 4) {
+    __m256d s1, c1;
+    SinCos4(_mm256_mul_pd(n4, _mm256_cvtps_pd(_mm_loadu_ps(p + x))), &s1, &c1);
+    _mm_storeu_ps(out[0] + x, _mm256_cvtpd_ps(s1));
+    _mm_storeu_ps(out[1] + x, _mm256_cvtpd_ps(c1));
+    __m256d sa = s1, ca = c1;
+    for (int o = 1; o < orders; ++o) {
+      const __m256d sn = _mm256_add_pd(_mm256_mul_pd(sa, c1), _mm256_mul_pd(ca, s1));
+      const __m256d cn = _mm256_sub_pd(_mm256_mul_pd(ca, c1), _mm256_mul_pd(sa, s1));
+      sa = sn, ca = cn;
+      _mm_storeu_ps(out[2 * o] + x, _mm256_cvtpd_ps(sa));
+      _mm_storeu_ps(out[2 * o + 1] + x, _mm256_cvtpd_ps(ca));
+    }
+  }
+  return x;
+}
+
 // The ripple basis sin/cos(m N phi_wrapped), m = 1..orders, at valid pixels (0 elsewhere), of
 // rows [a, b) into `basis` (one CV_32F buffer per function), and its window sums on [y0, y1).
 void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orders, const Strip& st, int w,
                 std::vector<cv::Mat>* basis, std::vector<cv::Mat>* bsum) {
   const int nb = 2 * orders;
+  const bool avx2 = detail::Avx2Kernels();
   for (cv::Mat& b : *basis) b.create(st.b - st.a, wrapped.cols, CV_32F);
   tbb::parallel_for(tbb::blocked_range<int>(st.a, st.b, 8), [&](const tbb::blocked_range<int>& r) {
     std::vector<float*> out(nb);
@@ -129,7 +191,7 @@ void StripBasis(const cv::Mat& wrapped, const cv::Mat& mask, int steps, int orde
         }
         int x1 = x0 + 1;
         while (x1 < wrapped.cols && m[x1]) ++x1;
-        int x = x0;
+        int x = avx2 ? BasisRunAvx2(p, x0, x1, steps, orders, out.data()) : x0;
 #if CV_SIMD128_64F
         const cv::v_float64x2 n2 = cv::v_setall_f64(static_cast<double>(steps));
         for (; x + 4 <= x1; x += 4) {
