@@ -200,4 +200,53 @@ RAMTK_AVX2 int FinestStatsU8Avx2(int n, int width, const float* s, const float* 
   return x;
 }
 
+RAMTK_AVX2 int GrayCoordinatesAvx2(const int* code, const float* phi, int width, double phase_at_origin_rad,
+                                   double period, int extent, bool complementary, uchar* mk, float* coord,
+                                   long* corrected, long* rejected) {
+  const __m256d origin = K(phase_at_origin_rad), two_pi = K(6.283185307179586476925), half = K(0.5), two = K(2.0);
+  const __m256d lo = K(-0.5), hi = K(extent - 0.5), per = K(period), one = K(1.0);
+  const __m128 nan = _mm_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  int x = 0;
+  for (; x + 4 <= width; x += 4) {
+    std::uint32_t m4;
+    std::memcpy(&m4, mk + x, sizeof m4);
+    if (!m4) continue;
+    const __m128i bytes = _mm_cvtsi32_si128(static_cast<int>(m4));
+    const __m128i valid32 =
+        _mm_xor_si128(_mm_cmpeq_epi32(_mm_cvtepu8_epi32(bytes), _mm_setzero_si128()), _mm_set1_epi32(-1));
+    const __m256d valid = _mm256_castsi256_pd(_mm256_cvtepi32_epi64(valid32));
+    // PeriodFractionOf: t - floor(t), t = (phi - origin) / 2 pi.
+    const __m256d tr = _mm256_div_pd(_mm256_sub_pd(_mm256_cvtps_pd(_mm_loadu_ps(phi + x)), origin), two_pi);
+    const __m256d t = _mm256_sub_pd(tr, _mm256_floor_pd(tr));
+    const __m128i binary = _mm_loadu_si128(reinterpret_cast<const __m128i*>(code + x));
+    __m256d order = _mm256_cvtepi32_pd(binary);
+    if (complementary) {
+      // LRound((binary + 0.5) / 2 - t): the truncation, then one up or down by the fraction.
+      const __m256d v = _mm256_sub_pd(_mm256_div_pd(_mm256_add_pd(order, half), two), t);
+      const __m256d i = _mm256_round_pd(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
+      const __m256d frac = _mm256_sub_pd(v, i);
+      const __m256d up = _mm256_and_pd(_mm256_cmp_pd(frac, half, _CMP_GE_OQ), one);
+      const __m256d down =
+          _mm256_and_pd(_mm256_cmp_pd(frac, _mm256_sub_pd(_mm256_setzero_pd(), half), _CMP_LE_OQ), one);
+      order = _mm256_sub_pd(_mm256_add_pd(i, up), down);
+      const __m256d plain = _mm256_cvtepi32_pd(_mm_srai_epi32(binary, 1));
+      const __m256d changed = _mm256_and_pd(valid, _mm256_cmp_pd(order, plain, _CMP_NEQ_OQ));
+      *corrected += __builtin_popcount(static_cast<unsigned>(_mm256_movemask_pd(changed)));
+    }
+    const __m256d u = _mm256_mul_pd(_mm256_add_pd(order, t), per);
+    const __m256d out = _mm256_or_pd(_mm256_cmp_pd(u, lo, _CMP_LT_OQ), _mm256_cmp_pd(u, hi, _CMP_GE_OQ));
+    const int out_bits = _mm256_movemask_pd(_mm256_and_pd(valid, out));
+    *rejected += __builtin_popcount(static_cast<unsigned>(out_bits));
+    const __m128i out32 =
+        _mm_setr_epi32(-(out_bits & 1), -(out_bits >> 1 & 1), -(out_bits >> 2 & 1), -(out_bits >> 3 & 1));
+    __m128 result = _mm_blendv_ps(_mm_loadu_ps(coord + x), _mm256_cvtpd_ps(u), _mm_castsi128_ps(valid32));
+    result = _mm_blendv_ps(result, nan, _mm_castsi128_ps(out32));
+    _mm_storeu_ps(coord + x, result);
+    if (out_bits)
+      for (int j = 0; j < 4; ++j)
+        if (out_bits >> j & 1) mk[x + j] = 0;
+  }
+  return x;
+}
+
 }  // namespace ramtk::vision::detail

@@ -27,4 +27,12 @@ int FinestStatsU8Avx2(int n, int width, const float* s, const float* c, const fl
                       const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark, uchar* sat,
                       uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row, float* brightest);
 
+// The absolute coordinate of DecodeRow's valid pixels [0, 4 k), 4 k <= width, from the Gray
+// code's binary value `code` and the wrapped phase `phi` (PeriodFractionOf, LRound of the
+// complementary code's order, the extent test): coord as float, or NaN with mk cleared outside
+// the extent. Masked pixels (mk 0) are left as they are. Adds the orders the complementary bit
+// corrected and the pixels rejected to the counts.
+int GrayCoordinatesAvx2(const int* code, const float* phi, int width, double phase_at_origin_rad, double period,
+                        int extent, bool complementary, uchar* mk, float* coord, long* corrected, long* rejected);
+
 }  // namespace ramtk::vision::detail
