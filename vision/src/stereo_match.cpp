@@ -963,7 +963,8 @@ struct PassResult {
 // Runs one pass over `rows`; returns false if cancelled.
 bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, const std::string& stage) {
   const int W = p.src_coord.cols, H = p.src_coord.rows;
-  // The output maps are filled with NaN in parallel (their first touch costs page faults).
+  // The output maps (NaN where nothing matched: each row is filled as the pass reaches it, while
+  // it stays in cache, not in a pass of its own).
   if (p.pixels) {
     out->u.create(H, W, CV_32F);
     out->v.create(H, W, CV_32F);
@@ -975,12 +976,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
     out->x.create(H, W, CV_32F);
     out->y.create(H, W, CV_32F);
   }
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& r) {
-    for (int y = r.begin(); y < r.end(); ++y) {
-      for (cv::Mat* m : {&out->u, &out->v, &out->sigma, &out->depth, &out->point_sigma, &out->x, &out->y})
-        if (!m->empty()) std::fill_n(m->ptr<float>(y), W, kNaN);
-    }
-  });
+
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
   // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
   // start as good as the left neighbour's). The blocks do not depend on the thread count, so
@@ -1050,6 +1046,8 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
         float* x_row = p.points ? out->x.ptr<float>(y) : nullptr;
         float* y_row = p.points ? out->y.ptr<float>(y) : nullptr;
         float* point_sigma_row = p.points ? out->point_sigma.ptr<float>(y) : nullptr;
+        for (float* row : {u_row, v_row, sigma_row, depth_row, x_row, y_row, point_sigma_row})
+          if (row) std::fill_n(row, W, kNaN);
         for (int x = 0; x < W; ++x) {
           if (!mrow[x] || !std::isfinite(crow[x])) {
             w_prev = std::numeric_limits<double>::quiet_NaN();
