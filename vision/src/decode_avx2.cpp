@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 namespace ramtk::vision::detail {
 namespace {
@@ -143,6 +144,38 @@ RAMTK_AVX2 int AccumulateRowU8Avx2(const uchar* const* rows, int n, int width, c
   return x;
 }
 
+RAMTK_AVX2 int AccumulateRowU16Avx2(const std::uint16_t* const* rows, int n, int width, const float* sn,
+                                    const float* cs, float* s, float* c, double* sum, double* sum2, float* top) {
+  int x = 0;
+  const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
+  // Eight pixels per step: S, C and the maximum in float, the sums of I and I^2 in double.
+  for (; x + 8 <= width; x += 8) {
+    __m256 vs = _mm256_setzero_ps(), vc = _mm256_setzero_ps(), vt = minus_inf;
+    __m256d va[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()}, va2[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
+    for (int k = 0; k < n; ++k) {
+      const __m256i i32 = _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(rows[k] + x)));
+      const __m256 v = _mm256_cvtepi32_ps(i32);
+      vs = _mm256_add_ps(vs, _mm256_mul_ps(v, _mm256_set1_ps(sn[k])));
+      vc = _mm256_add_ps(vc, _mm256_mul_ps(v, _mm256_set1_ps(cs[k])));
+      vt = _mm256_max_ps(vt, v);
+      const __m256d a[2] = {_mm256_cvtepi32_pd(_mm256_castsi256_si128(i32)),
+                            _mm256_cvtepi32_pd(_mm256_extracti128_si256(i32, 1))};
+      for (int h = 0; h < 2; ++h) {
+        va[h] = _mm256_add_pd(va[h], a[h]);
+        va2[h] = _mm256_add_pd(va2[h], _mm256_mul_pd(a[h], a[h]));
+      }
+    }
+    _mm256_storeu_ps(s + x, vs);
+    _mm256_storeu_ps(c + x, vc);
+    _mm256_storeu_ps(top + x, vt);
+    for (int h = 0; h < 2; ++h) {
+      _mm256_storeu_pd(sum + x + 4 * h, va[h]);
+      _mm256_storeu_pd(sum2 + x + 4 * h, va2[h]);
+    }
+  }
+  return x;
+}
+
 RAMTK_AVX2 int WrappedPhaseRowAvx2(const float* s, const float* c, int n, float* phi) {
   const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
   const __m256 pi = _mm256_set1_ps(static_cast<float>(3.14159265358979323846));
@@ -158,10 +191,11 @@ RAMTK_AVX2 int WrappedPhaseRowAvx2(const float* s, const float* c, int n, float*
   return x;
 }
 
-RAMTK_AVX2 int FinestStatsU8Avx2(int n, int width, const float* s, const float* c, const float* sum, const float* sum2,
-                                 const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark,
-                                 uchar* sat, uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row,
-                                 float* brightest) {
+template <typename Acc>
+RAMTK_AVX2_INLINE int FinestStats(int n, int width, const float* s, const float* c, const Acc* sum, const Acc* sum2,
+                                  const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark,
+                                  uchar* sat, uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row,
+                                  float* brightest) {
   const __m256d k2 = K(2.0 / n), nd = K(static_cast<double>(n)), zero = _mm256_setzero_pd();
   const __m256 dark_v = _mm256_set1_ps(dark_dn), sat_v = _mm256_set1_ps(saturation_dn), bmin_v = _mm256_set1_ps(b_min),
                dof = _mm256_set1_ps(static_cast<float>(n - 3));
@@ -169,16 +203,24 @@ RAMTK_AVX2 int FinestStatsU8Avx2(int n, int width, const float* s, const float* 
   int x = 0;
   for (; x + 8 <= width; x += 8) {
     const __m256 sf = _mm256_loadu_ps(s + x), cf = _mm256_loadu_ps(c + x);
-    const __m256 mf = _mm256_loadu_ps(sum + x), m2f = _mm256_loadu_ps(sum2 + x);
+    // The sums of I and I^2 as doubles: float sums converted (8-bit frames), or read as they are.
+    __m256d mean_in[2], sq_in[2];
+    if constexpr (std::is_same_v<Acc, float>) {
+      const __m256 mf = _mm256_loadu_ps(sum + x), m2f = _mm256_loadu_ps(sum2 + x);
+      mean_in[0] = Low(mf), mean_in[1] = High(mf), sq_in[0] = Low(m2f), sq_in[1] = High(m2f);
+    } else {
+      for (int h = 0; h < 2; ++h)
+        mean_in[h] = _mm256_loadu_pd(sum + x + 4 * h), sq_in[h] = _mm256_loadu_pd(sum2 + x + 4 * h);
+    }
     __m256d b2[2], a2[2], r2[2];
     for (int h = 0; h < 2; ++h) {
       const __m256d sd = h ? High(sf) : Low(sf);
       const __m256d cd = h ? High(cf) : Low(cf);
       const __m256d amp2 = _mm256_add_pd(_mm256_mul_pd(sd, sd), _mm256_mul_pd(cd, cd));
       b2[h] = _mm256_mul_pd(k2, _mm256_sqrt_pd(amp2));
-      const __m256d mean = _mm256_div_pd(h ? High(mf) : Low(mf), nd);
+      const __m256d mean = _mm256_div_pd(mean_in[h], nd);
       a2[h] = mean;
-      const __m256d sq = h ? High(m2f) : Low(m2f);
+      const __m256d sq = sq_in[h];
       r2[h] = _mm256_max_pd(
           _mm256_sub_pd(_mm256_sub_pd(sq, _mm256_mul_pd(_mm256_mul_pd(nd, mean), mean)), _mm256_mul_pd(k2, amp2)),
           zero);
@@ -198,6 +240,22 @@ RAMTK_AVX2 int FinestStatsU8Avx2(int n, int width, const float* s, const float* 
   _mm256_storeu_ps(lanes, bright);
   for (const float v : lanes) *brightest = v > *brightest ? v : *brightest;
   return x;
+}
+
+RAMTK_AVX2 int FinestStatsU8Avx2(int n, int width, const float* s, const float* c, const float* sum, const float* sum2,
+                                 const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark,
+                                 uchar* sat, uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row,
+                                 float* brightest) {
+  return FinestStats(n, width, s, c, sum, sum2, top, dark_dn, saturation_dn, b_min, dark, sat, low, a_row, b_row,
+                     res_ss, res_row, brightest);
+}
+
+RAMTK_AVX2 int FinestStatsDoubleAvx2(int n, int width, const float* s, const float* c, const double* sum,
+                                     const double* sum2, const float* top, float dark_dn, float saturation_dn,
+                                     float b_min, uchar* dark, uchar* sat, uchar* low, float* a_row, float* b_row,
+                                     float* res_ss, float* res_row, float* brightest) {
+  return FinestStats(n, width, s, c, sum, sum2, top, dark_dn, saturation_dn, b_min, dark, sat, low, a_row, b_row,
+                     res_ss, res_row, brightest);
 }
 
 RAMTK_AVX2 int GrayCoordinatesAvx2(const int* code, const float* phi, int width, double phase_at_origin_rad,

@@ -60,9 +60,9 @@ void AccumulateFrame(const T* __restrict row, int len, float sk, float ck, float
 // frames in the same order as over whole rows, so the results do not change.
 template <typename T, typename Acc>
 void AccumulateRow(const cv::Mat* const* frames, int n, int y, int width, const float* sn, const float* cs, float* s,
-                   float* c, Acc* sum, Acc* sum2, float* top) {
+                   float* c, Acc* sum, Acc* sum2, float* top, int first = 0) {
   constexpr int kChunk = 256;
-  for (int x0 = 0; x0 < width; x0 += kChunk) {
+  for (int x0 = first; x0 < width; x0 += kChunk) {
     const int len = std::min(kChunk, width - x0);
     std::fill(s + x0, s + x0 + len, 0.0f);
     std::fill(c + x0, c + x0 + len, 0.0f);
@@ -275,10 +275,26 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     if constexpr (std::is_same_v<T, uchar>)
       AccumulateRowU8(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(), s.data(),
                       c.data(), sum.data(), sum2.data(), top.data());
-    else
+    else {
+      // 16-bit frames: eight pixels at a time on CPUs with AVX2 (the same bits), the rest here.
+      int first = 0;
+      if constexpr (std::is_same_v<T, ushort>) {
+        if (Avx2Kernels() && n <= 64) {
+          const std::uint16_t* rows[64];
+          for (int k = 0; k < n; ++k) rows[k] = in.ps_frames[f][k]->ptr<ushort>(y);
+          first = AccumulateRowU16Avx2(rows, n, width, in.sin_table[f].data(), in.cos_table[f].data(), s.data(),
+                                       c.data(), sum.data(), sum2.data(), top.data());
+        }
+      }
       AccumulateRow<T, Acc>(in.ps_frames[f].data(), n, y, width, in.sin_table[f].data(), in.cos_table[f].data(),
-                            s.data(), c.data(), sum.data(), sum2.data(), top.data());
+                            s.data(), c.data(), sum.data(), sum2.data(), top.data(), first);
+    }
     int done = 0;
+    if constexpr (std::is_same_v<T, ushort>)
+      if (f == 0 && Avx2Kernels())
+        done = FinestStatsDoubleAvx2(n, width, s.data(), c.data(), sum.data(), sum2.data(), top.data(), in.dark,
+                                     in.saturation, in.b_min, dark.data(), sat.data(), low.data(), a_row, b_row,
+                                     res_ss.data(), res_row, &rc->brightest);
 #if CV_SIMD128_64F
     if constexpr (std::is_same_v<T, uchar>)
       if (f == 0)
