@@ -11,6 +11,8 @@
 #include <random>
 #include <vector>
 
+#include "../../vision/src/decode_avx2.h"
+
 namespace {
 
 using ramtk::vision::detail::SinCos;
@@ -92,5 +94,38 @@ TEST(FastSinCos, TwoLanesAreBitIdenticalToTheScalarVersion) {
   EXPECT_EQ(differ, 0);
 }
 #endif
+
+// SinCos4's four lanes against the scalar version on the same arguments (AVX2 CPUs only).
+__attribute__((target("avx2"))) long FourLaneDifferences(const std::vector<double>& args) {
+  long differ = 0;
+  for (std::size_t i = 0; i + 3 < args.size(); i += 4) {
+    __m256d s, c;
+    ramtk::vision::detail::SinCos4(_mm256_loadu_pd(args.data() + i), &s, &c);
+    double sv[4], cv4[4];
+    _mm256_storeu_pd(sv, s);
+    _mm256_storeu_pd(cv4, c);
+    for (int lane = 0; lane < 4; ++lane) {
+      double ss, cc;
+      SinCos(args[i + lane], &ss, &cc);
+      differ += std::memcmp(&ss, &sv[lane], sizeof ss) != 0 || std::memcmp(&cc, &cv4[lane], sizeof cc) != 0;
+    }
+  }
+  return differ;
+}
+
+TEST(FastSinCos, FourLanesAreBitIdenticalToTheScalarVersion) {
+  if (!ramtk::vision::detail::Avx2Kernels()) GTEST_SKIP() << "no AVX2 on this CPU (or RAMTK_AVX2=0)";
+  std::mt19937_64 rng(12);
+  std::vector<double> args;
+  for (const double range : {1.0, 64 * M_PI, 1e6}) {
+    std::uniform_real_distribution<double> u(-range, range);
+    for (int i = 0; i < 100000; ++i) args.push_back(u(rng));
+  }
+  for (int k = -80; k <= 80; ++k)
+    for (const double d : {-1e-12, 0.0, 1e-12}) args.push_back(k * M_PI / 4 + d);
+  args.push_back(0.0);
+  args.push_back(-0.0);
+  EXPECT_EQ(FourLaneDifferences(args), 0);
+}
 
 }  // namespace

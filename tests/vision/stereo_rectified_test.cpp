@@ -78,6 +78,17 @@ TEST(StereoRectified, RowsOfTheRectifiedPairAreEpipolarLines) {
   EXPECT_GT(seen, 500);
 }
 
+// The cells (index row * cols + column of the top-left pixel) whose four corners are finite.
+std::vector<uchar> FiniteCells(const cv::Mat& coord) {
+  std::vector<uchar> cell_ok(coord.total(), 0);
+  for (int y = 0; y + 1 < coord.rows; ++y)
+    for (int x = 0; x + 1 < coord.cols; ++x)
+      cell_ok[static_cast<std::size_t>(y) * coord.cols + x] =
+          std::isfinite(coord.at<float>(y, x) + coord.at<float>(y, x + 1) + coord.at<float>(y + 1, x) +
+                        coord.at<float>(y + 1, x + 1));
+  return cell_ok;
+}
+
 TEST(StereoRectified, ResampledGridReadsTheMapAtTheRectifiedPixel) {
   const StereoCalibration c = VergingRig();
   const detail::RectifiedPair pair = detail::MakeRectifiedPair(c);
@@ -87,12 +98,7 @@ TEST(StereoRectified, ResampledGridReadsTheMapAtTheRectifiedPixel) {
   for (int y = 0; y < coord.rows; ++y)
     for (int x = 0; x < coord.cols; ++x) coord.at<float>(y, x) = static_cast<float>(0.25 * x + 0.05 * y + 10);
   coord(cv::Rect(900, 700, 40, 30)).setTo(std::numeric_limits<float>::quiet_NaN());
-  std::vector<uchar> cell_ok(coord.total(), 0);
-  for (int y = 0; y + 1 < coord.rows; ++y)
-    for (int x = 0; x + 1 < coord.cols; ++x)
-      cell_ok[static_cast<std::size_t>(y) * coord.cols + x] =
-          std::isfinite(coord.at<float>(y, x) + coord.at<float>(y, x + 1) + coord.at<float>(y + 1, x) +
-                        coord.at<float>(y + 1, x + 1));
+  const std::vector<uchar> cell_ok = FiniteCells(coord);
   const detail::RectifiedGrid grid =
       detail::ResampleOnRectifiedGrid(cam, pair.rect_from_right, pair.f, coord, cell_ok, 16.0 * coord.total());
   ASSERT_FALSE(grid.coord.empty());
@@ -133,12 +139,7 @@ TEST(StereoRectified, GridOnLanesIsTheScalarGridBitForBit) {
     for (int x = 0; x < coord.cols; ++x)
       coord.at<float>(y, x) = static_cast<float>(0.25 * x + 0.05 * y + 3 * std::sin(x / 37.0) * std::cos(y / 23.0));
   coord(cv::Rect(900, 700, 40, 30)).setTo(std::numeric_limits<float>::quiet_NaN());
-  std::vector<uchar> cell_ok(coord.total(), 0);
-  for (int y = 0; y + 1 < coord.rows; ++y)
-    for (int x = 0; x + 1 < coord.cols; ++x)
-      cell_ok[static_cast<std::size_t>(y) * coord.cols + x] =
-          std::isfinite(coord.at<float>(y, x) + coord.at<float>(y, x + 1) + coord.at<float>(y + 1, x) +
-                        coord.at<float>(y + 1, x + 1));
+  const std::vector<uchar> cell_ok = FiniteCells(coord);
   detail::SetAvx2Kernels(false);
   const detail::RectifiedGrid scalar =
       detail::ResampleOnRectifiedGrid(cam, pair.rect_from_right, pair.f, coord, cell_ok, 16.0 * coord.total());

@@ -32,6 +32,13 @@ namespace {
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kTwoPi = 6.283185307179586476925;
 
+// Whether the eight bytes at p are all zero (eight masked pixels, skipped at once).
+inline bool EightZero(const uchar* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v == 0;
+}
+
 struct RowCounts {
   long dark = 0, saturated = 0, low = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
   double ss = 0, phase_ss = 0, worst = 0;
@@ -393,13 +400,9 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
                                                          &rc->unwrap_rejected)
                                    : 0;
     for (int x = done; x < width; ++x) {
-      if (x + 8 <= width) {  // eight masked pixels at once
-        std::uint64_t m8;
-        std::memcpy(&m8, mk + x, sizeof m8);
-        if (!m8) {
-          x += 7;
-          continue;
-        }
+      if (x + 8 <= width && EightZero(mk + x)) {  // eight masked pixels at once
+        x += 7;
+        continue;
       }
       if (!mk[x]) continue;
       const int binary = code[x];
@@ -426,13 +429,9 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
   }
   if (in.heterodyne) return;
   for (int x = 0; x < width; ++x) {
-    if (x + 8 <= width) {  // eight masked pixels at once
-      std::uint64_t m8;
-      std::memcpy(&m8, mk + x, sizeof m8);
-      if (!m8) {
-        x += 7;
-        continue;
-      }
+    if (x + 8 <= width && EightZero(mk + x)) {  // eight masked pixels at once
+      x += 7;
+      continue;
     }
     if (!mk[x]) continue;
     const float r = res_row[x];
@@ -615,9 +614,7 @@ void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double
   const cv::v_float32x4 nan = cv::v_setall_f32(kNaN), inf = cv::v_setall_f32(std::numeric_limits<float>::infinity());
   const cv::v_float32x4 zero = cv::v_setzero_f32();
   for (; x + 8 <= width; x += 8) {
-    std::uint64_t any;  // eight masked pixels (most of a frame outside the object): NaN, no arithmetic
-    std::memcpy(&any, mk + x, sizeof any);
-    if (!any) {
+    if (EightZero(mk + x)) {  // eight masked pixels (most of a frame outside the object): NaN, no arithmetic
       for (float* out : {c, sp, sc})
         if (out) std::fill_n(out + x, 8, kNaN);
       continue;

@@ -107,42 +107,6 @@ void StripHighPass(int width, const cv::Mat& den, const Strip& st, const cv::Mat
   });
 }
 
-// SinCos2 on four lanes (AVX2), operation for operation (see fast_sincos.h).
-__attribute__((target("avx2"), always_inline)) inline void SinCos4(__m256d a, __m256d* s, __m256d* c) {
-  using namespace detail::sincos_constants;
-  const __m256d t = _mm256_add_pd(_mm256_mul_pd(a, _mm256_set1_pd(kTwoOverPi)), _mm256_set1_pd(kShift));
-  const __m256d qd = _mm256_sub_pd(t, _mm256_set1_pd(kShift));
-  const __m256d r = _mm256_sub_pd(_mm256_sub_pd(_mm256_sub_pd(a, _mm256_mul_pd(qd, _mm256_set1_pd(kPio2a))),
-                                                _mm256_mul_pd(qd, _mm256_set1_pd(kPio2b))),
-                                  _mm256_mul_pd(qd, _mm256_set1_pd(kPio2c)));
-  const __m256d r2 = _mm256_mul_pd(r, r);
-  const double sin_coef[] = {1.0 / 355687428096000, -1.0 / 1307674368000, 1.0 / 6227020800, -1.0 / 39916800,
-                             1.0 / 362880,          -1.0 / 5040,          1.0 / 120,        -1.0 / 6};
-  const double cos_coef[] = {-1.0 / 6402373705728000,
-                             1.0 / 20922789888000,
-                             -1.0 / 87178291200,
-                             1.0 / 479001600,
-                             -1.0 / 3628800,
-                             1.0 / 40320,
-                             -1.0 / 720,
-                             1.0 / 24,
-                             -0.5};
-  __m256d ps = _mm256_set1_pd(sin_coef[0]);
-  for (int i = 1; i < 8; ++i) ps = _mm256_add_pd(_mm256_set1_pd(sin_coef[i]), _mm256_mul_pd(r2, ps));
-  const __m256d sp = _mm256_add_pd(r, _mm256_mul_pd(_mm256_mul_pd(r, r2), ps));
-  __m256d pc = _mm256_set1_pd(cos_coef[0]);
-  for (int i = 1; i < 9; ++i) pc = _mm256_add_pd(_mm256_set1_pd(cos_coef[i]), _mm256_mul_pd(r2, pc));
-  const __m256d cp = _mm256_add_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(r2, pc));
-  const __m256i q = _mm256_castpd_si256(t);
-  const __m256i one = _mm256_set1_epi64x(1), two = _mm256_set1_epi64x(2);
-  const __m256d odd = _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(q, one), one));
-  const __m256i s0 = _mm256_castpd_si256(_mm256_blendv_pd(sp, cp, odd));
-  const __m256i c0 = _mm256_castpd_si256(_mm256_blendv_pd(cp, sp, odd));
-  *s = _mm256_castsi256_pd(_mm256_xor_si256(s0, _mm256_slli_epi64(_mm256_and_si256(q, two), 62)));
-  *c =
-      _mm256_castsi256_pd(_mm256_xor_si256(c0, _mm256_slli_epi64(_mm256_and_si256(_mm256_add_epi64(q, one), two), 62)));
-}
-
 // StripBasis's run of valid pixels [x, x1) four at a time on AVX2 lanes (the same bits as the
 // two-lane loop); returns the first pixel not done.
 __attribute__((target("avx2"))) int BasisRunAvx2(const float* p, int x, int x1, int steps, int orders,
@@ -150,7 +114,7 @@ __attribute__((target("avx2"))) int BasisRunAvx2(const float* p, int x, int x1, 
   const __m256d n4 = _mm256_set1_pd(static_cast<double>(steps));
   for (; x + 4 <= x1; x += 4) {
     __m256d s1, c1;
-    SinCos4(_mm256_mul_pd(n4, _mm256_cvtps_pd(_mm_loadu_ps(p + x))), &s1, &c1);
+    detail::SinCos4(_mm256_mul_pd(n4, _mm256_cvtps_pd(_mm_loadu_ps(p + x))), &s1, &c1);
     _mm_storeu_ps(out[0] + x, _mm256_cvtpd_ps(s1));
     _mm_storeu_ps(out[1] + x, _mm256_cvtpd_ps(c1));
     __m256d sa = s1, ca = c1;
