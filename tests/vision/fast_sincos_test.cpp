@@ -20,6 +20,22 @@ using ramtk::vision::detail::SinCos;
 using ramtk::vision::detail::SinCos2;
 #endif
 
+// Arguments for the lane tests: uniform over +-1, +-64 pi and +-1e6, the quadrant boundaries
+// k pi / 4 and their neighbours 1e-12 away, and both zeros.
+std::vector<double> LaneArguments(unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> args;
+  for (const double range : {1.0, 64 * M_PI, 1e6}) {
+    std::uniform_real_distribution<double> u(-range, range);
+    for (int i = 0; i < 100000; ++i) args.push_back(u(rng));
+  }
+  for (int k = -80; k <= 80; ++k)
+    for (const double d : {-1e-12, 0.0, 1e-12}) args.push_back(k * M_PI / 4 + d);
+  args.push_back(0.0);
+  args.push_back(-0.0);
+  return args;
+}
+
 // Distance in units of the last place of the reference value (at least the ulp of 2^-1022 near 0).
 double Ulps(double got, double want) {
   const double ulp = std::max(std::nextafter(std::abs(want), std::numeric_limits<double>::infinity()) - std::abs(want),
@@ -68,16 +84,7 @@ TEST(FastSinCos, QuadrantBoundariesAndIdentities) {
 // The two-lane version gives each lane exactly the scalar result (the basis is then the same
 // bit for bit), over the basis's arguments, beyond them and at the quadrant boundaries.
 TEST(FastSinCos, TwoLanesAreBitIdenticalToTheScalarVersion) {
-  std::mt19937_64 rng(11);
-  std::vector<double> args;
-  for (const double range : {1.0, 64 * M_PI, 1e6}) {
-    std::uniform_real_distribution<double> u(-range, range);
-    for (int i = 0; i < 100000; ++i) args.push_back(u(rng));
-  }
-  for (int k = -80; k <= 80; ++k)
-    for (const double d : {-1e-12, 0.0, 1e-12}) args.push_back(k * M_PI / 4 + d);
-  args.push_back(0.0);
-  args.push_back(-0.0);
+  const std::vector<double> args = LaneArguments(11);
   long differ = 0;
   for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
     cv::v_float64x2 s, c;
@@ -115,16 +122,7 @@ __attribute__((target("avx2"))) long FourLaneDifferences(const std::vector<doubl
 
 TEST(FastSinCos, FourLanesAreBitIdenticalToTheScalarVersion) {
   if (!ramtk::vision::detail::Avx2Kernels()) GTEST_SKIP() << "no AVX2 on this CPU (or RAMTK_AVX2=0)";
-  std::mt19937_64 rng(12);
-  std::vector<double> args;
-  for (const double range : {1.0, 64 * M_PI, 1e6}) {
-    std::uniform_real_distribution<double> u(-range, range);
-    for (int i = 0; i < 100000; ++i) args.push_back(u(rng));
-  }
-  for (int k = -80; k <= 80; ++k)
-    for (const double d : {-1e-12, 0.0, 1e-12}) args.push_back(k * M_PI / 4 + d);
-  args.push_back(0.0);
-  args.push_back(-0.0);
+  const std::vector<double> args = LaneArguments(12);
   EXPECT_EQ(FourLaneDifferences(args), 0);
 }
 
