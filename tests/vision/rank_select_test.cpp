@@ -1,13 +1,13 @@
 // Order statistics by histogram (vision/src/rank_select.h) against std::nth_element on the
 // gathered values: random values over many octaves, ties, masks, NaN pixels, both ranks in one bin.
+#include "../../vision/src/rank_select.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
-
-#include "../../vision/src/rank_select.h"
 
 namespace {
 
@@ -57,6 +57,11 @@ TEST(RankSelect, FiniteValuesOfAMapAndAFlatArray) {
   EXPECT_EQ(ValuesAtRanks(flat, {flat.size() / 2})[0], NthOf(flat, flat.size() / 2));
   EXPECT_EQ(ValuesAtRanks(flat, {0})[0], *std::min_element(flat.begin(), flat.end()));
   EXPECT_TRUE(std::isnan(UpperMedian(cv::Mat(4, 4, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())))));
+  // The flat array cut into parts of uneven lengths (one empty, one past a 4096-value segment).
+  std::vector<std::vector<float>> parts(4);
+  for (std::size_t i = 0; i < flat.size(); ++i) parts[i < 5000 ? 0 : i == 5000 ? 1 : 3].push_back(flat[i]);
+  for (const std::size_t rank : {std::size_t{0}, flat.size() / 2, flat.size() / 3, flat.size() - 1})
+    EXPECT_EQ(ValuesAtRanks(parts, {rank})[0], NthOf(flat, rank)) << "rank " << rank;
 }
 
 }  // namespace

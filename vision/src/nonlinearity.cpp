@@ -40,10 +40,10 @@ double CameraFringePeriod(const cv::Mat& phase, const cv::Mat& mask) {
       if (gm > 1e-6 && gm < 3.0) g.push_back(static_cast<float>(gm));
     }
   });
-  std::vector<float> g;
-  for (const std::vector<float>& r : per_row) g.insert(g.end(), r.begin(), r.end());
-  if (g.empty()) return 0;
-  return 2 * CV_PI / ValuesAtRanks(g, {g.size() / 2})[0];
+  std::size_t count = 0;
+  for (const std::vector<float>& r : per_row) count += r.size();
+  if (count == 0) return 0;
+  return 2 * CV_PI / ValuesAtRanks(per_row, {count / 2})[0];  // the rows' values together, not joined
 }
 
 std::vector<std::pair<int, int>> RippleFitRows(int height, int k) {

@@ -131,11 +131,26 @@ float UpperMedian(const cv::Mat& values) {
                 [](std::size_t count) { return std::vector<std::size_t>{count / 2}; })[0];
 }
 
-std::vector<float> ValuesAtRanks(const std::vector<float>& values, const std::vector<std::size_t>& ranks) {
+namespace {
+
+// Segments of at most 4096 values over an array (every value counts).
+void AppendSegments(const std::vector<float>& values, std::vector<Segment>* segments) {
   constexpr std::size_t kSegment = 4096;
-  std::vector<Segment> segments;
   for (std::size_t i = 0; i < values.size(); i += kSegment)
-    segments.push_back({values.data() + i, nullptr, static_cast<int>(std::min(kSegment, values.size() - i))});
+    segments->push_back({values.data() + i, nullptr, static_cast<int>(std::min(kSegment, values.size() - i))});
+}
+
+}  // namespace
+
+std::vector<float> ValuesAtRanks(const std::vector<float>& values, const std::vector<std::size_t>& ranks) {
+  std::vector<Segment> segments;
+  AppendSegments(values, &segments);
+  return Select(segments, [&](std::size_t) { return ranks; });
+}
+
+std::vector<float> ValuesAtRanks(const std::vector<std::vector<float>>& parts, const std::vector<std::size_t>& ranks) {
+  std::vector<Segment> segments;
+  for (const std::vector<float>& values : parts) AppendSegments(values, &segments);
   return Select(segments, [&](std::size_t) { return ranks; });
 }
 

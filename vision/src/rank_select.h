@@ -22,4 +22,8 @@ float UpperMedian(const cv::Mat& values);
 // The same over a flat array (every value finite and >= 0).
 std::vector<float> ValuesAtRanks(const std::vector<float>& values, const std::vector<std::size_t>& ranks);
 
+// The same over the values of several arrays together (every value finite and >= 0), without
+// joining them into one.
+std::vector<float> ValuesAtRanks(const std::vector<std::vector<float>>& parts, const std::vector<std::size_t>& ranks);
+
 }  // namespace ramtk::vision::detail
