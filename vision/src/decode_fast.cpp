@@ -464,8 +464,11 @@ std::vector<double> HarmonicRatiosSubsampled(const std::vector<const cv::Mat*>& 
   tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4), [&](const tbb::blocked_range<int>& r) {
     // The row's valid samples gathered per frame, then each harmonic's DFT over the frames as
     // loops along the row (vectorised).
-    std::vector<double> v, re((max_h + 1) * mask.cols), im((max_h + 1) * mask.cols);
-    std::vector<int> xs;
+    // Per thread (each harmonic's row is cleared before its sums): not allocated and zeroed per task.
+    thread_local std::vector<double> v, re, im;
+    thread_local std::vector<int> xs;
+    re.resize(static_cast<std::size_t>(max_h + 1) * mask.cols);
+    im.resize(re.size());
     for (int i = r.begin(); i < r.end(); ++i) {
       const int y = i * stride;
       const uchar* m = mask.ptr<uchar>(y);
