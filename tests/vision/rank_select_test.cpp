@@ -29,7 +29,8 @@ TEST(RankSelect, MaskedMapAsNthElement) {
     for (int x = 0; x < values.cols; ++x) {
       // Every 7th value repeated: ties inside a bin.
       values.at<float>(y, x) = (x % 7 == 0) ? 55.75f : value(rng);
-      mask.at<uchar>(y, x) = coin(rng) ? 255 : 0;
+      // Rows 40-59 and the first 100 columns masked whole: runs of masked values skipped at once.
+      mask.at<uchar>(y, x) = (coin(rng) && !(y >= 40 && y < 60) && x >= 100) ? 255 : 0;
       if (mask.at<uchar>(y, x)) gathered.push_back(values.at<float>(y, x));
     }
   const std::size_t n = gathered.size();
