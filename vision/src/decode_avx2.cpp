@@ -258,6 +258,38 @@ RAMTK_AVX2 int FinestStatsDoubleAvx2(int n, int width, const float* s, const flo
                      res_ss, res_row, brightest);
 }
 
+RAMTK_AVX2 int SigmaRowAvx2(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px,
+                            float* c, float* sp, float* sc) {
+  const __m256d k2 = K(k_sigma * k_sigma), r2 = K(ripple * ripple), px = K(to_px);
+  const __m256 nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+  int x = 0;
+  for (; x + 8 <= width; x += 8) {
+    std::uint64_t m8;
+    std::memcpy(&m8, mk + x, sizeof m8);
+    if (!m8) {  // eight masked pixels: NaN, no arithmetic
+      _mm256_storeu_ps(c + x, nan);
+      if (sp) _mm256_storeu_ps(sp + x, nan);
+      _mm256_storeu_ps(sc + x, nan);
+      continue;
+    }
+    const __m256 valid = _mm256_castsi256_ps(_mm256_xor_si256(
+        _mm256_cmpeq_epi32(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(mk + x))),
+                           _mm256_setzero_si256()),
+        _mm256_set1_epi32(-1)));
+    const __m256 bf = _mm256_loadu_ps(b + x);
+    const __m256d b0 = Low(bf), b1 = High(bf);
+    const __m256 root = Floats(_mm256_sqrt_pd(_mm256_add_pd(_mm256_div_pd(k2, _mm256_mul_pd(b0, b0)), r2)),
+                               _mm256_sqrt_pd(_mm256_add_pd(_mm256_div_pd(k2, _mm256_mul_pd(b1, b1)), r2)));
+    const __m256 sigma = _mm256_blendv_ps(inf, root, _mm256_cmp_ps(bf, _mm256_setzero_ps(), _CMP_GT_OQ));
+    const __m256 coord_sigma = Floats(_mm256_mul_pd(Low(sigma), px), _mm256_mul_pd(High(sigma), px));
+    _mm256_storeu_ps(c + x, _mm256_blendv_ps(nan, _mm256_loadu_ps(c + x), valid));
+    if (sp) _mm256_storeu_ps(sp + x, _mm256_blendv_ps(nan, sigma, valid));
+    _mm256_storeu_ps(sc + x, _mm256_blendv_ps(nan, coord_sigma, valid));
+  }
+  return x;
+}
+
 RAMTK_AVX2 int GrayCoordinatesAvx2(const int* code, const float* phi, int width, double phase_at_origin_rad,
                                    double period, int extent, bool complementary, uchar* mk, float* coord,
                                    long* corrected, long* rejected) {

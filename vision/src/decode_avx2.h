@@ -46,4 +46,8 @@ int FinestStatsDoubleAvx2(int n, int width, const float* s, const float* c, cons
                           const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark, uchar* sat,
                           uchar* low, float* a_row, float* b_row, float* res_ss, float* res_row, float* brightest);
 
+// SigmaRow (decode_internal.h) for pixels [0, 8 k), 8 k <= width.
+int SigmaRowAvx2(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
+                 float* sp, float* sc);
+
 }  // namespace ramtk::vision::detail

@@ -610,7 +610,7 @@ std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>&
 // correctly rounded there as in scalar code, so the maps are the same bit for bit.
 void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
               float* sp, float* sc) {
-  int x = 0;
+  int x = Avx2Kernels() ? SigmaRowAvx2(mk, b, width, k_sigma, ripple, to_px, c, sp, sc) : 0;
 #if CV_SIMD128_64F
   const cv::v_float64x2 k2 = cv::v_setall_f64(k_sigma * k_sigma), r2 = cv::v_setall_f64(ripple * ripple);
   const cv::v_float64x2 px = cv::v_setall_f64(to_px);
