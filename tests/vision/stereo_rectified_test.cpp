@@ -19,7 +19,7 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/decode_avx2.h"
+#include "../../vision/src/avx2.h"
 #include "../../vision/src/stereo_rectified_grid.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/vision/decode.h"

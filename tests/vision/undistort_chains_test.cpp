@@ -15,7 +15,7 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/decode_avx2.h"
+#include "../../vision/src/avx2.h"
 
 namespace ramtk::vision {
 namespace {

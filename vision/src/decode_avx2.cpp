@@ -8,21 +8,13 @@
 #include <immintrin.h>
 
 #include <array>
-#include <atomic>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <type_traits>
 
 namespace ramtk::vision::detail {
 namespace {
-
-#define RAMTK_AVX2 __attribute__((target("avx2")))
-#define RAMTK_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
-
-// -1: not decided yet; 0 or 1 after the first call or SetAvx2Kernels.
-std::atomic<int> g_avx2{-1};
 
 // Eight 0/1 bytes from the low eight bits of a movemask.
 constexpr std::array<std::uint64_t, 256> MakeByteMasks() {
@@ -89,25 +81,7 @@ RAMTK_AVX2_INLINE __m256 Floats(__m256d lo, __m256d hi) {
   return _mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo));
 }
 
-bool CpuHasAvx2() {
-  __builtin_cpu_init();
-  if (!__builtin_cpu_supports("avx2")) return false;
-  const char* env = std::getenv("RAMTK_AVX2");
-  return !(env && std::strcmp(env, "0") == 0);
-}
-
 }  // namespace
-
-bool Avx2Kernels() {
-  int v = g_avx2.load(std::memory_order_relaxed);
-  if (v < 0) {
-    v = CpuHasAvx2() ? 1 : 0;
-    g_avx2.store(v, std::memory_order_relaxed);
-  }
-  return v == 1;
-}
-
-void SetAvx2Kernels(bool on) { g_avx2.store(on && CpuHasAvx2() ? 1 : 0, std::memory_order_relaxed); }
 
 RAMTK_AVX2 int AccumulateRowU8Avx2(const uchar* const* rows, int n, int width, const float* sn, const float* cs,
                                    float* s, float* c, float* sum, float* sum2, float* top) {

@@ -7,12 +7,9 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 
-namespace ramtk::vision::detail {
+#include "avx2.h"
 
-// Whether the AVX2 kernels run: the CPU has AVX2 and the environment variable RAMTK_AVX2 is not
-// 0 (read once). SetAvx2Kernels overrides both (tests compare the two paths in one process).
-bool Avx2Kernels();
-void SetAvx2Kernels(bool on);
+namespace ramtk::vision::detail {
 
 // The five sums of AccumulateRowU8 (S, C, sum I, sum I^2, max I over the n frames' rows) for
 // pixels [0, 16 k), the largest such k with 16 k <= width.

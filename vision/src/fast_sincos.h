@@ -10,6 +10,8 @@
 #include <cmath>
 #include <opencv2/core/hal/intrin.hpp>
 
+#include "avx2.h"
+
 namespace ramtk::vision::detail {
 
 // a = q pi/2 + r, |r| <= pi/4: q rounded to nearest by the 1.5 * 2^52 shift, r by pi/2 in three
@@ -96,7 +98,7 @@ inline void SinCos2(const cv::v_float64x2& a, cv::v_float64x2* s, cv::v_float64x
 
 // SinCos2 on four lanes (AVX2; call only where detail::Avx2Kernels() holds), operation for
 // operation.
-__attribute__((target("avx2"), always_inline)) inline void SinCos4(__m256d a, __m256d* s, __m256d* c) {
+RAMTK_AVX2_INLINE void SinCos4(__m256d a, __m256d* s, __m256d* c) {
   using namespace sincos_constants;
   const __m256d t = _mm256_add_pd(_mm256_mul_pd(a, _mm256_set1_pd(kTwoOverPi)), _mm256_set1_pd(kShift));
   const __m256d qd = _mm256_sub_pd(t, _mm256_set1_pd(kShift));

@@ -5,12 +5,11 @@
 // evaluated with a branch-free sincos on two lanes (fast_sincos.h; the higher orders by angle addition) and stored as
 // float, the box filters of the basis run in parallel, and the normal equations are accumulated
 // per row in parallel without per-pixel allocation.
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
-
-#include <immintrin.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -19,7 +18,7 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "decode_avx2.h"  // Avx2Kernels
+#include "avx2.h"
 #include "fast_sincos.h"
 #include "nonlinearity_internal.h"
 #include "ramtk/core/error.h"
@@ -109,7 +108,7 @@ void StripHighPass(int width, const cv::Mat& den, const Strip& st, const cv::Mat
 
 // StripBasis's run of valid pixels [x, x1) four at a time on AVX2 lanes (the same bits as the
 // two-lane loop); returns the first pixel not done.
-__attribute__((target("avx2"))) int BasisRunAvx2(const float* p, int x, int x1, int steps, int orders,
+RAMTK_AVX2 int BasisRunAvx2(const float* p, int x, int x1, int steps, int orders,
                                                  float* const* out) {
   const __m256d n4 = _mm256_set1_pd(static_cast<double>(steps));
   for (; x + 4 <= x1; x += 4) {

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "decode_avx2.h"  // Avx2Kernels
+#include "avx2.h"
 #include "fast_round.h"
 
 namespace ramtk::vision::detail {
@@ -59,7 +59,7 @@ void RowPositionsBaseline(const CameraIntrinsics& camera, const Vec3& ray0, cons
 
 // The same on four lanes (AVX2): each lane takes the loop's operations in its order (no FMA
 // target), so the positions are bit-identical; the last pixels by the loop itself.
-__attribute__((target("avx2"))) void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0,
+RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0,
                                                       const Vec3& ray_du, int n, double* pu, double* pv) {
   const Distortion& d = camera.distortion;
 #define k _mm256_set1_pd

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "decode_avx2.h"  // Avx2Kernels
+#include "avx2.h"
 
 namespace ramtk::vision::detail {
 namespace {
@@ -52,9 +52,6 @@ void ScalarChain(const CameraIntrinsics& camera, const UndistortChain& chain, co
     xp = x;
   }
 }
-
-#define RAMTK_AVX2 __attribute__((target("avx2")))
-#define RAMTK_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 
 RAMTK_AVX2_INLINE __m256d K(double v) { return _mm256_set1_pd(v); }
 RAMTK_AVX2_INLINE __m256d Add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
