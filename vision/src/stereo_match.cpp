@@ -976,7 +976,6 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
     out->x.create(H, W, CV_32F);
     out->y.create(H, W, CV_32F);
   }
-
   // Rows run in fixed blocks of kBlock consecutive rows, one task per block, so a row can seed
   // its run starts from the row above (monotone phase: the pixel above's inverse depth is a
   // start as good as the left neighbour's). The blocks do not depend on the thread count, so
@@ -986,6 +985,12 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   // 1.55x from 2 cores). Without one (the scan) the pass is one chunk and no thread waits at a
   // chunk's end; the gain was within noise, 2 threads already reaching 1.9x one thread.
   const int kBlock = 16, chunk = options.progress ? 16 * kBlock : std::max(H, 1);
+  // The rotations the source rays are turned by (UndistortChains).
+  detail::ChainRays turn;
+  turn.rotation = p.R;
+  turn.rectified = p.rect;
+  turn.rect_from_camera = p.rect_from_src;
+  turn.rect_f = p.rect_f;
   for (int r0 = 0; r0 < H; r0 += chunk) {
     const int r1 = std::min(H, r0 + chunk);
     const int blocks = (r1 - r0 + kBlock - 1) / kBlock;
@@ -1018,11 +1023,6 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
                           rays[3].data() + at, rays[4].data() + at, rays[5].data() + at,
                           rays[6].data() + at, rays[7].data() + at};
       }
-      detail::ChainRays turn;
-      turn.rotation = p.R;
-      turn.rectified = p.rect;
-      turn.rect_from_camera = p.rect_from_src;
-      turn.rect_f = p.rect_f;
       detail::UndistortChains(*p.src, chains, ye - yb, &turn);
       for (int y = yb; y < ye; ++y) {
         std::swap(w_up, w_row);
@@ -1074,11 +1074,11 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
           }
           // The source ray (undistorted before the row's walk, in the order of the row).
           assert(next_ray < chain.count && chain.xs[next_ray] == x);
-          const int ray = next_ray++;
-          const Vec2 ideal(chain.ideal_x[ray], chain.ideal_y[ray]);
-          m.a = Vec3(chain.a_x[ray], chain.a_y[ray], chain.a_z[ray]);
+          const int entry = next_ray++;
+          const Vec2 ideal(chain.ideal_x[entry], chain.ideal_y[entry]);
+          m.a = Vec3(chain.a_x[entry], chain.a_y[entry], chain.a_z[entry]);
           m.c_src = crow[x];
-          if (p.rect && !m.SetRectRay(chain.rs_u[ray], chain.rs_v[ray], chain.rs_z[ray])) {
+          if (p.rect && !m.SetRectRay(chain.rs_u[entry], chain.rs_v[entry], chain.rs_z[entry])) {
             ++no_match;
             w_prev = std::numeric_limits<double>::quiet_NaN();
             continue;

@@ -1,16 +1,16 @@
 // The rectified grid of the stereo match's rectified search (stereo_rectified_grid.h).
 #include "stereo_rectified_grid.h"
 
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-
-#include <immintrin.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "avx2.h"
+#include "distort_lanes.h"
 #include "fast_round.h"
 
 namespace ramtk::vision::detail {
@@ -59,38 +59,23 @@ void RowPositionsBaseline(const CameraIntrinsics& camera, const Vec3& ray0, cons
 
 // The same on four lanes (AVX2): each lane takes the loop's operations in its order (no FMA
 // target), so the positions are bit-identical; the last pixels by the loop itself.
-RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0,
-                                                      const Vec3& ray_du, int n, double* pu, double* pv) {
-  const Distortion& d = camera.distortion;
-#define k _mm256_set1_pd
-  const __m256d k1 = k(d.k1), k2 = k(d.k2), k3 = k(d.k3), p1 = k(d.p1), p2 = k(d.p2), two = k(2.0), one = k(1.0);
-  const __m256d two_p1 = k(2.0 * d.p1), two_p2 = k(2.0 * d.p2);
-  const __m256d ox = k(ray0.x()), oy = k(ray0.y()), oz = k(ray0.z());
-  const __m256d sx = k(ray_du.x()), sy = k(ray_du.y()), sz = k(ray_du.z());
-  const __m256d fx = k(camera.fx), fy = k(camera.fy), cx = k(camera.cx), cy = k(camera.cy);
-  const __m256d nan = k(std::numeric_limits<double>::quiet_NaN()), near = k(1e-12);
+RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0, const Vec3& ray_du, int n,
+                                 double* pu, double* pv) {
+  const __m256d ox = _mm256_set1_pd(ray0.x()), oy = _mm256_set1_pd(ray0.y()), oz = _mm256_set1_pd(ray0.z());
+  const __m256d sx = _mm256_set1_pd(ray_du.x()), sy = _mm256_set1_pd(ray_du.y()), sz = _mm256_set1_pd(ray_du.z());
+  const __m256d nan = _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN()), near = _mm256_set1_pd(1e-12);
   int i = 0;
   for (; i + 4 <= n; i += 4) {
     const __m256d iv = _mm256_setr_pd(i, i + 1, i + 2, i + 3);
     const __m256d rx = _mm256_add_pd(ox, _mm256_mul_pd(sx, iv)), ry = _mm256_add_pd(oy, _mm256_mul_pd(sy, iv)),
                   rz = _mm256_add_pd(oz, _mm256_mul_pd(sz, iv));
-    const __m256d x = _mm256_div_pd(rx, rz), y = _mm256_div_pd(ry, rz);
-    const __m256d r2 = _mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y));
-    const __m256d radial = _mm256_add_pd(
-        one, _mm256_mul_pd(r2, _mm256_add_pd(k1, _mm256_mul_pd(r2, _mm256_add_pd(k2, _mm256_mul_pd(r2, k3))))));
-    const __m256d ux =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, radial), _mm256_mul_pd(_mm256_mul_pd(two_p1, x), y)),
-                      _mm256_mul_pd(p2, _mm256_add_pd(r2, _mm256_mul_pd(_mm256_mul_pd(two, x), x))));
-    const __m256d uy =
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(y, radial),
-                                    _mm256_mul_pd(p1, _mm256_add_pd(r2, _mm256_mul_pd(_mm256_mul_pd(two, y), y)))),
-                      _mm256_mul_pd(_mm256_mul_pd(two_p2, x), y));
-    const __m256d u = _mm256_add_pd(_mm256_mul_pd(fx, ux), cx);
+    __m256d r2, radial, ux, uy;
+    DistortNormalized4(camera.distortion, _mm256_div_pd(rx, rz), _mm256_div_pd(ry, rz), &r2, &radial, &ux, &uy);
+    const __m256d u = _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(camera.fx), ux), _mm256_set1_pd(camera.cx));
     _mm256_storeu_pd(pu + i, _mm256_blendv_pd(nan, u, _mm256_cmp_pd(rz, near, _CMP_GT_OQ)));
-    _mm256_storeu_pd(pv + i, _mm256_add_pd(_mm256_mul_pd(fy, uy), cy));
+    _mm256_storeu_pd(pv + i, _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(camera.fy), uy), _mm256_set1_pd(camera.cy)));
   }
   RowPositions(camera, ray0, ray_du, i, n, pu, pv);
-#undef k
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "avx2.h"
+#include "distort_lanes.h"
 
 namespace ramtk::vision::detail {
 namespace {
@@ -72,11 +73,11 @@ RAMTK_AVX2_INLINE void Turn(const Mat3& m, __m256d x, __m256d y, __m256d* out) {
 
 RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain* chains, const ChainRays* rays) {
   const Distortion& d = camera.distortion;
-  const __m256d k1 = K(d.k1), k2 = K(d.k2), k3 = K(d.k3);
+  // The Jacobian's constants (DistortNormalizedJacobian's products as written).
+  const __m256d k1 = K(d.k1), k3 = K(d.k3), two_k2 = K(2.0 * d.k2);
   const __m256d two_p1 = K(2.0 * d.p1), two_p2 = K(2.0 * d.p2), p1_two = K(d.p1 * 2.0), p2_two = K(d.p2 * 2.0);
-  const __m256d p1 = K(d.p1), p2 = K(d.p2), p1_six = K(d.p1 * 6.0), p2_six = K(d.p2 * 6.0);
-  const __m256d two_k2 = K(2.0 * d.k2);
-  const __m256d one = K(1.0), two = K(2.0), three = K(3.0);
+  const __m256d p1_six = K(d.p1 * 6.0), p2_six = K(d.p2 * 6.0);
+  const __m256d two = K(2.0), three = K(3.0);
   const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
   const __m256d tolerance = K(1e-15);
   int steps = 0;
@@ -109,10 +110,8 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
     __m256d x = sx, y = sy;
     __m256d done = _mm256_setzero_pd(), bad = _mm256_setzero_pd();
     for (int iter = 0; iter < 30; ++iter) {
-      const __m256d r2 = Add(Mul(x, x), Mul(y, y));
-      const __m256d radial = Add(one, Mul(r2, Add(k1, Mul(r2, Add(k2, Mul(r2, k3))))));
-      const __m256d ux = Add(Add(Mul(x, radial), Mul(Mul(two_p1, x), y)), Mul(p2, Add(r2, Mul(Mul(two, x), x))));
-      const __m256d uy = Add(Add(Mul(y, radial), Mul(p1, Add(r2, Mul(Mul(two, y), y)))), Mul(Mul(two_p2, x), y));
+      __m256d r2, radial, ux, uy;
+      DistortNormalized4(d, x, y, &r2, &radial, &ux, &uy);
       const __m256d rx = Sub(ux, vdx), ry = Sub(uy, vdy);
       const __m256d ax = _mm256_andnot_pd(sign, rx), ay = _mm256_andnot_pd(sign, ry);
       // Any non-finite residual: the scalar function redoes the lane.
