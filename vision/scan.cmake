@@ -5,6 +5,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_match.cpp
   src/stereo_rectified_grid.cpp
   src/undistort_chains.cpp
+  src/stereo_walk_lanes.cpp
   src/triangulate.cpp
   src/scan.cpp src/scan_frames.cpp
   src/scan_roi.cpp

@@ -14,10 +14,12 @@
 #include <sstream>
 #include <vector>
 
+#include "avx2.h"
 #include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "rank_select.h"
 #include "stereo_rectified_grid.h"
+#include "stereo_walk_lanes.h"
 #include "undistort_chains.h"
 
 namespace ramtk::vision {
@@ -960,6 +962,311 @@ struct PassResult {
   std::atomic<long> noisy{0}, no_match{0}, lr{0}, unreachable{0}, full{0}, matched{0}, valid{0};
 };
 
+// One source row's walk in RunPass: its cursor, seeds, counts and output rows.
+struct RowWalk {
+  int y = 0;
+  int x = 0;         // the cursor: every pixel left of it is done
+  int next_ray = 0;  // the chain's entry of the next pixel searched
+  double w_prev = std::numeric_limits<double>::quiet_NaN();
+  double w_last = std::numeric_limits<double>::quiet_NaN();  // the row's last match, past gaps
+  bool lane_tried = false;  // the lanes walked the pixel at the cursor and did not settle it
+  const detail::UndistortChain* chain = nullptr;
+  const float *crow = nullptr, *srow = nullptr, *mod_row = nullptr;
+  const uchar *mrow = nullptr, *reach_row = nullptr;
+  // The output rows (the pass writes u, v only with `pixels`, depth to point_sigma only with `points`).
+  float *u_row = nullptr, *v_row = nullptr, *sigma_row = nullptr, *depth_row = nullptr, *x_row = nullptr,
+        *y_row = nullptr, *point_sigma_row = nullptr;
+  const double* w_up = nullptr;  // the row above's inverse depths (NaN: not matched)
+  double* w_row = nullptr;       // this row's
+  long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
+
+  void Start(const Pass& p, PassResult* out, int row, const detail::UndistortChain* c, const double* up, double* own) {
+    const int W = p.src_coord.cols;
+    y = row;
+    chain = c;
+    w_up = up;
+    w_row = own;
+    std::fill_n(w_row, W, kNaN);
+    crow = p.src_coord.ptr<float>(y);
+    srow = p.src_sigma.ptr<float>(y);
+    mrow = p.src_mask.ptr<uchar>(y);
+    reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
+    mod_row = p.src_modulation.ptr<float>(y);
+    u_row = p.pixels ? out->u.ptr<float>(y) : nullptr;
+    v_row = p.pixels ? out->v.ptr<float>(y) : nullptr;
+    sigma_row = out->sigma.ptr<float>(y);
+    depth_row = p.points ? out->depth.ptr<float>(y) : nullptr;
+    x_row = p.points ? out->x.ptr<float>(y) : nullptr;
+    y_row = p.points ? out->y.ptr<float>(y) : nullptr;
+    point_sigma_row = p.points ? out->point_sigma.ptr<float>(y) : nullptr;
+    for (float* r : {u_row, v_row, sigma_row, depth_row, x_row, y_row, point_sigma_row})
+      if (r) std::fill_n(r, W, kNaN);
+  }
+  void Flush(PassResult* out) const {
+    out->noisy += noisy;
+    out->no_match += no_match;
+    out->lr += lr;
+    out->unreachable += unreachable;
+    out->full += full;
+    out->matched += matched;
+    out->valid += valid;
+  }
+};
+
+// Whether two roots are the same to the bit (the lanes' check, detail::SetWalkLaneCheck).
+bool SameBits(const Matcher::Root& a, const Matcher::Root& b) {
+  const double va[] = {a.w, a.slope, a.at.pix.x(), a.at.pix.y(), a.at.var, a.at.modulation, a.vel.x(), a.vel.y()};
+  const double vb[] = {b.w, b.slope, b.at.pix.x(), b.at.pix.y(), b.at.var, b.at.modulation, b.vel.x(), b.vel.y()};
+  return std::memcmp(va, vb, sizeof va) == 0 && a.at.ok == b.at.ok && a.at.u0 == b.at.u0 && a.at.v0 == b.at.v0;
+}
+
+// Moves the row's cursor to its next pixel to search (true; the pixel is counted valid) or to
+// the row's end (false), counting the pixels it passes that are not searched.
+bool NextSearched(const Pass& p, RowWalk* r) {
+  const int W = p.src_coord.cols;
+  for (; r->x < W; ++r->x) {
+    const int x = r->x;
+    if (!r->mrow[x] || !std::isfinite(r->crow[x])) {
+      r->w_prev = std::numeric_limits<double>::quiet_NaN();
+      // Masked runs (most of a frame outside the object) eight mask bytes at a time.
+      while (r->x + 9 <= W) {
+        std::uint64_t next8;
+        std::memcpy(&next8, r->mrow + r->x + 1, sizeof next8);
+        if (next8) break;
+        r->x += 8;
+      }
+      continue;
+    }
+    ++r->valid;
+    if (!(r->srow[x] <= p.max_sigma)) {
+      ++r->noisy;
+      r->w_prev = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    if (r->reach_row && !r->reach_row[x]) {
+      // No back match can accept it: any crossing would fail the left-right check.
+      ++r->unreachable;
+      r->w_prev = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    return true;
+  }
+  return false;
+}
+
+// Searches the pixel at the row's cursor, writes its outputs and moves the cursor past it.
+// `settled`: its root, settled by the lanes from the left neighbour's seed (the scalar walk's
+// first try, which would find and accept the same root).
+void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, RowWalk* r,
+                 const Matcher::Root* settled) {
+  const int x = r->x, y = r->y;
+  ++r->x;
+  // The source ray (undistorted before the row's walk, in the order of the row).
+  const detail::UndistortChain& chain = *r->chain;
+  assert(r->next_ray < chain.count && chain.xs[r->next_ray] == x);
+  const int entry = r->next_ray++;
+  const Vec2 ideal(chain.ideal_x[entry], chain.ideal_y[entry]);
+  m.a = Vec3(chain.a_x[entry], chain.a_y[entry], chain.a_z[entry]);
+  m.c_src = r->crow[x];
+  if (p.rect && !m.SetRectRay(chain.rs_u[entry], chain.rs_v[entry], chain.rs_z[entry])) {
+    ++r->no_match;
+    r->w_prev = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  Matcher::Root root;
+  bool found = false, any = false;
+  if (settled) {
+    root = *settled;
+    found = any = true;
+    if (detail::WalkLaneCheck()) {
+      Matcher::Root scalar;
+      const bool same =
+          m.LocalSearch(r->w_prev, &scalar) && m.Accept(scalar, r->mod_row[x], x, y) && SameBits(scalar, root);
+      detail::CountWalkLaneCheck(same);
+    }
+  } else if (!p.full_search) {
+    // Start from the left neighbour's match; then (a run start, or no acceptable crossing
+    // near it: the neighbour may lie on another surface) from the pixel above's, then
+    // from the row's last match before a gap. A walk costs ~0.1 us, a full search ~3 us.
+    const double seeds[3] = {r->w_prev, r->w_up[x], r->w_last};
+    for (int k = 0; k < 3 && !found; ++k) {
+      const double w_seed = seeds[k];
+      if (!std::isfinite(w_seed) || (k >= 1 && w_seed == seeds[0]) || (k == 2 && w_seed == seeds[1])) continue;
+      if (p.rect ? m.RectLocalSearch(w_seed, &root) : m.LocalSearch(w_seed, &root)) {
+        any = true;
+        found = m.Accept(root, r->mod_row[x], x, y);
+      }
+    }
+  }
+  if (!found) {
+    ++r->full;
+    if (p.rect) {
+      m.RectFullSearch(&roots);
+    } else {
+      m.SetRange();
+      m.FullSearch(&roots);
+    }
+    any = any || !roots.empty();
+    // Several crossings (another surface lit by the same projector column on the same
+    // epipolar curve): try first the one whose modulation agrees best with the source's.
+    const double b_src = std::max(1e-6, static_cast<double>(r->mod_row[x]));
+    std::stable_sort(roots.begin(), roots.end(), [&](const Matcher::Root& ra, const Matcher::Root& rb) {
+      return std::abs(std::log(std::max(1e-6, ra.at.modulation) / b_src)) <
+             std::abs(std::log(std::max(1e-6, rb.at.modulation) / b_src));
+    });
+    for (const auto& cand : roots) {
+      if (m.Accept(cand, b_src, x, y)) {
+        root = cand;
+        found = true;
+        break;
+      }
+    }
+  }
+  if (!found) {
+    (any ? r->lr : r->no_match) += 1;
+    r->w_prev = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  ++r->matched;
+  r->w_prev = root.w;
+  r->w_last = root.w;
+  r->w_row[x] = root.w;
+  // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
+  const double sigma_w = std::sqrt(static_cast<double>(r->srow[x]) * r->srow[x] + root.at.var) / std::abs(root.slope);
+  Vec2 d = root.vel, unused;
+  if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
+  const double speed = d.norm();
+  if (p.pixels) {
+    r->u_row[x] = static_cast<float>(root.at.pix.x());
+    r->v_row[x] = static_cast<float>(root.at.pix.y());
+  }
+  r->sigma_row[x] = static_cast<float>(speed * sigma_w);
+  if (p.points) {
+    // X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2.
+    const double z = 1.0 / root.w;
+    const float zf = static_cast<float>(z);
+    r->depth_row[x] = zf;
+    // x and y from the depth as stored (StereoMatch::x_mm): the point TriangulateMatches
+    // formed from the depth map when it undistorted the pixel again.
+    r->x_row[x] = static_cast<float>(ideal.x() * static_cast<double>(zf));
+    r->y_row[x] = static_cast<float>(ideal.y() * static_cast<double>(zf));
+    const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
+    r->point_sigma_row[x] = static_cast<float>(ray * z * z * sigma_w);
+  }
+}
+
+// What the lanes read of a pass (detail::WalkMaps).
+detail::WalkMaps LaneMaps(const Pass& p) {
+  detail::WalkMaps w;
+  for (int i = 0; i < 3; ++i) w.t[i] = p.T(i);
+  w.fx = p.dst->fx, w.fy = p.dst->fy, w.cx = p.dst->cx, w.cy = p.dst->cy;
+  w.distortion = p.dst->distortion;
+  w.cols = p.dst_coord.cols, w.rows = p.dst_coord.rows;
+  w.coord = p.dst_coord_rows.data;
+  w.sigma = p.dst_sigma_rows.data;
+  w.modulation = p.dst_modulation_rows.data;
+  w.stride = p.dst_coord_rows.stride;
+  w.cell_ok = p.cell_ok.data();
+  w.step_px = p.step_px, w.max_span = p.max_span;
+  w.w_lo = p.w_lo, w.w_hi = p.w_hi;
+  w.box_x0 = p.box_x0, w.box_x1 = p.box_x1, w.box_y0 = p.box_y0, w.box_y1 = p.box_y1;
+  w.max_modulation_ratio = p.max_modulation_ratio;
+  w.lr_check = p.lr_check, w.lr_sigma = p.lr_sigma;
+  w.lr_tolerance = p.lr_tolerance, w.lr_sigma_factor = p.lr_sigma_factor;
+  if (p.lr_check) {
+    w.back_u = p.back_u_rows.data, w.back_v = p.back_v_rows.data, w.back_sigma = p.back_sigma_rows.data;
+    w.back_stride = p.back_u_rows.stride;
+    w.back_cols = p.back_u.cols, w.back_rows = p.back_u.rows;
+  }
+  return w;
+}
+
+// Whether the lanes can walk the pass: the curve search (the rectified back pass walks rows),
+// with the walk (not StereoMatchOptions::full_search), on a CPU with AVX2, with the three
+// destination maps in one layout (MatchStereo makes them so).
+bool LanesWalk(const Pass& p) {
+  return !p.rect && !p.full_search && detail::Avx2Kernels() && p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
+         p.dst_modulation_rows.stride == p.dst_coord_rows.stride;
+}
+
+// Walks rows [yb, ye) of a block, `lanes` rows side by side (1: one after the other). A row's
+// pixel is settled by the lanes when they can (the left neighbour's seed, the common case);
+// otherwise the scalar search takes it, once the row above has passed it (it may seed from the
+// row above's match). The results do not depend on `lanes`.
+void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const detail::WalkMaps& maps,
+              const detail::UndistortChain* chains, std::vector<double>* w_buf) {
+  Matcher m{p};
+  std::vector<Matcher::Root> roots;
+  for (int g = yb; g < ye; g += lanes) {
+    const int n = std::min(lanes, ye - g);
+    RowWalk rw[4];
+    bool pending[4] = {false, false, false, false};
+    for (int k = 0; k < n; ++k) {
+      rw[k].Start(p, out, g + k, &chains[g + k - yb], w_buf[k].data(), w_buf[k + 1].data());
+      pending[k] = NextSearched(p, &rw[k]);
+    }
+    for (bool more = n > 0; more;) {
+      int settled = 0;
+      detail::WalkLanes in;
+      if (lanes > 1) {
+        in.active = 0;
+        for (int k = 0; k < n; ++k) {
+          RowWalk& r = rw[k];
+          if (!pending[k] || r.lane_tried || !std::isfinite(r.w_prev)) continue;
+          const int e = r.next_ray;
+          in.a_x[k] = r.chain->a_x[e], in.a_y[k] = r.chain->a_y[e], in.a_z[k] = r.chain->a_z[e];
+          in.c_src[k] = r.crow[r.x];
+          in.w0[k] = r.w_prev;
+          in.b_src[k] = r.mod_row[r.x];
+          in.su[k] = r.x, in.sv[k] = r.y;
+          in.active |= 1 << k;
+          r.lane_tried = true;
+        }
+        for (int k = n; k < 4; ++k) {
+          in.a_x[k] = in.a_y[k] = in.c_src[k] = in.w0[k] = in.b_src[k] = in.su[k] = in.sv[k] = 0.0;
+          in.a_z[k] = 1.0;
+        }
+        for (int k = 0; k < n; ++k)
+          if (!(in.active >> k & 1)) {
+            in.a_x[k] = in.a_y[k] = in.c_src[k] = in.w0[k] = in.b_src[k] = in.su[k] = in.sv[k] = 0.0;
+            in.a_z[k] = 1.0;
+          }
+        if (in.active) {
+          detail::WalkFourLanes(maps, &in);
+          settled = in.found;
+        }
+      }
+      more = false;
+      for (int k = 0; k < n; ++k) {
+        RowWalk& r = rw[k];
+        if (!pending[k]) continue;
+        if (settled >> k & 1) {
+          Matcher::Root root;
+          root.w = in.w[k];
+          root.slope = in.slope[k];
+          root.at.ok = true;
+          root.at.pix = Vec2(in.pix_x[k], in.pix_y[k]);
+          root.at.u0 = in.u0[k], root.at.v0 = in.v0[k];
+          root.at.var = in.var[k];
+          root.at.modulation = in.modulation[k];
+          root.vel = Vec2(in.vel_x[k], in.vel_y[k]);
+          SearchPixel(p, m, roots, &r, &root);
+        } else if (k == 0 || !pending[k - 1] || rw[k - 1].x > r.x) {
+          SearchPixel(p, m, roots, &r, nullptr);
+        } else {
+          more = true;  // waits for the row above
+          continue;
+        }
+        r.lane_tried = false;
+        pending[k] = NextSearched(p, &r);
+        more = more || pending[k];
+      }
+    }
+    for (int k = 0; k < n; ++k) rw[k].Flush(out);
+    std::swap(w_buf[0], w_buf[n]);
+  }
+}
+
 // Runs one pass over `rows`; returns false if cancelled.
 bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, const std::string& stage) {
   const int W = p.src_coord.cols, H = p.src_coord.rows;
@@ -991,12 +1298,15 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
   turn.rectified = p.rect;
   turn.rect_from_camera = p.rect_from_src;
   turn.rect_f = p.rect_f;
+  const int lanes = LanesWalk(p) ? 4 : 1;
+  const detail::WalkMaps maps = lanes > 1 ? LaneMaps(p) : detail::WalkMaps{};
   for (int r0 = 0; r0 < H; r0 += chunk) {
     const int r1 = std::min(H, r0 + chunk);
     const int blocks = (r1 - r0 + kBlock - 1) / kBlock;
     tbb::parallel_for(0, blocks, [&](int b) {
-      std::vector<Matcher::Root> roots;
-      std::vector<double> w_up(W, kNaN), w_row(W, kNaN);
+      // The row above the rows walked (NaN above a block's first row), then one per lane.
+      std::vector<double> w_buf[5];
+      for (std::vector<double>& w : w_buf) w.assign(W, kNaN);
       const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
       // The block's source rays first: the pixels each row will search (valid, not noisy,
       // reachable), undistorted row by row in order (UndistortChains, several rows side by side).
@@ -1024,145 +1334,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
                           rays[6].data() + at, rays[7].data() + at};
       }
       detail::UndistortChains(*p.src, chains, ye - yb, &turn);
-      for (int y = yb; y < ye; ++y) {
-        std::swap(w_up, w_row);
-        std::fill(w_row.begin(), w_row.end(), kNaN);
-        Matcher m{p};
-        double w_prev = std::numeric_limits<double>::quiet_NaN();
-        double w_last = std::numeric_limits<double>::quiet_NaN();  // the row's last match, past gaps
-        const detail::UndistortChain& chain = chains[y - yb];
-        int next_ray = 0;  // the chain's entry of the next pixel searched
-        long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
-        const float* crow = p.src_coord.ptr<float>(y);
-        const float* srow = p.src_sigma.ptr<float>(y);
-        const uchar* mrow = p.src_mask.ptr<uchar>(y);
-        const uchar* reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
-        const float* mod_row = p.src_modulation.ptr<float>(y);
-        // The output rows (the pass writes u, v only with `pixels`, depth to point_sigma only with `points`).
-        float* u_row = p.pixels ? out->u.ptr<float>(y) : nullptr;
-        float* v_row = p.pixels ? out->v.ptr<float>(y) : nullptr;
-        float* sigma_row = out->sigma.ptr<float>(y);
-        float* depth_row = p.points ? out->depth.ptr<float>(y) : nullptr;
-        float* x_row = p.points ? out->x.ptr<float>(y) : nullptr;
-        float* y_row = p.points ? out->y.ptr<float>(y) : nullptr;
-        float* point_sigma_row = p.points ? out->point_sigma.ptr<float>(y) : nullptr;
-        for (float* row : {u_row, v_row, sigma_row, depth_row, x_row, y_row, point_sigma_row})
-          if (row) std::fill_n(row, W, kNaN);
-        for (int x = 0; x < W; ++x) {
-          if (!mrow[x] || !std::isfinite(crow[x])) {
-            w_prev = std::numeric_limits<double>::quiet_NaN();
-            // Masked runs (most of a frame outside the object) eight mask bytes at a time.
-            while (x + 9 <= W) {
-              std::uint64_t next8;
-              std::memcpy(&next8, mrow + x + 1, sizeof next8);
-              if (next8) break;
-              x += 8;
-            }
-            continue;
-          }
-          ++valid;
-          if (!(srow[x] <= p.max_sigma)) {
-            ++noisy;
-            w_prev = std::numeric_limits<double>::quiet_NaN();
-            continue;
-          }
-          if (reach_row && !reach_row[x]) {
-            // No back match can accept it: any crossing would fail the left-right check.
-            ++unreachable;
-            w_prev = std::numeric_limits<double>::quiet_NaN();
-            continue;
-          }
-          // The source ray (undistorted before the row's walk, in the order of the row).
-          assert(next_ray < chain.count && chain.xs[next_ray] == x);
-          const int entry = next_ray++;
-          const Vec2 ideal(chain.ideal_x[entry], chain.ideal_y[entry]);
-          m.a = Vec3(chain.a_x[entry], chain.a_y[entry], chain.a_z[entry]);
-          m.c_src = crow[x];
-          if (p.rect && !m.SetRectRay(chain.rs_u[entry], chain.rs_v[entry], chain.rs_z[entry])) {
-            ++no_match;
-            w_prev = std::numeric_limits<double>::quiet_NaN();
-            continue;
-          }
-          Matcher::Root root;
-          bool found = false, any = false;
-          if (!p.full_search) {
-            // Start from the left neighbour's match; then (a run start, or no acceptable crossing
-            // near it: the neighbour may lie on another surface) from the pixel above's, then
-            // from the row's last match before a gap. A walk costs ~0.1 us, a full search ~3 us.
-            const double seeds[3] = {w_prev, w_up[x], w_last};
-            for (int k = 0; k < 3 && !found; ++k) {
-              const double w_seed = seeds[k];
-              if (!std::isfinite(w_seed) || (k >= 1 && w_seed == seeds[0]) || (k == 2 && w_seed == seeds[1])) continue;
-              if (p.rect ? m.RectLocalSearch(w_seed, &root) : m.LocalSearch(w_seed, &root)) {
-                any = true;
-                found = m.Accept(root, mod_row[x], x, y);
-              }
-            }
-          }
-          if (!found) {
-            ++full;
-            if (p.rect) {
-              m.RectFullSearch(&roots);
-            } else {
-              m.SetRange();
-              m.FullSearch(&roots);
-            }
-            any = any || !roots.empty();
-            // Several crossings (another surface lit by the same projector column on the same
-            // epipolar curve): try first the one whose modulation agrees best with the source's.
-            const double b_src = std::max(1e-6, static_cast<double>(mod_row[x]));
-            std::stable_sort(roots.begin(), roots.end(), [&](const Matcher::Root& ra, const Matcher::Root& rb) {
-              return std::abs(std::log(std::max(1e-6, ra.at.modulation) / b_src)) <
-                     std::abs(std::log(std::max(1e-6, rb.at.modulation) / b_src));
-            });
-            for (const auto& r : roots) {
-              if (m.Accept(r, b_src, x, y)) {
-                root = r;
-                found = true;
-                break;
-              }
-            }
-          }
-          if (!found) {
-            (any ? lr : no_match) += 1;
-            w_prev = std::numeric_limits<double>::quiet_NaN();
-            continue;
-          }
-          ++matched;
-          w_prev = root.w;
-          w_last = root.w;
-          w_row[x] = root.w;
-          // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
-          const double sigma_w = std::sqrt(static_cast<double>(srow[x]) * srow[x] + root.at.var) / std::abs(root.slope);
-          Vec2 d = root.vel, unused;
-          if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
-          const double speed = d.norm();
-          if (p.pixels) {
-            u_row[x] = static_cast<float>(root.at.pix.x());
-            v_row[x] = static_cast<float>(root.at.pix.y());
-          }
-          sigma_row[x] = static_cast<float>(speed * sigma_w);
-          if (p.points) {
-            // X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2.
-            const double z = 1.0 / root.w;
-            const float zf = static_cast<float>(z);
-            depth_row[x] = zf;
-            // x and y from the depth as stored (StereoMatch::x_mm): the point TriangulateMatches
-            // formed from the depth map when it undistorted the pixel again.
-            x_row[x] = static_cast<float>(ideal.x() * static_cast<double>(zf));
-            y_row[x] = static_cast<float>(ideal.y() * static_cast<double>(zf));
-            const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
-            point_sigma_row[x] = static_cast<float>(ray * z * z * sigma_w);
-          }
-        }
-        out->noisy += noisy;
-        out->no_match += no_match;
-        out->lr += lr;
-        out->unreachable += unreachable;
-        out->full += full;
-        out->matched += matched;
-        out->valid += valid;
-      }
+      WalkRows(p, out, yb, ye, lanes, maps, chains, w_buf);
     });
     if (options.progress && !options.progress({stage, static_cast<std::size_t>(r1), static_cast<std::size_t>(H)}))
       return false;

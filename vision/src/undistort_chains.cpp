@@ -73,11 +73,7 @@ RAMTK_AVX2_INLINE void Turn(const Mat3& m, __m256d x, __m256d y, __m256d* out) {
 
 RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain* chains, const ChainRays* rays) {
   const Distortion& d = camera.distortion;
-  // The Jacobian's constants (DistortNormalizedJacobian's products as written).
-  const __m256d k1 = K(d.k1), k3 = K(d.k3), two_k2 = K(2.0 * d.k2);
-  const __m256d two_p1 = K(2.0 * d.p1), two_p2 = K(2.0 * d.p2), p1_two = K(d.p1 * 2.0), p2_two = K(d.p2 * 2.0);
-  const __m256d p1_six = K(d.p1 * 6.0), p2_six = K(d.p2 * 6.0);
-  const __m256d two = K(2.0), three = K(3.0);
+  const __m256d two = K(2.0);
   const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
   const __m256d tolerance = K(1e-15);
   int steps = 0;
@@ -119,11 +115,8 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
       const __m256d converged = _mm256_cmp_pd(_mm256_max_pd(ax, ay), tolerance, _CMP_LT_OQ);
       done = _mm256_or_pd(done, converged);
       if (_mm256_movemask_pd(done) == 0xF) break;
-      const __m256d dr = Add(k1, Mul(r2, Add(two_k2, Mul(Mul(three, r2), k3))));
-      const __m256d j00 = Add(Add(Add(radial, Mul(Mul(Mul(x, dr), two), x)), Mul(two_p1, y)), Mul(p2_six, x));
-      const __m256d j01 = Add(Add(Mul(Mul(Mul(x, dr), two), y), Mul(two_p1, x)), Mul(p2_two, y));
-      const __m256d j10 = Add(Add(Mul(Mul(Mul(y, dr), two), x), Mul(p1_two, x)), Mul(two_p2, y));
-      const __m256d j11 = Add(Add(Add(radial, Mul(Mul(Mul(y, dr), two), y)), Mul(p1_six, y)), Mul(two_p2, x));
+      __m256d j00, j01, j10, j11;
+      DistortJacobian4(d, x, y, r2, radial, &j00, &j01, &j10, &j11);
       const __m256d det = Sub(Mul(j00, j11), Mul(j01, j10));
       const __m256d nx = Sub(x, _mm256_div_pd(Sub(Mul(j11, rx), Mul(j01, ry)), det));
       const __m256d ny = Sub(y, _mm256_div_pd(Sub(Mul(j00, ry), Mul(j10, rx)), det));

@@ -1,0 +1,357 @@
+// The match's walk on four lanes (stereo_walk_lanes.h). Each step names the scalar function whose
+// expressions it repeats (stereo_match.cpp, Matcher); the products and sums keep their order.
+#include "stereo_walk_lanes.h"
+
+#include <immintrin.h>
+
+#include <atomic>
+#include <limits>
+
+#include "avx2.h"
+#include "distort_lanes.h"
+
+namespace ramtk::vision::detail {
+namespace {
+
+std::atomic<bool> g_check{false};
+std::atomic<long> g_checked{0}, g_mismatched{0};
+
+RAMTK_AVX2_INLINE __m256d K(double v) { return _mm256_set1_pd(v); }
+RAMTK_AVX2_INLINE __m256d Add(__m256d a, __m256d b) { return _mm256_add_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Sub(__m256d a, __m256d b) { return _mm256_sub_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Mul(__m256d a, __m256d b) { return _mm256_mul_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Div(__m256d a, __m256d b) { return _mm256_div_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d And(__m256d a, __m256d b) { return _mm256_and_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Or(__m256d a, __m256d b) { return _mm256_or_pd(a, b); }
+RAMTK_AVX2_INLINE __m256d Not(__m256d a) { return _mm256_xor_pd(a, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))); }
+// b where m, else a.
+RAMTK_AVX2_INLINE __m256d Pick(__m256d m, __m256d a, __m256d b) { return _mm256_blendv_pd(a, b, m); }
+RAMTK_AVX2_INLINE __m256d Lt(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+RAMTK_AVX2_INLINE __m256d Le(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LE_OQ); }
+RAMTK_AVX2_INLINE __m256d Gt(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
+RAMTK_AVX2_INLINE __m256d Ge(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
+RAMTK_AVX2_INLINE __m256d Eq(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+RAMTK_AVX2_INLINE __m256d Ne(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
+RAMTK_AVX2_INLINE __m256d Abs(__m256d a) {
+  return _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull))), a);
+}
+RAMTK_AVX2_INLINE __m256d IsNan(__m256d a) { return _mm256_cmp_pd(a, a, _CMP_UNORD_Q); }
+// x - x is 0 for a finite x and NaN otherwise.
+RAMTK_AVX2_INLINE __m256d IsFinite(__m256d a) { return Eq(Sub(a, a), K(0.0)); }
+// std::copysign(mag, sgn) for a magnitude without sign bit (a square root).
+RAMTK_AVX2_INLINE __m256d CopySign(__m256d mag, __m256d sgn) {
+  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
+  return Or(_mm256_andnot_pd(sign, mag), And(sign, sgn));
+}
+// std::min(a, b) and std::max(a, b): (b < a) ? b : a and (a < b) ? b : a.
+RAMTK_AVX2_INLINE __m256d Min(__m256d a, __m256d b) { return Pick(Lt(b, a), a, b); }
+RAMTK_AVX2_INLINE __m256d Max(__m256d a, __m256d b) { return Pick(Lt(a, b), a, b); }
+RAMTK_AVX2_INLINE __m256d Load(const double* v) { return _mm256_loadu_pd(v); }
+
+// Four lanes' values of a float map at the given offsets (lanes off the mask: 0).
+RAMTK_AVX2_INLINE __m256d Gather(const float* map, const std::size_t* at, int mask) {
+  return _mm256_setr_pd(mask & 1 ? map[at[0]] : 0.0, mask & 2 ? map[at[1]] : 0.0, mask & 4 ? map[at[2]] : 0.0,
+                        mask & 8 ? map[at[3]] : 0.0);
+}
+
+// The cells under four pixels (ValidCell): their floors, and which lie inside the image with
+// Pass::cell_ok set; `at` gets each such cell's offset in the maps, `cell` the index in cell_ok.
+struct Cells {
+  __m256d u0, v0;
+  int ok = 0;
+  std::size_t at[4] = {0, 0, 0, 0};
+};
+RAMTK_AVX2_INLINE Cells CellsAt(const WalkMaps& m, __m256d u, __m256d v, int mask) {
+  Cells c;
+  c.u0 = _mm256_floor_pd(u);
+  c.v0 = _mm256_floor_pd(v);
+  // FloorToInt's range (|v| < 1e9) and ValidCell's bounds, in double (exact for these values).
+  const __m256d inside = And(And(Ge(c.u0, K(0.0)), Ge(c.v0, K(0.0))),
+                             And(Lt(Add(c.u0, K(1.0)), K(m.cols)), Lt(Add(c.v0, K(1.0)), K(m.rows))));
+  int in = _mm256_movemask_pd(inside) & mask;
+  alignas(32) double fu[4], fv[4];
+  _mm256_store_pd(fu, c.u0);
+  _mm256_store_pd(fv, c.v0);
+  for (int i = 0; i < 4; ++i) {
+    if (!(in >> i & 1)) continue;
+    const std::size_t iu = static_cast<std::size_t>(fu[i]), iv = static_cast<std::size_t>(fv[i]);
+    if (!m.cell_ok[iv * static_cast<std::size_t>(m.cols) + iu]) {
+      in &= ~(1 << i);
+      continue;
+    }
+    c.at[i] = iv * m.stride + iu;
+  }
+  c.ok = in;
+  return c;
+}
+
+// The four corners of cells (c00 at `at`, c10 right of it, c01 below, c11 diagonal).
+struct Corners {
+  __m256d c00, c10, c01, c11;
+};
+RAMTK_AVX2_INLINE Corners CornersOf(const float* map, std::size_t stride, const std::size_t* at, int mask) {
+  alignas(32) double c[4][4] = {};
+  for (int i = 0; i < 4; ++i) {
+    if (!(mask >> i & 1)) continue;
+    const float* r0 = map + at[i];
+    const float* r1 = r0 + stride;
+    c[0][i] = r0[0], c[1][i] = r0[1], c[2][i] = r1[0], c[3][i] = r1[1];
+  }
+  return {_mm256_load_pd(c[0]), _mm256_load_pd(c[1]), _mm256_load_pd(c[2]), _mm256_load_pd(c[3])};
+}
+
+// The bilinear weights at (u, v) of cells with top-left corner (u0, v0), as EvalAt and Complete
+// take them.
+struct Weights {
+  __m256d w00, w10, w01, w11;
+};
+RAMTK_AVX2_INLINE Weights WeightsAt(__m256d u, __m256d v, __m256d u0, __m256d v0) {
+  const __m256d fu = Sub(u, u0), fv = Sub(v, v0), one = K(1.0);
+  return {Mul(Sub(one, fu), Sub(one, fv)), Mul(fu, Sub(one, fv)), Mul(Sub(one, fu), fv), Mul(fu, fv)};
+}
+RAMTK_AVX2_INLINE __m256d Blend(const Weights& w, const Corners& c) {
+  return Add(Add(Add(Mul(w.w00, c.c00), Mul(w.w10, c.c10)), Mul(w.w01, c.c01)), Mul(w.w11, c.c11));
+}
+
+// EvalAt: the interpolated coordinate minus c_src at four pixels; `ok` the lanes with a valid cell.
+RAMTK_AVX2_INLINE __m256d EvalAt(const WalkMaps& m, __m256d u, __m256d v, __m256d c_src, int mask, int* ok) {
+  const Cells cells = CellsAt(m, u, v, mask);
+  *ok = cells.ok;
+  const Corners c = CornersOf(m.coord, m.stride, cells.at, cells.ok);
+  return Sub(Blend(WeightsAt(u, v, cells.u0, cells.v0), c), c_src);
+}
+
+RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
+  const __m256d zero = K(0.0), one = K(1.0);
+  const __m256d ax = Load(l->a_x), ay = Load(l->a_y), az = Load(l->a_z), c_src = Load(l->c_src);
+  const __m256d tx = K(m.t[0]), ty = K(m.t[1]), tz = K(m.t[2]);
+  const __m256d fx = K(m.fx), fy = K(m.fy), cx = K(m.cx), cy = K(m.cy);
+  int alive = l->active;
+  l->found = 0;
+
+  // PixelAndVelocity(w0).
+  const __m256d w0 = Load(l->w0);
+  __m256d pix_x, pix_y, vel_x, vel_y;
+  {
+    const __m256d qx = Add(ax, Mul(tx, w0)), qy = Add(ay, Mul(ty, w0)), qz = Add(az, Mul(tz, w0));
+    alive &= _mm256_movemask_pd(Gt(qz, K(1e-12)));
+    const __m256d iz = Div(one, qz);
+    const __m256d ix = Mul(qx, iz), iy = Mul(qy, iz);
+    __m256d r2, radial, dx, dy;
+    DistortNormalized4(m.distortion, ix, iy, &r2, &radial, &dx, &dy);
+    pix_x = Add(Mul(fx, dx), cx);
+    pix_y = Add(Mul(fy, dy), cy);
+    const __m256d di_x = Mul(Mul(Sub(Mul(tx, az), Mul(ax, tz)), iz), iz);
+    const __m256d di_y = Mul(Mul(Sub(Mul(ty, az), Mul(ay, tz)), iz), iz);
+    __m256d j00, j01, j10, j11;
+    DistortJacobian4(m.distortion, ix, iy, r2, radial, &j00, &j01, &j10, &j11);
+    // Eigen's 2 x 2 product: each row's two products summed left to right.
+    vel_x = Mul(fx, Add(Mul(j00, di_x), Mul(j01, di_y)));
+    vel_y = Mul(fy, Add(Mul(j10, di_x), Mul(j11, di_y)));
+  }
+
+  // LineCrossing(pix, vel, 16 step_px): at most three cells on the lanes.
+  const __m256d speed = _mm256_sqrt_pd(Add(Mul(vel_x, vel_x), Mul(vel_y, vel_y)));
+  alive &= _mm256_movemask_pd(Gt(speed, zero));
+  const __m256d s_max = Div(K(16.0 * m.step_px), speed);
+  __m256d u0 = _mm256_floor_pd(pix_x), v0 = _mm256_floor_pd(pix_y);
+  __m256d dir = zero, s_in = zero, s_root = zero, dfds = zero;
+  int settled = 0;  // lanes whose crossing is found
+  for (int cell = 0; cell < 3; ++cell) {
+    const int open = alive & ~settled;
+    if (!open) break;
+    const __m256d inside =
+        And(And(Ge(u0, zero), Ge(v0, zero)), And(Lt(Add(u0, one), K(m.cols)), Lt(Add(v0, one), K(m.rows))));
+    int in = _mm256_movemask_pd(inside) & open;
+    alignas(32) double fu[4], fv[4];
+    _mm256_store_pd(fu, u0);
+    _mm256_store_pd(fv, v0);
+    std::size_t at[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4; ++i) {
+      if (!(in >> i & 1)) continue;
+      const std::size_t iu = static_cast<std::size_t>(fu[i]), iv = static_cast<std::size_t>(fv[i]);
+      if (!m.cell_ok[iv * static_cast<std::size_t>(m.cols) + iu]) in &= ~(1 << i);
+      at[i] = iv * m.stride + iu;
+    }
+    alive &= ~(open & ~in);  // off the image or an invalid cell: the scalar walk fails there too
+    if (!in) break;
+    const Corners c = CornersOf(m.coord, m.stride, at, in);
+    const __m256d au = Sub(pix_x, u0), av = Sub(pix_y, v0);
+    const __m256d ka = Sub(c.c10, c.c00), kb = Sub(c.c01, c.c00), kc = Add(Sub(Sub(c.c11, c.c10), c.c01), c.c00);
+    const __m256d A = Add(Add(Add(Sub(c.c00, c_src), Mul(ka, au)), Mul(kb, av)), Mul(Mul(kc, au), av));
+    const __m256d B = Add(Add(Mul(ka, vel_x), Mul(kb, vel_y)), Mul(kc, Add(Mul(au, vel_y), Mul(av, vel_x))));
+    const __m256d C = Mul(Mul(kc, vel_x), vel_y);
+    if (cell == 0) {
+      const __m256d f0 = Add(Add(A, Mul(B, s_in)), Mul(Mul(C, s_in), s_in));
+      const __m256d g0 = Add(B, Mul(Mul(K(2.0), C), s_in));
+      // f0 == 0 (a crossing at the seed's pixel, rare), or g0 zero or not finite: the scalar walk.
+      alive &= ~_mm256_movemask_pd(Or(Eq(f0, zero), Or(Eq(g0, zero), Not(IsFinite(g0)))));
+      dir = Pick(Gt(Mul(f0, g0), zero), one, K(-1.0));
+    }
+    const int live = in & alive;
+    // Where the line leaves the cell, going in direction dir.
+    const __m256d ddx = Mul(dir, vel_x), ddy = Mul(dir, vel_y);
+    const __m256d ex = Pick(Gt(ddx, zero), Pick(Lt(ddx, zero), K(1e300), Div(Sub(u0, pix_x), ddx)),
+                            Div(Sub(Add(u0, one), pix_x), ddx));
+    const __m256d ey = Pick(Gt(ddy, zero), Pick(Lt(ddy, zero), K(1e300), Div(Sub(v0, pix_y), ddy)),
+                            Div(Sub(Add(v0, one), pix_y), ddy));
+    const __m256d t_out = Min(Min(ex, ey), s_max);  // std::min({ex, ey, s_max})
+    const __m256d e_in = Mul(dir, s_in), e_out = Mul(dir, t_out);
+    const __m256d lo = Min(e_in, e_out), hi = Max(e_in, e_out);
+    // The roots of A + B s + C s^2 (stable form), the first one met going in direction dir.
+    const __m256d disc = Sub(Mul(B, B), Mul(Mul(K(4.0), A), C));
+    const __m256d real = Ge(disc, zero);
+    const __m256d q = Mul(K(-0.5), Add(B, CopySign(_mm256_sqrt_pd(disc), B)));
+    const __m256d nan = K(std::numeric_limits<double>::quiet_NaN());
+    const __m256d r1 = Pick(Ne(q, zero), nan, Div(A, q)), r2 = Pick(Ne(C, zero), nan, Div(q, C));
+    const __m256d lo_m = Sub(lo, Mul(K(1e-12), Add(Abs(lo), K(1e-300))));
+    const __m256d hi_m = Add(hi, Mul(K(1e-12), Add(Abs(hi), K(1e-300))));
+    __m256d best = nan;
+    for (const __m256d r : {r1, r2}) {
+      const __m256d take = And(And(Ge(r, lo_m), Le(r, hi_m)), Or(IsNan(best), Lt(Mul(dir, r), Mul(dir, best))));
+      best = Pick(And(real, take), best, r);
+    }
+    const __m256d got = Not(IsNan(best));
+    const int got_mask = _mm256_movemask_pd(got) & live;
+    const __m256d got_lanes = _mm256_castsi256_pd(
+        _mm256_setr_epi64x(got_mask & 1 ? -1 : 0, got_mask & 2 ? -1 : 0, got_mask & 4 ? -1 : 0, got_mask & 8 ? -1 : 0));
+    const __m256d slope = Add(B, Mul(Mul(K(2.0), C), best));
+    s_root = Pick(got_lanes, s_root, best);
+    dfds = Pick(got_lanes, dfds, slope);
+    alive &= ~(got_mask & _mm256_movemask_pd(Eq(slope, zero)));  // LineCrossing's dfds != 0
+    settled |= got_mask;
+    // The others go on into the next cell, unless the reach ends here.
+    const int on = live & ~got_mask;
+    alive &= ~(on & _mm256_movemask_pd(Ge(t_out, s_max)));
+    s_in = Pick(got_lanes, Mul(dir, t_out), s_in);
+    u0 = Pick(got_lanes, Add(u0, Pick(Le(ex, ey), zero, Pick(Gt(ddx, zero), K(-1.0), one))), u0);
+    v0 = Pick(got_lanes, Add(v0, Pick(Le(ey, ex), zero, Pick(Gt(ddy, zero), K(-1.0), one))), v0);
+  }
+  alive &= settled;
+  if (!alive) return;
+
+  // LocalSearch's first round: the curve's own pixel at w0 + s, within 1e-4 px of the line's.
+  const __m256d w = Add(w0, s_root);
+  const __m256d qx = Add(ax, Mul(tx, w)), qy = Add(ay, Mul(ty, w)), qz = Add(az, Mul(tz, w));
+  alive &= _mm256_movemask_pd(Gt(qz, K(1e-12)));
+  __m256d at_x, at_y;
+  {
+    __m256d r2, radial, dx, dy;
+    DistortNormalized4(m.distortion, Div(qx, qz), Div(qy, qz), &r2, &radial, &dx, &dy);
+    const __m256d on_x = Add(Mul(fx, dx), cx), on_y = Add(Mul(fy, dy), cy);
+    const __m256d gap_x = Sub(on_x, Add(pix_x, Mul(vel_x, s_root))), gap_y = Sub(on_y, Add(pix_y, Mul(vel_y, s_root)));
+    alive &= _mm256_movemask_pd(Lt(Add(Mul(gap_x, gap_x), Mul(gap_y, gap_y)), K(1e-8)));
+    // InRange(w).
+    const __m256d in_range = And(And(And(Ge(w, K(m.w_lo)), Le(w, K(m.w_hi))), Gt(qz, K(1e-9))),
+                                 And(And(Ge(qx, Mul(K(m.box_x0), qz)), Le(qx, Mul(K(m.box_x1), qz))),
+                                     And(Ge(qy, Mul(K(m.box_y0), qz)), Le(qy, Mul(K(m.box_y1), qz)))));
+    alive &= _mm256_movemask_pd(in_range);
+    // The crossing: pix + vel s with s = 0.
+    at_x = Add(on_x, Mul(vel_x, zero));
+    at_y = Add(on_y, Mul(vel_y, zero));
+  }
+  if (!alive) return;
+  const Cells cell = CellsAt(m, at_x, at_y, alive);  // CellAt
+  alive = cell.ok;
+  if (!alive) return;
+  // The slope: the secant over step_px / 4 on each side along the tangent, else the derivative.
+  const __m256d hs = Div(K(0.25 * m.step_px), speed);
+  int ok_a = 0, ok_b = 0;
+  const __m256d fa = EvalAt(m, Sub(at_x, Mul(vel_x, hs)), Sub(at_y, Mul(vel_y, hs)), c_src, alive, &ok_a);
+  const __m256d fb = EvalAt(m, Add(at_x, Mul(vel_x, hs)), Add(at_y, Mul(vel_y, hs)), c_src, alive, &ok_b);
+  const int both = ok_a & ok_b;
+  const __m256d both_lanes = _mm256_castsi256_pd(
+      _mm256_setr_epi64x(both & 1 ? -1 : 0, both & 2 ? -1 : 0, both & 4 ? -1 : 0, both & 8 ? -1 : 0));
+  const __m256d secant =
+      Pick(And(both_lanes, Le(Abs(Sub(fb, fa)), K(m.max_span))), zero, Div(Sub(fb, fa), Mul(K(2.0), hs)));
+  const __m256d slope = Pick(Gt(Mul(secant, dfds), zero), dfds, secant);
+  // Complete: the variance and modulation at the crossing.
+  const Weights wt = WeightsAt(at_x, at_y, cell.u0, cell.v0);
+  const Corners sg = CornersOf(m.sigma, m.stride, cell.at, alive);
+  __m256d var =
+      Add(Add(Add(Mul(Mul(Mul(wt.w00, wt.w00), sg.c00), sg.c00), Mul(Mul(Mul(wt.w10, wt.w10), sg.c10), sg.c10)),
+              Mul(Mul(Mul(wt.w01, wt.w01), sg.c01), sg.c01)),
+          Mul(Mul(Mul(wt.w11, wt.w11), sg.c11), sg.c11));
+  var = And(var, IsFinite(var));  // not finite: 0
+  const __m256d modulation = Blend(wt, CornersOf(m.modulation, m.stride, cell.at, alive));
+
+  // Accept: the modulations agree, and the left-right check passes through the interpolated
+  // back match (the other cases: the scalar walk).
+  const __m256d tiny = K(1e-6);
+  const __m256d ratio = Div(Max(tiny, modulation), Max(tiny, Load(l->b_src)));
+  const __m256d mmr = K(m.max_modulation_ratio);
+  alive &= ~_mm256_movemask_pd(Or(Gt(ratio, mmr), Lt(Mul(ratio, mmr), one)));
+  if (m.lr_check && alive) {
+    // Consistent: the back matches' cells (the crossing's floors), inside the back maps.
+    const __m256d inside = And(And(Ge(cell.u0, zero), Ge(cell.v0, zero)),
+                               And(Lt(Add(cell.u0, one), K(m.back_cols)), Lt(Add(cell.v0, one), K(m.back_rows))));
+    alive &= _mm256_movemask_pd(inside);
+    alignas(32) double fu[4], fv[4];
+    _mm256_store_pd(fu, cell.u0);
+    _mm256_store_pd(fv, cell.v0);
+    std::size_t at[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4; ++i)
+      if (alive >> i & 1) at[i] = static_cast<std::size_t>(fv[i]) * m.back_stride + static_cast<std::size_t>(fu[i]);
+    const Corners bu = CornersOf(m.back_u, m.back_stride, at, alive);
+    const Corners bv = CornersOf(m.back_v, m.back_stride, at, alive);
+    const __m256d all = IsFinite(Add(Add(Add(Add(Sub(bu.c00, bu.c00), Sub(bu.c10, bu.c10)), Sub(bu.c01, bu.c01)),
+                                         Add(Sub(bu.c11, bu.c11), Sub(bv.c00, bv.c00))),
+                                     Add(Add(Sub(bv.c10, bv.c10), Sub(bv.c01, bv.c01)), Sub(bv.c11, bv.c11))));
+    alive &= _mm256_movemask_pd(all);
+    __m256d tolerance = K(m.lr_tolerance);
+    if (m.lr_sigma) {
+      const Corners bs = CornersOf(m.back_sigma, m.back_stride, at, alive);
+      for (const __m256d s : {bs.c00, bs.c10, bs.c01, bs.c11})
+        tolerance = Pick(IsFinite(s), tolerance, Max(tolerance, Mul(K(m.lr_sigma_factor), s)));
+    }
+    const Weights bw = WeightsAt(at_x, at_y, cell.u0, cell.v0);
+    const __m256d mu =
+        Add(Add(Add(Add(zero, Mul(bw.w00, bu.c00)), Mul(bw.w10, bu.c10)), Mul(bw.w01, bu.c01)), Mul(bw.w11, bu.c11));
+    const __m256d mv =
+        Add(Add(Add(Add(zero, Mul(bw.w00, bv.c00)), Mul(bw.w10, bv.c10)), Mul(bw.w01, bv.c01)), Mul(bw.w11, bv.c11));
+    __m256d spread = zero;
+    for (int k = 0; k < 4; ++k) {
+      const __m256d ku = k == 0 ? bu.c00 : k == 1 ? bu.c10 : k == 2 ? bu.c01 : bu.c11;
+      const __m256d kv = k == 0 ? bv.c00 : k == 1 ? bv.c10 : k == 2 ? bv.c01 : bv.c11;
+      const __m256d du = Sub(ku, bu.c00), dv = Sub(kv, bv.c00);
+      spread = Max(spread, Add(Mul(du, du), Mul(dv, dv)));
+    }
+    alive &= _mm256_movemask_pd(Lt(spread, K(16.0)));
+    const __m256d eu = Sub(mu, Load(l->su)), ev = Sub(mv, Load(l->sv));
+    alive &= _mm256_movemask_pd(Le(Add(Mul(eu, eu), Mul(ev, ev)), Mul(tolerance, tolerance)));
+  }
+  if (!alive) return;
+
+  l->found = alive;
+  _mm256_storeu_pd(l->w, w);
+  _mm256_storeu_pd(l->slope, slope);
+  _mm256_storeu_pd(l->pix_x, at_x);
+  _mm256_storeu_pd(l->pix_y, at_y);
+  _mm256_storeu_pd(l->var, var);
+  _mm256_storeu_pd(l->modulation, modulation);
+  _mm256_storeu_pd(l->vel_x, vel_x);
+  _mm256_storeu_pd(l->vel_y, vel_y);
+  alignas(32) double fu[4], fv[4];
+  _mm256_store_pd(fu, cell.u0);
+  _mm256_store_pd(fv, cell.v0);
+  for (int i = 0; i < 4; ++i) l->u0[i] = static_cast<int>(fu[i]), l->v0[i] = static_cast<int>(fv[i]);
+}
+
+}  // namespace
+
+void WalkFourLanes(const WalkMaps& maps, WalkLanes* lanes) { WalkFourLanesAvx2(maps, lanes); }
+
+void SetWalkLaneCheck(bool on) {
+  g_check.store(on, std::memory_order_relaxed);
+  g_checked.store(0, std::memory_order_relaxed);
+  g_mismatched.store(0, std::memory_order_relaxed);
+}
+bool WalkLaneCheck() { return g_check.load(std::memory_order_relaxed); }
+void CountWalkLaneCheck(bool same) {
+  g_checked.fetch_add(1, std::memory_order_relaxed);
+  if (!same) g_mismatched.fetch_add(1, std::memory_order_relaxed);
+}
+long WalkLanesChecked() { return g_checked.load(std::memory_order_relaxed); }
+long WalkLaneMismatches() { return g_mismatched.load(std::memory_order_relaxed); }
+
+}  // namespace ramtk::vision::detail

@@ -1,0 +1,67 @@
+#pragma once
+// The left-to-right match's walk (stereo_match.cpp: Matcher::LocalSearch from the left
+// neighbour's inverse depth, then Matcher::Accept) for four source pixels at once, one per lane,
+// on CPUs with AVX2.
+//
+// Each lane takes the scalar code's operations in its order (no fused multiply-add), so a root
+// the lanes settle is the scalar walk's bit for bit. The lanes settle only the common case: the
+// tangent line's crossing within its first three cells, the curve's pixel there within 1e-4 px
+// of the line's (no second round), and a root the left-right check accepts through the
+// interpolated back match. Every other pixel (about 3 % on the SLMaster capture) is left to the
+// scalar walk, which then starts from scratch; a lane never settles a root the scalar walk would
+// not. RunPass checks the two against each other when SetWalkLaneCheck is on
+// (tests/vision/stereo_walk_lanes_test.cpp).
+#include <cstddef>
+
+#include "ramtk/vision/camera.h"
+
+namespace ramtk::vision::detail {
+
+// What the walk reads of a pass (fixed for the pass): the destination camera, its maps, the
+// depth range and the left-right check's back matches (Pass in stereo_match.cpp).
+struct WalkMaps {
+  double t[3] = {0, 0, 0};  // dst_from_src translation, mm
+  double fx = 1, fy = 1, cx = 0, cy = 0;
+  Distortion distortion;
+  int cols = 0, rows = 0;  // the destination image
+  const float* coord = nullptr;
+  const float* sigma = nullptr;
+  const float* modulation = nullptr;
+  std::size_t stride = 0;                  // of the three maps above (one layout)
+  const unsigned char* cell_ok = nullptr;  // Pass::cell_ok, cols per row
+  double step_px = 0, max_span = 0;
+  double w_lo = 0, w_hi = 0;                              // the pass's inverse-depth range
+  double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0;  // Pass::box_*
+  double max_modulation_ratio = 1e300;
+  bool lr_check = false, lr_sigma = false;
+  double lr_tolerance = 0, lr_sigma_factor = 0;
+  const float *back_u = nullptr, *back_v = nullptr, *back_sigma = nullptr;
+  std::size_t back_stride = 0;
+  int back_cols = 0, back_rows = 0;
+};
+
+// Four source pixels: in, their rays, coordinates and seeds; out, the roots the lanes settled.
+struct WalkLanes {
+  int active = 0;                 // bit i: lane i holds a pixel
+  double a_x[4], a_y[4], a_z[4];  // R (ideal, 1) of the source pixel
+  double c_src[4];                // its coordinate, projector px
+  double w0[4];                   // the seed (the left neighbour's inverse depth)
+  double b_src[4];                // its modulation, DN
+  double su[4], sv[4];            // its column and row
+  int found = 0;                  // bit i: lane i's root is settled below
+  double w[4], slope[4], pix_x[4], pix_y[4], var[4], modulation[4], vel_x[4], vel_y[4];
+  int u0[4], v0[4];  // the root's cell
+};
+
+// Settles what it can of the active lanes (call only where Avx2Kernels() holds).
+void WalkFourLanes(const WalkMaps& maps, WalkLanes* lanes);
+
+// Tests: RunPass also walks every pixel the lanes settled the scalar way and counts the roots
+// that differ in any bit (or that the scalar walk does not accept).
+void SetWalkLaneCheck(bool on);
+bool WalkLaneCheck();
+void CountWalkLaneCheck(bool same);
+long WalkLanesChecked();
+long WalkLaneMismatches();
+
+}  // namespace ramtk::vision::detail
