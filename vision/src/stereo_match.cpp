@@ -1165,7 +1165,7 @@ detail::WalkMaps LaneMaps(const Pass& p) {
   w.coord = p.dst_coord_rows.data;
   w.sigma = p.dst_sigma_rows.data;
   w.modulation = p.dst_modulation_rows.data;
-  w.stride = p.dst_coord_rows.stride;
+  w.stride = static_cast<int>(p.dst_coord_rows.stride);
   w.cell_ok = p.cell_ok.data();
   w.step_px = p.step_px, w.max_span = p.max_span;
   w.w_lo = p.w_lo, w.w_hi = p.w_hi;
@@ -1175,7 +1175,7 @@ detail::WalkMaps LaneMaps(const Pass& p) {
   w.lr_tolerance = p.lr_tolerance, w.lr_sigma_factor = p.lr_sigma_factor;
   if (p.lr_check) {
     w.back_u = p.back_u_rows.data, w.back_v = p.back_v_rows.data, w.back_sigma = p.back_sigma_rows.data;
-    w.back_stride = p.back_u_rows.stride;
+    w.back_stride = static_cast<int>(p.back_u_rows.stride);
     w.back_cols = p.back_u.cols, w.back_rows = p.back_u.rows;
   }
   return w;
@@ -1183,10 +1183,14 @@ detail::WalkMaps LaneMaps(const Pass& p) {
 
 // Whether the lanes can walk the pass: the curve search (the rectified back pass walks rows),
 // with the walk (not StereoMatchOptions::full_search), on a CPU with AVX2, with the three
-// destination maps in one layout (MatchStereo makes them so).
+// destination maps in one layout (MatchStereo makes them so) and every offset in an int.
 bool LanesWalk(const Pass& p) {
+  const double limit = 2e9;
   return !p.rect && !p.full_search && detail::Avx2Kernels() && p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
-         p.dst_modulation_rows.stride == p.dst_coord_rows.stride;
+         p.dst_modulation_rows.stride == p.dst_coord_rows.stride &&
+         static_cast<double>(p.dst_coord_rows.stride) * (p.dst_coord.rows + 1) < limit &&
+         static_cast<double>(p.dst_coord.cols) * (p.dst_coord.rows + 1) < limit &&
+         (!p.lr_check || static_cast<double>(p.back_u_rows.stride) * (p.back_u.rows + 1) < limit);
 }
 
 // Walks rows [yb, ye) of a block, `lanes` rows side by side (1: one after the other). A row's

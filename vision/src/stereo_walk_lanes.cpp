@@ -48,56 +48,81 @@ RAMTK_AVX2_INLINE __m256d Min(__m256d a, __m256d b) { return Pick(Lt(b, a), a, b
 RAMTK_AVX2_INLINE __m256d Max(__m256d a, __m256d b) { return Pick(Lt(a, b), a, b); }
 RAMTK_AVX2_INLINE __m256d Load(const double* v) { return _mm256_loadu_pd(v); }
 
-// Four lanes' values of a float map at the given offsets (lanes off the mask: 0).
-RAMTK_AVX2_INLINE __m256d Gather(const float* map, const std::size_t* at, int mask) {
-  return _mm256_setr_pd(mask & 1 ? map[at[0]] : 0.0, mask & 2 ? map[at[1]] : 0.0, mask & 4 ? map[at[2]] : 0.0,
-                        mask & 8 ? map[at[3]] : 0.0);
+// A four-bit lane mask as 64-bit lanes (Pick's masks) and as 32-bit ones (tables: the shifts and
+// inserts were a tenth of the kernel's instructions).
+struct LaneTables {
+  alignas(32) long long m64[16][4];
+  alignas(16) int m32[16][4];
+  LaneTables() {
+    for (int m = 0; m < 16; ++m)
+      for (int i = 0; i < 4; ++i) m64[m][i] = -static_cast<long long>((m >> i) & 1), m32[m][i] = -((m >> i) & 1);
+  }
+};
+const LaneTables kLaneTables;
+RAMTK_AVX2_INLINE __m256d Lanes(int mask) {
+  return _mm256_load_pd(reinterpret_cast<const double*>(kLaneTables.m64[mask]));
+}
+RAMTK_AVX2_INLINE __m128i Lanes32(int mask) {
+  return _mm_load_si128(reinterpret_cast<const __m128i*>(kLaneTables.m32[mask]));
 }
 
-// The cells under four pixels (ValidCell): their floors, and which lie inside the image with
-// Pass::cell_ok set; `at` gets each such cell's offset in the maps, `cell` the index in cell_ok.
+// The offsets v0 * stride + u0 of four cells (whole u0, v0; lanes off the mask: 0, a cell every
+// map has). LanesWalk (stereo_match.cpp) keeps the maps within int offsets.
+RAMTK_AVX2_INLINE __m128i Offsets(__m256d u0, __m256d v0, int stride, int mask) {
+  const __m128i off =
+      _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(v0), _mm_set1_epi32(stride)), _mm256_cvttpd_epi32(u0));
+  return _mm_and_si128(off, Lanes32(mask));
+}
+
+// Of the lanes in `mask`, those whose cell (top-left corner u0, v0, whole) lies inside an image of
+// cols x rows (ValidCell's bounds; FloorToInt's range |v| < 1e9 is within them), exact in double.
+RAMTK_AVX2_INLINE int Inside(__m256d u0, __m256d v0, int cols, int rows, int mask) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d inside =
+      And(And(Ge(u0, zero), Ge(v0, zero)), And(Lt(Add(u0, one), K(cols)), Lt(Add(v0, one), K(rows))));
+  return _mm256_movemask_pd(inside) & mask;
+}
+
+// Of the lanes in `mask`, the cells inside the image whose Pass::cell_ok is set (ValidCell).
+RAMTK_AVX2_INLINE int ValidCells(const WalkMaps& m, __m256d u0, __m256d v0, int mask) {
+  const int in = Inside(u0, v0, m.cols, m.rows, mask);
+  alignas(16) int o[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(o), Offsets(u0, v0, m.cols, in));
+  int ok = 0;
+  for (int i = 0; i < 4; ++i) ok |= (m.cell_ok[o[i]] != 0) << i;
+  return ok & in;
+}
+
+// The cells under four pixels (ValidCell): their floors, the lanes whose cell is valid and the
+// cells' offsets in the maps.
 struct Cells {
   __m256d u0, v0;
   int ok = 0;
-  std::size_t at[4] = {0, 0, 0, 0};
+  __m128i at;
 };
 RAMTK_AVX2_INLINE Cells CellsAt(const WalkMaps& m, __m256d u, __m256d v, int mask) {
   Cells c;
   c.u0 = _mm256_floor_pd(u);
   c.v0 = _mm256_floor_pd(v);
-  // FloorToInt's range (|v| < 1e9) and ValidCell's bounds, in double (exact for these values).
-  const __m256d inside = And(And(Ge(c.u0, K(0.0)), Ge(c.v0, K(0.0))),
-                             And(Lt(Add(c.u0, K(1.0)), K(m.cols)), Lt(Add(c.v0, K(1.0)), K(m.rows))));
-  int in = _mm256_movemask_pd(inside) & mask;
-  alignas(32) double fu[4], fv[4];
-  _mm256_store_pd(fu, c.u0);
-  _mm256_store_pd(fv, c.v0);
-  for (int i = 0; i < 4; ++i) {
-    if (!(in >> i & 1)) continue;
-    const std::size_t iu = static_cast<std::size_t>(fu[i]), iv = static_cast<std::size_t>(fv[i]);
-    if (!m.cell_ok[iv * static_cast<std::size_t>(m.cols) + iu]) {
-      in &= ~(1 << i);
-      continue;
-    }
-    c.at[i] = iv * m.stride + iu;
-  }
-  c.ok = in;
+  c.ok = ValidCells(m, c.u0, c.v0, mask);
+  c.at = Offsets(c.u0, c.v0, m.stride, c.ok);
   return c;
 }
 
-// The four corners of cells (c00 at `at`, c10 right of it, c01 below, c11 diagonal).
+// The four corners of cells (c00 at the offset, c10 right of it, c01 below, c11 diagonal), each
+// float widened to double (exact).
 struct Corners {
   __m256d c00, c10, c01, c11;
 };
-RAMTK_AVX2_INLINE Corners CornersOf(const float* map, std::size_t stride, const std::size_t* at, int mask) {
-  alignas(32) double c[4][4] = {};
-  for (int i = 0; i < 4; ++i) {
-    if (!(mask >> i & 1)) continue;
-    const float* r0 = map + at[i];
-    const float* r1 = r0 + stride;
-    c[0][i] = r0[0], c[1][i] = r0[1], c[2][i] = r1[0], c[3][i] = r1[1];
-  }
-  return {_mm256_load_pd(c[0]), _mm256_load_pd(c[1]), _mm256_load_pd(c[2]), _mm256_load_pd(c[3])};
+RAMTK_AVX2_INLINE Corners CornersOf(const float* map, int stride, __m128i at) {
+  alignas(16) int o[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(o), at);
+  const float *p0 = map + o[0], *p1 = map + o[1], *p2 = map + o[2], *p3 = map + o[3];
+  const int s = stride, t = stride + 1;
+  return {_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])),
+          _mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])),
+          _mm256_cvtps_pd(_mm_setr_ps(p0[s], p1[s], p2[s], p3[s])),
+          _mm256_cvtps_pd(_mm_setr_ps(p0[t], p1[t], p2[t], p3[t]))};
 }
 
 // The bilinear weights at (u, v) of cells with top-left corner (u0, v0), as EvalAt and Complete
@@ -117,7 +142,7 @@ RAMTK_AVX2_INLINE __m256d Blend(const Weights& w, const Corners& c) {
 RAMTK_AVX2_INLINE __m256d EvalAt(const WalkMaps& m, __m256d u, __m256d v, __m256d c_src, int mask, int* ok) {
   const Cells cells = CellsAt(m, u, v, mask);
   *ok = cells.ok;
-  const Corners c = CornersOf(m.coord, m.stride, cells.at, cells.ok);
+  const Corners c = CornersOf(m.coord, m.stride, cells.at);
   return Sub(Blend(WeightsAt(u, v, cells.u0, cells.v0), c), c_src);
 }
 
@@ -160,22 +185,10 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
   for (int cell = 0; cell < 3; ++cell) {
     const int open = alive & ~settled;
     if (!open) break;
-    const __m256d inside =
-        And(And(Ge(u0, zero), Ge(v0, zero)), And(Lt(Add(u0, one), K(m.cols)), Lt(Add(v0, one), K(m.rows))));
-    int in = _mm256_movemask_pd(inside) & open;
-    alignas(32) double fu[4], fv[4];
-    _mm256_store_pd(fu, u0);
-    _mm256_store_pd(fv, v0);
-    std::size_t at[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 4; ++i) {
-      if (!(in >> i & 1)) continue;
-      const std::size_t iu = static_cast<std::size_t>(fu[i]), iv = static_cast<std::size_t>(fv[i]);
-      if (!m.cell_ok[iv * static_cast<std::size_t>(m.cols) + iu]) in &= ~(1 << i);
-      at[i] = iv * m.stride + iu;
-    }
+    const int in = ValidCells(m, u0, v0, open);
     alive &= ~(open & ~in);  // off the image or an invalid cell: the scalar walk fails there too
     if (!in) break;
-    const Corners c = CornersOf(m.coord, m.stride, at, in);
+    const Corners c = CornersOf(m.coord, m.stride, Offsets(u0, v0, m.stride, in));
     const __m256d au = Sub(pix_x, u0), av = Sub(pix_y, v0);
     const __m256d ka = Sub(c.c10, c.c00), kb = Sub(c.c01, c.c00), kc = Add(Sub(Sub(c.c11, c.c10), c.c01), c.c00);
     const __m256d A = Add(Add(Add(Sub(c.c00, c_src), Mul(ka, au)), Mul(kb, av)), Mul(Mul(kc, au), av));
@@ -191,10 +204,10 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
     const int live = in & alive;
     // Where the line leaves the cell, going in direction dir.
     const __m256d ddx = Mul(dir, vel_x), ddy = Mul(dir, vel_y);
-    const __m256d ex = Pick(Gt(ddx, zero), Pick(Lt(ddx, zero), K(1e300), Div(Sub(u0, pix_x), ddx)),
-                            Div(Sub(Add(u0, one), pix_x), ddx));
-    const __m256d ey = Pick(Gt(ddy, zero), Pick(Lt(ddy, zero), K(1e300), Div(Sub(v0, pix_y), ddy)),
-                            Div(Sub(Add(v0, one), pix_y), ddy));
+    // ((u0 + 1) - pix) / d going right, (u0 - pix) / d going left, 1e300 not moving: one division.
+    const __m256d right = Gt(ddx, zero), down = Gt(ddy, zero);
+    const __m256d ex = Pick(Or(right, Lt(ddx, zero)), K(1e300), Div(Sub(Pick(right, u0, Add(u0, one)), pix_x), ddx));
+    const __m256d ey = Pick(Or(down, Lt(ddy, zero)), K(1e300), Div(Sub(Pick(down, v0, Add(v0, one)), pix_y), ddy));
     const __m256d t_out = Min(Min(ex, ey), s_max);  // std::min({ex, ey, s_max})
     const __m256d e_in = Mul(dir, s_in), e_out = Mul(dir, t_out);
     const __m256d lo = Min(e_in, e_out), hi = Max(e_in, e_out);
@@ -213,8 +226,7 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
     }
     const __m256d got = Not(IsNan(best));
     const int got_mask = _mm256_movemask_pd(got) & live;
-    const __m256d got_lanes = _mm256_castsi256_pd(
-        _mm256_setr_epi64x(got_mask & 1 ? -1 : 0, got_mask & 2 ? -1 : 0, got_mask & 4 ? -1 : 0, got_mask & 8 ? -1 : 0));
+    const __m256d got_lanes = Lanes(got_mask);
     const __m256d slope = Add(B, Mul(Mul(K(2.0), C), best));
     s_root = Pick(got_lanes, s_root, best);
     dfds = Pick(got_lanes, dfds, slope);
@@ -224,8 +236,8 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
     const int on = live & ~got_mask;
     alive &= ~(on & _mm256_movemask_pd(Ge(t_out, s_max)));
     s_in = Pick(got_lanes, Mul(dir, t_out), s_in);
-    u0 = Pick(got_lanes, Add(u0, Pick(Le(ex, ey), zero, Pick(Gt(ddx, zero), K(-1.0), one))), u0);
-    v0 = Pick(got_lanes, Add(v0, Pick(Le(ey, ex), zero, Pick(Gt(ddy, zero), K(-1.0), one))), v0);
+    u0 = Pick(got_lanes, Add(u0, Pick(Le(ex, ey), zero, Pick(right, K(-1.0), one))), u0);
+    v0 = Pick(got_lanes, Add(v0, Pick(Le(ey, ex), zero, Pick(down, K(-1.0), one))), v0);
   }
   alive &= settled;
   if (!alive) return;
@@ -260,20 +272,19 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
   const __m256d fa = EvalAt(m, Sub(at_x, Mul(vel_x, hs)), Sub(at_y, Mul(vel_y, hs)), c_src, alive, &ok_a);
   const __m256d fb = EvalAt(m, Add(at_x, Mul(vel_x, hs)), Add(at_y, Mul(vel_y, hs)), c_src, alive, &ok_b);
   const int both = ok_a & ok_b;
-  const __m256d both_lanes = _mm256_castsi256_pd(
-      _mm256_setr_epi64x(both & 1 ? -1 : 0, both & 2 ? -1 : 0, both & 4 ? -1 : 0, both & 8 ? -1 : 0));
+  const __m256d both_lanes = Lanes(both);
   const __m256d secant =
       Pick(And(both_lanes, Le(Abs(Sub(fb, fa)), K(m.max_span))), zero, Div(Sub(fb, fa), Mul(K(2.0), hs)));
   const __m256d slope = Pick(Gt(Mul(secant, dfds), zero), dfds, secant);
   // Complete: the variance and modulation at the crossing.
   const Weights wt = WeightsAt(at_x, at_y, cell.u0, cell.v0);
-  const Corners sg = CornersOf(m.sigma, m.stride, cell.at, alive);
+  const Corners sg = CornersOf(m.sigma, m.stride, cell.at);
   __m256d var =
       Add(Add(Add(Mul(Mul(Mul(wt.w00, wt.w00), sg.c00), sg.c00), Mul(Mul(Mul(wt.w10, wt.w10), sg.c10), sg.c10)),
               Mul(Mul(Mul(wt.w01, wt.w01), sg.c01), sg.c01)),
           Mul(Mul(Mul(wt.w11, wt.w11), sg.c11), sg.c11));
   var = And(var, IsFinite(var));  // not finite: 0
-  const __m256d modulation = Blend(wt, CornersOf(m.modulation, m.stride, cell.at, alive));
+  const __m256d modulation = Blend(wt, CornersOf(m.modulation, m.stride, cell.at));
 
   // Accept: the modulations agree, and the left-right check passes through the interpolated
   // back match (the other cases: the scalar walk).
@@ -283,24 +294,17 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
   alive &= ~_mm256_movemask_pd(Or(Gt(ratio, mmr), Lt(Mul(ratio, mmr), one)));
   if (m.lr_check && alive) {
     // Consistent: the back matches' cells (the crossing's floors), inside the back maps.
-    const __m256d inside = And(And(Ge(cell.u0, zero), Ge(cell.v0, zero)),
-                               And(Lt(Add(cell.u0, one), K(m.back_cols)), Lt(Add(cell.v0, one), K(m.back_rows))));
-    alive &= _mm256_movemask_pd(inside);
-    alignas(32) double fu[4], fv[4];
-    _mm256_store_pd(fu, cell.u0);
-    _mm256_store_pd(fv, cell.v0);
-    std::size_t at[4] = {0, 0, 0, 0};
-    for (int i = 0; i < 4; ++i)
-      if (alive >> i & 1) at[i] = static_cast<std::size_t>(fv[i]) * m.back_stride + static_cast<std::size_t>(fu[i]);
-    const Corners bu = CornersOf(m.back_u, m.back_stride, at, alive);
-    const Corners bv = CornersOf(m.back_v, m.back_stride, at, alive);
+    alive = Inside(cell.u0, cell.v0, m.back_cols, m.back_rows, alive);
+    const __m128i at = Offsets(cell.u0, cell.v0, m.back_stride, alive);
+    const Corners bu = CornersOf(m.back_u, m.back_stride, at);
+    const Corners bv = CornersOf(m.back_v, m.back_stride, at);
     const __m256d all = IsFinite(Add(Add(Add(Add(Sub(bu.c00, bu.c00), Sub(bu.c10, bu.c10)), Sub(bu.c01, bu.c01)),
                                          Add(Sub(bu.c11, bu.c11), Sub(bv.c00, bv.c00))),
                                      Add(Add(Sub(bv.c10, bv.c10), Sub(bv.c01, bv.c01)), Sub(bv.c11, bv.c11))));
     alive &= _mm256_movemask_pd(all);
     __m256d tolerance = K(m.lr_tolerance);
     if (m.lr_sigma) {
-      const Corners bs = CornersOf(m.back_sigma, m.back_stride, at, alive);
+      const Corners bs = CornersOf(m.back_sigma, m.back_stride, at);
       for (const __m256d s : {bs.c00, bs.c10, bs.c01, bs.c11})
         tolerance = Pick(IsFinite(s), tolerance, Max(tolerance, Mul(K(m.lr_sigma_factor), s)));
     }

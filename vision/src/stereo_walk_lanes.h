@@ -27,7 +27,7 @@ struct WalkMaps {
   const float* coord = nullptr;
   const float* sigma = nullptr;
   const float* modulation = nullptr;
-  std::size_t stride = 0;                  // of the three maps above (one layout)
+  int stride = 0;                          // of the three maps above (one layout), floats
   const unsigned char* cell_ok = nullptr;  // Pass::cell_ok, cols per row
   double step_px = 0, max_span = 0;
   double w_lo = 0, w_hi = 0;                              // the pass's inverse-depth range
@@ -36,7 +36,7 @@ struct WalkMaps {
   bool lr_check = false, lr_sigma = false;
   double lr_tolerance = 0, lr_sigma_factor = 0;
   const float *back_u = nullptr, *back_v = nullptr, *back_sigma = nullptr;
-  std::size_t back_stride = 0;
+  int back_stride = 0;  // of the three back maps (one layout), floats
   int back_cols = 0, back_rows = 0;
 };
 
