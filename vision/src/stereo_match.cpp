@@ -1080,8 +1080,8 @@ void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, R
     found = any = true;
     if (detail::WalkLaneCheck()) {
       Matcher::Root scalar;
-      const bool same =
-          m.LocalSearch(r->w_prev, &scalar) && m.Accept(scalar, r->mod_row[x], x, y) && SameBits(scalar, root);
+      const bool same = (p.rect ? m.RectLocalSearch(r->w_prev, &scalar) : m.LocalSearch(r->w_prev, &scalar)) &&
+                        m.Accept(scalar, r->mod_row[x], x, y) && SameBits(scalar, root);
       detail::CountWalkLaneCheck(same);
     }
   } else if (!p.full_search) {
@@ -1178,19 +1178,28 @@ detail::WalkMaps LaneMaps(const Pass& p) {
     w.back_stride = static_cast<int>(p.back_u_rows.stride);
     w.back_cols = p.back_u.cols, w.back_rows = p.back_u.rows;
   }
+  if (p.rect) {
+    w.rect = true;
+    w.grid = p.grid_rows.data;
+    w.grid_stride = static_cast<int>(p.grid_rows.stride);
+    w.grid_cols = p.grid.coord.cols, w.grid_rows = p.grid.coord.rows;
+    w.grid_u0 = p.grid.u0, w.grid_v0 = p.grid.v0;
+    w.rect_sign = p.rect_sign, w.rect_fb = p.rect_fb;
+  }
   return w;
 }
 
-// Whether the lanes can walk the pass: the curve search (the rectified back pass walks rows),
-// with the walk (not StereoMatchOptions::full_search), on a CPU with AVX2, with the three
-// destination maps in one layout (MatchStereo makes them so) and every offset in an int.
+// Whether the lanes can walk the pass: with the walk (not StereoMatchOptions::full_search), on a
+// CPU with AVX2, with the three destination maps in one layout (MatchStereo makes them so) and
+// every offset in an int.
 bool LanesWalk(const Pass& p) {
   const double limit = 2e9;
-  return !p.rect && !p.full_search && detail::Avx2Kernels() && p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
+  return !p.full_search && detail::Avx2Kernels() && p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
          p.dst_modulation_rows.stride == p.dst_coord_rows.stride &&
          static_cast<double>(p.dst_coord_rows.stride) * (p.dst_coord.rows + 1) < limit &&
          static_cast<double>(p.dst_coord.cols) * (p.dst_coord.rows + 1) < limit &&
-         (!p.lr_check || static_cast<double>(p.back_u_rows.stride) * (p.back_u.rows + 1) < limit);
+         (!p.lr_check || static_cast<double>(p.back_u_rows.stride) * (p.back_u.rows + 1) < limit) &&
+         (!p.rect || static_cast<double>(p.grid_rows.stride) * (p.grid.coord.rows + 1) < limit);
 }
 
 // Walks rows [yb, ye) of a block, `lanes` rows side by side (1: one after the other). A row's
@@ -1219,6 +1228,7 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
           if (!pending[k] || r.lane_tried || !std::isfinite(r.w_prev)) continue;
           const int e = r.next_ray;
           in.a_x[k] = r.chain->a_x[e], in.a_y[k] = r.chain->a_y[e], in.a_z[k] = r.chain->a_z[e];
+          if (p.rect) in.rs_u[k] = r.chain->rs_u[e], in.rs_v[k] = r.chain->rs_v[e], in.rs_z[k] = r.chain->rs_z[e];
           in.c_src[k] = r.crow[r.x];
           in.w0[k] = r.w_prev;
           in.b_src[k] = r.mod_row[r.x];
@@ -1226,14 +1236,11 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
           in.active |= 1 << k;
           r.lane_tried = true;
         }
-        for (int k = n; k < 4; ++k) {
-          in.a_x[k] = in.a_y[k] = in.c_src[k] = in.w0[k] = in.b_src[k] = in.su[k] = in.sv[k] = 0.0;
-          in.a_z[k] = 1.0;
-        }
-        for (int k = 0; k < n; ++k)
-          if (!(in.active >> k & 1)) {
+        for (int k = 0; k < 4; ++k)
+          if (!(in.active >> k & 1)) {  // an idle lane: finite values
             in.a_x[k] = in.a_y[k] = in.c_src[k] = in.w0[k] = in.b_src[k] = in.su[k] = in.sv[k] = 0.0;
-            in.a_z[k] = 1.0;
+            in.rs_u[k] = in.rs_v[k] = 0.0;
+            in.a_z[k] = in.rs_z[k] = 1.0;
           }
         if (in.active) {
           detail::WalkFourLanes(maps, &in);

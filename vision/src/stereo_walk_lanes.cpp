@@ -46,6 +46,9 @@ RAMTK_AVX2_INLINE __m256d CopySign(__m256d mag, __m256d sgn) {
 // std::min(a, b) and std::max(a, b): (b < a) ? b : a and (a < b) ? b : a.
 RAMTK_AVX2_INLINE __m256d Min(__m256d a, __m256d b) { return Pick(Lt(b, a), a, b); }
 RAMTK_AVX2_INLINE __m256d Max(__m256d a, __m256d b) { return Pick(Lt(a, b), a, b); }
+// The same in float.
+RAMTK_AVX2_INLINE __m128 MinF(__m128 a, __m128 b) { return _mm_blendv_ps(a, b, _mm_cmplt_ps(b, a)); }
+RAMTK_AVX2_INLINE __m128 MaxF(__m128 a, __m128 b) { return _mm_blendv_ps(a, b, _mm_cmplt_ps(a, b)); }
 RAMTK_AVX2_INLINE __m256d Load(const double* v) { return _mm256_loadu_pd(v); }
 
 // A four-bit lane mask as 64-bit lanes (Pick's masks) and as 32-bit ones (tables: the shifts and
@@ -146,35 +149,110 @@ RAMTK_AVX2_INLINE __m256d EvalAt(const WalkMaps& m, __m256d u, __m256d v, __m256
   return Sub(Blend(WeightsAt(u, v, cells.u0, cells.v0), c), c_src);
 }
 
+// PixelAndVelocity(w): the destination pixel of inverse depth w on the source rays a and its
+// velocity per unit w; returns the lanes in front of the camera.
+RAMTK_AVX2_INLINE int PixelAndVelocity(const WalkMaps& m, __m256d ax, __m256d ay, __m256d az, __m256d w, __m256d* pix_x,
+                                       __m256d* pix_y, __m256d* vel_x, __m256d* vel_y) {
+  const __m256d tx = K(m.t[0]), ty = K(m.t[1]), tz = K(m.t[2]), fx = K(m.fx), fy = K(m.fy);
+  const __m256d qx = Add(ax, Mul(tx, w)), qy = Add(ay, Mul(ty, w)), qz = Add(az, Mul(tz, w));
+  const __m256d iz = Div(K(1.0), qz);
+  const __m256d ix = Mul(qx, iz), iy = Mul(qy, iz);
+  __m256d r2, radial, dx, dy;
+  DistortNormalized4(m.distortion, ix, iy, &r2, &radial, &dx, &dy);
+  *pix_x = Add(Mul(fx, dx), K(m.cx));
+  *pix_y = Add(Mul(fy, dy), K(m.cy));
+  const __m256d di_x = Mul(Mul(Sub(Mul(tx, az), Mul(ax, tz)), iz), iz);
+  const __m256d di_y = Mul(Mul(Sub(Mul(ty, az), Mul(ay, tz)), iz), iz);
+  __m256d j00, j01, j10, j11;
+  DistortJacobian4(m.distortion, ix, iy, r2, radial, &j00, &j01, &j10, &j11);
+  // Eigen's 2 x 2 product: each row's two products summed left to right.
+  *vel_x = Mul(fx, Add(Mul(j00, di_x), Mul(j01, di_y)));
+  *vel_y = Mul(fy, Add(Mul(j10, di_x), Mul(j11, di_y)));
+  return _mm256_movemask_pd(Gt(qz, K(1e-12)));
+}
+
+// InRange(w) from q = a + T w: the pass's range, in front of the destination camera, inside its box.
+RAMTK_AVX2_INLINE int InRange(const WalkMaps& m, __m256d w, __m256d qx, __m256d qy, __m256d qz) {
+  const __m256d in_range = And(And(And(Ge(w, K(m.w_lo)), Le(w, K(m.w_hi))), Gt(qz, K(1e-9))),
+                               And(And(Ge(qx, Mul(K(m.box_x0), qz)), Le(qx, Mul(K(m.box_x1), qz))),
+                                   And(Ge(qy, Mul(K(m.box_y0), qz)), Le(qy, Mul(K(m.box_y1), qz)))));
+  return _mm256_movemask_pd(in_range);
+}
+
+// The end of both walks: Complete at the crossing `at` (its cell `cell`), Accept (the modulations
+// agree, and the left-right check passes through the interpolated back match; its other cases go
+// to the scalar walk), and the settled lanes' roots into `l`.
+RAMTK_AVX2_INLINE void Settle(const WalkMaps& m, int alive, __m256d w, __m256d slope, __m256d at_x, __m256d at_y,
+                              const Cells& cell, __m256d vel_x, __m256d vel_y, WalkLanes* l) {
+  const __m256d zero = K(0.0), one = K(1.0);
+  const Weights wt = WeightsAt(at_x, at_y, cell.u0, cell.v0);
+  const Corners sg = CornersOf(m.sigma, m.stride, cell.at);
+  __m256d var =
+      Add(Add(Add(Mul(Mul(Mul(wt.w00, wt.w00), sg.c00), sg.c00), Mul(Mul(Mul(wt.w10, wt.w10), sg.c10), sg.c10)),
+              Mul(Mul(Mul(wt.w01, wt.w01), sg.c01), sg.c01)),
+          Mul(Mul(Mul(wt.w11, wt.w11), sg.c11), sg.c11));
+  var = And(var, IsFinite(var));  // not finite: 0
+  const __m256d modulation = Blend(wt, CornersOf(m.modulation, m.stride, cell.at));
+  const __m256d tiny = K(1e-6);
+  const __m256d ratio = Div(Max(tiny, modulation), Max(tiny, Load(l->b_src)));
+  const __m256d mmr = K(m.max_modulation_ratio);
+  alive &= ~_mm256_movemask_pd(Or(Gt(ratio, mmr), Lt(Mul(ratio, mmr), one)));
+  if (m.lr_check && alive) {
+    // Consistent: the back matches' cells (the crossing's floors), inside the back maps.
+    alive = Inside(cell.u0, cell.v0, m.back_cols, m.back_rows, alive);
+    const __m128i at = Offsets(cell.u0, cell.v0, m.back_stride, alive);
+    const Corners bu = CornersOf(m.back_u, m.back_stride, at);
+    const Corners bv = CornersOf(m.back_v, m.back_stride, at);
+    const __m256d all = IsFinite(Add(Add(Add(Add(Sub(bu.c00, bu.c00), Sub(bu.c10, bu.c10)), Sub(bu.c01, bu.c01)),
+                                         Add(Sub(bu.c11, bu.c11), Sub(bv.c00, bv.c00))),
+                                     Add(Add(Sub(bv.c10, bv.c10), Sub(bv.c01, bv.c01)), Sub(bv.c11, bv.c11))));
+    alive &= _mm256_movemask_pd(all);
+    __m256d tolerance = K(m.lr_tolerance);
+    if (m.lr_sigma) {
+      const Corners bs = CornersOf(m.back_sigma, m.back_stride, at);
+      for (const __m256d s : {bs.c00, bs.c10, bs.c01, bs.c11})
+        tolerance = Pick(IsFinite(s), tolerance, Max(tolerance, Mul(K(m.lr_sigma_factor), s)));
+    }
+    const __m256d mu =
+        Add(Add(Add(Add(zero, Mul(wt.w00, bu.c00)), Mul(wt.w10, bu.c10)), Mul(wt.w01, bu.c01)), Mul(wt.w11, bu.c11));
+    const __m256d mv =
+        Add(Add(Add(Add(zero, Mul(wt.w00, bv.c00)), Mul(wt.w10, bv.c10)), Mul(wt.w01, bv.c01)), Mul(wt.w11, bv.c11));
+    __m256d spread = zero;
+    for (int k = 0; k < 4; ++k) {
+      const __m256d ku = k == 0 ? bu.c00 : k == 1 ? bu.c10 : k == 2 ? bu.c01 : bu.c11;
+      const __m256d kv = k == 0 ? bv.c00 : k == 1 ? bv.c10 : k == 2 ? bv.c01 : bv.c11;
+      const __m256d du = Sub(ku, bu.c00), dv = Sub(kv, bv.c00);
+      spread = Max(spread, Add(Mul(du, du), Mul(dv, dv)));
+    }
+    alive &= _mm256_movemask_pd(Lt(spread, K(16.0)));
+    const __m256d eu = Sub(mu, Load(l->su)), ev = Sub(mv, Load(l->sv));
+    alive &= _mm256_movemask_pd(Le(Add(Mul(eu, eu), Mul(ev, ev)), Mul(tolerance, tolerance)));
+  }
+  if (!alive) return;
+  l->found = alive;
+  _mm256_storeu_pd(l->w, w);
+  _mm256_storeu_pd(l->slope, slope);
+  _mm256_storeu_pd(l->pix_x, at_x);
+  _mm256_storeu_pd(l->pix_y, at_y);
+  _mm256_storeu_pd(l->var, var);
+  _mm256_storeu_pd(l->modulation, modulation);
+  _mm256_storeu_pd(l->vel_x, vel_x);
+  _mm256_storeu_pd(l->vel_y, vel_y);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(l->u0), _mm256_cvttpd_epi32(cell.u0));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(l->v0), _mm256_cvttpd_epi32(cell.v0));
+}
+
+// The curve search's walk (Matcher::LocalSearch from w0, then Accept).
 RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
   const __m256d zero = K(0.0), one = K(1.0);
   const __m256d ax = Load(l->a_x), ay = Load(l->a_y), az = Load(l->a_z), c_src = Load(l->c_src);
-  const __m256d tx = K(m.t[0]), ty = K(m.t[1]), tz = K(m.t[2]);
-  const __m256d fx = K(m.fx), fy = K(m.fy), cx = K(m.cx), cy = K(m.cy);
   int alive = l->active;
   l->found = 0;
 
   // PixelAndVelocity(w0).
   const __m256d w0 = Load(l->w0);
   __m256d pix_x, pix_y, vel_x, vel_y;
-  {
-    const __m256d qx = Add(ax, Mul(tx, w0)), qy = Add(ay, Mul(ty, w0)), qz = Add(az, Mul(tz, w0));
-    alive &= _mm256_movemask_pd(Gt(qz, K(1e-12)));
-    const __m256d iz = Div(one, qz);
-    const __m256d ix = Mul(qx, iz), iy = Mul(qy, iz);
-    __m256d r2, radial, dx, dy;
-    DistortNormalized4(m.distortion, ix, iy, &r2, &radial, &dx, &dy);
-    pix_x = Add(Mul(fx, dx), cx);
-    pix_y = Add(Mul(fy, dy), cy);
-    const __m256d di_x = Mul(Mul(Sub(Mul(tx, az), Mul(ax, tz)), iz), iz);
-    const __m256d di_y = Mul(Mul(Sub(Mul(ty, az), Mul(ay, tz)), iz), iz);
-    __m256d j00, j01, j10, j11;
-    DistortJacobian4(m.distortion, ix, iy, r2, radial, &j00, &j01, &j10, &j11);
-    // Eigen's 2 x 2 product: each row's two products summed left to right.
-    vel_x = Mul(fx, Add(Mul(j00, di_x), Mul(j01, di_y)));
-    vel_y = Mul(fy, Add(Mul(j10, di_x), Mul(j11, di_y)));
-  }
-
+  alive &= PixelAndVelocity(m, ax, ay, az, w0, &pix_x, &pix_y, &vel_x, &vel_y);
   // LineCrossing(pix, vel, 16 step_px): at most three cells on the lanes.
   const __m256d speed = _mm256_sqrt_pd(Add(Mul(vel_x, vel_x), Mul(vel_y, vel_y)));
   alive &= _mm256_movemask_pd(Gt(speed, zero));
@@ -244,20 +322,16 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
 
   // LocalSearch's first round: the curve's own pixel at w0 + s, within 1e-4 px of the line's.
   const __m256d w = Add(w0, s_root);
-  const __m256d qx = Add(ax, Mul(tx, w)), qy = Add(ay, Mul(ty, w)), qz = Add(az, Mul(tz, w));
+  const __m256d qx = Add(ax, Mul(K(m.t[0]), w)), qy = Add(ay, Mul(K(m.t[1]), w)), qz = Add(az, Mul(K(m.t[2]), w));
   alive &= _mm256_movemask_pd(Gt(qz, K(1e-12)));
   __m256d at_x, at_y;
   {
     __m256d r2, radial, dx, dy;
     DistortNormalized4(m.distortion, Div(qx, qz), Div(qy, qz), &r2, &radial, &dx, &dy);
-    const __m256d on_x = Add(Mul(fx, dx), cx), on_y = Add(Mul(fy, dy), cy);
+    const __m256d on_x = Add(Mul(K(m.fx), dx), K(m.cx)), on_y = Add(Mul(K(m.fy), dy), K(m.cy));
     const __m256d gap_x = Sub(on_x, Add(pix_x, Mul(vel_x, s_root))), gap_y = Sub(on_y, Add(pix_y, Mul(vel_y, s_root)));
     alive &= _mm256_movemask_pd(Lt(Add(Mul(gap_x, gap_x), Mul(gap_y, gap_y)), K(1e-8)));
-    // InRange(w).
-    const __m256d in_range = And(And(And(Ge(w, K(m.w_lo)), Le(w, K(m.w_hi))), Gt(qz, K(1e-9))),
-                                 And(And(Ge(qx, Mul(K(m.box_x0), qz)), Le(qx, Mul(K(m.box_x1), qz))),
-                                     And(Ge(qy, Mul(K(m.box_y0), qz)), Le(qy, Mul(K(m.box_y1), qz)))));
-    alive &= _mm256_movemask_pd(in_range);
+    alive &= InRange(m, w, qx, qy, qz);
     // The crossing: pix + vel s with s = 0.
     at_x = Add(on_x, Mul(vel_x, zero));
     at_y = Add(on_y, Mul(vel_y, zero));
@@ -276,74 +350,96 @@ RAMTK_AVX2 void WalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
   const __m256d secant =
       Pick(And(both_lanes, Le(Abs(Sub(fb, fa)), K(m.max_span))), zero, Div(Sub(fb, fa), Mul(K(2.0), hs)));
   const __m256d slope = Pick(Gt(Mul(secant, dfds), zero), dfds, secant);
-  // Complete: the variance and modulation at the crossing.
-  const Weights wt = WeightsAt(at_x, at_y, cell.u0, cell.v0);
-  const Corners sg = CornersOf(m.sigma, m.stride, cell.at);
-  __m256d var =
-      Add(Add(Add(Mul(Mul(Mul(wt.w00, wt.w00), sg.c00), sg.c00), Mul(Mul(Mul(wt.w10, wt.w10), sg.c10), sg.c10)),
-              Mul(Mul(Mul(wt.w01, wt.w01), sg.c01), sg.c01)),
-          Mul(Mul(Mul(wt.w11, wt.w11), sg.c11), sg.c11));
-  var = And(var, IsFinite(var));  // not finite: 0
-  const __m256d modulation = Blend(wt, CornersOf(m.modulation, m.stride, cell.at));
+  Settle(m, alive, w, slope, at_x, at_y, cell, vel_x, vel_y, l);
+}
 
-  // Accept: the modulations agree, and the left-right check passes through the interpolated
-  // back match (the other cases: the scalar walk).
-  const __m256d tiny = K(1e-6);
-  const __m256d ratio = Div(Max(tiny, modulation), Max(tiny, Load(l->b_src)));
-  const __m256d mmr = K(m.max_modulation_ratio);
-  alive &= ~_mm256_movemask_pd(Or(Gt(ratio, mmr), Lt(Mul(ratio, mmr), one)));
-  if (m.lr_check && alive) {
-    // Consistent: the back matches' cells (the crossing's floors), inside the back maps.
-    alive = Inside(cell.u0, cell.v0, m.back_cols, m.back_rows, alive);
-    const __m128i at = Offsets(cell.u0, cell.v0, m.back_stride, alive);
-    const Corners bu = CornersOf(m.back_u, m.back_stride, at);
-    const Corners bv = CornersOf(m.back_v, m.back_stride, at);
-    const __m256d all = IsFinite(Add(Add(Add(Add(Sub(bu.c00, bu.c00), Sub(bu.c10, bu.c10)), Sub(bu.c01, bu.c01)),
-                                         Add(Sub(bu.c11, bu.c11), Sub(bv.c00, bv.c00))),
-                                     Add(Add(Sub(bv.c10, bv.c10), Sub(bv.c01, bv.c01)), Sub(bv.c11, bv.c11))));
-    alive &= _mm256_movemask_pd(all);
-    __m256d tolerance = K(m.lr_tolerance);
-    if (m.lr_sigma) {
-      const Corners bs = CornersOf(m.back_sigma, m.back_stride, at);
-      for (const __m256d s : {bs.c00, bs.c10, bs.c01, bs.c11})
-        tolerance = Pick(IsFinite(s), tolerance, Max(tolerance, Mul(K(m.lr_sigma_factor), s)));
-    }
-    const Weights bw = WeightsAt(at_x, at_y, cell.u0, cell.v0);
-    const __m256d mu =
-        Add(Add(Add(Add(zero, Mul(bw.w00, bu.c00)), Mul(bw.w10, bu.c10)), Mul(bw.w01, bu.c01)), Mul(bw.w11, bu.c11));
-    const __m256d mv =
-        Add(Add(Add(Add(zero, Mul(bw.w00, bv.c00)), Mul(bw.w10, bv.c10)), Mul(bw.w01, bv.c01)), Mul(bw.w11, bv.c11));
-    __m256d spread = zero;
-    for (int k = 0; k < 4; ++k) {
-      const __m256d ku = k == 0 ? bu.c00 : k == 1 ? bu.c10 : k == 2 ? bu.c01 : bu.c11;
-      const __m256d kv = k == 0 ? bv.c00 : k == 1 ? bv.c10 : k == 2 ? bv.c01 : bv.c11;
-      const __m256d du = Sub(ku, bu.c00), dv = Sub(kv, bv.c00);
-      spread = Max(spread, Add(Mul(du, du), Mul(dv, dv)));
-    }
-    alive &= _mm256_movemask_pd(Lt(spread, K(16.0)));
-    const __m256d eu = Sub(mu, Load(l->su)), ev = Sub(mv, Load(l->sv));
-    alive &= _mm256_movemask_pd(Le(Add(Mul(eu, eu), Mul(ev, ev)), Mul(tolerance, tolerance)));
-  }
+// The rectified search's walk (Matcher::RectLocalSearch from w0, RectRoot, then Accept).
+RAMTK_AVX2 void RectWalkFourLanesAvx2(const WalkMaps& m, WalkLanes* l) {
+  const __m256d zero = K(0.0), one = K(1.0);
+  const __m256d rs_u = Load(l->rs_u), rs_v = Load(l->rs_v), rs_z = Load(l->rs_z), c_src = Load(l->c_src);
+  const __m256d sign = K(m.rect_sign), fb = K(m.rect_fb);
+  int alive = l->active & _mm256_movemask_pd(Gt(rs_z, K(1e-9)));  // SetRectRay
+  l->found = 0;
+  // RectRows: the grid row pair (j, j + 1) around v and v's fraction between them.
+  const __m256d v = Sub(rs_v, K(m.grid_v0));
+  alive &= _mm256_movemask_pd(And(Ge(v, zero), Lt(v, K(m.grid_rows - 1))));
+  const __m256d j = _mm256_floor_pd(v), fv = Sub(v, j);
+  // RectColumn(w0).
+  const __m256d c0 = Sub(Add(rs_u, Div(Mul(Mul(sign, fb), Load(l->w0)), rs_z)), K(m.grid_u0));
+  alive &= _mm256_movemask_pd(And(Ge(c0, zero), Lt(c0, K(m.grid_cols - 1))));
   if (!alive) return;
-
-  l->found = alive;
-  _mm256_storeu_pd(l->w, w);
-  _mm256_storeu_pd(l->slope, slope);
-  _mm256_storeu_pd(l->pix_x, at_x);
-  _mm256_storeu_pd(l->pix_y, at_y);
-  _mm256_storeu_pd(l->var, var);
-  _mm256_storeu_pd(l->modulation, modulation);
-  _mm256_storeu_pd(l->vel_x, vel_x);
-  _mm256_storeu_pd(l->vel_y, vel_y);
-  alignas(32) double fu[4], fv[4];
-  _mm256_store_pd(fu, cell.u0);
-  _mm256_store_pd(fv, cell.v0);
-  for (int i = 0; i < 4; ++i) l->u0[i] = static_cast<int>(fu[i]), l->v0[i] = static_cast<int>(fv[i]);
+  __m256d i = _mm256_floor_pd(c0), dir = zero;
+  __m256d column = zero, dg_du = zero;
+  const __m128i rows = Offsets(zero, j, m.grid_stride, alive);  // j * stride: the row pair's start
+  alignas(16) int row_at[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(row_at), rows);
+  int settled = 0;
+  for (int n = 0; n < 4; ++n) {
+    // The loop's bounds (i >= 0, i + 1 < cols) before each cell.
+    const int open = Inside(i, zero, m.grid_cols, 2, alive & ~settled);
+    alive &= ~((alive & ~settled) & ~open);  // walked off the grid: the scalar walk fails too
+    if (!open) break;
+    // RectCell: the four samples as float, their span and finiteness, g at both columns.
+    alignas(16) int col[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(col), _mm_and_si128(_mm256_cvttpd_epi32(i), Lanes32(open)));
+    const float* g = m.grid;
+    const int s = m.grid_stride;
+    const __m128 a0 =
+        _mm_setr_ps(g[row_at[0] + col[0]], g[row_at[1] + col[1]], g[row_at[2] + col[2]], g[row_at[3] + col[3]]);
+    const __m128 a1 = _mm_setr_ps(g[row_at[0] + col[0] + 1], g[row_at[1] + col[1] + 1], g[row_at[2] + col[2] + 1],
+                                  g[row_at[3] + col[3] + 1]);
+    const __m128 b0 = _mm_setr_ps(g[row_at[0] + s + col[0]], g[row_at[1] + s + col[1]], g[row_at[2] + s + col[2]],
+                                  g[row_at[3] + s + col[3]]);
+    const __m128 b1 = _mm_setr_ps(g[row_at[0] + s + col[0] + 1], g[row_at[1] + s + col[1] + 1],
+                                  g[row_at[2] + s + col[2] + 1], g[row_at[3] + s + col[3] + 1]);
+    const __m256d hi = _mm256_cvtps_pd(MaxF(MaxF(a0, a1), MaxF(b0, b1)));
+    const __m256d lo = _mm256_cvtps_pd(MinF(MinF(a0, a1), MinF(b0, b1)));
+    const __m128 fin = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_sub_ps(a0, a0), _mm_sub_ps(a1, a1)), _mm_sub_ps(b0, b0)),
+                                  _mm_sub_ps(b1, b1));
+    const int cell_ok = _mm256_movemask_pd(Le(Sub(hi, lo), K(m.max_span))) &
+                        _mm_movemask_ps(_mm_cmpeq_ps(fin, _mm_setzero_ps())) & open;
+    alive &= ~(open & ~cell_ok);  // a jump or an invalid sample: the scalar walk fails too
+    const __m256d da0 = _mm256_cvtps_pd(a0), da1 = _mm256_cvtps_pd(a1);
+    const __m256d g0 = Sub(Add(da0, Mul(fv, Sub(_mm256_cvtps_pd(b0), da0))), c_src);
+    const __m256d g1 = Sub(Add(da1, Mul(fv, Sub(_mm256_cvtps_pd(b1), da1))), c_src);
+    // A sign change (or g0 == 0): the root; g0 == g1 there: the scalar walk fails.
+    const __m256d crossing = Or(_mm256_xor_pd(Gt(g0, zero), Gt(g1, zero)), Eq(g0, zero));
+    const int here = _mm256_movemask_pd(crossing) & cell_ok & alive;
+    alive &= ~(here & _mm256_movemask_pd(Eq(g0, g1)));
+    const int root = here & alive;
+    const __m256d root_lanes = Lanes(root);
+    column = Pick(root_lanes, column, Add(i, Div(g0, Sub(g0, g1))));
+    dg_du = Pick(root_lanes, dg_du, Sub(g1, g0));
+    settled |= root;
+    // The others step on, in the direction in which |g| falls at the first cell.
+    if (n == 0) dir = Pick(_mm256_xor_pd(Gt(g0, zero), Gt(g1, g0)), K(-1.0), one);  // equal: -1
+    i = Pick(Lanes(cell_ok & ~here), i, Add(i, dir));
+  }
+  alive &= settled;
+  if (!alive) return;
+  // RectRoot: w at the column, in range, its pixel and velocity, the slope from the grid cell.
+  const __m256d w = Div(Mul(Mul(Sub(Add(column, K(m.grid_u0)), rs_u), sign), rs_z), fb);
+  const __m256d ax = Load(l->a_x), ay = Load(l->a_y), az = Load(l->a_z);
+  const __m256d qx = Add(ax, Mul(K(m.t[0]), w)), qy = Add(ay, Mul(K(m.t[1]), w)), qz = Add(az, Mul(K(m.t[2]), w));
+  alive &= InRange(m, w, qx, qy, qz);
+  __m256d pix_x, pix_y, vel_x, vel_y;
+  alive &= PixelAndVelocity(m, ax, ay, az, w, &pix_x, &pix_y, &vel_x, &vel_y);
+  if (!alive) return;
+  const Cells cell = CellsAt(m, pix_x, pix_y, alive);  // CellAt
+  alive = cell.ok;
+  if (!alive) return;
+  const __m256d slope = Div(Mul(Mul(dg_du, sign), fb), rs_z);
+  Settle(m, alive, w, slope, pix_x, pix_y, cell, vel_x, vel_y, l);
 }
 
 }  // namespace
 
-void WalkFourLanes(const WalkMaps& maps, WalkLanes* lanes) { WalkFourLanesAvx2(maps, lanes); }
+void WalkFourLanes(const WalkMaps& maps, WalkLanes* lanes) {
+  if (maps.rect)
+    RectWalkFourLanesAvx2(maps, lanes);
+  else
+    WalkFourLanesAvx2(maps, lanes);
+}
 
 void SetWalkLaneCheck(bool on) {
   g_check.store(on, std::memory_order_relaxed);

@@ -1,16 +1,17 @@
 #pragma once
-// The left-to-right match's walk (stereo_match.cpp: Matcher::LocalSearch from the left
-// neighbour's inverse depth, then Matcher::Accept) for four source pixels at once, one per lane,
-// on CPUs with AVX2.
+// The match's walk (stereo_match.cpp, RunPass: a search from the left neighbour's inverse depth,
+// then Matcher::Accept) for four source pixels at once, one per lane, on CPUs with AVX2. Both
+// searches: along the epipolar curves (Matcher::LocalSearch, the left-to-right pass) and along
+// the rectified rows (Matcher::RectLocalSearch and RectRoot, the back pass).
 //
 // Each lane takes the scalar code's operations in its order (no fused multiply-add), so a root
 // the lanes settle is the scalar walk's bit for bit. The lanes settle only the common case: the
-// tangent line's crossing within its first three cells, the curve's pixel there within 1e-4 px
-// of the line's (no second round), and a root the left-right check accepts through the
-// interpolated back match. Every other pixel (about 3 % on the SLMaster capture) is left to the
-// scalar walk, which then starts from scratch; a lane never settles a root the scalar walk would
-// not. RunPass checks the two against each other when SetWalkLaneCheck is on
-// (tests/vision/stereo_walk_lanes_test.cpp).
+// crossing within the first three cells of the tangent line (four of the rectified row), the
+// curve's pixel there within 1e-4 px of the line's (no second round), and a root the left-right
+// check, if any, accepts through the interpolated back match. Every other pixel (about 3 % of
+// the left-to-right pass on the SLMaster capture) is left to the scalar walk, which then starts
+// from scratch; a lane never settles a root the scalar walk would not. RunPass checks the two
+// against each other when SetWalkLaneCheck is on (tests/vision/stereo_walk_lanes_test.cpp).
 #include <cstddef>
 
 #include "ramtk/vision/camera.h"
@@ -38,12 +39,20 @@ struct WalkMaps {
   const float *back_u = nullptr, *back_v = nullptr, *back_sigma = nullptr;
   int back_stride = 0;  // of the three back maps (one layout), floats
   int back_cols = 0, back_rows = 0;
+  // The rectified search (Pass::rect): the destination's coordinate map on the rectified grid,
+  // its origin, and the rectified frame's sign and f times the baseline.
+  bool rect = false;
+  const float* grid = nullptr;
+  int grid_stride = 0, grid_cols = 0, grid_rows = 0;
+  double grid_u0 = 0, grid_v0 = 0;
+  double rect_sign = 1, rect_fb = 0;
 };
 
 // Four source pixels: in, their rays, coordinates and seeds; out, the roots the lanes settled.
 struct WalkLanes {
   int active = 0;                 // bit i: lane i holds a pixel
   double a_x[4], a_y[4], a_z[4];  // R (ideal, 1) of the source pixel
+  double rs_u[4], rs_v[4], rs_z[4];  // its rectified ray (the rectified search)
   double c_src[4];                // its coordinate, projector px
   double w0[4];                   // the seed (the left neighbour's inverse depth)
   double b_src[4];                // its modulation, DN
