@@ -1,5 +1,6 @@
 // Order statistics by histogram (vision/src/rank_select.h) against std::nth_element on the
-// gathered values: random values over many octaves, ties, masks, NaN pixels, both ranks in one bin.
+// gathered values: random values over many octaves, ties, masks, NaN pixels, both ranks in one bin;
+// each with the AVX2 lanes and without.
 #include "../../vision/src/rank_select.h"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+
+#include "../../vision/src/avx2.h"
 
 namespace {
 
@@ -18,6 +21,8 @@ float NthOf(std::vector<float> v, std::size_t k) {
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k];
 }
+
+using ramtk::vision::detail::SetAvx2Kernels;
 
 TEST(RankSelect, MaskedMapAsNthElement) {
   std::mt19937 rng(5);
@@ -35,10 +40,15 @@ TEST(RankSelect, MaskedMapAsNthElement) {
     }
   const std::size_t n = gathered.size();
   const std::vector<std::size_t> ranks{0, n / 2, n - 1 - n / 2, n / 3, n - 1, n / 2 + 1};
-  const std::vector<float> got = ValuesAtRanks(values, mask, ranks);
-  ASSERT_EQ(got.size(), ranks.size());
-  for (std::size_t i = 0; i < ranks.size(); ++i) EXPECT_EQ(got[i], NthOf(gathered, ranks[i])) << "rank " << ranks[i];
-  EXPECT_TRUE(std::isnan(ValuesAtRanks(values, mask, {n})[0]));  // beyond the count
+  for (const bool lanes : {false, true}) {
+    SetAvx2Kernels(lanes);
+    const std::vector<float> got = ValuesAtRanks(values, mask, ranks);
+    ASSERT_EQ(got.size(), ranks.size());
+    for (std::size_t i = 0; i < ranks.size(); ++i)
+      EXPECT_EQ(got[i], NthOf(gathered, ranks[i])) << "rank " << ranks[i] << (lanes ? ", lanes" : "");
+    EXPECT_TRUE(std::isnan(ValuesAtRanks(values, mask, {n})[0]));  // beyond the count
+  }
+  SetAvx2Kernels(true);
 }
 
 TEST(RankSelect, FiniteValuesOfAMapAndAFlatArray) {
@@ -50,19 +60,26 @@ TEST(RankSelect, FiniteValuesOfAMapAndAFlatArray) {
     for (int x = 0; x < values.cols; ++x) {
       const bool hole = (x + y) % 5 == 0;
       const float v = value(rng);
-      values.at<float>(y, x) = hole ? std::numeric_limits<float>::quiet_NaN() : v;
+      // Holes: NaN, and every 7th an infinity (not finite either).
+      values.at<float>(y, x) = !hole   ? v
+                               : x % 7 ? std::numeric_limits<float>::quiet_NaN()
+                                       : std::numeric_limits<float>::infinity();
       if (!hole) finite.push_back(v);
       flat.push_back(v);
     }
-  EXPECT_EQ(UpperMedian(values), NthOf(finite, finite.size() / 2));
-  EXPECT_EQ(ValuesAtRanks(flat, {flat.size() / 2})[0], NthOf(flat, flat.size() / 2));
-  EXPECT_EQ(ValuesAtRanks(flat, {0})[0], *std::min_element(flat.begin(), flat.end()));
-  EXPECT_TRUE(std::isnan(UpperMedian(cv::Mat(4, 4, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())))));
-  // The flat array cut into parts of uneven lengths (one empty, one past a 4096-value segment).
-  std::vector<std::vector<float>> parts(4);
-  for (std::size_t i = 0; i < flat.size(); ++i) parts[i < 5000 ? 0 : i == 5000 ? 1 : 3].push_back(flat[i]);
-  for (const std::size_t rank : {std::size_t{0}, flat.size() / 2, flat.size() / 3, flat.size() - 1})
-    EXPECT_EQ(ValuesAtRanks(parts, {rank})[0], NthOf(flat, rank)) << "rank " << rank;
+  for (const bool lanes : {false, true}) {
+    SetAvx2Kernels(lanes);
+    EXPECT_EQ(UpperMedian(values), NthOf(finite, finite.size() / 2));
+    EXPECT_EQ(ValuesAtRanks(flat, {flat.size() / 2})[0], NthOf(flat, flat.size() / 2));
+    EXPECT_EQ(ValuesAtRanks(flat, {0})[0], *std::min_element(flat.begin(), flat.end()));
+    EXPECT_TRUE(std::isnan(UpperMedian(cv::Mat(4, 4, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())))));
+    // The flat array cut into parts of uneven lengths (one empty, one past a 4096-value segment).
+    std::vector<std::vector<float>> parts(4);
+    for (std::size_t i = 0; i < flat.size(); ++i) parts[i < 5000 ? 0 : i == 5000 ? 1 : 3].push_back(flat[i]);
+    for (const std::size_t rank : {std::size_t{0}, flat.size() / 2, flat.size() / 3, flat.size() - 1})
+      EXPECT_EQ(ValuesAtRanks(parts, {rank})[0], NthOf(flat, rank)) << "rank " << rank;
+  }
+  SetAvx2Kernels(true);
 }
 
 }  // namespace

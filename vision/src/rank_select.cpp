@@ -1,6 +1,7 @@
 // Order statistics by a parallel histogram of float bit patterns (rank_select.h).
 #include "rank_select.h"
 
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +12,8 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+
+#include "avx2.h"
 
 namespace ramtk::vision::detail {
 namespace {
@@ -39,6 +42,100 @@ bool MaskedEight(const uchar* m) {
   return v == 0;
 }
 
+// The segment's values that count, into the even / odd halves of a histogram (the scalar loop).
+void CountSegment(const Segment& s, std::uint32_t* even, std::uint32_t* odd) {
+  int x = 0;
+  for (; x + 1 < s.length; x += 2) {
+    if (s.mask && x + 8 <= s.length && MaskedEight(s.mask + x)) {
+      x += 6;  // eight masked values at once (the loop adds 2)
+      continue;
+    }
+    if (Counts(s, x)) ++even[BinOf(s.values[x])];
+    if (Counts(s, x + 1)) ++odd[BinOf(s.values[x + 1])];
+  }
+  if (x < s.length && Counts(s, x)) ++even[BinOf(s.values[x])];
+}
+
+// The values of bin bins[i] into lists[i] (a value in several equal bins: the first's list).
+void GatherSegment(const Segment& s, const std::vector<int>& bins, std::vector<float>* lists) {
+  for (int x = 0; x < s.length; ++x) {
+    if (s.mask && x + 8 <= s.length && MaskedEight(s.mask + x)) {
+      x += 7;  // eight masked values at once
+      continue;
+    }
+    if (!Counts(s, x)) continue;
+    const int bin = BinOf(s.values[x]);
+    for (std::size_t i = 0; i < bins.size(); ++i)
+      if (bin == bins[i]) {
+        lists[i].push_back(s.values[x]);
+        break;  // equal bins: the first rank's list serves both (Select)
+      }
+  }
+}
+
+// Of eight values at x, those that count (bit i: value x + i), and their bins.
+RAMTK_AVX2_INLINE int EightThatCount(const Segment& s, int x, __m256i* bins) {
+  const __m256i bits = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.values + x));
+  int count;
+  if (s.mask) {
+    const __m128i m = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(s.mask + x));
+    count = ~_mm_movemask_epi8(_mm_cmpeq_epi8(m, _mm_setzero_si128())) & 0xFF;
+  } else {  // finite: the exponent not all ones
+    const __m256i exponent = _mm256_set1_epi32(0x7f800000);
+    const __m256i inf_or_nan = _mm256_cmpeq_epi32(_mm256_and_si256(bits, exponent), exponent);
+    count = ~_mm256_movemask_ps(_mm256_castsi256_ps(inf_or_nan)) & 0xFF;
+  }
+  // BinOf: bits >> 16, at most kBins - 1.
+  *bins = _mm256_min_epu32(_mm256_srli_epi32(bits, 16), _mm256_set1_epi32(kBins - 1));
+  return count;
+}
+
+// CountSegment, eight values at a time on AVX2 lanes (the same counts).
+RAMTK_AVX2 void CountSegmentAvx2(const Segment& s, std::uint32_t* even, std::uint32_t* odd) {
+  int x = 0;
+  alignas(32) std::uint32_t b[8];
+  for (; x + 8 <= s.length; x += 8) {
+    if (s.mask && MaskedEight(s.mask + x)) continue;
+    __m256i bins;
+    int count = EightThatCount(s, x, &bins);
+    if (!count) continue;
+    _mm256_store_si256(reinterpret_cast<__m256i*>(b), bins);
+    for (; count; count &= count - 1) {
+      const int i = __builtin_ctz(static_cast<unsigned>(count));
+      ++((i & 1) ? odd : even)[b[i]];
+    }
+  }
+  for (; x < s.length; ++x)
+    if (Counts(s, x)) ++((x & 1) ? odd : even)[BinOf(s.values[x])];
+}
+
+// GatherSegment, eight values at a time on AVX2 lanes (the same lists, in the same order).
+RAMTK_AVX2 void GatherSegmentAvx2(const Segment& s, const std::vector<int>& bins, std::vector<float>* lists) {
+  int x = 0;
+  for (; x + 8 <= s.length; x += 8) {
+    if (s.mask && MaskedEight(s.mask + x)) continue;
+    __m256i vb;
+    const int count = EightThatCount(s, x, &vb);
+    if (!count) continue;
+    int in_bin[8] = {-1, -1, -1, -1, -1, -1, -1, -1};  // per value: the first rank whose bin it is in
+    int any = 0;
+    for (std::size_t i = bins.size(); i-- > 0;) {
+      const int m = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(vb, _mm256_set1_epi32(bins[i])))) & count;
+      for (int mm = m; mm; mm &= mm - 1) in_bin[__builtin_ctz(static_cast<unsigned>(mm))] = static_cast<int>(i);
+      any |= m;
+    }
+    for (; any; any &= any - 1) {
+      const int k = __builtin_ctz(static_cast<unsigned>(any));
+      lists[in_bin[k]].push_back(s.values[x + k]);
+    }
+  }
+  Segment tail = s;
+  tail.values += x;
+  if (tail.mask) tail.mask += x;
+  tail.length -= x;
+  GatherSegment(tail, bins, lists);
+}
+
 // `ranks_of(count)`: the ranks wanted, given how many values count.
 std::vector<float> Select(const std::vector<Segment>& segments,
                           const std::function<std::vector<std::size_t>(std::size_t)>& ranks_of) {
@@ -54,18 +151,12 @@ std::vector<float> Select(const std::vector<Segment>& segments,
                       std::vector<std::uint32_t>& h = per_thread.local();
                       std::uint32_t* even = h.data();
                       std::uint32_t* odd = h.data() + kBins;
+                      const bool lanes = Avx2Kernels();
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        const Segment& s = segments[i];
-                        int x = 0;
-                        for (; x + 1 < s.length; x += 2) {
-                          if (s.mask && x + 8 <= s.length && MaskedEight(s.mask + x)) {
-                            x += 6;  // eight masked values at once (the loop adds 2)
-                            continue;
-                          }
-                          if (Counts(s, x)) ++even[BinOf(s.values[x])];
-                          if (Counts(s, x + 1)) ++odd[BinOf(s.values[x + 1])];
-                        }
-                        if (x < s.length && Counts(s, x)) ++even[BinOf(s.values[x])];
+                        if (lanes)
+                          CountSegmentAvx2(segments[i], even, odd);
+                        else
+                          CountSegment(segments[i], even, odd);
                       }
                     });
   std::vector<std::uint64_t> hist(kBins, 0);
@@ -90,21 +181,12 @@ std::vector<float> Select(const std::vector<Segment>& segments,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::vector<std::vector<float>>& lists = gathered.local();
+                      const bool lanes = Avx2Kernels();
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const Segment& s = segments[k];
-                        for (int x = 0; x < s.length; ++x) {
-                          if (s.mask && x + 8 <= s.length && MaskedEight(s.mask + x)) {
-                            x += 7;  // eight masked values at once
-                            continue;
-                          }
-                          if (!Counts(s, x)) continue;
-                          const int bin = BinOf(s.values[x]);
-                          for (std::size_t i = 0; i < bins.size(); ++i)
-                            if (bin == bins[i]) {
-                              lists[i].push_back(s.values[x]);
-                              break;  // equal bins: the first rank's list serves both (below)
-                            }
-                        }
+                        if (lanes)
+                          GatherSegmentAvx2(segments[k], bins, lists.data());
+                        else
+                          GatherSegment(segments[k], bins, lists.data());
                       }
                     });
   std::vector<std::vector<float>> in_bin(ranks.size());
