@@ -3,7 +3,8 @@
 // each axis, cell by cell in offset order and, within a cell, in the order of the active list.
 // The points are laid out as a scan's are (rows of a surface, so consecutive points mostly share
 // a cell and the grid is built from runs over several chunks of the active list), with some
-// exactly on cell boundaries and some left out of the active list.
+// exactly on cell boundaries and some left out of the active list. And the band test of the
+// RANSAC scoring (WithinBand) against Eigen's norm, point by point, with the AVX2 lanes and without.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "../../vision/src/avx2.h"
 #include "../../vision/src/sphere_fit_internal.h"
 
 namespace ramtk::vision::sphere_internal {
@@ -68,6 +70,61 @@ TEST(PointGrid, NeighbourhoodsListTheCellsPointsInActiveOrder) {
     for (std::size_t k = 3; k < expected.size(); k += 7) want.push_back(expected[k]);
     EXPECT_EQ(strided, want);
   }
+}
+
+// The points of a neighbourhood within the band, as Eigen's norm puts them, with the lanes and
+// without.
+void ExpectEigensBand(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& nb, std::size_t stride,
+                      const Eigen::Vector3d& centre, double radius, double band) {
+  std::vector<int> want;
+  for (std::size_t k = stride - 1; k < nb.size(); k += stride) {
+    const int i = nb[k];
+    if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band) want.push_back(i);
+  }
+  for (const bool lanes : {false, true}) {
+    detail::SetAvx2Kernels(lanes);
+    std::vector<int> got;
+    ASSERT_EQ(WithinBand(points, nb, stride - 1, stride, centre, radius, band, &got), static_cast<int>(want.size()));
+    ASSERT_EQ(got, want) << "radius " << radius << ", stride " << stride << (lanes ? ", lanes" : "");
+    ASSERT_EQ(WithinBand(points, nb, stride - 1, stride, centre, radius, band, nullptr), static_cast<int>(want.size()));
+  }
+  detail::SetAvx2Kernels(true);
+}
+
+TEST(WithinBand, CountsAndListsThePointsEigensNormPutsInTheBand) {
+  // A centre of full 53-bit coordinates: the squares of the differences round (with a centre of few
+  // bits they are exact and every order of the sum agrees).
+  const Eigen::Vector3d centre(3.25 + 1.0 / 3, -1.5 + 1.0 / 7, 702.125 + 1.0 / 11);
+  const double radius = 19.05, band = 0.01;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> dir(0.0, 1.0);
+  std::uniform_real_distribution<double> offset(-0.05, 0.05);
+  auto on_shell = [&](double off) -> Eigen::Vector3f {  // evaluated here (u is local)
+    const Eigen::Vector3d u(dir(rng), dir(rng), dir(rng));
+    return (centre + (radius + off) * u.normalized()).cast<float>();
+  };
+  // A ball's points around the band, in 27-cell neighbourhoods of ragged sizes (small cells),
+  // all of them and every third.
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 30000; ++i) points.push_back(on_shell(offset(rng)));
+  std::vector<int> active(points.size());
+  for (std::size_t i = 0; i < active.size(); ++i) active[i] = static_cast<int>(i);
+  PointGrid grid(points, active, 4.0);
+  for (int q = 0; q < 40; ++q)
+    for (const std::size_t stride : {std::size_t{1}, std::size_t{3}})
+      ExpectEigensBand(points, grid.Neighbourhood(points[(q * 7919) % points.size()].cast<double>()), stride, centre,
+                       radius, band);
+  // The band's very edge: for each of 300 points the radius that puts it at `band` from the
+  // sphere as Eigen computes its distance, so that the last bit of the norm decides (a sum of the
+  // squares in another order flips some of them).
+  std::vector<Eigen::Vector3f> few(points.begin(), points.begin() + 300);
+  std::vector<int> all(few.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
+  PointGrid one_cell(few, all, 1000.0);
+  const CellNeighbourhood& nb = one_cell.Neighbourhood(centre);
+  ASSERT_EQ(nb.size(), few.size());
+  for (const Eigen::Vector3f& p : few)
+    ExpectEigensBand(few, nb, 1, centre, (p.cast<double>() - centre).norm() - band, band);
 }
 
 }  // namespace

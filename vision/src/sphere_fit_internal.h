@@ -57,6 +57,11 @@ class CellNeighbourhood {
   void ForEach(F&& f) const {
     ForEachStrided(0, 1, f);
   }
+  // Calls f(indices, n) for each cell's run of indices, in order.
+  template <class F>
+  void ForEachRun(F&& f) const {
+    for (int c = 0; c < count_; ++c) f(cells_[c], start_[c + 1] - start_[c]);
+  }
 
  private:
   friend class PointGrid;
@@ -96,6 +101,13 @@ struct Candidate {
   int radius_ok_samples = 0;  // samples whose sphere passed the radius gate
   std::string reason;         // why none was found
 };
+
+// The points of `pool` k = first, first + stride, ... (stride >= 1) within `band` of the sphere:
+// |‖p - c‖ - R| <= band with Eigen's norm of the point's double difference from the centre. Their
+// count, and with `out` their indices in pool order (cleared first). On CPUs with AVX2 four
+// points at a time, bit for bit as Eigen (tests/vision/sphere_grid_test.cpp).
+int WithinBand(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool, std::size_t first,
+               std::size_t stride, const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out);
 
 // RANSAC over the `active` points: 4-point samples from a neighbourhood, radius gate, LO step.
 Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double band_mm,

@@ -3,6 +3,7 @@
 // the prior, scoring on a strided subset of the neighbourhood, and a local optimisation (LO)
 // of every new best candidate by iterated algebraic fits on its inliers.
 
+#include <immintrin.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "avx2.h"
 #include "fast_round.h"
 #include "sphere_fit_internal.h"
 
@@ -160,16 +162,72 @@ bool FitAlgebraic(const std::vector<Eigen::Vector3f>& points, const std::vector<
 
 namespace {
 
-// Points of `pool` within `band` of the sphere surface.
-void CollectInliers(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool,
-                    const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
-  out->clear();
-  pool.ForEach([&](int i) {
-    if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band) out->push_back(i);
-  });
+// The indices idx[0, n) within the band, counted, and with `out` appended in order (scalar).
+int WithinBandScalar(const std::vector<Eigen::Vector3f>& points, const int* idx, int n, const Eigen::Vector3d& centre,
+                     double radius, double band, std::vector<int>* out) {
+  int count = 0;
+  for (int k = 0; k < n; ++k) {
+    if (!(std::abs((points[idx[k]].cast<double>() - centre).norm() - radius) <= band)) continue;
+    ++count;
+    if (out) out->push_back(idx[k]);
+  }
+  return count;
+}
+
+// The same, four points at a time on AVX2 lanes: Eigen sums a 3-vector's squares as
+// x^2 + (y^2 + z^2); std::abs, the square root and the comparison are exact.
+RAMTK_AVX2 int WithinBandAvx2(const std::vector<Eigen::Vector3f>& points, const int* idx, int n,
+                              const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
+  const __m256d cx = _mm256_set1_pd(centre.x()), cy = _mm256_set1_pd(centre.y()), cz = _mm256_set1_pd(centre.z());
+  const __m256d r = _mm256_set1_pd(radius), b = _mm256_set1_pd(band);
+  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
+  const Eigen::Vector3f* pts = points.data();
+  int count = 0, k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const float *p0 = pts[idx[k]].data(), *p1 = pts[idx[k + 1]].data(), *p2 = pts[idx[k + 2]].data(),
+                *p3 = pts[idx[k + 3]].data();
+    const __m256d dx = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])), cx);
+    const __m256d dy = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])), cy);
+    const __m256d dz = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[2], p1[2], p2[2], p3[2])), cz);
+    const __m256d d2 =
+        _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_add_pd(_mm256_mul_pd(dy, dy), _mm256_mul_pd(dz, dz)));
+    const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_sqrt_pd(d2), r));
+    int in = _mm256_movemask_pd(_mm256_cmp_pd(off, b, _CMP_LE_OQ));
+    count += __builtin_popcount(static_cast<unsigned>(in));
+    if (out)
+      for (; in; in &= in - 1) out->push_back(idx[k + __builtin_ctz(static_cast<unsigned>(in))]);
+  }
+  return count + WithinBandScalar(points, idx + k, n - k, centre, radius, band, out);
 }
 
 }  // namespace
+
+int WithinBand(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool, std::size_t first,
+               std::size_t stride, const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
+  if (out) out->clear();
+  const bool lanes = detail::Avx2Kernels();
+  constexpr int kBatch = 256;
+  int idx[kBatch];
+  int n = 0, count = 0;
+  auto within = [&](const int* indices, int count_of) {
+    return lanes ? WithinBandAvx2(points, indices, count_of, centre, radius, band, out)
+                 : WithinBandScalar(points, indices, count_of, centre, radius, band, out);
+  };
+  if (stride == 1 && first == 0) {  // each cell's indices as they lie
+    pool.ForEachRun([&](const int* indices, std::size_t size) { count += within(indices, static_cast<int>(size)); });
+    return count;
+  }
+  auto flush = [&] {
+    count += within(idx, n);
+    n = 0;
+  };
+  pool.ForEachStrided(first, stride, [&](int i) {
+    idx[n++] = i;
+    if (n == kBatch) flush();
+  });
+  flush();
+  return count;
+}
 
 Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double band_mm,
                         double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng) {
@@ -207,19 +265,16 @@ Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::v
     // Score on a strided subset of the points around the candidate centre.
     const CellNeighbourhood& around = grid.Neighbourhood(centre);
     const size_t stride = std::max<size_t>(1, around.size() / static_cast<size_t>(options.max_scoring_points));
-    int count = 0;
-    around.ForEachStrided(rng() % stride, stride, [&](int i) {
-      if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band_mm) ++count;
-    });
+    const int count = WithinBand(points, around, rng() % stride, stride, centre, radius, band_mm, nullptr);
     const double estimate = static_cast<double>(count) * static_cast<double>(stride);
     if (estimate <= best.inliers) continue;
     // Local optimisation: algebraic refits on the full inlier set while it grows.
-    CollectInliers(points, around, centre, radius, band_mm, &inliers);
+    WithinBand(points, around, 0, 1, centre, radius, band_mm, &inliers);
     for (int lo = 0; lo < 5; ++lo) {
       Eigen::Vector3d c2;
       double r2 = 0;
       if (!FitAlgebraic(points, inliers, &c2, &r2) || r2 < radius_lo || r2 > radius_hi) break;
-      CollectInliers(points, grid.Neighbourhood(c2), c2, r2, band_mm, &trial);
+      WithinBand(points, grid.Neighbourhood(c2), 0, 1, c2, r2, band_mm, &trial);
       if (trial.size() <= inliers.size()) break;
       centre = c2;
       radius = r2;
