@@ -6,6 +6,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_rectified_grid.cpp
   src/undistort_chains.cpp
   src/stereo_walk_lanes.cpp
+  src/stereo_search_list.cpp
   src/triangulate.cpp
   src/scan.cpp src/scan_frames.cpp
   src/scan_roi.cpp

@@ -15,6 +15,7 @@ ramtk_add_gtest(vision_scan_tests
   stereo_back_reach_test.cpp
   stereo_rectified_test.cpp
   stereo_walk_lanes_test.cpp
+  stereo_search_list_test.cpp
   scan_shard_test.cpp
   scan_roi_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)

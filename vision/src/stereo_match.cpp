@@ -19,6 +19,7 @@
 #include "ramtk/core/error.h"
 #include "rank_select.h"
 #include "stereo_rectified_grid.h"
+#include "stereo_search_list.h"
 #include "stereo_walk_lanes.h"
 #include "undistort_chains.h"
 
@@ -967,12 +968,12 @@ struct RowWalk {
   int y = 0;
   int x = 0;         // the cursor: every pixel left of it is done
   int next_ray = 0;  // the chain's entry of the next pixel searched
+  int last_x = -2;   // the column of the last pixel searched
   double w_prev = std::numeric_limits<double>::quiet_NaN();
   double w_last = std::numeric_limits<double>::quiet_NaN();  // the row's last match, past gaps
   bool lane_tried = false;  // the lanes walked the pixel at the cursor and did not settle it
   const detail::UndistortChain* chain = nullptr;
   const float *crow = nullptr, *srow = nullptr, *mod_row = nullptr;
-  const uchar *mrow = nullptr, *reach_row = nullptr;
   // The output rows (the pass writes u, v only with `pixels`, depth to point_sigma only with `points`).
   float *u_row = nullptr, *v_row = nullptr, *sigma_row = nullptr, *depth_row = nullptr, *x_row = nullptr,
         *y_row = nullptr, *point_sigma_row = nullptr;
@@ -980,17 +981,19 @@ struct RowWalk {
   double* w_row = nullptr;       // this row's
   long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
 
-  void Start(const Pass& p, PassResult* out, int row, const detail::UndistortChain* c, const double* up, double* own) {
+  void Start(const Pass& p, PassResult* out, int row, const detail::UndistortChain* c,
+             const detail::SearchCounts& counts, const double* up, double* own) {
     const int W = p.src_coord.cols;
     y = row;
     chain = c;
+    valid = counts.valid;
+    noisy = counts.noisy;
+    unreachable = counts.unreachable;
     w_up = up;
     w_row = own;
     std::fill_n(w_row, W, kNaN);
     crow = p.src_coord.ptr<float>(y);
     srow = p.src_sigma.ptr<float>(y);
-    mrow = p.src_mask.ptr<uchar>(y);
-    reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
     mod_row = p.src_modulation.ptr<float>(y);
     u_row = p.pixels ? out->u.ptr<float>(y) : nullptr;
     v_row = p.pixels ? out->v.ptr<float>(y) : nullptr;
@@ -1020,38 +1023,16 @@ bool SameBits(const Matcher::Root& a, const Matcher::Root& b) {
   return std::memcmp(va, vb, sizeof va) == 0 && a.at.ok == b.at.ok && a.at.u0 == b.at.u0 && a.at.v0 == b.at.v0;
 }
 
-// Moves the row's cursor to its next pixel to search (true; the pixel is counted valid) or to
-// the row's end (false), counting the pixels it passes that are not searched.
+// Moves the row's cursor to its next pixel to search (true) or to the row's end (false). The
+// left neighbour's match seeds the walk only if the neighbour was searched (and matched).
 bool NextSearched(const Pass& p, RowWalk* r) {
-  const int W = p.src_coord.cols;
-  for (; r->x < W; ++r->x) {
-    const int x = r->x;
-    if (!r->mrow[x] || !std::isfinite(r->crow[x])) {
-      r->w_prev = std::numeric_limits<double>::quiet_NaN();
-      // Masked runs (most of a frame outside the object) eight mask bytes at a time.
-      while (r->x + 9 <= W) {
-        std::uint64_t next8;
-        std::memcpy(&next8, r->mrow + r->x + 1, sizeof next8);
-        if (next8) break;
-        r->x += 8;
-      }
-      continue;
-    }
-    ++r->valid;
-    if (!(r->srow[x] <= p.max_sigma)) {
-      ++r->noisy;
-      r->w_prev = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    if (r->reach_row && !r->reach_row[x]) {
-      // No back match can accept it: any crossing would fail the left-right check.
-      ++r->unreachable;
-      r->w_prev = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    return true;
+  if (r->next_ray >= r->chain->count) {
+    r->x = p.src_coord.cols;
+    return false;
   }
-  return false;
+  r->x = r->chain->xs[r->next_ray];
+  if (r->x != r->last_x + 1) r->w_prev = std::numeric_limits<double>::quiet_NaN();
+  return true;
 }
 
 // Searches the pixel at the row's cursor, writes its outputs and moves the cursor past it.
@@ -1060,7 +1041,7 @@ bool NextSearched(const Pass& p, RowWalk* r) {
 void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, RowWalk* r,
                  const Matcher::Root* settled) {
   const int x = r->x, y = r->y;
-  ++r->x;
+  r->last_x = x;
   // The source ray (undistorted before the row's walk, in the order of the row).
   const detail::UndistortChain& chain = *r->chain;
   assert(r->next_ray < chain.count && chain.xs[r->next_ray] == x);
@@ -1207,7 +1188,7 @@ bool LanesWalk(const Pass& p) {
 // otherwise the scalar search takes it, once the row above has passed it (it may seed from the
 // row above's match). The results do not depend on `lanes`.
 void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const detail::WalkMaps& maps,
-              const detail::UndistortChain* chains, std::vector<double>* w_buf) {
+              const detail::UndistortChain* chains, const detail::SearchCounts* counts, std::vector<double>* w_buf) {
   Matcher m{p};
   std::vector<Matcher::Root> roots;
   for (int g = yb; g < ye; g += lanes) {
@@ -1215,7 +1196,7 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
     RowWalk rw[4];
     bool pending[4] = {false, false, false, false};
     for (int k = 0; k < n; ++k) {
-      rw[k].Start(p, out, g + k, &chains[g + k - yb], w_buf[k].data(), w_buf[k + 1].data());
+      rw[k].Start(p, out, g + k, &chains[g + k - yb], counts[g + k - yb], w_buf[k].data(), w_buf[k + 1].data());
       pending[k] = NextSearched(p, &rw[k]);
     }
     for (bool more = n > 0; more;) {
@@ -1324,28 +1305,24 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
       thread_local std::vector<int> xs;
       // Per pixel of the block's chains: the ideal point, a = R (ideal, 1) and the rectified ray.
       thread_local std::vector<double> rays[8];
-      const std::size_t row_stride = static_cast<std::size_t>(W);
+      const std::size_t row_stride = static_cast<std::size_t>(W) + 8;  // ListSearchedPixels' scratch
       xs.resize(row_stride * kBlock);
       for (std::vector<double>& r : rays) r.resize(row_stride * kBlock);
       detail::UndistortChain chains[kBlock];
+      detail::SearchCounts counts[kBlock];
       for (int y = yb; y < ye; ++y) {
-        const float* crow = p.src_coord.ptr<float>(y);
-        const float* srow = p.src_sigma.ptr<float>(y);
-        const uchar* mrow = p.src_mask.ptr<uchar>(y);
-        const uchar* reach_row = p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y);
         const std::size_t at = static_cast<std::size_t>(y - yb) * row_stride;
         int* row_xs = xs.data() + at;
-        int count = 0;
-        for (int x = 0; x < W; ++x)
-          if (mrow[x] && std::isfinite(crow[x]) && srow[x] <= p.max_sigma && (!reach_row || reach_row[x]))
-            row_xs[count++] = x;
+        const int count = detail::ListSearchedPixels(
+            p.src_mask.ptr<uchar>(y), p.src_coord.ptr<float>(y), p.src_sigma.ptr<float>(y),
+            p.reach.empty() ? nullptr : p.reach.ptr<uchar>(y), W, p.max_sigma, row_xs, &counts[y - yb]);
         chains[y - yb] = {row_xs,           count,           y,
                           rays[0].data() + at, rays[1].data() + at, rays[2].data() + at,
                           rays[3].data() + at, rays[4].data() + at, rays[5].data() + at,
                           rays[6].data() + at, rays[7].data() + at};
       }
       detail::UndistortChains(*p.src, chains, ye - yb, &turn);
-      WalkRows(p, out, yb, ye, lanes, maps, chains, w_buf);
+      WalkRows(p, out, yb, ye, lanes, maps, chains, counts, w_buf);
     });
     if (options.progress && !options.progress({stage, static_cast<std::size_t>(r1), static_cast<std::size_t>(H)}))
       return false;
