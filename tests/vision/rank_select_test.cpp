@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -78,6 +80,50 @@ TEST(RankSelect, FiniteValuesOfAMapAndAFlatArray) {
     for (std::size_t i = 0; i < flat.size(); ++i) parts[i < 5000 ? 0 : i == 5000 ? 1 : 3].push_back(flat[i]);
     for (const std::size_t rank : {std::size_t{0}, flat.size() / 2, flat.size() / 3, flat.size() - 1})
       EXPECT_EQ(ValuesAtRanks(parts, {rank})[0], NthOf(flat, rank)) << "rank " << rank;
+  }
+  SetAvx2Kernels(true);
+}
+
+TEST(RankSelect, ABinOfManyValuesAsNthElement) {
+  // A nearly uniform map (a simulated frame's modulation): most values share one histogram bin
+  // (the top 16 bits), which is then resolved by a second histogram of the low bits. Ties, the
+  // bin's first and last values, and a few values in the bins around it.
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<int> low_bits(0, 0xFFFF), coin(0, 9);
+  std::uniform_real_distribution<float> elsewhere(40.0f, 70.0f);
+  const std::uint32_t bin = 0x425F0000u;  // 55.75 and the floats just above it
+  cv::Mat values(300, 311, CV_32F), mask(values.size(), CV_8U);
+  std::vector<float> gathered;
+  for (int y = 0; y < values.rows; ++y)
+    for (int x = 0; x < values.cols; ++x) {
+      const std::uint32_t bits = bin | static_cast<std::uint32_t>(x % 13 == 0 ? 0x1234 : low_bits(rng));
+      float v;
+      std::memcpy(&v, &bits, sizeof v);
+      values.at<float>(y, x) = coin(rng) == 0 ? elsewhere(rng) : v;
+      mask.at<uchar>(y, x) = coin(rng) < 8 ? 255 : 0;
+      if (mask.at<uchar>(y, x)) gathered.push_back(values.at<float>(y, x));
+    }
+  const std::size_t n = gathered.size();
+  std::vector<float> sorted = gathered;
+  std::sort(sorted.begin(), sorted.end());
+  // The ranks of the bin's smallest and largest values.
+  auto in_bin = [&](float v) {
+    std::uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return (b >> 16) == (bin >> 16);
+  };
+  const std::size_t first_in_bin = std::find_if(sorted.begin(), sorted.end(), in_bin) - sorted.begin();
+  const std::size_t last_in_bin = n - 1 - (std::find_if(sorted.rbegin(), sorted.rend(), in_bin) - sorted.rbegin());
+  ASSERT_GT(last_in_bin - first_in_bin, 20000u);  // a bin of many values
+  const std::vector<std::size_t> ranks{
+      n / 2, n - 1 - n / 2, first_in_bin, last_in_bin, first_in_bin - 1, last_in_bin + 1, 0, n - 1};
+  for (const bool lanes : {false, true}) {
+    SetAvx2Kernels(lanes);
+    const std::vector<float> got = ValuesAtRanks(values, mask, ranks);
+    for (std::size_t i = 0; i < ranks.size(); ++i)
+      EXPECT_EQ(got[i], sorted[ranks[i]]) << "rank " << ranks[i] << (lanes ? ", lanes" : "");
+    // The finite values of the map (no mask) and the flat array.
+    EXPECT_EQ(ValuesAtRanks(gathered, {n / 3})[0], sorted[n / 3]);
   }
   SetAvx2Kernels(true);
 }

@@ -56,8 +56,27 @@ void CountSegment(const Segment& s, std::uint32_t* even, std::uint32_t* odd) {
   if (x < s.length && Counts(s, x)) ++even[BinOf(s.values[x])];
 }
 
+// What the gather pass collects: per wanted rank i, the values of bin bins[i] into lists[i] or,
+// for a full bin (low[i] set), the counts of their low 16 bits into low[i] (a value in several
+// equal bins: the first rank's).
+struct Targets {
+  std::vector<int> bins;
+  std::vector<std::vector<float>>* lists = nullptr;
+  std::vector<std::uint32_t*> low;
+  void Add(std::size_t i, float v) const {
+    if (low[i]) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      ++low[i][bits & 0xFFFFu];
+    } else {
+      (*lists)[i].push_back(v);
+    }
+  }
+};
+
 // The values of bin bins[i] into lists[i] (a value in several equal bins: the first's list).
-void GatherSegment(const Segment& s, const std::vector<int>& bins, std::vector<float>* lists) {
+void GatherSegment(const Segment& s, const Targets& t) {
+  const std::vector<int>& bins = t.bins;
   for (int x = 0; x < s.length; ++x) {
     if (s.mask && x + 8 <= s.length && MaskedEight(s.mask + x)) {
       x += 7;  // eight masked values at once
@@ -67,7 +86,7 @@ void GatherSegment(const Segment& s, const std::vector<int>& bins, std::vector<f
     const int bin = BinOf(s.values[x]);
     for (std::size_t i = 0; i < bins.size(); ++i)
       if (bin == bins[i]) {
-        lists[i].push_back(s.values[x]);
+        t.Add(i, s.values[x]);
         break;  // equal bins: the first rank's list serves both (Select)
       }
   }
@@ -99,6 +118,13 @@ RAMTK_AVX2 void CountSegmentAvx2(const Segment& s, std::uint32_t* even, std::uin
     __m256i bins;
     int count = EightThatCount(s, x, &bins);
     if (!count) continue;
+    // Eight values in one bin (most of a smooth map): one addition, not eight increments of one
+    // counter, each waiting for the last.
+    const __m256i first = _mm256_permutevar8x32_epi32(bins, _mm256_setzero_si256());
+    if (_mm256_movemask_epi8(_mm256_cmpeq_epi32(bins, first)) == -1) {
+      even[_mm256_cvtsi256_si32(bins)] += static_cast<std::uint32_t>(__builtin_popcount(static_cast<unsigned>(count)));
+      continue;
+    }
     _mm256_store_si256(reinterpret_cast<__m256i*>(b), bins);
     for (; count; count &= count - 1) {
       const int i = __builtin_ctz(static_cast<unsigned>(count));
@@ -110,7 +136,8 @@ RAMTK_AVX2 void CountSegmentAvx2(const Segment& s, std::uint32_t* even, std::uin
 }
 
 // GatherSegment, eight values at a time on AVX2 lanes (the same lists, in the same order).
-RAMTK_AVX2 void GatherSegmentAvx2(const Segment& s, const std::vector<int>& bins, std::vector<float>* lists) {
+RAMTK_AVX2 void GatherSegmentAvx2(const Segment& s, const Targets& t) {
+  const std::vector<int>& bins = t.bins;
   int x = 0;
   for (; x + 8 <= s.length; x += 8) {
     if (s.mask && MaskedEight(s.mask + x)) continue;
@@ -126,14 +153,14 @@ RAMTK_AVX2 void GatherSegmentAvx2(const Segment& s, const std::vector<int>& bins
     }
     for (; any; any &= any - 1) {
       const int k = __builtin_ctz(static_cast<unsigned>(any));
-      lists[in_bin[k]].push_back(s.values[x + k]);
+      t.Add(static_cast<std::size_t>(in_bin[k]), s.values[x + k]);
     }
   }
   Segment tail = s;
   tail.values += x;
   if (tail.mask) tail.mask += x;
   tail.length -= x;
-  GatherSegment(tail, bins, lists);
+  GatherSegment(tail, t);
 }
 
 // `ranks_of(count)`: the ranks wanted, given how many values count.
@@ -175,33 +202,79 @@ std::vector<float> Select(const std::vector<Segment>& segments,
     bins.push_back(bin);
     below.push_back(b);
   }
-  // Per thread, then joined: nth_element's value does not depend on the order of the list.
-  tbb::enumerable_thread_specific<std::vector<std::vector<float>>> gathered(
-      [&] { return std::vector<std::vector<float>>(ranks.size()); });
+  // A bin of many values (a nearly uniform map puts 6 % of a thesis frame's modulations in one)
+  // is resolved by a second histogram over the values' low 16 bits instead of gathering the
+  // values for nth_element (their order is that of the bits); the other bins' values are
+  // gathered. Bins of infinities and NaNs are always gathered.
+  constexpr std::uint64_t kGatherAtMost = 1 << 14;
+  constexpr int kLow = 1 << 16;
+  std::vector<char> full(ranks.size(), 0);
+  for (std::size_t i = 0; i < ranks.size(); ++i) {
+    std::size_t first = 0;
+    while (bins[first] != bins[i]) ++first;
+    full[i] = first == i && hist[bins[i]] > kGatherAtMost && bins[i] < 0x7F80;  // below infinity's bits
+  }
+  // Per thread, then joined: nth_element's value does not depend on the order of the list, nor a
+  // histogram on the order of its counts.
+  struct Gathered {
+    std::vector<std::vector<float>> lists;
+    std::vector<std::vector<std::uint32_t>> low;
+  };
+  tbb::enumerable_thread_specific<Gathered> gathered([&] {
+    Gathered g;
+    g.lists.resize(ranks.size());
+    g.low.resize(ranks.size());
+    for (std::size_t i = 0; i < ranks.size(); ++i)
+      if (full[i]) g.low[i].assign(kLow, 0);
+    return g;
+  });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::vector<std::vector<float>>& lists = gathered.local();
+                      Gathered& g = gathered.local();
+                      Targets t;
+                      t.bins = bins;
+                      t.lists = &g.lists;
+                      for (std::vector<std::uint32_t>& l : g.low) t.low.push_back(l.empty() ? nullptr : l.data());
                       const bool lanes = Avx2Kernels();
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         if (lanes)
-                          GatherSegmentAvx2(segments[k], bins, lists.data());
+                          GatherSegmentAvx2(segments[k], t);
                         else
-                          GatherSegment(segments[k], bins, lists.data());
+                          GatherSegment(segments[k], t);
                       }
                     });
   std::vector<std::vector<float>> in_bin(ranks.size());
-  for (const std::vector<std::vector<float>>& lists : gathered)
-    for (std::size_t i = 0; i < ranks.size(); ++i) in_bin[i].insert(in_bin[i].end(), lists[i].begin(), lists[i].end());
+  std::vector<std::vector<std::uint64_t>> low(ranks.size());
+  for (std::size_t i = 0; i < ranks.size(); ++i)
+    if (full[i]) low[i].assign(kLow, 0);
+  for (const Gathered& g : gathered)
+    for (std::size_t i = 0; i < ranks.size(); ++i) {
+      in_bin[i].insert(in_bin[i].end(), g.lists[i].begin(), g.lists[i].end());
+      if (full[i])
+        for (int b = 0; b < kLow; ++b) low[i][b] += g.low[i][b];
+    }
   std::vector<float> out;
   for (std::size_t i = 0; i < ranks.size(); ++i) {
     std::size_t first = 0;  // the first rank in the same bin holds the bin's values
     while (bins[first] != bins[i]) ++first;
-    std::vector<float>& vals = in_bin[first];
-    if (ranks[i] < below[i] || ranks[i] - below[i] >= vals.size()) {
+    const std::size_t in_this_bin = hist[bins[i]];
+    if (ranks[i] < below[i] || ranks[i] - below[i] >= in_this_bin) {
       out.push_back(std::numeric_limits<float>::quiet_NaN());
       continue;
     }
     const std::size_t k = ranks[i] - below[i];
+    if (full[first]) {
+      // The k-th value by its low bits: the first low bits whose running count passes k.
+      std::uint64_t seen = 0;
+      int b = 0;
+      while (seen + low[first][b] <= k) seen += low[first][b++];
+      const std::uint32_t bits = static_cast<std::uint32_t>(bins[i]) << 16 | static_cast<std::uint32_t>(b);
+      float v;
+      std::memcpy(&v, &bits, sizeof v);
+      out.push_back(v);
+      continue;
+    }
+    std::vector<float>& vals = in_bin[first];
     std::nth_element(vals.begin(), vals.begin() + static_cast<std::ptrdiff_t>(k), vals.end());
     out.push_back(vals[k]);
   }
