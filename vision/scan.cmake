@@ -7,6 +7,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/undistort_chains.cpp
   src/stereo_walk_lanes.cpp
   src/stereo_search_list.cpp
+  src/back_reach_lanes.cpp
   src/triangulate.cpp
   src/scan.cpp src/scan_frames.cpp
   src/scan_roi.cpp

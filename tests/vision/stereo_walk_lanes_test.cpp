@@ -57,6 +57,10 @@ long ExpectLanesAreTheScalarWalk(const StereoCalibration& calib, const DecodedCa
   EXPECT_EQ(scalar.summary.rejected_lr, lanes.summary.rejected_lr);
   EXPECT_EQ(scalar.summary.rejected_no_match, lanes.summary.rejected_no_match);
   EXPECT_EQ(scalar.summary.full_searches, lanes.summary.full_searches);
+  // The reach map (BackReach's boxes, eight cells at a time on the lanes) and the row lists.
+  EXPECT_EQ(scalar.summary.rejected_no_back_match, lanes.summary.rejected_no_back_match);
+  EXPECT_EQ(scalar.summary.rejected_noisy, lanes.summary.rejected_noisy);
+  EXPECT_EQ(scalar.summary.left_valid, lanes.summary.left_valid);
   return checked;
 }
 

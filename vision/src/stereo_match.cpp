@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "avx2.h"
+#include "back_reach_lanes.h"
 #include "fast_round.h"
 #include "ramtk/core/error.h"
 #include "rank_select.h"
@@ -891,6 +892,7 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
       for (int x = x0; x <= x1; ++x) __atomic_store_n(r + x, uchar{1}, __ATOMIC_RELAXED);
     }
   };
+  const bool lanes = detail::Avx2Kernels();
   tbb::parallel_for(tbb::blocked_range<int>(0, rows - 1, 16), [&](const tbb::blocked_range<int>& range) {
     for (int v = range.begin(); v < range.end(); ++v) {
       // back_u and back_v are written together: NaN in both (unmatched) or finite in both.
@@ -910,12 +912,9 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
         if (rx0 <= rx1) mark(rx0, rx1, ry0, ry1);
         rx0 = x0, rx1 = x1, ry0 = y0, ry1 = y1;
       };
-      // Whether column u + 1 of the two rows holds a back match (the next cell's left column).
-      bool next_column = !(std::isnan(u0[0]) && std::isnan(u1[0]));
-      for (int u = 0; u + 1 < cols; ++u) {
-        const bool this_column = next_column;
-        next_column = !(std::isnan(u0[u + 1]) && std::isnan(u1[u + 1]));
-        if (!this_column && !next_column) continue;
+      // One cell (the scalar loop; with AVX2 only the cells the lanes leave).
+      auto cell = [&](int u) {
+        if (std::isnan(u0[u]) && std::isnan(u1[u]) && std::isnan(u0[u + 1]) && std::isnan(u1[u + 1])) return;
         const float bu[4] = {u0[u], u0[u + 1], u1[u], u1[u + 1]};
         const bool fin[4] = {bu[0] == bu[0], bu[1] == bu[1], bu[2] == bu[2], bu[3] == bu[3]};
         const float bv[4] = {v0[u], v0[u + 1], v1[u], v1[u + 1]};
@@ -944,13 +943,33 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
           if (bilinear) {
             const float t = tolerance + kSlack;
             if (pixels(umin - t, umax + t, vmin - t, vmax + t, &x0, &x1, &y0, &y1)) add(x0, x1, y0, y1);
-            continue;
+            return;
           }
         }
         const float t = tolerance + 1 + kSlack;
         for (int k = 0; k < 4; ++k)
           if (fin[k] && pixels(bu[k] - t, bu[k] + t, bv[k] - t, bv[k] + t, &x0, &x1, &y0, &y1)) add(x0, x1, y0, y1);
+      };
+      int u = 0;
+      if (lanes) {
+        // Eight cells at a time (columns u .. u + 8 read); the cells in order, as one by one.
+        detail::ReachBoxes boxes;
+        for (; u + 9 <= cols; u += 8) {
+          detail::ReachBoxesOfEight(u0, u1, v0, v1, s0, s1, u, lr_tolerance, factor, kSlack, src_cols, src_rows,
+                                    &boxes);
+          if (!boxes.fast) {
+            for (int i = 0; i < 8; ++i) cell(u + i);
+            continue;
+          }
+          for (int i = 0; i < 8; ++i) {
+            if (!(boxes.fast >> i & 1))
+              cell(u + i);
+            else if (boxes.has >> i & 1)
+              add(boxes.x0[i], boxes.x1[i], boxes.y0[i], boxes.y1[i]);
+          }
+        }
       }
+      for (; u + 1 < cols; ++u) cell(u);
       if (rx0 <= rx1) mark(rx0, rx1, ry0, ry1);
     }
   });
