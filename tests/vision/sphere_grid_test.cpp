@@ -1,4 +1,5 @@
-// The RANSAC point grid (vision/src/sphere_fit_internal.h) against a brute-force listing: every
+// The RANSAC point grid (vision/src/sphere_fit_internal.h; its cell keys four points at a time on
+// AVX2 lanes, and one by one) against a brute-force listing: every
 // neighbourhood holds exactly the active points whose cell is within one cell of the query's on
 // each axis, cell by cell in offset order and, within a cell, in the order of the active list.
 // The points are laid out as a scan's are (rows of a surface, so consecutive points mostly share
@@ -44,32 +45,37 @@ TEST(PointGrid, NeighbourhoodsListTheCellsPointsInActiveOrder) {
     return Eigen::Vector3i(static_cast<int>(std::floor(g.x())), static_cast<int>(std::floor(g.y())),
                            static_cast<int>(std::floor(g.z())));
   };
-  PointGrid grid(points, active, kCell);
-  std::vector<Eigen::Vector3d> queries;
-  for (int k = 0; k < 60; ++k) queries.push_back(points[active[rng() % active.size()]].cast<double>());
-  for (int k = points.size() - 9; k < static_cast<int>(points.size()); ++k) queries.push_back(points[k].cast<double>());
-  queries.emplace_back(1e4, 1e4, 1e4);  // far from every point: empty
-  for (const Eigen::Vector3d& q : queries) {
-    const Eigen::Vector3i cq = cell_of(q);
-    std::vector<int> expected;
-    for (int di = -1; di <= 1; ++di)
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int dk = -1; dk <= 1; ++dk)
-          for (int i : active)
-            if (cell_of(points[i].cast<double>()) == cq + Eigen::Vector3i(di, dj, dk)) expected.push_back(i);
-    const CellNeighbourhood& nb = grid.Neighbourhood(q);
-    std::vector<int> got;
-    nb.ForEach([&](int i) { got.push_back(i); });
-    ASSERT_EQ(got, expected) << "query " << q.transpose();
-    ASSERT_EQ(nb.size(), expected.size());
-    for (std::size_t k = 0; k < expected.size(); k += 997) EXPECT_EQ(nb[k], expected[k]);
-    // Strided, from an offset: every stride-th of the same list.
-    std::vector<int> strided;
-    nb.ForEachStrided(3, 7, [&](int i) { strided.push_back(i); });
-    std::vector<int> want;
-    for (std::size_t k = 3; k < expected.size(); k += 7) want.push_back(expected[k]);
-    EXPECT_EQ(strided, want);
+  for (const bool lanes : {false, true}) {  // the cell keys four points at a time on AVX2 lanes, or one by one
+    detail::SetAvx2Kernels(lanes);
+    PointGrid grid(points, active, kCell);
+    std::vector<Eigen::Vector3d> queries;
+    for (int k = 0; k < 60; ++k) queries.push_back(points[active[rng() % active.size()]].cast<double>());
+    for (int k = points.size() - 9; k < static_cast<int>(points.size()); ++k)
+      queries.push_back(points[k].cast<double>());
+    queries.emplace_back(1e4, 1e4, 1e4);  // far from every point: empty
+    for (const Eigen::Vector3d& q : queries) {
+      const Eigen::Vector3i cq = cell_of(q);
+      std::vector<int> expected;
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int dk = -1; dk <= 1; ++dk)
+            for (int i : active)
+              if (cell_of(points[i].cast<double>()) == cq + Eigen::Vector3i(di, dj, dk)) expected.push_back(i);
+      const CellNeighbourhood& nb = grid.Neighbourhood(q);
+      std::vector<int> got;
+      nb.ForEach([&](int i) { got.push_back(i); });
+      ASSERT_EQ(got, expected) << "query " << q.transpose();
+      ASSERT_EQ(nb.size(), expected.size());
+      for (std::size_t k = 0; k < expected.size(); k += 997) EXPECT_EQ(nb[k], expected[k]);
+      // Strided, from an offset: every stride-th of the same list.
+      std::vector<int> strided;
+      nb.ForEachStrided(3, 7, [&](int i) { strided.push_back(i); });
+      std::vector<int> want;
+      for (std::size_t k = 3; k < expected.size(); k += 7) want.push_back(expected[k]);
+      EXPECT_EQ(strided, want);
+    }
   }
+  detail::SetAvx2Kernels(true);
 }
 
 // The points of a neighbourhood within the band, as Eigen's norm puts them, with the lanes and
