@@ -5,7 +5,8 @@
 // The points are laid out as a scan's are (rows of a surface, so consecutive points mostly share
 // a cell and the grid is built from runs over several chunks of the active list), with some
 // exactly on cell boundaries and some left out of the active list. And the band test of the
-// RANSAC scoring (WithinBand) against Eigen's norm, point by point, with the AVX2 lanes and without.
+// RANSAC scoring (WithinBand) and the split around a candidate (SplitByDistance) against Eigen's
+// norm, point by point, with the AVX2 lanes and without.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -87,8 +88,23 @@ void ExpectEigensBand(const std::vector<Eigen::Vector3f>& points, const CellNeig
     const int i = nb[k];
     if (std::abs((points[i].cast<double>() - centre).norm() - radius) <= band) want.push_back(i);
   }
+  // SplitByDistance over the same points: within 5 band (near) and within band, as FindSpheres
+  // splits the cloud around a candidate.
+  std::vector<int> listed, want_near, want_in;
+  for (std::size_t k = stride - 1; k < nb.size(); k += stride) {
+    const int i = nb[k];
+    listed.push_back(i);
+    const double d = std::abs((points[i].cast<double>() - centre).norm() - radius);
+    if (d <= 5 * band) want_near.push_back(i);
+    if (d <= band) want_in.push_back(i);
+  }
   for (const bool lanes : {false, true}) {
     detail::SetAvx2Kernels(lanes);
+    std::vector<int> near, in_band;
+    SplitByDistance(points, listed.data(), static_cast<int>(listed.size()), centre, radius, 5 * band, band, &near,
+                    &in_band);
+    ASSERT_EQ(near, want_near) << (lanes ? "lanes" : "");
+    ASSERT_EQ(in_band, want_in) << (lanes ? "lanes" : "");
     std::vector<int> got;
     ASSERT_EQ(WithinBand(points, nb, stride - 1, stride, centre, radius, band, &got), static_cast<int>(want.size()));
     ASSERT_EQ(got, want) << "radius " << radius << ", stride " << stride << (lanes ? ", lanes" : "");

@@ -171,6 +171,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
   std::vector<int> first_bad(chunks, -1);
   tbb::parallel_for(0, chunks, [&](int c) {
     const int end = std::min(n, (c + 1) * kChunk);
+    chunk_active[c].reserve(static_cast<std::size_t>(end - c * kChunk));
     for (int i = c * kChunk; i < end; ++i) {
       if (!points[i].allFinite()) continue;
       if (weighted) {
@@ -250,12 +251,8 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
       std::vector<std::vector<int>> part_near(parts), part_band(parts);
       tbb::parallel_for(0, parts, [&](int c) {
         const int end = std::min(count, (c + 1) * kChunk);
-        for (int k = c * kChunk; k < end; ++k) {
-          const int i = active[k];
-          const double r = std::abs((points[i].cast<double>() - candidate.centre).norm() - candidate.radius);
-          if (r <= 5 * band) part_near[c].push_back(i);
-          if (r <= band) part_band[c].push_back(i);
-        }
+        sphere_internal::SplitByDistance(points, active.data() + c * kChunk, end - c * kChunk, candidate.centre,
+                                         candidate.radius, 5 * band, band, &part_near[c], &part_band[c]);
       });
       for (int c = 0; c < parts; ++c) {
         near.insert(near.end(), part_near[c].begin(), part_near[c].end());

@@ -109,6 +109,13 @@ struct Candidate {
 int WithinBand(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool, std::size_t first,
                std::size_t stride, const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out);
 
+// Of the points indices[0, n): those within `outer` of the sphere into `near` and those within
+// `inner` into `in_band` (appended, in order), the distance as WithinBand's (on AVX2 lanes where
+// available, bit for bit as Eigen).
+void SplitByDistance(const std::vector<Eigen::Vector3f>& points, const int* indices, int n,
+                     const Eigen::Vector3d& centre, double radius, double outer, double inner, std::vector<int>* near,
+                     std::vector<int>* in_band);
+
 // RANSAC over the `active` points: 4-point samples from a neighbourhood, radius gate, LO step.
 Candidate FindCandidate(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double band_mm,
                         double radius_lo, double radius_hi, const SphereFitOptions& options, std::mt19937_64& rng);

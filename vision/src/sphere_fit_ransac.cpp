@@ -200,7 +200,52 @@ RAMTK_AVX2 int WithinBandAvx2(const std::vector<Eigen::Vector3f>& points, const 
   return count + WithinBandScalar(points, idx + k, n - k, centre, radius, band, out);
 }
 
+// SplitByDistance one by one, and four points at a time on AVX2 lanes.
+void SplitScalar(const std::vector<Eigen::Vector3f>& points, const int* idx, int n, const Eigen::Vector3d& centre,
+                 double radius, double outer, double inner, std::vector<int>* near, std::vector<int>* in_band) {
+  for (int k = 0; k < n; ++k) {
+    const int i = idx[k];
+    const double r = std::abs((points[i].cast<double>() - centre).norm() - radius);
+    if (r <= outer) near->push_back(i);
+    if (r <= inner) in_band->push_back(i);
+  }
+}
+
+RAMTK_AVX2 void SplitAvx2(const std::vector<Eigen::Vector3f>& points, const int* idx, int n,
+                          const Eigen::Vector3d& centre, double radius, double outer, double inner,
+                          std::vector<int>* near, std::vector<int>* in_band) {
+  const __m256d cx = _mm256_set1_pd(centre.x()), cy = _mm256_set1_pd(centre.y()), cz = _mm256_set1_pd(centre.z());
+  const __m256d r = _mm256_set1_pd(radius), o = _mm256_set1_pd(outer), in = _mm256_set1_pd(inner);
+  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
+  const Eigen::Vector3f* pts = points.data();
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const float *p0 = pts[idx[k]].data(), *p1 = pts[idx[k + 1]].data(), *p2 = pts[idx[k + 2]].data(),
+                *p3 = pts[idx[k + 3]].data();
+    const __m256d dx = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])), cx);
+    const __m256d dy = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])), cy);
+    const __m256d dz = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[2], p1[2], p2[2], p3[2])), cz);
+    const __m256d d2 =
+        _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_add_pd(_mm256_mul_pd(dy, dy), _mm256_mul_pd(dz, dz)));
+    const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_sqrt_pd(d2), r));
+    int a = _mm256_movemask_pd(_mm256_cmp_pd(off, o, _CMP_LE_OQ));
+    int b = _mm256_movemask_pd(_mm256_cmp_pd(off, in, _CMP_LE_OQ));
+    for (; a; a &= a - 1) near->push_back(idx[k + __builtin_ctz(static_cast<unsigned>(a))]);
+    for (; b; b &= b - 1) in_band->push_back(idx[k + __builtin_ctz(static_cast<unsigned>(b))]);
+  }
+  SplitScalar(points, idx + k, n - k, centre, radius, outer, inner, near, in_band);
+}
+
 }  // namespace
+
+void SplitByDistance(const std::vector<Eigen::Vector3f>& points, const int* indices, int n,
+                     const Eigen::Vector3d& centre, double radius, double outer, double inner, std::vector<int>* near,
+                     std::vector<int>* in_band) {
+  if (detail::Avx2Kernels())
+    SplitAvx2(points, indices, n, centre, radius, outer, inner, near, in_band);
+  else
+    SplitScalar(points, indices, n, centre, radius, outer, inner, near, in_band);
+}
 
 int WithinBand(const std::vector<Eigen::Vector3f>& points, const CellNeighbourhood& pool, std::size_t first,
                std::size_t stride, const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
