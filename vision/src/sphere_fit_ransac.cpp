@@ -56,6 +56,37 @@ int64_t PointGrid::Key(const Eigen::Vector3d& x) const {
   return Pack(FloorToInt64(g.x()), FloorToInt64(g.y()), FloorToInt64(g.z()));
 }
 
+namespace {
+
+// PointGrid::Key of the points active[k .. k + 4) on AVX2 lanes: (x - origin) / cell and its floor
+// per axis exactly as Key takes them, packed as Pack packs them. False (keys not written) if a
+// cell index is beyond +-2^30 (Key and Pack then, one by one).
+RAMTK_AVX2 bool KeysOfFour(const Eigen::Vector3f* points, const int* idx, const Eigen::Vector3d& origin, double cell,
+                           int64_t* keys) {
+  const float *p0 = points[idx[0]].data(), *p1 = points[idx[1]].data(), *p2 = points[idx[2]].data(),
+              *p3 = points[idx[3]].data();
+  const __m256d c = _mm256_set1_pd(cell);
+  __m256i packed = _mm256_setzero_si256();
+  const __m256d limit = _mm256_set1_pd(1073741824.0);  // 2^30
+  int inside = 0xF;
+  for (int axis = 0; axis < 3; ++axis) {
+    const __m256d x = _mm256_cvtps_pd(_mm_setr_ps(p0[axis], p1[axis], p2[axis], p3[axis]));
+    const __m256d g = _mm256_floor_pd(_mm256_div_pd(_mm256_sub_pd(x, _mm256_set1_pd(origin[axis])), c));
+    inside &= _mm256_movemask_pd(_mm256_and_pd(
+        _mm256_cmp_pd(g, limit, _CMP_LT_OQ), _mm256_cmp_pd(g, _mm256_sub_pd(_mm256_setzero_pd(), limit), _CMP_GT_OQ)));
+    // ((i + 2^20) & (2^21 - 1)) at bit 42, 21 or 0.
+    const __m256i i = _mm256_cvtepi32_epi64(_mm256_cvttpd_epi32(g));
+    const __m256i field =
+        _mm256_and_si256(_mm256_add_epi64(i, _mm256_set1_epi64x(1 << 20)), _mm256_set1_epi64x((1 << 21) - 1));
+    packed = _mm256_or_si256(packed, _mm256_sll_epi64(field, _mm_cvtsi32_si128(42 - 21 * axis)));
+  }
+  if (inside != 0xF) return false;
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(keys), packed);
+  return true;
+}
+
+}  // namespace
+
 PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, double cell_mm)
     : cell_(cell_mm),
       origin_(active.empty() ? Eigen::Vector3d(Eigen::Vector3d::Zero())
@@ -75,14 +106,24 @@ PointGrid::PointGrid(const std::vector<Eigen::Vector3f>& points, const std::vect
     std::size_t to = 0;               // its place in index_
   };
   std::vector<std::vector<Run>> runs(chunks);
+  const bool lanes = detail::Avx2Kernels();
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
     std::vector<Run>& out = runs[c];
     const std::size_t end = std::min(active.size(), (c + 1) * kChunk);
-    for (std::size_t k = c * kChunk; k < end; ++k) {
-      const int64_t key = Key(points[active[k]].cast<double>());
+    auto add = [&](std::size_t k, int64_t key) {
       if (out.empty() || out.back().key != key) out.push_back({key, k, 0, nullptr, 0});
       ++out.back().size;
+    };
+    std::size_t k = c * kChunk;
+    if (lanes) {
+      int64_t keys[4];
+      for (; k + 4 <= end; k += 4) {
+        if (!KeysOfFour(points.data(), active.data() + k, origin_, cell_, keys))
+          for (int i = 0; i < 4; ++i) keys[i] = Key(points[active[k + i]].cast<double>());
+        for (int i = 0; i < 4; ++i) add(k + i, keys[i]);
+      }
     }
+    for (; k < end; ++k) add(k, Key(points[active[k]].cast<double>()));
   });
   // Cell sizes, then each cell's place (in the order cells first appear), then each run's.
   std::vector<int64_t> order;
