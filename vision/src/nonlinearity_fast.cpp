@@ -7,9 +7,11 @@
 // per row in parallel without per-pixel allocation.
 #include <immintrin.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/partitioner.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -290,40 +292,50 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
       strips.push_back(st);
     }
   }
-  // The strip buffers, reused from strip to strip.
-  cv::Mat mf, den, clean, hp;
-  std::vector<cv::Mat> basis(nb), bsum(nb);
+  // The strip buffers, reused from strip to strip by each thread.
+  struct StripBuffers {
+    cv::Mat mf, den, clean, hp;
+    std::vector<cv::Mat> basis, bsum;
+  };
+  tbb::enumerable_thread_specific<StripBuffers> buffers([&] {
+    StripBuffers b;
+    b.basis.resize(nb);
+    b.bsum.resize(nb);
+    return b;
+  });
 
   // Normal equations over the pixels whose whole window is valid and whose high-pass is small,
   // per band of rows (the ripple's jackknife test, detail::RippleBand), with the ripple basis of
   // orders 1..`orders`. With `design` false only the sum of squares and the count.
+  // The strips run side by side (OpenCV runs each box filter on one thread: one strip's filters
+  // side by side left a core idle), each strip's rows reduced in a fixed grouping
+  // (parallel_deterministic_reduce), and the strips' sums added in strip order: the same sums on
+  // every run and any number of threads.
   auto sweep = [&](bool design, int orders) {
     const int nbo = 2 * orders, to = nbo + 1;
-    std::vector<Normal> bands(detail::kRippleBands);
-    for (const Strip& st : strips) {
-      // The window sums side by side: OpenCV runs each box filter on one thread, and the
-      // mask's, the phase's and the basis' do not depend on each other.
-      tbb::parallel_invoke([&] { StripDen(mask, st, w, &mf, &den); },
-                           [&] { StripPhaseSums(abs_phase, mask, st, w, &clean, &hp); },
-                           [&] {
-                             if (design) StripBasis(wrapped, mask, steps, orders, st, w, &basis, &bsum);
-                           });
-      StripHighPass(abs_phase.cols, den, st, clean, &hp);
-      // Row by row in parallel; each row adds to its own band (rows of one band are contiguous).
-      const std::vector<Normal> rows = tbb::parallel_reduce(
+    std::vector<std::vector<Normal>> per_strip(strips.size());
+    tbb::parallel_for(std::size_t{0}, strips.size(), [&](std::size_t si) {
+      const Strip& st = strips[si];
+      StripBuffers& b = buffers.local();
+      StripDen(mask, st, w, &b.mf, &b.den);
+      StripPhaseSums(abs_phase, mask, st, w, &b.clean, &b.hp);
+      if (design) StripBasis(wrapped, mask, steps, orders, st, w, &b.basis, &b.bsum);
+      StripHighPass(abs_phase.cols, b.den, st, b.clean, &b.hp);
+      // Row by row; each row adds to its own band (rows of one band are contiguous).
+      per_strip[si] = tbb::parallel_deterministic_reduce(
           tbb::blocked_range<int>(st.y0, st.y1, 8), std::vector<Normal>(detail::kRippleBands),
           [&](const tbb::blocked_range<int>& r, std::vector<Normal> acc) {
             const float* bp[kMaxTerms] = {};
             const float* bs[kMaxTerms] = {};
             for (int y = r.begin(); y < r.end(); ++y) {
               Normal& nk = acc[detail::RippleBand(y, box.height)];
-              const double* h = hp.ptr<double>(y - st.y0);
-              const float* d = den.ptr<float>(y - st.y0);
+              const double* h = b.hp.ptr<double>(y - st.y0);
+              const float* d = b.den.ptr<float>(y - st.y0);
               const uchar* m = mask.ptr<uchar>(y);
               if (design)
                 for (int i = 0; i < nbo; ++i) {
-                  bp[i] = basis[i].ptr<float>(y - st.a);
-                  bs[i] = bsum[i].ptr<float>(y - st.y0);
+                  bp[i] = b.basis[i].ptr<float>(y - st.a);
+                  bs[i] = b.bsum[i].ptr<float>(y - st.y0);
                 }
               if (to == 7)  // the default three orders
                 AccumulateRow<7>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
@@ -334,12 +346,15 @@ NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const
             }
             return acc;
           },
-          [&](std::vector<Normal> a, const std::vector<Normal>& b) {
-            for (int k = 0; k < detail::kRippleBands; ++k) a[k].Add(b[k], to);
+          [&](std::vector<Normal> a, const std::vector<Normal>& c) {
+            for (int k = 0; k < detail::kRippleBands; ++k) a[k].Add(c[k], to);
             return a;
-          });
+          },
+          tbb::simple_partitioner());
+    });
+    std::vector<Normal> bands(detail::kRippleBands);
+    for (const std::vector<Normal>& rows : per_strip)
       for (int k = 0; k < detail::kRippleBands; ++k) bands[k].Add(rows[k], to);
-    }
     return bands;
   };
   // Per band, the normal equations as Eigen matrices (FirstOrderRippleT2).
