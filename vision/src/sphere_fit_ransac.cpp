@@ -215,24 +215,29 @@ int WithinBandScalar(const std::vector<Eigen::Vector3f>& points, const int* idx,
   return count;
 }
 
-// The same, four points at a time on AVX2 lanes: Eigen sums a 3-vector's squares as
-// x^2 + (y^2 + z^2); std::abs, the square root and the comparison are exact.
+// |‖p - c‖ - R| of the points idx[0, 4) on AVX2 lanes, as Eigen computes it: the float point
+// widened, the difference, the squares summed as x^2 + (y^2 + z^2) (Eigen's reduction of a
+// 3-vector), the square root; std::abs clears the sign bit.
+RAMTK_AVX2_INLINE __m256d OffShell4(const Eigen::Vector3f* pts, const int* idx, __m256d cx, __m256d cy, __m256d cz,
+                                    __m256d r) {
+  const float *p0 = pts[idx[0]].data(), *p1 = pts[idx[1]].data(), *p2 = pts[idx[2]].data(), *p3 = pts[idx[3]].data();
+  const __m256d dx = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])), cx);
+  const __m256d dy = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])), cy);
+  const __m256d dz = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[2], p1[2], p2[2], p3[2])), cz);
+  const __m256d d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_add_pd(_mm256_mul_pd(dy, dy), _mm256_mul_pd(dz, dz)));
+  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
+  return _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_sqrt_pd(d2), r));
+}
+
+// The same, four points at a time on AVX2 lanes (OffShell4).
 RAMTK_AVX2 int WithinBandAvx2(const std::vector<Eigen::Vector3f>& points, const int* idx, int n,
                               const Eigen::Vector3d& centre, double radius, double band, std::vector<int>* out) {
   const __m256d cx = _mm256_set1_pd(centre.x()), cy = _mm256_set1_pd(centre.y()), cz = _mm256_set1_pd(centre.z());
   const __m256d r = _mm256_set1_pd(radius), b = _mm256_set1_pd(band);
-  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
   const Eigen::Vector3f* pts = points.data();
   int count = 0, k = 0;
   for (; k + 4 <= n; k += 4) {
-    const float *p0 = pts[idx[k]].data(), *p1 = pts[idx[k + 1]].data(), *p2 = pts[idx[k + 2]].data(),
-                *p3 = pts[idx[k + 3]].data();
-    const __m256d dx = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])), cx);
-    const __m256d dy = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])), cy);
-    const __m256d dz = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[2], p1[2], p2[2], p3[2])), cz);
-    const __m256d d2 =
-        _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_add_pd(_mm256_mul_pd(dy, dy), _mm256_mul_pd(dz, dz)));
-    const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_sqrt_pd(d2), r));
+    const __m256d off = OffShell4(pts, idx + k, cx, cy, cz, r);
     int in = _mm256_movemask_pd(_mm256_cmp_pd(off, b, _CMP_LE_OQ));
     count += __builtin_popcount(static_cast<unsigned>(in));
     if (out)
@@ -257,18 +262,10 @@ RAMTK_AVX2 void SplitAvx2(const std::vector<Eigen::Vector3f>& points, const int*
                           std::vector<int>* near, std::vector<int>* in_band) {
   const __m256d cx = _mm256_set1_pd(centre.x()), cy = _mm256_set1_pd(centre.y()), cz = _mm256_set1_pd(centre.z());
   const __m256d r = _mm256_set1_pd(radius), o = _mm256_set1_pd(outer), in = _mm256_set1_pd(inner);
-  const __m256d sign = _mm256_castsi256_pd(_mm256_set1_epi64x(static_cast<long long>(0x8000000000000000ull)));
   const Eigen::Vector3f* pts = points.data();
   int k = 0;
   for (; k + 4 <= n; k += 4) {
-    const float *p0 = pts[idx[k]].data(), *p1 = pts[idx[k + 1]].data(), *p2 = pts[idx[k + 2]].data(),
-                *p3 = pts[idx[k + 3]].data();
-    const __m256d dx = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[0], p1[0], p2[0], p3[0])), cx);
-    const __m256d dy = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[1], p1[1], p2[1], p3[1])), cy);
-    const __m256d dz = _mm256_sub_pd(_mm256_cvtps_pd(_mm_setr_ps(p0[2], p1[2], p2[2], p3[2])), cz);
-    const __m256d d2 =
-        _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_add_pd(_mm256_mul_pd(dy, dy), _mm256_mul_pd(dz, dz)));
-    const __m256d off = _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_sqrt_pd(d2), r));
+    const __m256d off = OffShell4(pts, idx + k, cx, cy, cz, r);
     int a = _mm256_movemask_pd(_mm256_cmp_pd(off, o, _CMP_LE_OQ));
     int b = _mm256_movemask_pd(_mm256_cmp_pd(off, in, _CMP_LE_OQ));
     for (; a; a &= a - 1) near->push_back(idx[k + __builtin_ctz(static_cast<unsigned>(a))]);
