@@ -1054,7 +1054,8 @@ bool NextSearched(const Pass& p, RowWalk* r) {
   return true;
 }
 
-// Searches the pixel at the row's cursor, writes its outputs and moves the cursor past it.
+// Searches the pixel at the row's cursor and writes its outputs (NextSearched then moves the
+// cursor on).
 // `settled`: its root, settled by the lanes from the left neighbour's seed (the scalar walk's
 // first try, which would find and accept the same root).
 void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, RowWalk* r,
