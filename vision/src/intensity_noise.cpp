@@ -1,4 +1,5 @@
 // Random part of the intensity noise from neighbouring pixels' fit residuals (decode_internal.h).
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -7,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "avx2.h"
 #include "decode_internal.h"
 #include "ramtk/core/log.h"
 #include "rank_select.h"
@@ -34,6 +36,73 @@ void Residual(const double* v, int n, const double* c, const double* s, double a
   for (int k = 0; k < n; ++k) r[k] = v[k] - (a0 + phase.x() * c[k] + phase.y() * s[k]);
 }
 
+// Four sampled pixels' triples at once on AVX2 lanes (Estimate's pixel loop, its operations in
+// its order): per lane j and step k, dd^2 into dd2[j * n + k] and r0^2 into r2[j * n + k]. The
+// fits of both neighbour pairs are taken; each lane uses the pair Estimate would (flags h, v).
+constexpr int kMaxLaneSteps = 32;
+
+// cos_between on four lanes: u.v / sqrt(|u|^2 |v|^2), Eigen's sums of two terms.
+RAMTK_AVX2_INLINE __m256d CosBetween4(__m256d ux, __m256d uy, __m256d vx, __m256d vy) {
+  const __m256d dot = _mm256_add_pd(_mm256_mul_pd(ux, vx), _mm256_mul_pd(uy, vy));
+  const __m256d nu = _mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy));
+  const __m256d nv = _mm256_add_pd(_mm256_mul_pd(vx, vx), _mm256_mul_pd(vy, vy));
+  return _mm256_div_pd(dot, _mm256_sqrt_pd(_mm256_mul_pd(nu, nv)));
+}
+
+// Residual on four lanes at one step: v - (a0 + a c + b s).
+RAMTK_AVX2_INLINE __m256d Residual4(__m256d v, __m256d a0, __m256d a, __m256d b, __m256d c, __m256d s) {
+  return _mm256_sub_pd(v, _mm256_add_pd(_mm256_add_pd(a0, _mm256_mul_pd(a, c)), _mm256_mul_pd(b, s)));
+}
+template <typename T>
+RAMTK_AVX2 void FourTriples(const T* const* up, const T* const* mid, const T* const* down, int n, const double* c,
+                            const double* s, const int* xs, const bool* h, const bool* v, double* dd2, double* r2) {
+  __m256d val[5][kMaxLaneSteps];  // the pixel, left, right, above, below
+  for (int k = 0; k < n; ++k) {
+    const T *m = mid[k], *u = up[k], *d = down[k];
+    val[0][k] = _mm256_setr_pd(m[xs[0]], m[xs[1]], m[xs[2]], m[xs[3]]);
+    val[1][k] = _mm256_setr_pd(m[xs[0] - 1], m[xs[1] - 1], m[xs[2] - 1], m[xs[3] - 1]);
+    val[2][k] = _mm256_setr_pd(m[xs[0] + 1], m[xs[1] + 1], m[xs[2] + 1], m[xs[3] + 1]);
+    val[3][k] = _mm256_setr_pd(u[xs[0]], u[xs[1]], u[xs[2]], u[xs[3]]);
+    val[4][k] = _mm256_setr_pd(d[xs[0]], d[xs[1]], d[xs[2]], d[xs[3]]);
+  }
+  // Fit: the sums in step order, then a0 = sum / n and the phase (2 sc / n, 2 ss / n).
+  const __m256d nn = _mm256_set1_pd(n), two = _mm256_set1_pd(2.0);
+  __m256d a0[5], px[5], py[5];
+  for (int q = 0; q < 5; ++q) {
+    __m256d sum = _mm256_setzero_pd(), sc = sum, ss = sum;
+    for (int k = 0; k < n; ++k) {
+      sum = _mm256_add_pd(sum, val[q][k]);
+      sc = _mm256_add_pd(sc, _mm256_mul_pd(val[q][k], _mm256_set1_pd(c[k])));
+      ss = _mm256_add_pd(ss, _mm256_mul_pd(val[q][k], _mm256_set1_pd(s[k])));
+    }
+    a0[q] = _mm256_div_pd(sum, nn);
+    px[q] = _mm256_div_pd(_mm256_mul_pd(two, sc), nn);
+    py[q] = _mm256_div_pd(_mm256_mul_pd(two, ss), nn);
+  }
+  // cos_between(u, v) = u.v / sqrt(|u|^2 |v|^2) of the left-right and the above-below phases.
+  const __m256d ge =
+      _mm256_cmp_pd(CosBetween4(px[1], py[1], px[2], py[2]), CosBetween4(px[3], py[3], px[4], py[4]), _CMP_GE_OQ);
+  // use_h = h && (!v || cos_ab >= cos_cd), per lane.
+  const __m256d hz = _mm256_castsi256_pd(_mm256_setr_epi64x(-h[0], -h[1], -h[2], -h[3]));
+  const __m256d vt = _mm256_castsi256_pd(_mm256_setr_epi64x(-v[0], -v[1], -v[2], -v[3]));
+  const __m256d use_h =
+      _mm256_and_pd(hz, _mm256_or_pd(_mm256_andnot_pd(vt, _mm256_castsi256_pd(_mm256_set1_epi64x(-1))), ge));
+  const __m256d a1 = _mm256_blendv_pd(a0[3], a0[1], use_h), a2 = _mm256_blendv_pd(a0[4], a0[2], use_h);
+  const __m256d x1 = _mm256_blendv_pd(px[3], px[1], use_h), x2 = _mm256_blendv_pd(px[4], px[2], use_h);
+  const __m256d y1 = _mm256_blendv_pd(py[3], py[1], use_h), y2 = _mm256_blendv_pd(py[4], py[2], use_h);
+  alignas(32) double dd_k[4], r_k[4];
+  for (int k = 0; k < n; ++k) {
+    const __m256d ck = _mm256_set1_pd(c[k]), sk = _mm256_set1_pd(s[k]);
+    const __m256d r0 = Residual4(val[0][k], a0[0], px[0], py[0], ck, sk);
+    const __m256d q1 = Residual4(_mm256_blendv_pd(val[3][k], val[1][k], use_h), a1, x1, y1, ck, sk);
+    const __m256d q2 = Residual4(_mm256_blendv_pd(val[4][k], val[2][k], use_h), a2, x2, y2, ck, sk);
+    const __m256d dd = _mm256_add_pd(_mm256_sub_pd(q1, _mm256_mul_pd(two, r0)), q2);
+    _mm256_store_pd(dd_k, _mm256_mul_pd(dd, dd));
+    _mm256_store_pd(r_k, _mm256_mul_pd(r0, r0));
+    for (int j = 0; j < 4; ++j) dd2[j * n + k] = dd_k[j], r2[j * n + k] = r_k[j];
+  }
+}
+
 template <typename T>
 IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask, int stride) {
   const int n = static_cast<int>(frames.size());
@@ -56,6 +125,8 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
     // of the pixel and its four neighbours; residual vectors only for the pair used.
     std::vector<const T*> up(n), mid(n), down(n);
     std::vector<double> v0(n), va(n), vb(n), vc(n), vd(n), r0(n), q1(n), q2(n);
+    const bool lanes = Avx2Kernels() && n <= kMaxLaneSteps;
+    double dd2[4 * kMaxLaneSteps], r2[4 * kMaxLaneSteps];
     for (int i = range.begin(); i < range.end(); ++i) {
       const int y = 1 + i * stride;
       RowSums& rs = per_row[i];
@@ -67,10 +138,8 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
       const uchar* mu = mask.ptr<uchar>(y - 1);
       const uchar* m0 = mask.ptr<uchar>(y);
       const uchar* md = mask.ptr<uchar>(y + 1);
-      for (int x = 1; x + 1 < mask.cols; x += stride) {
-        if (!m0[x]) continue;
-        const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
-        if (!horizontal && !vertical) continue;
+      // The pixel's triple the scalar way.
+      auto one = [&](int x, bool horizontal, bool vertical) {
         double a0, aa = 0, ab = 0, ac = 0, ad = 0;
         Vec2 p0, pa, pb, pc, pd;
         for (int k = 0; k < n; ++k) v0[k] = mid[k][x];
@@ -103,7 +172,33 @@ IntensityNoise Estimate(const std::vector<const cv::Mat*>& frames, const cv::Mat
           rs.total_ss += r0[k] * r0[k];
         }
         ++rs.triples;
+      };
+      // The row's sampled pixels with a neighbour pair, four at a time on AVX2 lanes (the sums
+      // taken in the pixels' order), the rest one by one.
+      int xs[4];
+      bool hs[4], vs[4];
+      int queued = 0;
+      for (int x = 1; x + 1 < mask.cols; x += stride) {
+        if (!m0[x]) continue;
+        const bool horizontal = m0[x - 1] && m0[x + 1], vertical = mu[x] && md[x];
+        if (!horizontal && !vertical) continue;
+        if (!lanes) {
+          one(x, horizontal, vertical);
+          continue;
+        }
+        xs[queued] = x, hs[queued] = horizontal, vs[queued] = vertical;
+        if (++queued < 4) continue;
+        queued = 0;
+        FourTriples<T>(up.data(), mid.data(), down.data(), n, c.data(), s.data(), xs, hs, vs, dd2, r2);
+        for (int j = 0; j < 4; ++j) {
+          for (int k = 0; k < n; ++k) {
+            rs.diff_ss += dd2[j * n + k];
+            rs.total_ss += r2[j * n + k];
+          }
+          ++rs.triples;
+        }
       }
+      for (int j = 0; j < queued; ++j) one(xs[j], hs[j], vs[j]);
     }
   });
   double diff_ss = 0, total_ss = 0;
