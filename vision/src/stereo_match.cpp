@@ -1010,7 +1010,7 @@ struct RowWalk {
     unreachable = counts.unreachable;
     w_up = up;
     w_row = own;
-    std::fill_n(w_row, W, kNaN);
+    detail::FillNaN(w_row, W);
     crow = p.src_coord.ptr<float>(y);
     srow = p.src_sigma.ptr<float>(y);
     mod_row = p.src_modulation.ptr<float>(y);
@@ -1022,7 +1022,7 @@ struct RowWalk {
     y_row = p.points ? out->y.ptr<float>(y) : nullptr;
     point_sigma_row = p.points ? out->point_sigma.ptr<float>(y) : nullptr;
     for (float* r : {u_row, v_row, sigma_row, depth_row, x_row, y_row, point_sigma_row})
-      if (r) std::fill_n(r, W, kNaN);
+      if (r) detail::FillNaN(r, W);
   }
   void Flush(PassResult* out) const {
     out->noisy += noisy;
@@ -1318,7 +1318,8 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
     tbb::parallel_for(0, blocks, [&](int b) {
       // The row above the rows walked (NaN above a block's first row), then one per lane.
       std::vector<double> w_buf[5];
-      for (std::vector<double>& w : w_buf) w.assign(W, kNaN);
+      for (std::vector<double>& w : w_buf) w.resize(W);
+      detail::FillNaN(w_buf[0].data(), W);  // the row above the block's first (the others: RowWalk::Start)
       const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
       // The block's source rays first: the pixels each row will search (valid, not noisy,
       // reachable), undistorted row by row in order (UndistortChains, several rows side by side).

@@ -3,6 +3,7 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -87,7 +88,35 @@ RAMTK_AVX2 int ListAvx2(const uchar* mask, const float* coord, const float* sigm
   return ListScalar(mask, coord, sigma, reach, x, width, max_sigma, xs, count, counts);
 }
 
+RAMTK_AVX2 void FillNaNAvx2(float* row, int n) {
+  const __m256 nan = _mm256_set1_ps(std::numeric_limits<float>::quiet_NaN());
+  int i = 0;
+  for (; i + 8 <= n; i += 8) _mm256_storeu_ps(row + i, nan);
+  for (; i < n; ++i) row[i] = std::numeric_limits<float>::quiet_NaN();
+}
+
+RAMTK_AVX2 void FillNaNAvx2(double* row, int n) {
+  const __m256d nan = _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN());
+  int i = 0;
+  for (; i + 4 <= n; i += 4) _mm256_storeu_pd(row + i, nan);
+  for (; i < n; ++i) row[i] = std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
+
+void FillNaN(float* row, int n) {
+  if (Avx2Kernels())
+    FillNaNAvx2(row, n);
+  else
+    std::fill_n(row, n, std::numeric_limits<float>::quiet_NaN());
+}
+
+void FillNaN(double* row, int n) {
+  if (Avx2Kernels())
+    FillNaNAvx2(row, n);
+  else
+    std::fill_n(row, n, std::numeric_limits<double>::quiet_NaN());
+}
 
 int ListSearchedPixels(const uchar* mask, const float* coord, const float* sigma, const uchar* reach, int width,
                        double max_sigma, int* xs, SearchCounts* counts) {

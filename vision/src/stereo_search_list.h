@@ -18,4 +18,9 @@ struct SearchCounts {
 int ListSearchedPixels(const uchar* mask, const float* coord, const float* sigma, const uchar* reach, int width,
                        double max_sigma, int* xs, SearchCounts* counts);
 
+// NaN into n values (the walk's output and inverse-depth rows before it reaches them), 32 bytes
+// at a time on CPUs with AVX2.
+void FillNaN(float* row, int n);
+void FillNaN(double* row, int n);
+
 }  // namespace ramtk::vision::detail
