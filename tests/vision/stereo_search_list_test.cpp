@@ -1,8 +1,8 @@
-// The match's searched pixels of a row (vision/src/stereo_search_list.h) against the rule written
-// out pixel by pixel: mask set and coordinate finite (valid), sigma <= the limit compared in
-// double (else noisy), reach set (else unreachable). With the AVX2 lanes and without, on rows of
-// odd widths with NaN and infinite coordinates, NaN sigmas, sigmas one float step either side of
-// the limit, and runs of masked pixels.
+// The match's searched pixels of a row and its valid cells (vision/src/stereo_search_list.h)
+// against the rules written out pixel by pixel: mask set and coordinate finite (valid), sigma <=
+// the limit compared in double (else noisy), reach set (else unreachable). With the AVX2 lanes
+// and without, on rows of odd widths with NaN and infinite coordinates, NaN sigmas, sigmas one
+// float step either side of the limit, and runs of masked pixels.
 #include "../../vision/src/stereo_search_list.h"
 
 #include <gtest/gtest.h>
@@ -73,6 +73,51 @@ TEST(SearchList, ListsAndCountsAsThePixelRule) {
   }
   SetAvx2Kernels(true);
   EXPECT_GT(listed, 5000);  // the lists are not all empty
+}
+
+// The cells the match interpolates (Pass::cell_ok) against the rule written out cell by cell:
+// four finite corners whose float extremes differ by at most max_span in double. Spans at
+// max_span exactly and one float step above, NaN and infinite corners, odd widths; with the
+// AVX2 lanes and without.
+TEST(SearchList, CellRowAsTheCellRule) {
+  std::mt19937 rng(8);
+  std::uniform_int_distribution<int> pick(0, 99);
+  std::uniform_real_distribution<float> base(100.0f, 900.0f);
+  const float step = 0.25f;
+  const double max_span = 3.0 * step;  // a corner step of 0.75 (3 steps) is at the limit
+  long cells = 0, ok_cells = 0;
+  for (const int n : {1, 7, 8, 9, 63, 1281}) {
+    std::vector<float> r0(n + 1), r1(n + 1);
+    for (int x = 0; x <= n; ++x) {
+      const float b = 512.0f;  // a power of two: the steps below are exact
+      const int kind = pick(rng);
+      r0[x] = kind < 3   ? std::numeric_limits<float>::quiet_NaN()
+              : kind < 5 ? std::numeric_limits<float>::infinity()
+                         : b;
+      const int jump = pick(rng);
+      r1[x] = jump < 75 ? r0[x] + 3 * step : jump < 90 ? std::nextafter(r0[x] + 3 * step, 1e9f) : base(rng);
+    }
+    std::vector<uchar> want(n);
+    for (int x = 0; x < n; ++x) {
+      const float c[4] = {r0[x], r0[x + 1], r1[x], r1[x + 1]};
+      bool finite = true;
+      for (const float v : c) finite = finite && std::isfinite(v);
+      const float hi = std::max(std::max(c[0], c[1]), std::max(c[2], c[3]));
+      const float lo = std::min(std::min(c[0], c[1]), std::min(c[2], c[3]));
+      want[x] = finite && static_cast<double>(hi) - static_cast<double>(lo) <= max_span;
+      ++cells;
+      ok_cells += want[x];
+    }
+    for (const bool lanes : {false, true}) {
+      SetAvx2Kernels(lanes);
+      std::vector<uchar> got(n, 7);
+      CellRow(r0.data(), r1.data(), n, max_span, got.data());
+      EXPECT_EQ(got, want) << "n " << n << (lanes ? ", lanes" : "");
+    }
+  }
+  SetAvx2Kernels(true);
+  EXPECT_GT(ok_cells, cells / 10);
+  EXPECT_LT(ok_cells, cells);
 }
 
 }  // namespace

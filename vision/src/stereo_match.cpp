@@ -850,19 +850,6 @@ struct Matcher {
   }
 };
 
-// Pass::cell_ok of one row of `n` cells between rows r0 and r1, branch-free (vectorised): x - x
-// is 0 for a finite x and NaN otherwise; min and max are exact in float, and the span is
-// compared in double as EvalAt compared it.
-void CellRow(const float* __restrict r0, const float* __restrict r1, int n, double max_span, uchar* __restrict ok) {
-  for (int x = 0; x < n; ++x) {
-    const float c00 = r0[x], c10 = r0[x + 1], c01 = r1[x], c11 = r1[x + 1];
-    const bool finite = ((c00 - c00) + (c10 - c10) + (c01 - c01) + (c11 - c11)) == 0.0f;
-    const float hi = std::max(std::max(c00, c10), std::max(c01, c11));
-    const float lo = std::min(std::min(c00, c10), std::min(c01, c11));
-    ok[x] = finite & (static_cast<double>(hi) - static_cast<double>(lo) <= max_span);
-  }
-}
-
 // Pass::reach: the source pixels (integer positions) that Consistent can accept for some
 // destination cell. Consistent takes the cell under the crossing; with its four back matches
 // finite and within 4 px of the first, it accepts a source pixel within the tolerance of their
@@ -1544,8 +1531,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     p.cell_ok.assign(static_cast<std::size_t>(d.coordinate.rows) * d.coordinate.cols, 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, d.coordinate.rows - 1, 32), [&](const tbb::blocked_range<int>& r) {
       for (int y = r.begin(); y < r.end(); ++y)
-        CellRow(d.coordinate.ptr<float>(y), d.coordinate.ptr<float>(y + 1), d.coordinate.cols - 1, p.max_span,
-                p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols);
+        detail::CellRow(d.coordinate.ptr<float>(y), d.coordinate.ptr<float>(y + 1), d.coordinate.cols - 1, p.max_span,
+                        p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols);
     });
     if (options.rectified_back_pass && !left_to_right) {
       // The back pass (right to left): the left map on its rectified grid (at most 16 times the

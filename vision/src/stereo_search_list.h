@@ -18,6 +18,11 @@ struct SearchCounts {
 int ListSearchedPixels(const uchar* mask, const float* coord, const float* sigma, const uchar* reach, int width,
                        double max_sigma, int* xs, SearchCounts* counts);
 
+// Pass::cell_ok of one row of n cells between coordinate rows r0 and r1 (each n + 1 long): 1
+// where the cell's four corners are finite and span at most max_span (the span in double, from
+// the float extremes), else 0. Eight cells at a time on CPUs with AVX2.
+void CellRow(const float* r0, const float* r1, int n, double max_span, uchar* ok);
+
 // NaN into n values (the walk's output and inverse-depth rows before it reaches them), 32 bytes
 // at a time on CPUs with AVX2.
 void FillNaN(float* row, int n);
