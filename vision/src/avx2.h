@@ -8,9 +8,10 @@
 // bit-identical; each kernel has a test that compares the two paths bit for bit. The kernels:
 // decode_avx2.h (the decode's rows), fast_sincos.h (SinCos4), undistort_chains.h (the match's
 // source rays), stereo_rectified_grid.cpp (the back pass's grid), stereo_walk_lanes.h (the
-// match's walk), stereo_search_list.h (the rows' searched pixels), back_reach_lanes.h (the
-// left-right check's reach), rank_select.cpp (order statistics) and sphere_fit_ransac.cpp
-// (RANSAC's band test, the point grid's keys).
+// match's walk), stereo_search_list.h (the rows' searched pixels and valid cells),
+// back_reach_lanes.h (the left-right check's reach), rank_select.cpp (order statistics),
+// intensity_noise.cpp (the noise estimate's triples) and sphere_fit_ransac.cpp (RANSAC's band
+// test, the point grid's keys).
 
 namespace ramtk::vision::detail {
 
