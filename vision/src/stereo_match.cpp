@@ -1041,6 +1041,30 @@ bool NextSearched(const Pass& p, RowWalk* r) {
   return true;
 }
 
+// A matched pixel's outputs before they are stored as float: the match sigma along the curve
+// (px), the depth as stored, the point's x and y from it, and the point's sigma along its ray (mm).
+struct PixelOutputs {
+  double sigma_px = 0;
+  float depth = 0;
+  double x = 0, y = 0, point_sigma = 0;
+};
+// Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2, times the
+// pixel's speed. X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2;
+// x and y from the depth as stored (StereoMatch::x_mm), the point TriangulateMatches formed from
+// the depth map when it undistorted the pixel again. (WalkFourLanes computes the same.)
+PixelOutputs Outputs(float sigma_src, double var, double slope, const Vec2& vel, double w, const Vec2& ideal) {
+  PixelOutputs o;
+  const double sigma_w = std::sqrt(static_cast<double>(sigma_src) * sigma_src + var) / std::abs(slope);
+  o.sigma_px = vel.norm() * sigma_w;
+  const double z = 1.0 / w;
+  o.depth = static_cast<float>(z);
+  o.x = ideal.x() * static_cast<double>(o.depth);
+  o.y = ideal.y() * static_cast<double>(o.depth);
+  const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
+  o.point_sigma = ray * z * z * sigma_w;
+  return o;
+}
+
 // Searches the pixel at the row's cursor and writes its outputs (NextSearched then moves the
 // cursor on).
 // `settled`: its root, settled by the lanes from the left neighbour's seed (the scalar walk's
@@ -1119,27 +1143,19 @@ void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, R
   r->w_prev = root.w;
   r->w_last = root.w;
   r->w_row[x] = root.w;
-  // Match sigma: c_dst(w) = c_src; var(w) = (sigma_src^2 + var(c_dst)) / slope^2.
-  const double sigma_w = std::sqrt(static_cast<double>(r->srow[x]) * r->srow[x] + root.at.var) / std::abs(root.slope);
   Vec2 d = root.vel, unused;
   if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
-  const double speed = d.norm();
+  const PixelOutputs o = Outputs(r->srow[x], root.at.var, root.slope, d, root.w, ideal);
   if (p.pixels) {
     r->u_row[x] = static_cast<float>(root.at.pix.x());
     r->v_row[x] = static_cast<float>(root.at.pix.y());
   }
-  r->sigma_row[x] = static_cast<float>(speed * sigma_w);
+  r->sigma_row[x] = static_cast<float>(o.sigma_px);
   if (p.points) {
-    // X(w) = (ideal, 1) / w on the source ray: z = 1 / w, |dX/dw| = |(ideal, 1)| / w^2.
-    const double z = 1.0 / root.w;
-    const float zf = static_cast<float>(z);
-    r->depth_row[x] = zf;
-    // x and y from the depth as stored (StereoMatch::x_mm): the point TriangulateMatches
-    // formed from the depth map when it undistorted the pixel again.
-    r->x_row[x] = static_cast<float>(ideal.x() * static_cast<double>(zf));
-    r->y_row[x] = static_cast<float>(ideal.y() * static_cast<double>(zf));
-    const double ray = std::sqrt(ideal.x() * ideal.x() + ideal.y() * ideal.y() + 1.0);
-    r->point_sigma_row[x] = static_cast<float>(ray * z * z * sigma_w);
+    r->depth_row[x] = o.depth;
+    r->x_row[x] = static_cast<float>(o.x);
+    r->y_row[x] = static_cast<float>(o.y);
+    r->point_sigma_row[x] = static_cast<float>(o.point_sigma);
   }
 }
 
@@ -1161,6 +1177,7 @@ detail::WalkMaps LaneMaps(const Pass& p) {
   w.max_modulation_ratio = p.max_modulation_ratio;
   w.lr_check = p.lr_check, w.lr_sigma = p.lr_sigma;
   w.lr_tolerance = p.lr_tolerance, w.lr_sigma_factor = p.lr_sigma_factor;
+  w.points = p.points;
   if (p.lr_check) {
     w.back_u = p.back_u_rows.data, w.back_v = p.back_v_rows.data, w.back_sigma = p.back_sigma_rows.data;
     w.back_stride = static_cast<int>(p.back_u_rows.stride);
@@ -1188,6 +1205,67 @@ bool LanesWalk(const Pass& p) {
          static_cast<double>(p.dst_coord.cols) * (p.dst_coord.rows + 1) < limit &&
          (!p.lr_check || static_cast<double>(p.back_u_rows.stride) * (p.back_u.rows + 1) < limit) &&
          (!p.rect || static_cast<double>(p.grid_rows.stride) * (p.grid.coord.rows + 1) < limit);
+}
+
+// A pixel the lanes settled (lane k of `in`, the pixel at the row's cursor): its outputs as
+// SearchPixel writes them for that root (the lanes computed them), and the row's seeds.
+void EmitSettled(const Pass& p, RowWalk* r, const detail::WalkLanes& in, int k) {
+  const int x = r->x;
+  r->last_x = x;
+  ++r->next_ray;
+  ++r->matched;
+  r->w_prev = in.w[k];
+  r->w_last = in.w[k];
+  r->w_row[x] = in.w[k];
+  if (p.pixels) {
+    r->u_row[x] = in.out_u[k];
+    r->v_row[x] = in.out_v[k];
+  }
+  r->sigma_row[x] = in.out_sigma[k];
+  if (p.points) {
+    r->depth_row[x] = in.out_depth[k];
+    r->x_row[x] = in.out_x[k];
+    r->y_row[x] = in.out_y[k];
+    r->point_sigma_row[x] = in.out_point_sigma[k];
+  }
+}
+
+// Tests (detail::SetWalkLaneCheck): the settled root against the scalar walk from the same seed,
+// bit for bit, and the lanes' outputs against SearchPixel's for that root.
+void CheckSettled(const Pass& p, Matcher& m, const RowWalk& r, const detail::WalkLanes& in, int k) {
+  Matcher::Root root;
+  root.w = in.w[k];
+  root.slope = in.slope[k];
+  root.at.ok = true;
+  root.at.pix = Vec2(in.pix_x[k], in.pix_y[k]);
+  root.at.u0 = in.u0[k], root.at.v0 = in.v0[k];
+  root.at.var = in.var[k];
+  root.at.modulation = in.modulation[k];
+  root.vel = Vec2(in.vel_x[k], in.vel_y[k]);
+  // SearchPixel on a copy of the row (outputs into scratch rows) counts the root's comparison
+  // with the scalar walk's; the outputs, before they become floats, are compared here.
+  RowWalk copy = r;
+  const std::size_t len = static_cast<std::size_t>(r.x) + 1;
+  std::vector<float> scratch(7 * len, 0.0f);
+  float** fields[7] = {&copy.u_row, &copy.v_row, &copy.sigma_row,      &copy.depth_row,
+                       &copy.x_row, &copy.y_row, &copy.point_sigma_row};
+  for (int i = 0; i < 7; ++i)
+    if (*fields[i]) *fields[i] = scratch.data() + i * len;
+  std::vector<double> w_row(len);
+  copy.w_row = w_row.data();
+  std::vector<Matcher::Root> roots;
+  SearchPixel(p, m, roots, &copy, &root);
+  const int e = r.next_ray;
+  const PixelOutputs o =
+      Outputs(r.srow[r.x], root.at.var, root.slope, root.vel, root.w, Vec2(r.chain->ideal_x[e], r.chain->ideal_y[e]));
+  const double want[4] = {o.sigma_px, o.x, o.y, o.point_sigma};
+  const double got[4] = {in.out_sigma_d[k], in.out_x_d[k], in.out_y_d[k], in.out_point_sigma_d[k]};
+  bool same = std::memcmp(want, got, p.points ? sizeof want : sizeof(double)) == 0;
+  const float lanes[7] = {in.out_u[k], in.out_v[k], in.out_sigma[k],      in.out_depth[k],
+                          in.out_x[k], in.out_y[k], in.out_point_sigma[k]};
+  for (int i = 0; i < 7; ++i)
+    if (*fields[i]) same = same && std::memcmp(&scratch[i * len + r.x], &lanes[i], sizeof(float)) == 0;
+  if (!same) detail::CountWalkLaneMismatch();
 }
 
 // Walks rows [yb, ye) of a block, `lanes` rows side by side (1: one after the other). A row's
@@ -1221,12 +1299,15 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
           in.w0[k] = r.w_prev;
           in.b_src[k] = r.mod_row[r.x];
           in.su[k] = r.x, in.sv[k] = r.y;
+          in.sigma_src[k] = r.srow[r.x];
+          in.ideal_x[k] = r.chain->ideal_x[e], in.ideal_y[k] = r.chain->ideal_y[e];
           in.active |= 1 << k;
           r.lane_tried = true;
         }
         for (int k = 0; k < 4; ++k)
           if (!(in.active >> k & 1)) {  // an idle lane: finite values
             in.a_x[k] = in.a_y[k] = in.c_src[k] = in.w0[k] = in.b_src[k] = in.su[k] = in.sv[k] = 0.0;
+            in.sigma_src[k] = in.ideal_x[k] = in.ideal_y[k] = 0.0;
             in.rs_u[k] = in.rs_v[k] = 0.0;
             in.a_z[k] = in.rs_z[k] = 1.0;
           }
@@ -1240,16 +1321,8 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
         RowWalk& r = rw[k];
         if (!pending[k]) continue;
         if (settled >> k & 1) {
-          Matcher::Root root;
-          root.w = in.w[k];
-          root.slope = in.slope[k];
-          root.at.ok = true;
-          root.at.pix = Vec2(in.pix_x[k], in.pix_y[k]);
-          root.at.u0 = in.u0[k], root.at.v0 = in.v0[k];
-          root.at.var = in.var[k];
-          root.at.modulation = in.modulation[k];
-          root.vel = Vec2(in.vel_x[k], in.vel_y[k]);
-          SearchPixel(p, m, roots, &r, &root);
+          if (detail::WalkLaneCheck()) CheckSettled(p, m, r, in, k);
+          EmitSettled(p, &r, in, k);
         } else if (k == 0 || !pending[k - 1] || rw[k - 1].x > r.x) {
           SearchPixel(p, m, roots, &r, nullptr);
         } else {

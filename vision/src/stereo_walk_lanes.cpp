@@ -240,6 +240,32 @@ RAMTK_AVX2_INLINE void Settle(const WalkMaps& m, int alive, __m256d w, __m256d s
   _mm256_storeu_pd(l->vel_y, vel_y);
   _mm_storeu_si128(reinterpret_cast<__m128i*>(l->u0), _mm256_cvttpd_epi32(cell.u0));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(l->v0), _mm256_cvttpd_epi32(cell.v0));
+  // RunPass's outputs. Match sigma: var(w) = (sigma_src^2 + var(c_dst)) / slope^2, along the
+  // curve at the pixel's speed; the point X(w) = (ideal, 1) / w, x and y from the depth as
+  // stored, |dX/dw| = |(ideal, 1)| / w^2.
+  const __m256d s_src = Load(l->sigma_src);
+  const __m256d sigma_w = Div(_mm256_sqrt_pd(Add(Mul(s_src, s_src), var)), Abs(slope));
+  const __m256d speed = _mm256_sqrt_pd(Add(Mul(vel_x, vel_x), Mul(vel_y, vel_y)));
+  const __m256d sigma_px = Mul(speed, sigma_w);
+  _mm_storeu_ps(l->out_u, _mm256_cvtpd_ps(at_x));
+  _mm_storeu_ps(l->out_v, _mm256_cvtpd_ps(at_y));
+  _mm_storeu_ps(l->out_sigma, _mm256_cvtpd_ps(sigma_px));
+  _mm256_storeu_pd(l->out_sigma_d, sigma_px);
+  if (!m.points) return;
+  const __m256d z = Div(K(1.0), w);
+  const __m128 zf = _mm256_cvtpd_ps(z);
+  const __m256d zd = _mm256_cvtps_pd(zf);
+  const __m256d ix = Load(l->ideal_x), iy = Load(l->ideal_y);
+  const __m256d px = Mul(ix, zd), py = Mul(iy, zd);
+  const __m256d ray = _mm256_sqrt_pd(Add(Add(Mul(ix, ix), Mul(iy, iy)), K(1.0)));
+  const __m256d point_sigma = Mul(Mul(Mul(ray, z), z), sigma_w);
+  _mm_storeu_ps(l->out_depth, zf);
+  _mm_storeu_ps(l->out_x, _mm256_cvtpd_ps(px));
+  _mm_storeu_ps(l->out_y, _mm256_cvtpd_ps(py));
+  _mm_storeu_ps(l->out_point_sigma, _mm256_cvtpd_ps(point_sigma));
+  _mm256_storeu_pd(l->out_x_d, px);
+  _mm256_storeu_pd(l->out_y_d, py);
+  _mm256_storeu_pd(l->out_point_sigma_d, point_sigma);
 }
 
 // The curve search's walk (Matcher::LocalSearch from w0, then Accept).
@@ -451,6 +477,7 @@ void CountWalkLaneCheck(bool same) {
   g_checked.fetch_add(1, std::memory_order_relaxed);
   if (!same) g_mismatched.fetch_add(1, std::memory_order_relaxed);
 }
+void CountWalkLaneMismatch() { g_mismatched.fetch_add(1, std::memory_order_relaxed); }
 long WalkLanesChecked() { return g_checked.load(std::memory_order_relaxed); }
 long WalkLaneMismatches() { return g_mismatched.load(std::memory_order_relaxed); }
 

@@ -46,6 +46,7 @@ struct WalkMaps {
   int grid_stride = 0, grid_cols = 0, grid_rows = 0;
   double grid_u0 = 0, grid_v0 = 0;
   double rect_sign = 1, rect_fb = 0;
+  bool points = false;  // also the points' depth, x, y and sigma (Pass::points)
 };
 
 // Four source pixels: in, their rays, coordinates and seeds; out, the roots the lanes settled.
@@ -57,9 +58,16 @@ struct WalkLanes {
   double w0[4];                   // the seed (the left neighbour's inverse depth)
   double b_src[4];                // its modulation, DN
   double su[4], sv[4];            // its column and row
+  double sigma_src[4];            // its coordinate's sigma, projector px
+  double ideal_x[4], ideal_y[4];  // its ideal normalised coordinates (WalkMaps::points)
   int found = 0;                  // bit i: lane i's root is settled below
   double w[4], slope[4], pix_x[4], pix_y[4], var[4], modulation[4], vel_x[4], vel_y[4];
   int u0[4], v0[4];  // the root's cell
+  // The settled pixels' outputs as RunPass writes them: the right pixel, the match sigma (px)
+  // and, with WalkMaps::points, the depth, x, y and point sigma (mm).
+  float out_u[4], out_v[4], out_sigma[4], out_depth[4], out_x[4], out_y[4], out_point_sigma[4];
+  // The same before rounding to float (the tests compare them with stereo_match.cpp's Outputs).
+  double out_sigma_d[4], out_x_d[4], out_y_d[4], out_point_sigma_d[4];
 };
 
 // Settles what it can of the active lanes (call only where Avx2Kernels() holds).
@@ -70,6 +78,7 @@ void WalkFourLanes(const WalkMaps& maps, WalkLanes* lanes);
 void SetWalkLaneCheck(bool on);
 bool WalkLaneCheck();
 void CountWalkLaneCheck(bool same);
+void CountWalkLaneMismatch();  // a mismatch found beside a root already counted (its outputs)
 long WalkLanesChecked();
 long WalkLaneMismatches();
 
