@@ -60,16 +60,16 @@ void CountSegment(const Segment& s, std::uint32_t* even, std::uint32_t* odd) {
 // for a full bin (low[i] set), the counts of their low 16 bits into low[i] (a value in several
 // equal bins: the first rank's).
 struct Targets {
-  std::vector<int> bins;
-  std::vector<std::vector<float>>* lists = nullptr;
-  std::vector<std::uint32_t*> low;
+  const std::vector<int>& bins;
+  std::vector<std::vector<float>>& lists;
+  std::vector<std::vector<std::uint32_t>>& low;  // empty where the rank's bin is gathered
   void Add(std::size_t i, float v) const {
-    if (low[i]) {
+    if (!low[i].empty()) {
       std::uint32_t bits;
       std::memcpy(&bits, &v, sizeof bits);
       ++low[i][bits & 0xFFFFu];
     } else {
-      (*lists)[i].push_back(v);
+      lists[i].push_back(v);
     }
   }
 };
@@ -231,10 +231,7 @@ std::vector<float> Select(const std::vector<Segment>& segments,
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, segments.size(), 16),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       Gathered& g = gathered.local();
-                      Targets t;
-                      t.bins = bins;
-                      t.lists = &g.lists;
-                      for (std::vector<std::uint32_t>& l : g.low) t.low.push_back(l.empty() ? nullptr : l.data());
+                      const Targets t{bins, g.lists, g.low};
                       const bool lanes = Avx2Kernels();
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         if (lanes)

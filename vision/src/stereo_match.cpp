@@ -1067,8 +1067,8 @@ PixelOutputs Outputs(float sigma_src, double var, double slope, const Vec2& vel,
 
 // Searches the pixel at the row's cursor and writes its outputs (NextSearched then moves the
 // cursor on).
-// `settled`: its root, settled by the lanes from the left neighbour's seed (the scalar walk's
-// first try, which would find and accept the same root).
+// `settled` (CheckSettled only, in tests): the root the lanes settled from the left neighbour's
+// seed, taken as found and compared with the scalar walk's first try from that seed.
 void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, RowWalk* r,
                  const Matcher::Root* settled) {
   const int x = r->x, y = r->y;
@@ -1090,12 +1090,10 @@ void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, R
   if (settled) {
     root = *settled;
     found = any = true;
-    if (detail::WalkLaneCheck()) {
-      Matcher::Root scalar;
-      const bool same = (p.rect ? m.RectLocalSearch(r->w_prev, &scalar) : m.LocalSearch(r->w_prev, &scalar)) &&
-                        m.Accept(scalar, r->mod_row[x], x, y) && SameBits(scalar, root);
-      detail::CountWalkLaneCheck(same);
-    }
+    Matcher::Root scalar;  // the scalar walk's first try, from the same seed
+    const bool same = (p.rect ? m.RectLocalSearch(r->w_prev, &scalar) : m.LocalSearch(r->w_prev, &scalar)) &&
+                      m.Accept(scalar, r->mod_row[x], x, y) && SameBits(scalar, root);
+    detail::CountWalkLaneCheck(same);
   } else if (!p.full_search) {
     // Start from the left neighbour's match; then (a run start, or no acceptable crossing
     // near it: the neighbour may lie on another surface) from the pixel above's, then
@@ -1276,6 +1274,7 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
               const detail::UndistortChain* chains, const detail::SearchCounts* counts, std::vector<double>* w_buf) {
   Matcher m{p};
   std::vector<Matcher::Root> roots;
+  const bool check = lanes > 1 && detail::WalkLaneCheck();  // tests: each settled pixel again
   for (int g = yb; g < ye; g += lanes) {
     const int n = std::min(lanes, ye - g);
     RowWalk rw[4];
@@ -1321,7 +1320,7 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
         RowWalk& r = rw[k];
         if (!pending[k]) continue;
         if (settled >> k & 1) {
-          if (detail::WalkLaneCheck()) CheckSettled(p, m, r, in, k);
+          if (check) CheckSettled(p, m, r, in, k);
           EmitSettled(p, &r, in, k);
         } else if (k == 0 || !pending[k - 1] || rw[k - 1].x > r.x) {
           SearchPixel(p, m, roots, &r, nullptr);
