@@ -83,6 +83,7 @@ int RunScan(const ScanCommandOptions& opt) {
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
   options.read_rows_on_demand = !opt.load_whole_frames;
+  options.depth_preview_png = true;  // depth.png encoded beside the sphere fit
   ThrowIfInvalid(options.Validate(), "ScanOptions");
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).

@@ -66,5 +66,9 @@ void CheckDimensions(const std::string& path, long long width, long long height)
 // PNG bytes of an 8/16-bit matrix with 1, 3 (BGR) or 4 (BGRA) channels; false with *error set.
 // Deflate level 1 with run-length strategy, as OpenCV's default PNG writer.
 bool EncodePng(const cv::Mat& image, std::vector<unsigned char>* bytes, std::string* error);
+// PNG bytes of a palette picture: CV_8UC1 indices into up to 256 BGR colours; false with
+// *error set (also for an index beyond the palette).
+bool EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
+                      std::vector<unsigned char>* bytes, std::string* error);
 
 }  // namespace ramtk::image::detail

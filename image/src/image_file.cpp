@@ -245,4 +245,12 @@ std::vector<unsigned char> EncodePng(const cv::Mat& image, const std::string& wh
   return bytes;
 }
 
+std::vector<unsigned char> EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
+                                            const std::string& what) {
+  std::vector<unsigned char> bytes;
+  std::string error;
+  if (!detail::EncodeIndexedPng(index, palette_bgr, &bytes, &error)) throw InputError({what, 0, ""}, error);
+  return bytes;
+}
+
 }  // namespace ramtk::image

@@ -85,8 +85,8 @@ void Append(png_structp png, png_bytep data, png_size_t n) {
 
 void Flush(png_structp) {}
 
-bool WriteAll(png_structp png, png_infop info, std::vector<unsigned char>* out, png_uint_32 width,
-              png_uint_32 height, int bit_depth, int colour, png_bytepp rows) {
+bool WriteAll(png_structp png, png_infop info, std::vector<unsigned char>* out, png_uint_32 width, png_uint_32 height,
+              int bit_depth, int colour, png_bytepp rows, png_const_colorp palette = nullptr, int palette_size = 0) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_set_write_fn(png, out, Append, Flush);
   png_set_IHDR(png, info, width, height, bit_depth, colour, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
@@ -98,8 +98,11 @@ bool WriteAll(png_structp png, png_infop info, std::vector<unsigned char>* out, 
   // (0.25 -> 0.14 s), for files 4 % larger (depth picture and coordinate previews alike; Sub
   // alone made the coordinate previews 6x larger). Grey images (camera frames) keep the
   // adaptive choice.
-  if (colour == PNG_COLOR_TYPE_RGB || colour == PNG_COLOR_TYPE_RGB_ALPHA)
+  // Palette pictures too: Up made a depth picture's file 40 % smaller than no filter, for 0.7 ms
+  // more on 1.3 Mpx.
+  if (colour == PNG_COLOR_TYPE_RGB || colour == PNG_COLOR_TYPE_RGB_ALPHA || colour == PNG_COLOR_TYPE_PALETTE)
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
+  if (colour == PNG_COLOR_TYPE_PALETTE) png_set_PLTE(png, info, palette, palette_size);
   png_write_info(png, info);
   if (bit_depth == 16) png_set_swap(png);
   if (colour == PNG_COLOR_TYPE_RGB || colour == PNG_COLOR_TYPE_RGB_ALPHA) png_set_bgr(png);
@@ -167,6 +170,53 @@ bool EncodePng(const cv::Mat& image, std::vector<unsigned char>* bytes, std::str
   bytes->reserve(image.total() * image.elemSize() / 2 + 1024);
   if (!WriteAll(s.png, s.info, bytes, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows),
                 depth == CV_8U ? 8 : 16, colour, rows.data())) {
+    *error = std::string("cannot encode PNG: ") + sink.text;
+    return false;
+  }
+  return true;
+}
+
+bool EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
+                      std::vector<unsigned char>* bytes, std::string* error) {
+  if (index.type() != CV_8UC1 || index.empty()) {
+    *error = "an indexed PNG needs an 8-bit single-channel image of palette indices";
+    return false;
+  }
+  if (palette_bgr.empty() || palette_bgr.size() > 256) {
+    *error = "an indexed PNG needs 1 to 256 palette colours, not " + std::to_string(palette_bgr.size());
+    return false;
+  }
+  std::vector<png_color> palette(palette_bgr.size());
+  for (std::size_t i = 0; i < palette.size(); ++i)
+    palette[i] = png_color{palette_bgr[i][2], palette_bgr[i][1], palette_bgr[i][0]};
+  ErrorText sink;
+  WriteStructs s;
+  s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, OnError, OnWarning);
+  if (s.png) s.info = png_create_info_struct(s.png);
+  if (!s.png || !s.info) {
+    *error = "libpng could not start";
+    return false;
+  }
+  // An index beyond the palette would make a file that readers reject: checked here, not by libpng.
+  const int last = static_cast<int>(palette.size()) - 1;
+  if (last < 255) {
+    for (int y = 0; y < index.rows; ++y) {
+      const uchar* row = index.ptr<uchar>(y);
+      for (int x = 0; x < index.cols; ++x)
+        if (row[x] > last) {
+          *error = "palette index " + std::to_string(row[x]) + " at (" + std::to_string(x) + ", " + std::to_string(y) +
+                   ") is beyond the palette's " + std::to_string(palette.size()) + " colours";
+          return false;
+        }
+    }
+  }
+  std::vector<png_bytep> rows(static_cast<std::size_t>(index.rows));
+  for (int y = 0; y < index.rows; ++y)
+    rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(index.ptr<png_byte>(y));
+  bytes->clear();
+  bytes->reserve(index.total() / 2 + 1024);
+  if (!WriteAll(s.png, s.info, bytes, static_cast<png_uint_32>(index.cols), static_cast<png_uint_32>(index.rows), 8,
+                PNG_COLOR_TYPE_PALETTE, rows.data(), palette.data(), static_cast<int>(palette.size()))) {
     *error = std::string("cannot encode PNG: ") + sink.text;
     return false;
   }

@@ -219,6 +219,45 @@ TEST(ImageFile, ReadsWhatOpenCvWritesAndOpenCvReadsWhatItWrites) {
   fs::remove_all(dir);
 }
 
+// Palette pictures (false-colour previews): OpenCV's decoder expands every index to its colour,
+// and an index beyond the palette or a palette of no / too many colours is an error, not a file.
+TEST(ImageFile, IndexedPngDecodesToEachIndexsPaletteColour) {
+  for (const int colours : {1, 7, 256}) {
+    for (const cv::Size size : {cv::Size(1, 1), cv::Size(37, 23), cv::Size(640, 3)}) {
+      SCOPED_TRACE(std::to_string(colours) + " colours, " + std::to_string(size.width) + "x" +
+                   std::to_string(size.height));
+      cv::Mat index = Random(size.height, size.width, CV_8UC1, 40u + static_cast<unsigned>(colours));
+      for (auto it = index.begin<uchar>(); it != index.end<uchar>(); ++it)
+        *it = static_cast<uchar>(*it * colours / 256);  // 0 .. colours - 1
+      const cv::Mat bgr = Random(1, colours, CV_8UC3, 90u + static_cast<unsigned>(colours));
+      const std::vector<cv::Vec3b> palette(bgr.ptr<cv::Vec3b>(0), bgr.ptr<cv::Vec3b>(0) + colours);
+      const cv::Mat decoded = cv::imdecode(ramtk::image::EncodeIndexedPng(index, palette), cv::IMREAD_UNCHANGED);
+      ASSERT_EQ(decoded.type(), CV_8UC3);
+      ASSERT_EQ(decoded.size(), size);
+      long wrong = 0;
+      for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x) {
+          ASSERT_LT(index.at<uchar>(y, x), colours);
+          wrong += decoded.at<cv::Vec3b>(y, x) != palette[index.at<uchar>(y, x)];
+        }
+      EXPECT_EQ(wrong, 0);
+    }
+  }
+  cv::Mat index(4, 5, CV_8UC1, cv::Scalar(1));
+  const std::vector<cv::Vec3b> two(2, cv::Vec3b(10, 20, 30));
+  EXPECT_NO_THROW(ramtk::image::EncodeIndexedPng(index, two));
+  index.at<uchar>(3, 2) = 2;  // beyond a palette of two
+  try {
+    ramtk::image::EncodeIndexedPng(index, two, "preview");
+    ADD_FAILURE() << "an index beyond the palette was encoded";
+  } catch (const ramtk::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("(2, 3)"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ramtk::image::EncodeIndexedPng(index, {}), ramtk::InputError);
+  EXPECT_THROW(ramtk::image::EncodeIndexedPng(index, std::vector<cv::Vec3b>(257)), ramtk::InputError);
+  EXPECT_THROW(ramtk::image::EncodeIndexedPng(cv::Mat(4, 5, CV_8UC3, cv::Scalar(0)), two), ramtk::InputError);
+}
+
 TEST(ImageFile, PalettedAndInterlacedPngMatchOpenCv) {
   const std::string dir = TempDir();
   const cv::Mat index = Random(29, 31, CV_8UC1, 11);

@@ -10,9 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "ramtk/camera/camera_model.h"
 #include "ramtk/core/error.h"
@@ -130,10 +133,11 @@ const WideSet& Wide() {
   return set;
 }
 
-ScanResult ScanWide(const ScanRoiOptions& roi) {
+ScanResult ScanWide(const ScanRoiOptions& roi, bool depth_preview_png = false) {
   const WideSet& w = Wide();
   ScanOptions o;
   o.roi = roi;
+  o.depth_preview_png = depth_preview_png;
   return ScanFrames(testing::ManifestForConfig(w.config), w.calibration, w.left, w.right, w.full_scale, o);
 }
 
@@ -201,6 +205,40 @@ TEST(ScanRoiPipeline, AWrongPredictionFallsBackToTheFullFrameOrSaysNoSphere) {
   const ScanResult none = ScanWide(roi);
   EXPECT_EQ(none.summary.termination, Termination::kNoResult);
   EXPECT_TRUE(none.summary.spheres.spheres.empty());
+}
+
+// The depth picture encoded beside the fit is the picture of what was scanned: the window with
+// --roi, the whole frame without; WriteScanOutputs writes it as it would have encoded it itself.
+TEST(ScanRoiPipeline, DepthPictureEncodedBesideTheFitIsTheScannedWindows) {
+  namespace fs = std::filesystem;
+  ScanRoiOptions predicted = ParseScanRoi("0.8,-1.2,701.5");
+  for (const ScanRoiOptions& roi : {ScanRoiOptions{}, predicted}) {
+    SCOPED_TRACE(roi.mode == ScanRoiOptions::Mode::kFull ? "whole frame" : "predicted window");
+    const ScanResult r = ScanWide(roi, true);
+    ASSERT_EQ(r.summary.spheres.spheres.size(), 1u) << r.summary.BriefReport();
+    const cv::Rect w = r.summary.windows.left;
+    ASSERT_EQ(r.depth.size(), cv::Size(1280, 1024));
+    if (roi.mode == ScanRoiOptions::Mode::kFull)
+      EXPECT_EQ(w, cv::Rect(0, 0, 1280, 1024));
+    else
+      EXPECT_LT(w.area(), 1280 * 1024 / 4);
+    EXPECT_EQ(r.depth_png, DepthPreviewPng(r.depth(w).clone()));
+    // Outside the window the depth map holds no point.
+    cv::Mat outside = r.depth.clone();
+    outside(w).setTo(std::numeric_limits<float>::quiet_NaN());
+    EXPECT_EQ(cv::countNonZero(outside == outside), 0);
+
+    const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "scan_roi_depth_png";
+    ScanResult without = r;
+    without.depth_png.clear();
+    for (const ScanResult* written : {static_cast<const ScanResult*>(&r), static_cast<const ScanResult*>(&without)}) {
+      WriteScanOutputs(dir.string(), *written, true);
+      std::ifstream in(dir / "depth.png", std::ios::binary);
+      const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      EXPECT_EQ(bytes, r.depth_png) << (written == &r ? "bytes from the scan" : "encoded by WriteScanOutputs");
+    }
+    fs::remove_all(dir);
+  }
 }
 
 // The wide set on disk: as the simulator writes it (PNG), and as a capture that writes 8-bit grey

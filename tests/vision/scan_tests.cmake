@@ -17,7 +17,8 @@ ramtk_add_gtest(vision_scan_tests
   stereo_walk_lanes_test.cpp
   stereo_search_list_test.cpp
   scan_shard_test.cpp
-  scan_roi_test.cpp)
+  scan_roi_test.cpp
+  scan_depth_picture_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
 target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")

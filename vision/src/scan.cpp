@@ -19,6 +19,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/image/image_file.h"
 #include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
@@ -148,8 +149,8 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     return result;
   }
 
-  if (options.fit_spheres) {
-    t0 = std::chrono::steady_clock::now();
+  auto fit = [&] {
+    const auto fit_t0 = std::chrono::steady_clock::now();
     SphereFitOptions so = options.sphere;
     so.progress = {};
     if (result.cloud.size() < static_cast<std::size_t>(so.min_points)) {
@@ -220,13 +221,21 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
       }
     }
     sum.spheres.spheres = kept;
-    sum.fit_s = Seconds(t0);
+    sum.fit_s = Seconds(fit_t0);
     if (sum.spheres.spheres.empty()) {
       sum.termination = Termination::kNoResult;
       sum.message = "no sphere found";
     }
-    Report(options, "fit", 5, 5);
-  }
+  };
+  // The depth picture is encoded beside the fit, whose serial parts leave a core idle.
+  tbb::parallel_invoke(
+      [&] {
+        if (options.fit_spheres) fit();
+      },
+      [&] {
+        if (options.depth_preview_png && !result.depth.empty()) result.depth_png = DepthPreviewPng(result.depth);
+      });
+  if (options.fit_spheres) Report(options, "fit", 5, 5);
   RAMTK_LOG(kDebug) << sum.match.BriefReport();
   RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
   return result;
@@ -310,6 +319,7 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
   o.progress = {};
   o.roi = ScanRoiOptions();
   o.fit_spheres = true;
+  o.depth_preview_png = false;
   // A window only needs the centre to a fraction of a millimetre: no nonlinearity correction,
   // and the variance gate is left to the windowed pass (the coarse cloud's noise model is not
   // the point here); the radius gate stays, so a backdrop is not taken for the ball.
@@ -572,15 +582,15 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   return result;
 }
 
-cv::Mat DepthPreview(const cv::Mat& depth) {
+DepthPicture DepthPictureOf(const cv::Mat& depth) {
   CV_Assert(depth.type() == CV_32F);
-  // Row by row (in parallel, with row-sized buffers): full-frame temporaries of a thesis frame
-  // (a mask, a float copy, a grey image: ~50 MB) cost more in first touches than the work.
+  // Row by row (in parallel, with no full-frame temporary: on a thesis frame a mask, a float copy
+  // and a grey image, ~50 MB, cost more in first touches than the work).
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   std::mutex range_mutex;
-  cv::parallel_for_(cv::Range(0, depth.rows), [&](const cv::Range& rows) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows, 64), [&](const tbb::blocked_range<int>& rows) {
     float l = std::numeric_limits<float>::infinity(), h = -l;
-    for (int y = rows.start; y < rows.end; ++y) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
       const float* z = depth.ptr<float>(y);
       for (int x = 0; x < depth.cols; ++x)
         if (z[x] == z[x]) l = std::min(l, z[x]), h = std::max(h, z[x]);
@@ -592,32 +602,40 @@ cv::Mat DepthPreview(const cv::Mat& depth) {
   double zlo = lo, zhi = hi;
   if (!(zlo <= zhi)) zlo = 0, zhi = 1;  // no point at all
   if (!(zhi > zlo)) zhi = zlo + 1;
-  // The turbo table once (applyColorMap builds it on every call), then a lookup per pixel.
-  cv::Mat ramp(1, 256, CV_8U), table;
-  for (int i = 0; i < 256; ++i) ramp.at<uchar>(0, i) = static_cast<uchar>(i);
-  cv::applyColorMap(ramp, table, cv::COLORMAP_TURBO);
-  const uchar* lut = table.ptr<uchar>(0);
-  cv::Mat colour(depth.size(), CV_8UC3);
-  cv::parallel_for_(cv::Range(0, depth.rows), [&](const cv::Range& rows) {
-    cv::Mat clean(1, depth.cols, CV_32F), grey;
-    for (int y = rows.start; y < rows.end; ++y) {
+  DepthPicture picture;
+  // Index k = 1 + round(254 (zhi - z) / (zhi - zlo)): near (zlo) 255, far (zhi) 1.
+  const double scale = 254.0 / (zhi - zlo);
+  picture.index.create(depth.size(), CV_8U);
+  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows, 64), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
       const float* z = depth.ptr<float>(y);
-      float* c = clean.ptr<float>(0);
-      for (int x = 0; x < depth.cols; ++x) c[x] = z[x] == z[x] ? z[x] : static_cast<float>(zhi);
-      // Near = 255 (red end of turbo), far = 0 (blue).
-      clean.convertTo(grey, CV_8U, -255.0 / (zhi - zlo), 255.0 * zhi / (zhi - zlo));
-      const uchar* g = grey.ptr<uchar>(0);
-      uchar* out = colour.ptr<uchar>(y);
-      for (int x = 0; x < depth.cols; ++x) {
-        const uchar* rgb = lut + 3 * g[x];
-        const bool point = z[x] == z[x];
-        out[3 * x] = point ? rgb[0] : 0;
-        out[3 * x + 1] = point ? rgb[1] : 0;
-        out[3 * x + 2] = point ? rgb[2] : 0;
-      }
+      uchar* k = picture.index.ptr<uchar>(y);
+      for (int x = 0; x < depth.cols; ++x)
+        k[x] = z[x] == z[x] ? static_cast<uchar>(1 + static_cast<int>((zhi - z[x]) * scale + 0.5)) : 0;
     }
   });
+  cv::Mat ramp(1, 255, CV_8U), turbo;
+  for (int k = 1; k <= 255; ++k) ramp.at<uchar>(0, k - 1) = static_cast<uchar>((255 * (k - 1) + 127) / 254);
+  cv::applyColorMap(ramp, turbo, cv::COLORMAP_TURBO);
+  picture.palette_bgr.assign(256, cv::Vec3b(0, 0, 0));
+  for (int k = 1; k <= 255; ++k) picture.palette_bgr[k] = turbo.at<cv::Vec3b>(0, k - 1);
+  return picture;
+}
+
+cv::Mat DepthPreview(const cv::Mat& depth) {
+  const DepthPicture picture = DepthPictureOf(depth);
+  cv::Mat colour(depth.size(), CV_8UC3);
+  for (int y = 0; y < depth.rows; ++y) {
+    const uchar* k = picture.index.ptr<uchar>(y);
+    cv::Vec3b* out = colour.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < depth.cols; ++x) out[x] = picture.palette_bgr[k[x]];
+  }
   return colour;
+}
+
+std::vector<unsigned char> DepthPreviewPng(const cv::Mat& depth) {
+  const DepthPicture picture = DepthPictureOf(depth);
+  return image::EncodeIndexedPng(picture.index, picture.palette_bgr, "depth picture");
 }
 
 std::string ScanSummaryToJson(const ScanSummary& s) {
@@ -679,7 +697,13 @@ void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool
         const cv::Rect w = result.summary.windows.left;
         const bool windowed = w.area() > 0 && (w & cv::Rect(0, 0, result.depth.cols, result.depth.rows)) == w &&
                               w.size() != result.depth.size();
-        WriteImage((tmp / "depth.png").string(), DepthPreview(windowed ? result.depth(w) : result.depth));
+        const std::vector<unsigned char> encoded = result.depth_png.empty()
+                                                       ? DepthPreviewPng(windowed ? result.depth(w) : result.depth)
+                                                       : std::vector<unsigned char>();
+        const std::vector<unsigned char>& png = result.depth_png.empty() ? encoded : result.depth_png;
+        WriteFileAtomically((tmp / "depth.png").string(), [&](std::ostream& out) {
+          out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+        });
       });
   WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
   WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));

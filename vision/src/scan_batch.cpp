@@ -141,6 +141,7 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
       try {
         ScanOptions o = options;
         o.progress = {};
+        o.depth_preview_png = true;  // written below: encoded beside the sphere fit
         if (predicted[i]) {
           o.roi.mode = ScanRoiOptions::Mode::kPredicted;
           o.roi.predicted_centres_in_left_mm = {*predicted[i]};

@@ -38,4 +38,10 @@ void WriteImage(const std::string& path, const cv::Mat& image);
 // `what` if the matrix cannot be encoded.
 std::vector<unsigned char> EncodePng(const cv::Mat& image, const std::string& what = "picture");
 
+// PNG file bytes of a palette picture: a CV_8UC1 matrix of indices into `palette_bgr` (1 to 256
+// colours, BGR). A third the bytes of the BGR picture to compress (false-colour previews).
+// InputError naming `what` for an empty palette, more than 256 colours or an index beyond it.
+std::vector<unsigned char> EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
+                                            const std::string& what = "picture");
+
 }  // namespace ramtk::image
