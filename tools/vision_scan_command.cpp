@@ -83,7 +83,6 @@ int RunScan(const ScanCommandOptions& opt) {
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
   options.read_rows_on_demand = !opt.load_whole_frames;
-  options.depth_preview_png = true;  // depth.png encoded beside the sphere fit
   ThrowIfInvalid(options.Validate(), "ScanOptions");
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
@@ -141,8 +140,11 @@ int RunScan(const ScanCommandOptions& opt) {
   add_set(opt.set);
   CheckOutputAgainstInputs(opt.out, inputs, "--out");
   const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
+  // cloud.ply and depth.png are written beside the sphere fit; the folder is checked before the scan.
+  ScanOutputWriter writer(opt.out, opt.force, opt.set);
+  options.on_cloud = writer.OnCloud();
   const ScanResult result = ScanFringeSet(opt.set, options);
-  WriteScanOutputs(opt.out, result, opt.force, opt.report);
+  writer.Finish(result, opt.report);
   std::cout << result.summary.BriefReport() << "\n";
   if (options.roi.mode != ScanRoiOptions::Mode::kFull)
     std::cout << "roi " << result.summary.roi_source << ": left " << WindowText(result.summary.windows.left)

@@ -9,7 +9,7 @@ set(RAMTK_VISION_SCAN_SOURCES
   src/stereo_search_list.cpp
   src/back_reach_lanes.cpp
   src/triangulate.cpp
-  src/scan.cpp src/scan_frames.cpp
+  src/scan.cpp src/scan_frames.cpp src/scan_outputs.cpp
   src/scan_roi.cpp
   src/scan_report.cpp
   src/scan_batch.cpp

@@ -9,9 +9,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <sstream>
@@ -133,11 +135,12 @@ const WideSet& Wide() {
   return set;
 }
 
-ScanResult ScanWide(const ScanRoiOptions& roi, bool depth_preview_png = false) {
+ScanResult ScanWide(const ScanRoiOptions& roi,
+                    std::function<void(const PointCloud&, const cv::Mat&)> on_cloud = nullptr) {
   const WideSet& w = Wide();
   ScanOptions o;
   o.roi = roi;
-  o.depth_preview_png = depth_preview_png;
+  o.on_cloud = std::move(on_cloud);
   return ScanFrames(testing::ManifestForConfig(w.config), w.calibration, w.left, w.right, w.full_scale, o);
 }
 
@@ -207,38 +210,58 @@ TEST(ScanRoiPipeline, AWrongPredictionFallsBackToTheFullFrameOrSaysNoSphere) {
   EXPECT_TRUE(none.summary.spheres.spheres.empty());
 }
 
-// The depth picture encoded beside the fit is the picture of what was scanned: the window with
-// --roi, the whole frame without; WriteScanOutputs writes it as it would have encoded it itself.
-TEST(ScanRoiPipeline, DepthPictureEncodedBesideTheFitIsTheScannedWindows) {
+std::vector<unsigned char> FileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::vector<unsigned char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The outputs written beside the fit (ScanOutputWriter) are the files WriteScanOutputs writes from
+// the finished result, and the depth picture is the scanned window's: the window with --roi (a
+// predicted centre, and a wrong one that falls back to the whole frame, whose windowed attempt
+// wrote its files first), the whole frame without.
+TEST(ScanRoiPipeline, OutputsWrittenBesideTheFitAreTheFinishedResults) {
   namespace fs = std::filesystem;
-  ScanRoiOptions predicted = ParseScanRoi("0.8,-1.2,701.5");
-  for (const ScanRoiOptions& roi : {ScanRoiOptions{}, predicted}) {
-    SCOPED_TRACE(roi.mode == ScanRoiOptions::Mode::kFull ? "whole frame" : "predicted window");
-    const ScanResult r = ScanWide(roi, true);
+  const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "scan_roi_outputs";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const char* names[] = {"whole frame", "predicted window", "fall-back"};
+  const ScanRoiOptions rois[] = {ScanRoiOptions{}, ParseScanRoi("0.8,-1.2,701.5"), ParseScanRoi("60,40,700")};
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE(names[c]);
+    int calls = 0;
+    std::unique_ptr<ScanOutputWriter> writer = std::make_unique<ScanOutputWriter>((dir / "beside").string(), true, "");
+    const ScanResult r = ScanWide(rois[c], [&](const PointCloud& cloud, const cv::Mat& depth) {
+      ++calls;
+      writer->WriteCloud(cloud, depth);
+    });
     ASSERT_EQ(r.summary.spheres.spheres.size(), 1u) << r.summary.BriefReport();
+    EXPECT_EQ(calls, c == 2 ? 2 : 1);
+    writer->Finish(r);
+    WriteScanOutputs((dir / "after").string(), r, true);  // names r.summary.set ("": frames in memory)
+    for (const char* f : {"cloud.ply", "depth.png", "spheres.json", "summary.json"})
+      EXPECT_EQ(FileBytes(dir / "beside" / f), FileBytes(dir / "after" / f)) << f;
     const cv::Rect w = r.summary.windows.left;
     ASSERT_EQ(r.depth.size(), cv::Size(1280, 1024));
-    if (roi.mode == ScanRoiOptions::Mode::kFull)
-      EXPECT_EQ(w, cv::Rect(0, 0, 1280, 1024));
-    else
+    if (c == 1)
       EXPECT_LT(w.area(), 1280 * 1024 / 4);
-    EXPECT_EQ(r.depth_png, DepthPreviewPng(r.depth(w).clone()));
+    else
+      EXPECT_EQ(w, cv::Rect(0, 0, 1280, 1024));
+    EXPECT_EQ(FileBytes(dir / "beside" / "depth.png"), DepthPreviewPng(r.depth(w).clone()));
     // Outside the window the depth map holds no point.
     cv::Mat outside = r.depth.clone();
     outside(w).setTo(std::numeric_limits<float>::quiet_NaN());
     EXPECT_EQ(cv::countNonZero(outside == outside), 0);
-
-    const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "scan_roi_depth_png";
-    ScanResult without = r;
-    without.depth_png.clear();
-    for (const ScanResult* written : {static_cast<const ScanResult*>(&r), static_cast<const ScanResult*>(&without)}) {
-      WriteScanOutputs(dir.string(), *written, true);
-      std::ifstream in(dir / "depth.png", std::ios::binary);
-      const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      EXPECT_EQ(bytes, r.depth_png) << (written == &r ? "bytes from the scan" : "encoded by WriteScanOutputs");
-    }
-    fs::remove_all(dir);
   }
+  // A writer destroyed unfinished (the scan threw) leaves nothing; an existing folder needs overwrite.
+  {
+    ScanOutputWriter unfinished((dir / "never").string(), false, "wide");
+    unfinished.WriteCloud(PointCloud(), cv::Mat());
+  }
+  EXPECT_FALSE(fs::exists(dir / "never"));
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+  EXPECT_THROW(ScanOutputWriter((dir / "beside").string(), false, "wide"), InputError);
+  fs::remove_all(dir);
 }
 
 // The wide set on disk: as the simulator writes it (PNG), and as a capture that writes 8-bit grey

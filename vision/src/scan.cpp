@@ -227,13 +227,13 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
       sum.message = "no sphere found";
     }
   };
-  // The depth picture is encoded beside the fit, whose serial parts leave a core idle.
+  // The outputs' writer (ScanOptions::on_cloud) beside the fit, whose serial parts leave a core idle.
   tbb::parallel_invoke(
       [&] {
         if (options.fit_spheres) fit();
       },
       [&] {
-        if (options.depth_preview_png && !result.depth.empty()) result.depth_png = DepthPreviewPng(result.depth);
+        if (options.on_cloud) options.on_cloud(result.cloud, result.depth);
       });
   if (options.fit_spheres) Report(options, "fit", 5, 5);
   RAMTK_LOG(kDebug) << sum.match.BriefReport();
@@ -319,7 +319,7 @@ std::vector<Sphere> CoarseSpheres(const FringeManifest& m, const StereoCalibrati
   o.progress = {};
   o.roi = ScanRoiOptions();
   o.fit_spheres = true;
-  o.depth_preview_png = false;
+  o.on_cloud = {};
   // A window only needs the centre to a fraction of a millimetre: no nonlinearity correction,
   // and the variance gate is left to the windowed pass (the coarse cloud's noise model is not
   // the point here); the radius gate stays, so a backdrop is not taken for the ball.
@@ -582,62 +582,6 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   return result;
 }
 
-DepthPicture DepthPictureOf(const cv::Mat& depth) {
-  CV_Assert(depth.type() == CV_32F);
-  // Row by row (in parallel, with no full-frame temporary: on a thesis frame a mask, a float copy
-  // and a grey image, ~50 MB, cost more in first touches than the work).
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  std::mutex range_mutex;
-  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows, 64), [&](const tbb::blocked_range<int>& rows) {
-    float l = std::numeric_limits<float>::infinity(), h = -l;
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      const float* z = depth.ptr<float>(y);
-      for (int x = 0; x < depth.cols; ++x)
-        if (z[x] == z[x]) l = std::min(l, z[x]), h = std::max(h, z[x]);
-    }
-    std::lock_guard<std::mutex> lock(range_mutex);
-    lo = std::min(lo, l);
-    hi = std::max(hi, h);
-  });
-  double zlo = lo, zhi = hi;
-  if (!(zlo <= zhi)) zlo = 0, zhi = 1;  // no point at all
-  if (!(zhi > zlo)) zhi = zlo + 1;
-  DepthPicture picture;
-  // Index k = 1 + round(254 (zhi - z) / (zhi - zlo)): near (zlo) 255, far (zhi) 1.
-  const double scale = 254.0 / (zhi - zlo);
-  picture.index.create(depth.size(), CV_8U);
-  tbb::parallel_for(tbb::blocked_range<int>(0, depth.rows, 64), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      const float* z = depth.ptr<float>(y);
-      uchar* k = picture.index.ptr<uchar>(y);
-      for (int x = 0; x < depth.cols; ++x)
-        k[x] = z[x] == z[x] ? static_cast<uchar>(1 + static_cast<int>((zhi - z[x]) * scale + 0.5)) : 0;
-    }
-  });
-  cv::Mat ramp(1, 255, CV_8U), turbo;
-  for (int k = 1; k <= 255; ++k) ramp.at<uchar>(0, k - 1) = static_cast<uchar>((255 * (k - 1) + 127) / 254);
-  cv::applyColorMap(ramp, turbo, cv::COLORMAP_TURBO);
-  picture.palette_bgr.assign(256, cv::Vec3b(0, 0, 0));
-  for (int k = 1; k <= 255; ++k) picture.palette_bgr[k] = turbo.at<cv::Vec3b>(0, k - 1);
-  return picture;
-}
-
-cv::Mat DepthPreview(const cv::Mat& depth) {
-  const DepthPicture picture = DepthPictureOf(depth);
-  cv::Mat colour(depth.size(), CV_8UC3);
-  for (int y = 0; y < depth.rows; ++y) {
-    const uchar* k = picture.index.ptr<uchar>(y);
-    cv::Vec3b* out = colour.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < depth.cols; ++x) out[x] = picture.palette_bgr[k[x]];
-  }
-  return colour;
-}
-
-std::vector<unsigned char> DepthPreviewPng(const cv::Mat& depth) {
-  const DepthPicture picture = DepthPictureOf(depth);
-  return image::EncodeIndexedPng(picture.index, picture.palette_bgr, "depth picture");
-}
-
 std::string ScanSummaryToJson(const ScanSummary& s) {
   using nlohmann::json;
   json j;
@@ -679,42 +623,6 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                   {"fit", s.fit_s}};
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
-}
-
-void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite, bool html_report) {
-  StagedFolder staged(out_dir, overwrite, "--out");
-  const fs::path& tmp = staged.path();
-  std::ostringstream comment;
-  comment << "frame " << kScanFrame << "; set " << result.summary.set;
-  // cloud.ply (on a thesis frame 128 MB for the kernel to copy, ~0.2 s) and the depth picture
-  // (its colour map and PNG encoding, ~0.13 s) are independent files: written side by side.
-  tbb::parallel_invoke(
-      [&] { WritePly((tmp / "cloud.ply").string(), result.cloud, comment.str()); },
-      [&] {
-        if (result.depth.empty()) return;
-        // With windows (--roi) the preview shows the left window only: the rest
-        // holds no point.
-        const cv::Rect w = result.summary.windows.left;
-        const bool windowed = w.area() > 0 && (w & cv::Rect(0, 0, result.depth.cols, result.depth.rows)) == w &&
-                              w.size() != result.depth.size();
-        const std::vector<unsigned char> encoded = result.depth_png.empty()
-                                                       ? DepthPreviewPng(windowed ? result.depth(w) : result.depth)
-                                                       : std::vector<unsigned char>();
-        const std::vector<unsigned char>& png = result.depth_png.empty() ? encoded : result.depth_png;
-        WriteFileAtomically((tmp / "depth.png").string(), [&](std::ostream& out) {
-          out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-        });
-      });
-  WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-  WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
-  if (html_report) {
-    for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {
-      const report::Figure f = SphereResidualFigure(result, static_cast<int>(k));
-      if (!report::FindGnuplot().empty()) report::WritePng(f, (tmp / (f.id + ".png")).string());
-    }
-    ScanReport(result, result.depth.empty() ? "" : (tmp / "depth.png").string()).Write((tmp / "report.html").string());
-  }
-  staged.Commit();
 }
 
 std::vector<Sphere> ReadTruthSpheres(const std::string& path) {

@@ -141,13 +141,14 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& all_en
       try {
         ScanOptions o = options;
         o.progress = {};
-        o.depth_preview_png = true;  // written below: encoded beside the sphere fit
+        ScanOutputWriter writer(dir, overwrite, sets[i]);
+        o.on_cloud = writer.OnCloud();  // cloud.ply and depth.png beside the sphere fit
         if (predicted[i]) {
           o.roi.mode = ScanRoiOptions::Mode::kPredicted;
           o.roi.predicted_centres_in_left_mm = {*predicted[i]};
         }
         const ScanResult r = ScanFringeSet(sets[i], o);
-        WriteScanOutputs(dir, r, overwrite);
+        writer.Finish(r);
         row.out_dir = dir;
         row.points = r.summary.triangulation.points;
         row.status = r.summary.message;

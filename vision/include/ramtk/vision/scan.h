@@ -3,7 +3,9 @@
 // projector coordinates of both cameras -> stereo matches -> a point cloud in the left-camera
 // frame with per-point sigma -> the sphere(s) in it (ball centres, ball_in_left_camera).
 
+#include <functional>
 #include <limits>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -51,10 +53,13 @@ struct ScanOptions {
   // row for the coarse pass, then the windows' rows (ScanFringeSet only). The result is the same
   // as loading the frames whole (false), which PNG and other files always are.
   bool read_rows_on_demand = true;
-  // Also encode the depth picture (DepthPreviewPng of the scanned window) into
-  // ScanResult::depth_png, beside the sphere fit, which leaves a core idle most of its time;
-  // WriteScanOutputs then writes these bytes. Off: WriteScanOutputs encodes it itself.
-  bool depth_preview_png = false;
+  // Called once the cloud and the depth map exist (after triangulation), beside the sphere fit
+  // (on another thread: the fit leaves a core idle most of its time), with the cloud and the
+  // depth map of the scanned window (the whole frame without --roi). ScanOutputWriter::OnCloud
+  // writes cloud.ply and depth.png there, off the scan's critical path. Not called by the --roi
+  // coarse pass nor for a cancelled scan; called again by a windowed scan that falls back to the
+  // whole frame. An exception thrown by it is rethrown by the scan.
+  std::function<void(const PointCloud& cloud, const cv::Mat& depth)> on_cloud;
   // Called after each stage ("decode left", "decode right", "match", "triangulate", "fit");
   // returning false cancels (termination "cancelled", nothing else is computed).
   ProgressCallback progress;
@@ -99,9 +104,6 @@ struct ScanSummary {
 struct ScanResult {
   PointCloud cloud;  // left-camera frame, mm, with sigma and quality
   cv::Mat depth;     // CV_32F z (mm) per left pixel, NaN where no point
-  // DepthPreviewPng of the scanned window's depth (the whole frame without --roi), with
-  // ScanOptions::depth_preview_png; empty otherwise.
-  std::vector<unsigned char> depth_png;
   ScanSummary summary;
 };
 
@@ -150,6 +152,32 @@ std::string ScanSummaryToJson(const ScanSummary& summary);
 // report.html (scan_report.h) and sphere<k>_residual.png (when gnuplot is installed).
 void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false,
                       bool html_report = false);
+
+// The same folder, written while the scan runs: pass OnCloud() as ScanOptions::on_cloud, and
+// cloud.ply and depth.png are written beside the sphere fit; Finish writes spheres.json and
+// summary.json (and the report), then moves the folder into place. Everything goes to a temporary
+// sibling folder first: a scan that throws, or a writer destroyed unfinished, leaves nothing.
+class ScanOutputWriter {
+ public:
+  // InputError (naming --out) if `out_dir` exists and is not empty without `overwrite`, or its
+  // parent does not exist: checked here, before the scan. `set` is named in cloud.ply's comment.
+  ScanOutputWriter(const std::string& out_dir, bool overwrite, const std::string& set);
+  ~ScanOutputWriter();
+  ScanOutputWriter(const ScanOutputWriter&) = delete;
+  ScanOutputWriter& operator=(const ScanOutputWriter&) = delete;
+
+  // For ScanOptions::on_cloud (it refers to this writer, which must outlive the scan).
+  std::function<void(const PointCloud&, const cv::Mat&)> OnCloud();
+  // cloud.ply and the depth picture of `depth` (the scanned window) into the temporary folder.
+  void WriteCloud(const PointCloud& cloud, const cv::Mat& depth);
+  // The rest, then the folder into place. Writes cloud.ply and depth.png too unless WriteCloud
+  // wrote this result's (the same number of points; a result scanned without OnCloud).
+  void Finish(const ScanResult& result, bool html_report = false);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // The true spheres of a simulated set (`truth/truth.json` of `ramtk simulate fringe`: name,
 // centre_in_left_mm, radius_mm). InputError naming the file and field otherwise.
