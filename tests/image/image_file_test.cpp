@@ -332,6 +332,28 @@ TEST(ImageFile, BmpVariantsDecodeToThePixelsTheyWereBuiltFrom) {
   fs::remove_all(dir);
 }
 
+// Grey frames whose rows need no padding (camera frames) take the one-read path (a bottom-up
+// file's rows then swapped in place): one row, an even and an odd count, stored bottom-up and
+// top-down.
+TEST(ImageFile, UnpaddedGreyBmpRowsLandInPlaceWhateverTheirCount) {
+  const std::string dir = TempDir();
+  std::vector<cv::Vec3b> identity(256);
+  for (int i = 0; i < 256; ++i) identity[static_cast<std::size_t>(i)] = cv::Vec3b::all(static_cast<uchar>(i));
+  int n = 0;
+  for (const int rows : {1, 1024, 1025, 2600}) {
+    const cv::Mat truth = Random(rows, 12, CV_8UC1, 60u + static_cast<unsigned>(rows));
+    for (const bool top_down : {false, true}) {
+      SCOPED_TRACE(std::to_string(rows) + (top_down ? " rows, top-down" : " rows, bottom-up"));
+      int bits = 0;
+      const std::string path =
+          WriteBytes(dir + "/t" + std::to_string(n++) + ".bmp", BuildBmp(truth, 8, top_down, identity));
+      EXPECT_TRUE(Identical(LoadImageNative(path, &bits), truth));
+      EXPECT_TRUE(Identical(cv::imread(path, cv::IMREAD_UNCHANGED), truth));  // the peer agrees with the truth
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(ImageFile, TruncatedOrHostileFilesAreInputErrorsNamingTheFile) {
   const std::string dir = TempDir();
   const cv::Mat index = Random(8, 8, CV_8UC1, 1);
