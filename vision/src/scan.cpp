@@ -8,27 +8,19 @@
 
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <limits>
-#include <mutex>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
-#include "ramtk/core/outputs.h"
-#include "ramtk/image/image_file.h"
-#include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/cloud_noise.h"
 #include "ramtk/vision/image_io.h"
 #include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan_report.h"
 #include "scan_frames.h"
 
 namespace ramtk::vision {
-namespace fs = std::filesystem;
 using detail::SetFrames;
 namespace {
 
