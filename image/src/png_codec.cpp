@@ -148,13 +148,11 @@ cv::Mat ReadPng(std::FILE* file, std::string* error) {
   return out;
 }
 
-bool EncodePng(const cv::Mat& image, std::vector<unsigned char>* bytes, std::string* error) {
-  const int depth = image.depth();
-  const int nc = image.channels();
-  if ((depth != CV_8U && depth != CV_16U) || (nc != 1 && nc != 3 && nc != 4) || image.empty()) {
-    *error = "PNG needs an 8/16-bit image with 1, 3 or 4 channels";
-    return false;
-  }
+namespace {
+
+// The PNG of `image`'s rows (bit depth, colour type and, for a palette picture, its colours).
+bool EncodeRows(const cv::Mat& image, int bit_depth, int colour, const std::vector<png_color>& palette,
+                std::vector<unsigned char>* bytes, std::string* error) {
   ErrorText sink;
   WriteStructs s;
   s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, OnError, OnWarning);
@@ -163,17 +161,30 @@ bool EncodePng(const cv::Mat& image, std::vector<unsigned char>* bytes, std::str
     *error = "libpng could not start";
     return false;
   }
-  const int colour = nc == 1 ? PNG_COLOR_TYPE_GRAY : nc == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA;
   std::vector<png_bytep> rows(static_cast<std::size_t>(image.rows));
   for (int y = 0; y < image.rows; ++y) rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(image.ptr<png_byte>(y));
   bytes->clear();
   bytes->reserve(image.total() * image.elemSize() / 2 + 1024);
   if (!WriteAll(s.png, s.info, bytes, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows),
-                depth == CV_8U ? 8 : 16, colour, rows.data())) {
+                bit_depth, colour, rows.data(), palette.empty() ? nullptr : palette.data(),
+                static_cast<int>(palette.size()))) {
     *error = std::string("cannot encode PNG: ") + sink.text;
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool EncodePng(const cv::Mat& image, std::vector<unsigned char>* bytes, std::string* error) {
+  const int depth = image.depth();
+  const int nc = image.channels();
+  if ((depth != CV_8U && depth != CV_16U) || (nc != 1 && nc != 3 && nc != 4) || image.empty()) {
+    *error = "PNG needs an 8/16-bit image with 1, 3 or 4 channels";
+    return false;
+  }
+  const int colour = nc == 1 ? PNG_COLOR_TYPE_GRAY : nc == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGB_ALPHA;
+  return EncodeRows(image, depth == CV_8U ? 8 : 16, colour, {}, bytes, error);
 }
 
 bool EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palette_bgr,
@@ -186,41 +197,21 @@ bool EncodeIndexedPng(const cv::Mat& index, const std::vector<cv::Vec3b>& palett
     *error = "an indexed PNG needs 1 to 256 palette colours, not " + std::to_string(palette_bgr.size());
     return false;
   }
+  // An index beyond the palette would make a file that readers reject: checked here, not by libpng.
+  const int last = static_cast<int>(palette_bgr.size()) - 1;
+  for (int y = 0; y < index.rows && last < 255; ++y) {
+    const uchar* row = index.ptr<uchar>(y);
+    for (int x = 0; x < index.cols; ++x)
+      if (row[x] > last) {
+        *error = "palette index " + std::to_string(row[x]) + " at (" + std::to_string(x) + ", " + std::to_string(y) +
+                 ") is beyond the palette's " + std::to_string(palette_bgr.size()) + " colours";
+        return false;
+      }
+  }
   std::vector<png_color> palette(palette_bgr.size());
   for (std::size_t i = 0; i < palette.size(); ++i)
     palette[i] = png_color{palette_bgr[i][2], palette_bgr[i][1], palette_bgr[i][0]};
-  ErrorText sink;
-  WriteStructs s;
-  s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, OnError, OnWarning);
-  if (s.png) s.info = png_create_info_struct(s.png);
-  if (!s.png || !s.info) {
-    *error = "libpng could not start";
-    return false;
-  }
-  // An index beyond the palette would make a file that readers reject: checked here, not by libpng.
-  const int last = static_cast<int>(palette.size()) - 1;
-  if (last < 255) {
-    for (int y = 0; y < index.rows; ++y) {
-      const uchar* row = index.ptr<uchar>(y);
-      for (int x = 0; x < index.cols; ++x)
-        if (row[x] > last) {
-          *error = "palette index " + std::to_string(row[x]) + " at (" + std::to_string(x) + ", " + std::to_string(y) +
-                   ") is beyond the palette's " + std::to_string(palette.size()) + " colours";
-          return false;
-        }
-    }
-  }
-  std::vector<png_bytep> rows(static_cast<std::size_t>(index.rows));
-  for (int y = 0; y < index.rows; ++y)
-    rows[static_cast<std::size_t>(y)] = const_cast<png_bytep>(index.ptr<png_byte>(y));
-  bytes->clear();
-  bytes->reserve(index.total() / 2 + 1024);
-  if (!WriteAll(s.png, s.info, bytes, static_cast<png_uint_32>(index.cols), static_cast<png_uint_32>(index.rows), 8,
-                PNG_COLOR_TYPE_PALETTE, rows.data(), palette.data(), static_cast<int>(palette.size()))) {
-    *error = std::string("cannot encode PNG: ") + sink.text;
-    return false;
-  }
-  return true;
+  return EncodeRows(index, 8, PNG_COLOR_TYPE_PALETTE, palette, bytes, error);
 }
 
 }  // namespace ramtk::image::detail
