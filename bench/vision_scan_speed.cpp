@@ -9,6 +9,9 @@
 // that one cold run), SLMaster's timing driver once (../shared/peers/slmaster: `driver --once`,
 // wall time; its own line gives the load and pipeline times of that one cold run), and the
 // driver's repeated in-memory pipeline (`driver --reps 3`, the median of its warm runs).
+// Each whole process less its own load and pipeline times is reported too (start-up, writing the
+// outputs, exit: ramtk writes cloud.ply, depth.png and two JSON files, the driver nothing), and
+// ramtk's start-up and exit alone (`ramtk --version`, its 46 shared libraries).
 // Warm is compared with warm and cold with cold: ramtk's in-process runs repeat in this
 // process (heap and threads warm), so they face the driver's repeated runs; a fresh process's
 // first run (page faults of every new buffer, thread start) faces the other's first run. Until
@@ -227,6 +230,9 @@ int main(int argc, char** argv) {
   std::vector<double> r_load, r_decode, r_match, r_tri, r_fit, r_total, r_wall, ref_total, ref_decode;
   std::vector<double> p_load, p_pipe, p_wall, p_warm;
   std::vector<double> r_cold_load, r_cold_pipe, r_warm_pipe;
+  // Each whole process less its load and pipeline (start-up, reading the set's description,
+  // writing the outputs, exit), and ramtk's start-up and exit alone (`ramtk --version`).
+  std::vector<double> r_outside, p_outside, r_start;
   long r_points = 0, ref_points = 0;
   std::string p_valid = "-";
   if (reps > 1) (void)RunRamtk(set, false);  // warm-up (file cache, TBB threads)
@@ -253,7 +259,9 @@ int main(int argc, char** argv) {
       if (ColdStages(tmp + "/summary.json", &load, &pipe)) {
         r_cold_load.push_back(load);
         r_cold_pipe.push_back(pipe);
+        r_outside.push_back(r_wall.back() - load - pipe);
       }
+      r_start.push_back(RunTimed("'" + ramtk_exe + "' --version", nullptr));
     }
     if (have_peer) {
       std::string line;
@@ -264,6 +272,7 @@ int main(int argc, char** argv) {
                       &pipe, &total, &valid, &cloud) >= 4) {
         p_load.push_back(load);
         p_pipe.push_back(pipe);
+        p_outside.push_back(p_wall.back() - load - pipe);
         p_valid = std::to_string(valid);
       } else {
         std::printf("peer output not understood: %s", line.c_str());
@@ -287,12 +296,15 @@ int main(int argc, char** argv) {
   row("ramtk load, cold (ramtk scan)", r_cold_load);
   row("ramtk pipeline, cold (ramtk scan)", r_cold_pipe);
   row("ramtk whole process (wall)", r_wall);
+  row("  of it outside load + pipeline", r_outside);
+  row("  of that start-up + exit (--version)", r_start);
   row("ramtk reference decode (2 cameras)", ref_decode);
   row("ramtk reference in-process total", ref_total);
   row("SLMaster load (its line)", p_load);
   row("SLMaster pipeline, cold (--once)", p_pipe);
   row("SLMaster pipeline, warm (--reps 3)", p_warm);
   row("SLMaster whole process (wall)", p_wall);
+  row("  of it outside load + pipeline", p_outside);
   std::printf("valid points: ramtk %ld (reference path %s), SLMaster %s valid disparity pixels\n", r_points,
               reference ? std::to_string(ref_points).c_str() : "not run", p_valid.c_str());
   if (have_peer && !p_pipe.empty()) {
