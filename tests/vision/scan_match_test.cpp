@@ -1,11 +1,13 @@
 // Stereo matching and triangulation against the simulator's ground truth (small preset).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
 #include <limits>
 #include <opencv2/calib3d.hpp>
+#include <vector>
 
 #include "ramtk/core/error.h"
 #include "ramtk/vision/coordinate_filter.h"
@@ -190,6 +192,37 @@ TEST(ScanMatch, BadDepthMapsAreAnInputErrorAndRightPixelsAreOptional) {
   const PointCloud a = TriangulateMatches(calib, s.left, lean, {}), b = TriangulateMatches(calib, s.left, full, {});
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a.points_in_left[k], b.points_in_left[k]) << k;
+}
+
+// Without the sigma map (StereoMatchOptions::sigma_map false, as the scan runs) the summary's
+// median is the map's upper median, std::nth_element's middle of its matched pixels' values, and
+// the points and counts are the same.
+TEST(ScanMatch, WithoutTheSigmaMapTheMedianIsTheMapsMiddleValue) {
+  const DecodedStereo& s = SmallSet();
+  const StereoCalibration calib = SmallCalibration();
+  StereoMatchOptions o;
+  o.sigma_map = false;
+  const StereoMatch lean = MatchStereo(calib, s.left, s.right, s.period, o);
+  const StereoMatch full = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  EXPECT_TRUE(lean.sigma_px.empty());
+  std::vector<float> values;
+  for (int y = 0; y < full.sigma_px.rows; ++y)
+    for (int x = 0; x < full.sigma_px.cols; ++x)
+      if (std::isfinite(full.sigma_px.at<float>(y, x))) values.push_back(full.sigma_px.at<float>(y, x));
+  ASSERT_EQ(static_cast<long>(values.size()), full.summary.matched);
+  ASSERT_GT(values.size(), 1000u);
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  EXPECT_EQ(static_cast<float>(lean.summary.median_sigma_px), values[values.size() / 2]);
+  EXPECT_EQ(lean.summary.median_sigma_px, full.summary.median_sigma_px);
+  EXPECT_EQ(lean.summary.matched, full.summary.matched);
+  EXPECT_EQ(lean.summary.rejected_lr, full.summary.rejected_lr);
+  EXPECT_EQ(lean.summary.rejected_no_match, full.summary.rejected_no_match);
+  const PointCloud a = TriangulateMatches(calib, s.left, lean, {}), b = TriangulateMatches(calib, s.left, full, {});
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a.points_in_left[k], b.points_in_left[k]) << k;
+    ASSERT_EQ(a.sigma_mm[k], b.sigma_mm[k]) << k;
+  }
 }
 
 // The match's own points (StereoMatch::x_mm, y_mm, copied by TriangulateMatches) against the

@@ -110,6 +110,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   StereoMatchOptions mo = options.match;
   mo.progress = {};
   mo.right_pixels = false;  // the cloud needs the depths only
+  mo.sigma_map = false;     // the points carry their own sigma (StereoMatch::point_sigma_mm)
   StereoMatch match = MatchStereo(calibration, left, right, period, mo, calibration_path);
   right = DecodedCamera();
   sum.match = match.summary;
@@ -130,7 +131,6 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     kept.modulation = left.modulation;
     left = std::move(kept);
   }
-  match.sigma_px.release();  // the points carry their own sigma (StereoMatch::point_sigma_mm)
   result.cloud = TriangulateMatches(calibration, left, match, to, &sum.triangulation, &result.depth);
   left = DecodedCamera();
   match = StereoMatch();

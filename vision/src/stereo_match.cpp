@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <vector>
 
@@ -113,6 +114,7 @@ struct Pass {
   double max_modulation_ratio = 1e300;  // B_dst / B_src (or its inverse) above this: not the same surface point
   bool points = false;                  // also write each match's depth and point sigma (the left-to-right pass)
   bool pixels = true;                   // write the matched pixels u, v (the back pass must: the check reads them)
+  bool sigma_map = true;                // keep the sigma map (the back pass must); false: its values per block only
   bool full_search = false;             // StereoMatchOptions::full_search
   bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
   // StereoMatchOptions::rectified_back_pass: the search runs on the destination coordinate map resampled
@@ -964,9 +966,12 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
 }
 
 struct PassResult {
-  cv::Mat u, v, sigma;
+  cv::Mat u, v, sigma;               // sigma: Pass::sigma_map only
   cv::Mat depth, point_sigma, x, y;  // Pass::points only
   std::atomic<long> noisy{0}, no_match{0}, lr{0}, unreachable{0}, full{0}, matched{0}, valid{0};
+  // Without Pass::sigma_map: the matched pixels' sigmas, one part per block (for their median).
+  std::mutex sigma_mutex;
+  std::vector<std::vector<float>> sigma_parts;
 };
 
 // One source row's walk in RunPass: its cursor, seeds, counts and output rows.
@@ -988,7 +993,7 @@ struct RowWalk {
   long noisy = 0, no_match = 0, lr = 0, unreachable = 0, full = 0, matched = 0, valid = 0;
 
   void Start(const Pass& p, PassResult* out, int row, const detail::UndistortChain* c,
-             const detail::SearchCounts& counts, const double* up, double* own) {
+             const detail::SearchCounts& counts, const double* up, double* own, float* sigma_scratch) {
     const int W = p.src_coord.cols;
     y = row;
     chain = c;
@@ -1003,7 +1008,7 @@ struct RowWalk {
     mod_row = p.src_modulation.ptr<float>(y);
     u_row = p.pixels ? out->u.ptr<float>(y) : nullptr;
     v_row = p.pixels ? out->v.ptr<float>(y) : nullptr;
-    sigma_row = out->sigma.ptr<float>(y);
+    sigma_row = p.sigma_map ? out->sigma.ptr<float>(y) : sigma_scratch;
     depth_row = p.points ? out->depth.ptr<float>(y) : nullptr;
     x_row = p.points ? out->x.ptr<float>(y) : nullptr;
     y_row = p.points ? out->y.ptr<float>(y) : nullptr;
@@ -1271,16 +1276,20 @@ void CheckSettled(const Pass& p, Matcher& m, const RowWalk& r, const detail::Wal
 // otherwise the scalar search takes it, once the row above has passed it (it may seed from the
 // row above's match). The results do not depend on `lanes`.
 void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const detail::WalkMaps& maps,
-              const detail::UndistortChain* chains, const detail::SearchCounts* counts, std::vector<double>* w_buf) {
+              const detail::UndistortChain* chains, const detail::SearchCounts* counts, std::vector<double>* w_buf,
+              std::vector<float>* sigma_buf) {
   Matcher m{p};
   std::vector<Matcher::Root> roots;
   const bool check = lanes > 1 && detail::WalkLaneCheck();  // tests: each settled pixel again
+  const int W = p.src_coord.cols;
+  std::vector<float> sigmas;  // without Pass::sigma_map: this block's matched sigmas
   for (int g = yb; g < ye; g += lanes) {
     const int n = std::min(lanes, ye - g);
     RowWalk rw[4];
     bool pending[4] = {false, false, false, false};
     for (int k = 0; k < n; ++k) {
-      rw[k].Start(p, out, g + k, &chains[g + k - yb], counts[g + k - yb], w_buf[k].data(), w_buf[k + 1].data());
+      rw[k].Start(p, out, g + k, &chains[g + k - yb], counts[g + k - yb], w_buf[k].data(), w_buf[k + 1].data(),
+                  p.sigma_map ? nullptr : sigma_buf[k].data());
       pending[k] = NextSearched(p, &rw[k]);
     }
     for (bool more = n > 0; more;) {
@@ -1334,7 +1343,15 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
       }
     }
     for (int k = 0; k < n; ++k) rw[k].Flush(out);
+    if (!p.sigma_map)  // the rows' sigmas before their scratch rows are reused
+      for (int k = 0; k < n; ++k)
+        for (int x = 0; x < W; ++x)
+          if (rw[k].sigma_row[x] == rw[k].sigma_row[x]) sigmas.push_back(rw[k].sigma_row[x]);
     std::swap(w_buf[0], w_buf[n]);
+  }
+  if (!p.sigma_map && !sigmas.empty()) {
+    std::lock_guard<std::mutex> lock(out->sigma_mutex);
+    out->sigma_parts.push_back(std::move(sigmas));
   }
 }
 
@@ -1347,7 +1364,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
     out->u.create(H, W, CV_32F);
     out->v.create(H, W, CV_32F);
   }
-  out->sigma.create(H, W, CV_32F);
+  if (p.sigma_map) out->sigma.create(H, W, CV_32F);
   if (p.points) {
     out->depth.create(H, W, CV_32F);
     out->point_sigma.create(H, W, CV_32F);
@@ -1378,6 +1395,9 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
       // The row above the rows walked (NaN above a block's first row), then one per lane.
       std::vector<double> w_buf[5];
       for (std::vector<double>& w : w_buf) w.resize(W);
+      std::vector<float> sigma_buf[4];  // the rows' sigmas without a map (Pass::sigma_map)
+      if (!p.sigma_map)
+        for (std::vector<float>& b : sigma_buf) b.resize(W);
       detail::FillNaN(w_buf[0].data(), W);  // the row above the block's first (the others: RowWalk::Start)
       const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
       // The block's source rays first: the pixels each row will search (valid, not noisy,
@@ -1402,7 +1422,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
                           rays[6].data() + at, rays[7].data() + at};
       }
       detail::UndistortChains(*p.src, chains, ye - yb, &turn);
-      WalkRows(p, out, yb, ye, lanes, maps, chains, counts, w_buf);
+      WalkRows(p, out, yb, ye, lanes, maps, chains, counts, w_buf, sigma_buf);
     });
     if (options.progress && !options.progress({stage, static_cast<std::size_t>(r1), static_cast<std::size_t>(H)}))
       return false;
@@ -1651,6 +1671,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   Pass lrp = make_pass(true);
   lrp.points = true;
   lrp.pixels = options.right_pixels;
+  lrp.sigma_map = options.sigma_map;
   if (lr) {
     lrp.back_u = back.u;
     lrp.back_v = back.v;
@@ -1695,7 +1716,14 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   sum.rejected_lr = fwd.lr;
   sum.rejected_no_back_match = fwd.unreachable;
   sum.full_searches = fwd.full;
-  const float median_sigma = detail::UpperMedian(fwd.sigma);
+  float median_sigma = std::numeric_limits<float>::quiet_NaN();
+  if (lrp.sigma_map) {
+    median_sigma = detail::UpperMedian(fwd.sigma);
+  } else {
+    std::size_t count = 0;
+    for (const std::vector<float>& part : fwd.sigma_parts) count += part.size();
+    if (count) median_sigma = detail::ValuesAtRanks(fwd.sigma_parts, {count / 2})[0];
+  }
   if (std::isfinite(median_sigma)) sum.median_sigma_px = median_sigma;
   return result;
 }

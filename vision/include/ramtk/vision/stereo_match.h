@@ -88,6 +88,10 @@ struct StereoMatchOptions {
   // Write the matched right pixels (StereoMatch::right_u, right_v). The scan needs only the
   // depths and sigmas: without the two maps a thesis frame's match holds 66 MB less.
   bool right_pixels = true;
+  // Keep the sigma map (StereoMatch::sigma_px). The scan's points carry their own sigma
+  // (point_sigma_mm), and the summary's median needs only the matched pixels' values: false
+  // saves a float map (5 MB on a 1.3 Mpx frame, first touched and then released).
+  bool sigma_map = true;
   // Keep the right-to-left pass's matches (StereoMatch::back_u, back_v): for comparisons.
   bool keep_back_matches = false;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
@@ -119,7 +123,8 @@ struct StereoMatchSummary {
 struct StereoMatch {
   cv::Mat right_u, right_v;  // CV_32F right pixel (distorted image coordinates), NaN unmatched;
                              // empty with StereoMatchOptions::right_pixels false
-  cv::Mat sigma_px;          // CV_32F sigma of the match along the epipolar curve, right px
+  cv::Mat sigma_px;          // CV_32F sigma of the match along the epipolar curve, right px;
+                             // empty with StereoMatchOptions::sigma_map false
   // The matched point itself: its depth z (mm, left-camera frame) on the left pixel's ray, at
   // the crossing (the right pixel is its projection, so the two rays meet there), CV_32F, NaN
   // unmatched; and its sigma along that ray, mm, CV_32F: |dX/dw| sigma_w with w the inverse
