@@ -86,7 +86,7 @@ void Append(png_structp png, png_bytep data, png_size_t n) {
 void Flush(png_structp) {}
 
 bool WriteAll(png_structp png, png_infop info, std::vector<unsigned char>* out, png_uint_32 width, png_uint_32 height,
-              int bit_depth, int colour, png_bytepp rows, png_const_colorp palette = nullptr, int palette_size = 0) {
+              int bit_depth, int colour, png_bytepp rows, png_const_colorp palette, int palette_size) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_set_write_fn(png, out, Append, Flush);
   png_set_IHDR(png, info, width, height, bit_depth, colour, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
