@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -12,6 +13,10 @@
 namespace ramtk {
 
 std::string ReadTextFile(const std::string& path) {
+  // A folder opens as a stream on Linux and then reads as empty: say what it is instead of
+  // letting the parser report an empty document.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError({path, 0, ""}, "is a folder, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open file");
   std::stringstream ss;

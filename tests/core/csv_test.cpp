@@ -63,6 +63,15 @@ TEST(FileIo, AtomicWriteReplacesAndLeavesNoTemporary) {
   EXPECT_THROW(ReadTextFile("/nonexistent-dir/x.txt"), InputError);
 }
 
+// A folder given where a file is expected (`ramtk scan SETFOLDER` for its manifest) is named as
+// one, not read as an empty document.
+TEST(FileIo, AFolderIsRefusedAsOneNotReadAsEmpty) {
+  const std::string dir = ::testing::TempDir() + "/a_folder";
+  std::filesystem::create_directories(dir);
+  EXPECT_EQ(Message([&] { ReadTextFile(dir); }), dir + ": is a folder, not a file");
+  std::filesystem::remove_all(dir);
+}
+
 // The streamed form: the contents written by a callback land whole; a callback that throws
 // leaves the old file as it was and no temporary beside it.
 TEST(FileIo, StreamedAtomicWriteLeavesTheOldFileWhenTheWriterThrows) {
