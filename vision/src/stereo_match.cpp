@@ -858,6 +858,8 @@ struct Matcher {
 // bilinear mean, which lies in their bounding box; otherwise one within tolerance + 1 px of the
 // back match of the nearest finite corner. The tolerance is the cell's (its corners' largest
 // sigma times lr_sigma_factor, at least lr_tolerance). Every such pixel is marked: a superset.
+// Only cells the pass interpolates (Pass::cell_ok) mark: a crossing's sample comes from
+// ValidCell, so no crossing lies in another cell, and Consistent takes the crossing's own cell.
 cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
   cv::Mat reach(src_rows, src_cols, CV_8U, cv::Scalar(0));
   const int cols = p.back_u.cols, rows = p.back_u.rows;
@@ -902,7 +904,9 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
         rx0 = x0, rx1 = x1, ry0 = y0, ry1 = y1;
       };
       // One cell (the scalar loop; with AVX2 only the cells the lanes leave).
+      const uchar* ok_row = p.cell_ok.data() + static_cast<std::size_t>(v) * cols;  // the right image's cells
       auto cell = [&](int u) {
+        if (!ok_row[u]) return;
         if (std::isnan(u0[u]) && std::isnan(u1[u]) && std::isnan(u0[u + 1]) && std::isnan(u1[u + 1])) return;
         const float bu[4] = {u0[u], u0[u + 1], u1[u], u1[u + 1]};
         const bool fin[4] = {bu[0] == bu[0], bu[1] == bu[1], bu[2] == bu[2], bu[3] == bu[3]};
@@ -951,6 +955,7 @@ cv::Mat BackReach(const Pass& p, int src_cols, int src_rows) {
             continue;
           }
           for (int i = 0; i < 8; ++i) {
+            if (!ok_row[u + i]) continue;
             if (!(boxes.fast >> i & 1))
               cell(u + i);
             else if (boxes.has >> i & 1)
