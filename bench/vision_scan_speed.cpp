@@ -127,6 +127,24 @@ struct InProcess {
   long points = 0;
 };
 
+// The set's two cameras loaded and decoded as `ramtk scan` does, with the time of each part
+// added to *load_ms and *decode_ms.
+std::vector<DecodedCamera> DecodeBoth(const FringeManifest& m, const DecodeOptions& decode, double* load_ms,
+                                      double* decode_ms) {
+  std::vector<DecodedCamera> decoded;
+  for (const std::string cam : {"left", "right"}) {
+    std::vector<std::string> paths;
+    for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
+    const auto tl = Clock::now();
+    const ImageStack stack = LoadImageStack(paths, decode.dark_fraction, !decode.reference_path);
+    *load_ms += Ms(tl);
+    const auto td = Clock::now();
+    decoded.push_back(DecodeFrames(m, stack.frames, stack.full_scale, decode, cam));
+    *decode_ms += Ms(td);
+  }
+  return decoded;
+}
+
 InProcess RunRamtk(const std::string& set, bool reference) {
   InProcess r;
   const auto t0 = Clock::now();
@@ -134,17 +152,7 @@ InProcess RunRamtk(const std::string& set, bool reference) {
   const StereoCalibration calib = ReadStereoCalibration(m.Resolve(m.calibration));
   ScanOptions opt;
   opt.decode.reference_path = reference;
-  std::vector<DecodedCamera> decoded;
-  for (const std::string cam : {"left", "right"}) {
-    std::vector<std::string> paths;
-    for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
-    const auto tl = Clock::now();
-    const ImageStack stack = LoadImageStack(paths, opt.decode.dark_fraction, !reference);
-    r.load_ms += Ms(tl);
-    const auto td = Clock::now();
-    decoded.push_back(DecodeFrames(m, stack.frames, stack.full_scale, opt.decode, cam));
-    r.decode_ms += Ms(td);
-  }
+  const std::vector<DecodedCamera> decoded = DecodeBoth(m, opt.decode, &r.load_ms, &r.decode_ms);
   const ScanResult res = ScanDecoded(calib, decoded[0], decoded[1], decoded[0].summary.period_px, opt);
   r.match_ms = 1000 * res.summary.match_s;
   r.triangulate_ms = 1000 * res.summary.triangulate_s;
@@ -161,14 +169,9 @@ InProcess RunRamtk(const std::string& set, bool reference) {
 void UncheckedMatches(const std::string& set, long* lr_off, long* none) {
   const FringeManifest m = ReadFringeManifest(set);
   const StereoCalibration calib = ReadStereoCalibration(m.Resolve(m.calibration));
-  ScanOptions opt;
-  std::vector<DecodedCamera> decoded;
-  for (const std::string cam : {"left", "right"}) {
-    std::vector<std::string> paths;
-    for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
-    const ImageStack stack = LoadImageStack(paths, opt.decode.dark_fraction, true);
-    decoded.push_back(DecodeFrames(m, stack.frames, stack.full_scale, opt.decode, cam));
-  }
+  const ScanOptions opt;
+  double load_ms = 0, decode_ms = 0;
+  const std::vector<DecodedCamera> decoded = DecodeBoth(m, opt.decode, &load_ms, &decode_ms);
   StereoMatchOptions mo = opt.match;
   mo.lr_tolerance_px = 0;  // no left-right check
   *lr_off = MatchStereo(calib, decoded[0], decoded[1], decoded[0].summary.period_px, mo).summary.matched;
