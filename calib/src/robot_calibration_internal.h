@@ -1,0 +1,60 @@
+#pragma once
+// The pieces of CalibrateRobot: stacking the whitened Jacobian, the Ceres solve over a subset of
+// poses and unknowns, the identifiability analysis and the held-out validation.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ramtk/calib/robot_calibration.h"
+#include "ramtk/calib/robot_model_eval.h"
+
+namespace ramtk::calib::detail {
+
+struct CalibrationProblem {
+  ModelFrame frame;
+  std::vector<PoseInput> poses;
+};
+
+// Whitened residuals and Jacobian of the poses listed (all when `poses` is empty); the Jacobian
+// only when `jacobian` is not null. Rows: pose by pose, RowsPerPose each.
+void StackResiduals(const CalibrationProblem& problem, const Eigen::VectorXd& x, const std::vector<int>& poses,
+                    Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian);
+
+struct SolveResult {
+  Termination termination = Termination::kNotRun;
+  int iterations = 0;
+  double final_cost = 0.0;
+};
+
+// Levenberg–Marquardt (Ceres) over the unknowns with free[i] true, on the poses listed (all when
+// empty). x is updated.
+SolveResult SolveUnknowns(const CalibrationProblem& problem, const std::vector<bool>& free, const std::vector<int>& poses,
+                          const RobotCalibrationOptions& options, int max_iterations, Eigen::VectorXd* x);
+
+// Moves the small rotation unknowns into the reference rotations (φ, ψ back to zero), so the
+// Jacobian is exact there.
+void Recentre(CalibrationProblem* problem, Eigen::VectorXd* x);
+
+// The identifiability analysis of the candidate unknowns, in order of preference.
+struct Elimination {
+  std::vector<bool> keep;             // per unknown (layout.size)
+  std::vector<double> independence;   // fraction of the unit column outside the span before it
+  std::vector<std::string> status;    // "" kept, "not_identifiable", "weak"
+  std::vector<std::string> combination;
+  double condition_number = 0.0;
+  double observability_index = 0.0;
+  double noise_amplification_index = 0.0;
+};
+Elimination AnalyseIdentifiability(const Eigen::MatrixXd& jacobian, const std::vector<int>& order,
+                                   const std::vector<std::string>& names, double structural_tolerance,
+                                   double weak_tolerance);
+
+// k-fold held-out residuals (positions of every target, mm) per pose, from fits that start at x.
+std::vector<std::vector<Vec3>> HeldOutResiduals(const CalibrationProblem& problem, const std::vector<bool>& free,
+                                                const RobotCalibrationOptions& options, const Eigen::VectorXd& x);
+
+ResidualStats StatsOf(const std::vector<std::vector<Vec3>>& residuals, const std::vector<double>& rotation_deg = {});
+
+}  // namespace ramtk::calib::detail
