@@ -31,11 +31,11 @@ enum class LengthUnit { kMillimetre, kMetre };
 
 // How a 6-D pose's rotation is written.
 enum class RotationForm {
-  kNone,         // no rotation columns: points only
-  kQuaternion,   // qx,qy,qz,qw (normalised on reading; |q| far from 1 is an error)
-  kKukaAbc,      // A,B,C: R = RotZ(A)·RotY(B)·RotX(C)
-  kEulerXyz,     // rx,ry,rz about the new axes: R = RotX(rx)·RotY(ry)·RotZ(rz) (Leica T-Mac exports)
-  kMatrix,       // r11,r12,r13,r21,...,r33 row-major (orthonormality checked)
+  kNone,        // no rotation columns: points only
+  kQuaternion,  // qx,qy,qz,qw (normalised on reading; |q| far from 1 is an error)
+  kKukaAbc,     // A,B,C: R = RotZ(A)·RotY(B)·RotX(C)
+  kEulerXyz,    // rx,ry,rz about the new axes: R = RotX(rx)·RotY(ry)·RotZ(rz) (Leica T-Mac exports)
+  kMatrix,      // r11,r12,r13,r21,...,r33 row-major (orthonormality checked)
 };
 
 // Names the columns of a tracker file. Empty lists mean "use the default names when present".
@@ -82,9 +82,17 @@ struct TrackerFormat {
 TrackerFormat ReadTrackerFormat(const std::string& path);
 TrackerFormat ParseTrackerFormat(const std::string& yaml_text, const std::string& path);
 
+// Plausibility limits of ReadTrackerMeasurements: a value beyond one is an InputError naming the
+// file, line and column, so that a corrupt cell never reaches the solvers as a measurement.
+inline constexpr double kTrackerMaxAbsPositionMm = 1e5;  // per coordinate: 100 m holds any robot cell
+inline constexpr double kTrackerMaxAbsJointRad = 6.0 * 3.14159265358979323846;  // three turns
+// Seconds: unix seconds fit with a wide margin, while unix milliseconds and a yyyymmddHHMMSS stamp
+// rounded to a number by a spreadsheet (2,02011E+13) do not pass as seconds.
+inline constexpr double kTrackerMaxAbsTimeS = 1e12;
+
 // One target measured at one pose.
 struct TargetMeasurement {
-  int target = 0;                  // 0-based target index (column group, or order of first appearance)
+  int target = 0;                   // 0-based target index (column group, or order of first appearance)
   Vec3 position_mm = Vec3::Zero();  // in the tracker frame
   // Covariance (mm²) when the file gives σ or a covariance; has_covariance false otherwise.
   Mat3 covariance_mm2 = Mat3::Zero();
@@ -93,20 +101,21 @@ struct TargetMeasurement {
 
 // One robot pose and what was measured there.
 struct TrackerPose {
-  std::vector<double> q_rad;                // controller joints, N values
-  std::vector<TargetMeasurement> targets;   // at least one
+  std::vector<double> q_rad;               // controller joints, N values
+  std::vector<TargetMeasurement> targets;  // at least one
   // The tool frame's rotation in the tracker frame when the file has a 6-D pose (the position of
   // that pose is targets[0]).
   std::optional<Mat3> tracker_from_tool_rotation;
-  std::vector<Vec3> references_mm;          // fixed reference targets at this pose (may be empty)
-  double time_s = 0.0;                      // relative to the first row's time (0 without a time column)
-  int cycle = 0;                            // the cycle column, 0 without one
-  int line = 0;                             // 1-based line of the (first) row in the file
+  std::vector<Vec3> references_mm;  // fixed reference targets at this pose (may be empty)
+  double time_s = 0.0;              // relative to the first row's time (0 without a time column)
+  int cycle = 0;                    // the cycle column, 0 without one
+  int line = 0;                     // 1-based line of the (first) row in the file
 };
 
 struct TrackerMeasurements {
   int num_joints = 0;
-  std::vector<std::string> target_names;  // one per target index
+  // One per target index: the target column's text, or a column group's x column name.
+  std::vector<std::string> target_names;
   bool has_rotation = false;              // every pose carries tracker_from_tool_rotation
   double first_time_unix_s = 0.0;         // absolute time of the first row (0 when relative or none)
   std::vector<TrackerPose> poses;
@@ -119,7 +128,10 @@ TrackerMeasurements ParseTrackerMeasurements(const std::string& text, const std:
 
 // Removes tracker drift using the reference targets: each pose's references are registered
 // rigidly (3 or more; translation only with 1 or 2) onto their mean over all poses, and the same
-// correction is applied to that pose's targets and rotation. Returns the RMS correction (mm);
+// correction is applied to that pose's targets, covariances, rotation and references. With 3 or
+// more the mean is that of the registered sets, iterated until it stops changing: the mean of
+// drifting sets is not rigid by the square of the drift angle, the converged one is, so that all
+// corrected poses share one frame. References on one line are an InputError. Returns the RMS correction (mm);
 // does nothing and returns 0 when the poses have no references.
 double RemoveTrackerDrift(TrackerMeasurements* measurements);
 
