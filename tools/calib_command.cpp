@@ -22,6 +22,7 @@ namespace ramtk::tools {
 
 void RegisterCalibCameras(CLI::App* calib, int* exit_code);                 // calib_cameras_command.cpp
 void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code);  // calib_hand_eye_command.cpp
+void RegisterCalibRobot(CLI::App* calib, int* exit_code);                   // calib_robot_command.cpp
 
 namespace {
 
@@ -127,7 +128,7 @@ int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
 }  // namespace
 
 void RegisterCalibCommands(CLI::App& app, int* exit_code) {
-  CLI::App* calib = GetOrAddSubcommand(app, "calib", "Calibrations: sensor-to-robot, camera sessions");
+  CLI::App* calib = GetOrAddSubcommand(app, "calib", "Calibrations: robot kinematics, sensor-to-robot, camera sessions, hand-eye");
   {
     auto opt = std::make_shared<SensorRobotCommandOptions>();
     CLI::App* sub = calib->add_subcommand(
@@ -152,6 +153,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
   }
   RegisterCalibCameras(calib, exit_code);
+  RegisterCalibRobot(calib, exit_code);
   CLI::App* simulate = SimulateCommand(app);
   {
     auto opt = std::make_shared<SimulateSensorRobotOptions>();
