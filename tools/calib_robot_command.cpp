@@ -106,6 +106,10 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   std::printf("  identifiability: %d identified, %d eliminated, condition number %.3g, O1 %.3g, noise amplification %.3g\n",
               summary.num_identified, summary.num_eliminated, summary.condition_number, summary.observability_index,
               summary.noise_amplification_index);
+  std::printf("  coverage: targets spread %.0f mm RMS (reach %.0f mm); joint ranges (deg)", summary.workspace_spread_mm,
+              summary.reach_mm);
+  for (double r : summary.joint_range_deg) std::printf(" %.0f", r);
+  std::printf("\n");
   // Other series: the calibrated links with the set-up re-fitted (the tracker may have moved).
   for (std::size_t i = 0; i < others.size(); ++i) {
     calib::RobotCalibrationOptions po;
