@@ -116,7 +116,7 @@ Table SplitTable(const std::string& text, const std::string& path, char separato
                                                     " (separator '" +
                                                     (t.separator == '\t' ? "tab" : std::string(1, t.separator)) + "')");
     }
-    t.rows.push_back(cells);
+    t.rows.push_back(std::move(cells));
     t.lines.push_back(line_number);
   }
   if (t.header.empty()) throw InputError({path, 0, ""}, "empty file: expected a header row");
