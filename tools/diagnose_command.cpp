@@ -81,7 +81,8 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
       "Current model. robot: robot YAML or kr150|bx200l|ur10 (default kr150); laser log: sensor frame JSON; "
       "fringe: unused (the ideal fringe model)");
   sub->add_option("--with", options->with,
-                  "Further input, repeatable. robot: set-up JSON, monitoring CSV, thermal=traditional|none|<params>; "
+                  "Further input, repeatable. robot: set-up JSON, monitoring CSV, thermal=traditional|none|<params>, a tracker "
+                  "column file (YAML, docs/formats.md) when the data is a tracker export; "
                   "laser log: motion JSON; fringe: camera=NAME (default left)");
   sub->add_option("--out", options->output_folder, "Folder for report.md, diagnosis.json and pictures");
   sub->add_flag("--report", *html,

@@ -26,6 +26,8 @@ const std::vector<EffectInfo>& EffectCatalogue() {
       {"joint_cyclic_error", DataKind::kRobot, "a joint's encoder or gear has an error cyclic in its angle (q, 2q)"},
       {"backlash", DataKind::kRobot, "a joint's position depends on the direction it was approached from"},
       {"temperature_driven_drift", DataKind::kRobot, "the residual follows a measured temperature column"},
+      {"geometric", DataKind::kRobot, "the static kinematic parameters differ from the model (a full calibration)"},
+      {"axis_misalignment", DataKind::kRobot, "a joint axis is twisted against the model (static α, or β on parallel axes)"},
       {"beam_non_perpendicular", DataKind::kLaser, "the two beams are not at 90°"},
       {"beam_offset", DataKind::kLaser, "the beams do not intersect (offset along the tool axis)"},
       {"beam_width", DataKind::kLaser, "the beams have a finite width that shifts the break instants"},
@@ -45,7 +47,9 @@ std::vector<EffectInfo> EffectsOf(DataKind kind) {
 }
 
 bool IsKnownCause(const std::string& name) {
-  if (name == kNoEffect || name == kUnexplained || name == kAmbiguous || name == kNotObservable) return true;
+  if (name == kNoEffect || name == kUnexplained || name == kAmbiguous || name == kNotObservable || name == kImplausible) {
+    return true;
+  }
   for (const EffectInfo& e : EffectCatalogue())
     if (name == e.name) return true;
   return false;

@@ -49,6 +49,19 @@ std::string DiagnosisJson(const Diagnosis& d) {
   if (!d.partial.empty()) j["partial"] = d.partial;
   if (!d.look_alikes.empty()) j["look_alikes"] = d.look_alikes;
   if (!d.separate_with.empty()) j["separate_with"] = d.separate_with;
+  if (!d.causes.empty()) {
+    nlohmann::json causes = nlohmann::json::array();
+    for (const CauseStep& c : d.causes) {
+      causes.push_back({{"effect", c.effect},
+                        {"num_parameters", c.num_parameters},
+                        {"heldout_rms_before", Finite(c.rms_before)},
+                        {"heldout_rms_after", Finite(c.rms_after)},
+                        {"excess_removed", Finite(c.excess_removed)},
+                        {"parameters", MapJson(c.parameters)},
+                        {"sigmas", MapJson(c.sigmas)}});
+    }
+    j["causes"] = causes;
+  }
   j["heldout"] = {{"rms_before", Finite(d.rms_before)},
                   {"rms_after", Finite(d.rms_after)},
                   {"excess_removed", Finite(d.excess_removed)}};
@@ -83,7 +96,14 @@ std::string OneLine(const Diagnosis& d) {
         << (d.structure_found ? " (structure, but no extension pays)" : " (white)");
     return out.str();
   }
-  out << "cause '" << d.cause << "'";
+  if (d.causes.size() > 1) {
+    out << "causes";
+    for (size_t i = 0; i < d.causes.size(); ++i) {
+      out << (i ? " + '" : " '") << d.causes[i].effect << "' (" << Fixed(100.0 * d.causes[i].excess_removed, 3) << "%)";
+    }
+  } else {
+    out << "cause '" << d.cause << "'";
+  }
   if (d.cause == kUnexplained && !d.explaining_variable.empty())
     out << " (explained by " << d.explaining_variable << ")";
   if (!d.look_alikes.empty()) {
@@ -91,7 +111,11 @@ std::string OneLine(const Diagnosis& d) {
     for (size_t i = 0; i < d.look_alikes.size(); ++i) out << (i ? ", " : "") << d.look_alikes[i];
     out << "}";
   }
-  if (!d.partial.empty()) out << " (partly " << d.partial.front() << ")";
+  if (!d.partial.empty()) {
+    out << " (partly";
+    for (size_t i = 0; i < d.partial.size(); ++i) out << (i ? " + " : " ") << d.partial[i];
+    out << ")";
+  }
   out << " (confidence " << Fixed(d.confidence, 3) << "): held-out RMS " << Fixed(d.rms_before, 4) << " -> "
       << Fixed(d.rms_after, 4) << " " << d.unit << ", " << Fixed(100.0 * d.excess_removed, 3)
       << "% of the excess over the noise floor removed";

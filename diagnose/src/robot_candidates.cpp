@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "ramtk/core/units.h"
+#include "ramtk/kinematics/chain.h"
 #include "ramtk/thermal/identify.h"
 
 namespace ramtk::diagnose::robot_detail {
@@ -175,7 +176,7 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   const bool multi_cycle = num_cycles >= 3;
   std::vector<Evaluated> out;
   int step = 0;
-  const size_t steps = multi_cycle ? 8 : 4;
+  const size_t steps = multi_cycle ? 9 : 5;
   auto tick = [&](const std::string& what) {
     if (ctx.progress) ctx.progress({"diagnose robot: " + what, static_cast<size_t>(++step), steps});
   };
@@ -219,6 +220,24 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   tick("joint_offset");
   static_params("link_length_error", lengths, "_error");
   tick("link_length_error");
+  // Static twists of the joint axes (α, and β where consecutive axes are near-parallel, thesis
+  // §2.2.3), and the whole static kinematic calibration as one candidate (every link parameter the
+  // set-up does not absorb). β is offered on near-parallel axes also when the file is DH.
+  {
+    std::vector<int> twists, geometric;
+    for (int p = 0; p < kNumParams; ++p) {
+      const int j = kinematics::ParamJointOf(p);
+      const bool parallel = std::abs(std::sin(model.links[j].alpha)) < std::sin(DegToRad(10.0));
+      const bool offered = !model.structural_zero[p] || (kinematics::ParamKindOf(p) == ParamKind::kBeta && parallel);
+      if (!offered) continue;
+      geometric.push_back(p);
+      const ParamKind kind = kinematics::ParamKindOf(p);
+      if (kind == ParamKind::kAlpha || kind == ParamKind::kBeta) twists.push_back(p);
+    }
+    static_params("axis_misalignment", twists, "_twist");
+    static_params("geometric", geometric, "_error");
+    tick("geometric");
+  }
 
   // Thermal drift: lengths, then angles added greedily by held-out score; each in two forms, free
   // per cycle (thesis eq. 3-8) and smooth in time (a + b·τ + c·τ², τ = time / span), the better
@@ -347,9 +366,20 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   // Joint compliance: Δθ_j = c_j·τ_j(q), τ from a generic gravity load (robot_linear.h).
   {
     std::vector<Mat3X> cols;
+    const bool masses = ctx.input->chain.HasMasses();
+    if (!masses) {
+      notes->push_back(
+          "joint_compliance: the robot file has no link masses; a generic load (0.1 kg/mm along the links, 20 kg at "
+          "the ball) shapes the torques, so the fitted compliance values are relative, not physical");
+    }
     for (const Row& r : rows) {
-      const Eigen::Matrix<double, 6, 1> tau =
-          GravityTorques(model, r.q, ctx.rows->setup.ball_in_flange) / 1000.0;  // kN·m
+      Eigen::Matrix<double, 6, 1> tau;
+      if (masses) {
+        // kg·mm of the file's masses times g, in kN·m.
+        tau = kinematics::GravityTorques(ctx.input->chain, r.q) * 9.81e-6;
+      } else {
+        tau = GravityTorques(model, r.q, ctx.rows->setup.ball_in_flange) / 1000.0;  // kN·m
+      }
       Mat3X m(3, 5);
       for (int j = 1; j < 6; ++j) m.col(j - 1) = r.j_param.col(kinematics::ParamIndex(ParamKind::kTheta, j)) * tau[j];
       cols.push_back(m);

@@ -65,4 +65,34 @@ double HeldoutDifferenceZ(const RowSet& rs, const std::vector<Eigen::Vector3d>& 
 // along which they part most and where, plus a temperature column / payload change when relevant.
 std::string SeparatingData(const RowSet& rs, const Eigen::VectorXd& difference, const std::vector<std::string>& effects);
 
+// ---- several causes, static before drift, plausibility (robot_multicause.cpp) ----
+
+// Physical bounds of fitted values, scaled by the robot (reach = Σ|a| + |d|).
+struct PlausibilityBounds {
+  double length_mm = 5.0;    // static length error: max(2 mm, 0.5% of the reach)
+  double angle_deg = 1.0;    // static joint offset or axis twist
+  double cyclic_deg = 0.5;   // amplitude of a joint's cyclic error
+  double drift_mm = 1.0;     // range of a length's thermal drift: max(1 mm, 0.1% of the reach)
+  double drift_deg = 0.1;    // range of an angle's thermal drift
+  double tool_mm = 20.0;     // a ball that moved on the flange: max(20 mm, 5% of the reach)
+};
+PlausibilityBounds BoundsFor(const kinematics::RobotModel& model);
+// Appends to fit->implausible every fitted value outside its bounds (a negative compliance beyond 3σ too).
+void CheckPlausibility(const PlausibilityBounds& bounds, CandidateFit* fit);
+
+// Drift causes: thermal, temperature-driven, sensor frame drift, a ball that moved.
+bool IsDriftEffect(const std::string& effect);
+// When the best candidate (front, after SelectCandidate) is a drift and the best static candidate
+// predicts the held-out poses as well (within 2 standard errors), moves the static one to the front
+// and returns the finding that says so; "" otherwise.
+std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluated, std::vector<CandidateFit>* candidates);
+
+// Forward selection from a first cause: each step refits the candidates on top of the causes kept,
+// adds the best plausible one (static before drift) while it removes at least 2% of the excess,
+// until `explained_share` of the excess is removed or nothing pays. `last` receives the final
+// model. The steps carry their own held-out gains.
+std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first, double rms_none, double sigma,
+                                     double explained_share, const PlausibilityBounds& bounds,
+                                     std::vector<std::string>* findings, Evaluated* last);
+
 }  // namespace ramtk::diagnose::robot_detail

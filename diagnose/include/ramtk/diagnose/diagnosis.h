@@ -21,6 +21,7 @@ inline constexpr const char* kNoEffect = "none";            // residual is white
 inline constexpr const char* kUnexplained = "unexplained";  // structure no catalogued effect explains
 inline constexpr const char* kAmbiguous = "ambiguous";      // look-alike candidates the data cannot separate
 inline constexpr const char* kNotObservable = "not_observable";  // the current model absorbs the candidate
+inline constexpr const char* kImplausible = "implausible";  // the best fit lies outside its cause's physical bounds
 
 // One candidate model (the current model itself is the candidate named kNoEffect with 0 parameters).
 struct CandidateFit {
@@ -40,6 +41,17 @@ struct CandidateFit {
                                              // candidate's (1 = look-alike; < 0: not computed)
   std::string implausible;                   // why a fitted value is outside the candidate's plausibility bounds
                                              // (empty: plausible); an implausible candidate is never named
+};
+
+// One cause of a verdict that names several (robot data: forward selection), in the order kept.
+struct CauseStep {
+  std::string effect;
+  int num_parameters = 0;
+  double rms_before = 0.0;      // held-out RMS before this cause was added
+  double rms_after = 0.0;       // held-out RMS with it
+  double excess_removed = 0.0;  // its share of the current model's excess over the noise floor
+  std::map<std::string, double> parameters;
+  std::map<std::string, double> sigmas;
 };
 
 // A picture written next to the report.
@@ -76,6 +88,9 @@ struct Diagnosis {
   std::vector<std::string> look_alikes;  // for kAmbiguous / kNotObservable: the candidates concerned
   std::string separate_with;             // for kAmbiguous: what data would separate them
   std::vector<CandidateFit> candidates;  // all fitted, best first
+  // Every cause kept, each with its own held-out gain, when the verdict names several (the first is
+  // `cause`); rms_after and excess_removed below are then those of all of them together.
+  std::vector<CauseStep> causes;
 
   // Step 4: held-out gain of the chosen extension.
   double rms_before = 0.0;      // held-out RMS, current model

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "ramtk/diagnose/diagnose.h"
+#include "ramtk/kinematics/chain.h"
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/kinematics/robot_model.h"
 #include "ramtk/thermal/setup.h"
@@ -29,6 +30,9 @@ namespace ramtk::diagnose {
 // Everything the robot diagnosis reads, in memory (the hidden-effect generator fills it directly).
 struct RobotDiagnoseInput {
   kinematics::RobotModel model;  // current (cold) model
+  // The same robot file with its optional gravity-load data (link masses, centres of mass,
+  // payload): the compliance candidate's torques come from it when it has masses.
+  kinematics::RobotChain chain;
   std::string model_label;       // for the report
   thermal::ThermalSetup setup;   // used when has_setup; otherwise calibrated from the first cycle
   bool has_setup = false;

@@ -68,8 +68,9 @@ RobotModel RobotModelFromChain(const RobotChain& chain, const std::string& path,
 // Sum of |a| and |d| over the links (mm): the scale that turns angles into lengths.
 double ChainReachMm(const RobotChain& chain);
 
-// Gravity torque about each joint axis (N·mm per kg·g, i.e. mass in kg times lever in mm; the
-// constant g is left out) at controller joints q, from the chain's masses and payload.
+// Gravity torque about each joint's model axis (+Z of the frame before its link, the direction of
+// a positive θ_j) in kg·mm (mass times lever; multiply by g for N·mm) at controller joints q, from
+// the chain's masses and payload. Zero without masses.
 Eigen::VectorXd GravityTorques(const RobotChain& chain, const Eigen::VectorXd& q_controller);
 
 }  // namespace ramtk::kinematics

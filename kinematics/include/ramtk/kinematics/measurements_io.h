@@ -46,7 +46,7 @@ RobotMeasurementSet ParseRobotMeasurements(const std::string& text, const std::s
 // file, line, column and the limit (a corrupt file must not reach the solvers).
 inline constexpr double kMaxAbsPositionMm = 1e5;  // 100 m: any robot cell
 inline constexpr double kMaxAbsJointDeg = 1080.0;  // three turns
-inline constexpr double kMaxAbsTimeS = 1e9;        // 31 years
+inline constexpr double kMaxAbsTimeS = 1e10;       // 317 years: unix seconds fit
 // Writes atomically (no half-written file); positions with 6 decimals (nm), joints with 9, extra
 // columns with 10 significant digits (a covariance of 1e-7 mm² keeps its digits).
 void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path);

@@ -1,0 +1,157 @@
+// Several causes at once (forward selection), static causes before drifts, and plausibility bounds
+// of the robot candidates.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "ramtk/core/units.h"
+#include "ramtk/diagnose/model_selection.h"
+#include "robot_candidates.h"
+
+namespace ramtk::diagnose::robot_detail {
+namespace {
+
+bool EndsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+bool Contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+std::string Num(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+
+// Whether a fitted value lies within its cause's physical bounds; "" when it does.
+std::string Bound(const std::string& key, double value, double sigma, const PlausibilityBounds& b) {
+  const double a = std::abs(value);
+  auto outside = [&](double limit, const char* unit) {
+    return "'" + key + "' = " + Num(value) + " is beyond ±" + Num(limit) + " " + unit;
+  };
+  if (Contains(key, "_drift_range_mm")) return a > b.drift_mm ? outside(b.drift_mm, "mm") : "";
+  if (Contains(key, "_drift_range_deg")) return a > b.drift_deg ? outside(b.drift_deg, "deg") : "";
+  if (Contains(key, "amplitude") && EndsWith(key, "_deg")) return a > b.cyclic_deg ? outside(b.cyclic_deg, "deg") : "";
+  if (Contains(key, "_compliance_")) {
+    // A joint yields to its load: a compliance below zero by more than 3σ is not physical.
+    if (value < -3.0 * sigma && value < 0) return "'" + key + "' = " + Num(value) + " is negative (a joint that pushes back harder than its load)";
+    return "";
+  }
+  if (key == "dx_mm" || key == "dy_mm" || key == "dz_mm") return a > b.tool_mm ? outside(b.tool_mm, "mm") : "";
+  if (EndsWith(key, "_error_mm")) return a > b.length_mm ? outside(b.length_mm, "mm") : "";
+  if (EndsWith(key, "_offset_deg") || EndsWith(key, "_twist_deg") || EndsWith(key, "_error_deg")) {
+    return a > b.angle_deg ? outside(b.angle_deg, "deg") : "";
+  }
+  return "";
+}
+
+CauseStep StepOf(const CandidateFit& f, double before, double rms_none, double sigma) {
+  CauseStep s;
+  s.effect = f.effect;
+  s.num_parameters = f.num_parameters;
+  s.rms_before = before;
+  s.rms_after = f.heldout_rms;
+  s.excess_removed = ExcessRemoved(rms_none, f.heldout_rms, sigma) - ExcessRemoved(rms_none, before, sigma);
+  s.parameters = f.parameters;
+  s.sigmas = f.sigmas;
+  return s;
+}
+
+}  // namespace
+
+PlausibilityBounds BoundsFor(const kinematics::RobotModel& model) {
+  double reach = 0.0;
+  for (const kinematics::LinkParams& l : model.links) reach += std::abs(l.a) + std::abs(l.d);
+  PlausibilityBounds b;
+  b.length_mm = std::max(2.0, 0.005 * reach);
+  b.drift_mm = std::max(1.0, 0.001 * reach);
+  b.tool_mm = std::max(20.0, 0.05 * reach);
+  return b;
+}
+
+void CheckPlausibility(const PlausibilityBounds& bounds, CandidateFit* fit) {
+  for (const auto& [key, value] : fit->parameters) {
+    const auto s = fit->sigmas.find(key);
+    const std::string why = Bound(key, value, s == fit->sigmas.end() ? 0.0 : s->second, bounds);
+    if (!why.empty()) fit->implausible += (fit->implausible.empty() ? "" : "; ") + why;
+  }
+}
+
+bool IsDriftEffect(const std::string& effect) {
+  return effect == "thermal_length_drift" || effect == "thermal_angle_drift" || effect == "sensor_frame_drift" ||
+         effect == "temperature_driven_drift" || effect == "tool_offset_change";
+}
+
+std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluated,
+                         std::vector<CandidateFit>* candidates) {
+  if (candidates->empty() || !IsDriftEffect(candidates->front().effect)) return "";
+  const Evaluated* drift = nullptr;
+  const Evaluated* best_static = nullptr;
+  for (const Evaluated& e : evaluated) {
+    if (e.fit.effect == candidates->front().effect) drift = &e;
+  }
+  for (const CandidateFit& c : *candidates) {
+    if (c.effect == kNoEffect || IsDriftEffect(c.effect) || !c.implausible.empty()) continue;
+    for (const Evaluated& e : evaluated) {
+      if (e.fit.effect == c.effect) best_static = &e;
+    }
+    break;  // candidates are sorted by score: the first static one is the best
+  }
+  if (drift == nullptr || best_static == nullptr) return "";
+  const double z = HeldoutDifferenceZ(rs, drift->cv.heldout_residual, best_static->cv.heldout_residual);
+  if (z < -2.0) return "";  // the drift predicts better by more than two standard errors
+  const std::string moved = best_static->fit.effect;
+  std::stable_partition(candidates->begin(), candidates->end(),
+                        [&](const CandidateFit& c) { return c.effect == moved; });
+  return "'" + drift->fit.effect + "' is not claimed: the static '" + moved +
+         "' predicts the held-out poses as well (difference " + Num(z) +
+         " standard errors); a drift is named only beyond the best static model";
+}
+
+std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first, double rms_none, double sigma,
+                                     double explained_share, const PlausibilityBounds& bounds,
+                                     std::vector<std::string>* findings, Evaluated* last) {
+  std::vector<CauseStep> steps = {StepOf(first.fit, rms_none, rms_none, sigma)};
+  *last = first;
+  Context next = ctx;
+  for (int k = 1; k < 5; ++k) {
+    if (ExcessRemoved(rms_none, last->fit.heldout_rms, sigma) >= explained_share) break;
+    next.base = last->design;
+    next.base_cv = last->cv;
+    std::vector<std::string> notes;
+    std::vector<Evaluated> evaluated = EvaluateCandidates(next, &notes);
+    std::vector<CandidateFit> fits;
+    CandidateFit none;
+    none.effect = kNoEffect;
+    none.train_rms = next.base_cv.TrainRms();
+    none.heldout_rms = next.base_cv.HeldoutRms();
+    none.heldout_count = next.base_cv.heldout_n;
+    fits.push_back(none);
+    for (Evaluated& e : evaluated) {
+      CheckPlausibility(bounds, &e.fit);
+      fits.push_back(e.fit);
+    }
+    SelectCandidate(&fits);
+    const std::string preferred = PreferStatic(*ctx.rows, evaluated, &fits);
+    if (!preferred.empty()) findings->push_back(preferred);
+    const CandidateFit& best = fits.front();
+    if (best.effect == kNoEffect) break;
+    const double gain = ExcessRemoved(rms_none, best.heldout_rms, sigma) -
+                        ExcessRemoved(rms_none, last->fit.heldout_rms, sigma);
+    if (gain < 0.02) break;
+    const Evaluated* chosen = nullptr;
+    for (const Evaluated& e : evaluated) {
+      if (e.fit.effect == best.effect) chosen = &e;
+    }
+    if (chosen == nullptr) break;
+    steps.push_back(StepOf(best, last->fit.heldout_rms, rms_none, sigma));
+    findings->push_back("step " + std::to_string(k + 1) + ": '" + best.effect + "' added on top of the causes kept, " +
+                        "held-out RMS " + Num(last->fit.heldout_rms) + " -> " + Num(best.heldout_rms) + " mm");
+    *last = *chosen;
+    last->fit = best;
+  }
+  return steps;
+}
+
+}  // namespace ramtk::diagnose::robot_detail
