@@ -57,54 +57,98 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
 // ---------------------------------------------------------------- thermal identify
 struct IdentifyOptions {
   ExperimentInputs in;
-  std::string out_path;
+  std::string out_path;   // ΔX per cycle CSV with a sigma column per parameter
+  std::string json_path;  // the same with the guard and the covariance scaling, JSON
 };
 
+nlohmann::json GuardJson(const IdentifiabilitySummary& g) {
+  nlohmann::json j;
+  j["condition_number"] = g.condition_number;
+  j["max_condition"] = g.max_condition;
+  j["column_scaling"] = "unit norm";
+  j["singular_values"] = std::vector<double>(g.singular_values.data(), g.singular_values.data() + g.singular_values.size());
+  j["requested"] = ParamListToString(g.requested);
+  j["dropped"] = ParamListToString(g.dropped);
+  j["combinations"] = nlohmann::json::array();
+  for (const UnobservableCombination& c : g.combinations) {
+    nlohmann::json cj;
+    cj["combination"] = c.Describe();
+    cj["condition_number"] = c.condition_number;
+    cj["cause"] = c.cause;
+    j["combinations"].push_back(cj);
+  }
+  j["message"] = g.message;
+  return j;
+}
+
 int RunIdentify(const IdentifyOptions& opt) {
-  CheckOutputs(opt.in, {{"--out", opt.out_path}});
+  CheckOutputs(opt.in, {{"--out", opt.out_path}, {"--json", opt.json_path}});
   const LoadedExperiment e = Load(opt.in);
-  const std::vector<int> params = ParseParamList(opt.in.params, e.model, "--params");
   const DriftModel dm(e.model, e.setup, e.ball.taught);
-  const IdentificationOptions id = MakeIdOptions(opt.in, e, dm, params);
+  IdentificationOptions id = MakeIdOptions(opt.in, e, dm, ParseParamList(opt.in.params, e.model, "--params"));
+  IdentifiabilitySummary g;
+  if (!GuardIdentification(opt.in, dm, &id, &g)) return kExitNoSolution;
+  const std::vector<int>& params = id.params;
   IdentificationSummary s;
   const Eigen::MatrixXd x = dm.Solve(e.ball.DifferencesFromReference(id.poses), id, &s);
-  std::string csv = "cycle,time_s";
-  for (int p : params) csv += "," + kinematics::ParamName(p);
-  csv += "\n";
-  for (int c = 0; c < e.ball.NumCycles(); ++c) {
-    csv += std::to_string(e.ball.cycles[c].cycle) + Fmt(",%.3f", e.ball.cycles[c].time_s);
-    for (int p : params) csv += Fmt(",%.9g", ToFileUnits(p, x(p, c)));
-    csv += "\n";
-  }
-  if (!opt.out_path.empty()) WriteFileAtomically(opt.out_path, csv);
   std::cout << s.BriefReport() << "\n";
   std::cout << "poses: " << (id.poses.empty() ? std::string("all") : IntList(PoseIds(e, id))) << "\n";
   std::cout << "singular values (equilibrated columns):";
   for (int i = 0; i < s.singular_values.size(); ++i) std::cout << Fmt(" %.4g", s.singular_values[i]);
   std::cout << "\n";
-  if (!s.dependent_params.empty()) {
-    std::cout << "not identifiable given the others (QR pivoting): " << ParamListToString(s.dependent_params) << "\n";
-  }
-  for (const NullCombination& n : s.null_space) {
-    std::cout << "unseen combination:";
-    for (std::size_t i = 0; i < n.params.size(); ++i) {
-      std::cout << Fmt(" %+.3f·", n.coefficients[i]) << kinematics::ParamName(n.params[i]);
-    }
-    std::cout << "\n";
-  }
-  const int last = e.ball.NumCycles() - 1;
-  std::cout << "last cycle " << e.ball.cycles[last].cycle << " (mm, deg):";
-  for (int p : params) std::cout << " " << kinematics::ParamName(p) << Fmt("=%.5f", ToFileUnits(p, x(p, last)));
-  std::cout << "\n";
-  if (!opt.out_path.empty()) std::cout << "wrote " << opt.out_path << "\n";
   if (s.rank < static_cast<int>(params.size())) {
-    // Not a unique solution: the values written are the minimum-norm one of many. Say so and
-    // exit with "no solution" (3), as every command does for a non-success result.
+    // Not a unique solution even though the guard passed (its limit was raised): refuse.
     std::cerr << "ramtk: error: rank deficient (" << s.rank << " of " << params.size()
-              << " parameters identifiable with these poses): the drift is not unique; drop the parameters named above "
-                 "or add poses\n";
+              << " parameters identifiable with these poses): the drift is not unique; drop parameters or add "
+                 "poses; nothing written\n";
     return kExitNoSolution;
   }
+  std::cout << s.covariance_scaling << "\n";
+  // Every output is assembled first and written as one unit.
+  std::string csv = "cycle,time_s";
+  for (int p : params) csv += "," + kinematics::ParamName(p) + "," + kinematics::ParamName(p) + "_sigma";
+  csv += "\n";
+  nlohmann::json j;
+  j["params"] = ParamListToString(params);
+  j["poses"] = PoseIds(e, id);
+  j["identifiability"] = GuardJson(g);
+  j["rank"] = s.rank;
+  j["rms_residual_mm"] = s.rms_residual_mm;
+  j["weighted"] = s.weighted;
+  j["residual_dof"] = s.residual_dof;
+  j["reduced_chi2"] = s.reduced_chi2;
+  j["covariance_scale"] = s.covariance_scale;
+  j["covariance_scaling"] = s.covariance_scaling;
+  j["units"] = "mm for d and a, deg for theta, alpha and beta";
+  j["cycles"] = nlohmann::json::array();
+  for (int c = 0; c < e.ball.NumCycles(); ++c) {
+    csv += std::to_string(e.ball.cycles[c].cycle) + Fmt(",%.3f", e.ball.cycles[c].time_s);
+    nlohmann::json cj;
+    cj["cycle"] = e.ball.cycles[c].cycle;
+    cj["time_s"] = e.ball.cycles[c].time_s;
+    for (std::size_t k = 0; k < params.size(); ++k) {
+      const int p = params[k];
+      const double v = ToFileUnits(p, x(p, c));
+      const double sd = SigmaToFileUnits(p, s.Sigma(static_cast<int>(k), c));
+      csv += Fmt(",%.9g", v) + Fmt(",%.9g", sd);
+      cj["delta_x"][kinematics::ParamName(p)] = v;
+      cj["sigma"][kinematics::ParamName(p)] = sd;
+    }
+    csv += "\n";
+    j["cycles"].push_back(cj);
+  }
+  const int last = e.ball.NumCycles() - 1;
+  std::cout << "last cycle " << e.ball.cycles[last].cycle << " (mm, deg; value ± sigma):\n";
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const int p = params[k];
+    std::cout << "  " << kinematics::ParamName(p) << " = "
+              << ValueWithSigma(p, x(p, last), s.Sigma(static_cast<int>(k), last)) << "\n";
+  }
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!opt.out_path.empty()) files.emplace_back(opt.out_path, csv);
+  if (!opt.json_path.empty()) files.emplace_back(opt.json_path, j.dump(2) + "\n");
+  WriteFilesAtomically(files);
+  for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
 }
 
@@ -138,7 +182,9 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--params", opt->in.params, "Parameters: names (d4,alpha3,...), 'traditional' or 'all'");
     sub->add_option("--poses", opt->in.poses, "Pose positions to use (0-based, comma list); default all");
     sub->add_option("--pose-budget", opt->in.pose_budget, "Choose this many poses D-optimally for --params");
-    sub->add_option("--out", opt->out_path, "ΔX per cycle CSV (mm, deg)");
+    sub->add_option("--out", opt->out_path, "ΔX per cycle CSV (mm, deg), each parameter followed by its sigma");
+    sub->add_option("--json", opt->json_path, "ΔX and sigma per cycle, the guard and the covariance scaling (JSON)");
+    AddGuardOptions(sub, &opt->in);
     sub->callback([opt, exit_code]() { *exit_code = RunIdentify(*opt); });
   }
   RegisterThermalScreen(thermal, exit_code);

@@ -2,6 +2,7 @@
 #include "thermal_inputs.h"
 
 #include <cstdio>
+#include <iostream>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
@@ -34,6 +35,17 @@ void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required) {
   sub->add_option(
       "--robot-noise", in->robot_noise_mm,
       "Robot repeatability sigma per axis (mm) added to every centre's covariance when weighting (default 0)");
+}
+
+void AddGuardOptions(CLI::App* sub, ExperimentInputs* in) {
+  sub->add_option("--max-condition", in->max_condition,
+                  "Identifiability guard: largest condition number of the identification matrix with every column "
+                  "scaled to unit norm")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1e300));
+  sub->add_flag("--reduce", in->reduce,
+                "When the parameters are not identifiable from these poses, drop one parameter of each unobservable "
+                "combination and identify the rest (default: refuse, exit 3)");
 }
 
 void CheckOutputs(const ExperimentInputs& in, const std::vector<std::pair<std::string, std::string>>& outputs,
@@ -92,6 +104,29 @@ IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExpe
     id.poses = SelectPoses(dm, params, in.pose_budget);
   }
   return id;
+}
+
+bool GuardIdentification(const ExperimentInputs& in, const DriftModel& dm, IdentificationOptions* id,
+                         IdentifiabilitySummary* summary) {
+  IdentifiabilityOptions go;
+  go.max_condition = in.max_condition;
+  go.reduce = in.reduce;
+  const IdentifiabilitySummary g = CheckIdentifiability(dm, id->params, id->poses, go);
+  if (summary != nullptr) *summary = g;
+  std::cout << g.BriefReport() << "\n";
+  if (!g.Identifiable()) {
+    std::cerr << "ramtk: error: " << ParamListToString(g.params) << " " << g.message
+              << " (condition number " << Fmt("%.3g", g.condition_number) << " > " << Fmt("%.3g", g.max_condition)
+              << "; --reduce drops them); nothing written\n";
+    return false;
+  }
+  id->params = g.params;
+  return true;
+}
+
+std::string ValueWithSigma(int p, double value, double sigma) {
+  const char* f = kinematics::IsAngleParam(p) ? "%.6f" : "%.5f";
+  return Fmt(f, ToFileUnits(p, value)) + " ± " + Fmt(f, SigmaToFileUnits(p, sigma));
 }
 
 std::vector<int> PoseIds(const LoadedExperiment& e, const IdentificationOptions& id) {

@@ -28,9 +28,13 @@ struct ExperimentInputs {
   int pose_budget = 0;          // choose this many poses D-optimally for `params`
   bool unweighted = false;      // ignore the ball file's centre covariance (cov_xx..cov_yz)
   double robot_noise_mm = 0.0;  // robot repeatability σ per axis added to every centre's covariance
+  double max_condition = 1e3;   // guard: largest condition number of the column-scaled matrix
+  bool reduce = false;          // guard: drop unobservable parameters instead of refusing
 };
 
 void AddInputs(CLI::App* sub, ExperimentInputs* in, bool monitoring_required);
+// --max-condition and --reduce (the identifiability guard).
+void AddGuardOptions(CLI::App* sub, ExperimentInputs* in);
 
 // The named outputs may not be an input of the experiment or each other (core/outputs.h).
 void CheckOutputs(const ExperimentInputs& in, const std::vector<std::pair<std::string, std::string>>& outputs,
@@ -51,6 +55,15 @@ std::vector<std::vector<Mat3>> Weights(const ExperimentInputs& in, const LoadedE
 
 thermal::IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExperiment& e,
                                              const thermal::DriftModel& dm, const std::vector<int>& params);
+
+// Runs the identifiability guard (thermal::CheckIdentifiability) on id's parameters and poses and
+// prints its report. Refused: prints the error to stderr and returns false. With --reduce,
+// id->params becomes the reduced set.
+bool GuardIdentification(const ExperimentInputs& in, const thermal::DriftModel& dm, thermal::IdentificationOptions* id,
+                         thermal::IdentifiabilitySummary* summary = nullptr);
+
+// "0.01234 ± 0.00056" of parameter p (SI) in file units (mm, deg).
+std::string ValueWithSigma(int p, double value, double sigma);
 
 // The ball file's pose ids of the identification's pose positions.
 std::vector<int> PoseIds(const LoadedExperiment& e, const thermal::IdentificationOptions& id);

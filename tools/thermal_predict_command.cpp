@@ -29,9 +29,10 @@ struct PredictOptions {
 int RunPredict(const PredictOptions& opt) {
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
-  const std::vector<int> params = ParseParamList(opt.in.params, e.model, "--params");
   const DriftModel dm(e.model, e.setup, e.ball.taught);
-  const IdentificationOptions id = MakeIdOptions(opt.in, e, dm, params);
+  IdentificationOptions id = MakeIdOptions(opt.in, e, dm, ParseParamList(opt.in.params, e.model, "--params"));
+  if (!GuardIdentification(opt.in, dm, &id)) return kExitNoSolution;
+  const std::vector<int> params = id.params;
   const Eigen::MatrixXd x = IdentifyForMonitoring(ex, dm, id);
   Eigen::MatrixXd temps;
   std::vector<double> times;
@@ -97,6 +98,7 @@ void RegisterThermalPredict(CLI::App* thermal, int* exit_code) {
   sub->add_option("--train-setup", opt->train_setup, "Setup of the characterisation run (default --setup)");
   sub->add_option("--kalman", opt->kalman_ratio,
                   "Use a Kalman filter; value: process noise per hour as a multiple of the window covariance");
+  AddGuardOptions(sub, &opt->in);
   sub->callback([opt, exit_code]() { *exit_code = RunPredict(*opt); });
 }
 

@@ -73,11 +73,39 @@ int RunScreen(const ScreenOptions& opt) {
   so.first_improvement = !opt.best_improvement;
   if (!opt.in.params.empty()) so.candidates = ParseParamList(opt.in.params, e.model, "--params");
   so.identification.difference_covariance_mm2 = Weights(opt.in, e);
+  so.identifiability.max_condition = opt.in.max_condition;
+  so.identifiability.reduce = opt.in.reduce;
   const ScreeningSummary s = ScreenParameters(ex, so);
+  if (s.termination == Termination::kNoResult) {
+    std::cout << "Elimination (form of thesis Table 5-1):\n" << FormatEliminationTable(s);
+    std::cerr << "ramtk: error: " << s.message << " (condition number "
+              << Fmt("%.3g", s.identifiability.condition_number) << " > " << Fmt("%.3g", opt.in.max_condition)
+              << "; --reduce drops them); nothing written\n";
+    return kExitNoSolution;
+  }
   if (!so.identification.difference_covariance_mm2.empty()) {
     std::cout << "identification weighted by each centre's covariance (cov_xx..cov_yz of " << opt.in.ball_path << ")\n";
   }
-  std::cout << "Elimination (form of thesis Table 5-1):\n" << FormatEliminationTable(s) << s.BriefReport() << "\n\n";
+  std::cout << "Elimination (form of thesis Table 5-1):\n" << FormatEliminationTable(s) << s.BriefReport() << "\n"
+            << "selected set " << s.identifiability.BriefReport() << "\n";
+  // The selected set identified once more for its per-parameter sigma (last cycle).
+  const DriftModel dm_all(e.model, e.setup, e.ball.taught);
+  IdentificationOptions sel = so.identification;
+  sel.params = s.selected;
+  IdentificationSummary sel_summary;
+  const Eigen::MatrixXd sel_x = dm_all.Solve(e.ball.DifferencesFromReference(sel.poses), sel, &sel_summary);
+  const int last = e.ball.NumCycles() - 1;
+  std::cout << sel_summary.covariance_scaling << "\nselected set at cycle " << e.ball.cycles[last].cycle
+            << " (mm, deg; value ± sigma):";
+  nlohmann::json sel_json = nlohmann::json::object();
+  for (std::size_t k = 0; k < s.selected.size(); ++k) {
+    const int p = s.selected[k];
+    const double sd = sel_summary.Sigma(static_cast<int>(k), last);
+    std::cout << " " << kinematics::ParamName(p) << "=" << ValueWithSigma(p, sel_x(p, last), sd);
+    sel_json[kinematics::ParamName(p)] = {{"value", ToFileUnits(p, sel_x(p, last))}, {"sigma", SigmaToFileUnits(p, sd)}};
+  }
+  std::cout << "\n\n";
+  std::vector<std::pair<std::string, std::string>> files;  // written together at the end
   if (!opt.out_series.empty()) {
     // Per-parameter series with every candidate (Figs. 3-3/3-4), and which the first test called steady.
     std::vector<int> first = so.candidates.empty() ? e.model.FreeParams() : so.candidates;
@@ -91,8 +119,7 @@ int RunScreen(const ScreenOptions& opt) {
       for (int p : first) csv += Fmt(",%.9g", ToFileUnits(p, s.initial_delta_x(p, c)));
       csv += "\n";
     }
-    WriteFileAtomically(opt.out_series, csv);
-    std::cout << "wrote " << opt.out_series << "\n";
+    files.emplace_back(opt.out_series, csv);
   }
   const std::vector<std::pair<std::string, std::vector<int>>> sets = {
       {"traditional", TraditionalParams(e.model)}, {"screened", s.selected}, {"all", e.model.FreeParams()}};
@@ -108,6 +135,13 @@ int RunScreen(const ScreenOptions& opt) {
     j["heldout_z"] = so.heldout_z;
     j["best_heldout_card"] = s.best_heldout_card;
   }
+  j["identifiability"] = {{"condition_number", s.identifiability.condition_number},
+                           {"max_condition", s.identifiability.max_condition},
+                           {"dropped", ParamListToString(s.identifiability.dropped)},
+                           {"message", s.identifiability.message}};
+  j["selected_last_cycle"] = {{"cycle", e.ball.cycles[last].cycle},
+                              {"covariance_scaling", sel_summary.covariance_scaling},
+                              {"delta_x", sel_json}};
   j["initial_lambda_percent"] = s.initial_lambda;
   j["final_lambda_percent"] = s.final_lambda;
   for (const ScreeningStep& st : s.steps) {
@@ -116,7 +150,9 @@ int RunScreen(const ScreenOptions& opt) {
                           {"lambda_percent", st.lambda},
                           {"steady", ParamListToString(st.steady)},
                           {"heldout_rms_mm", st.heldout_rms_mm},
-                          {"heldout_z", st.heldout_z}});
+                          {"heldout_z", st.heldout_z},
+                          {"condition_number", st.condition_number},
+                          {"identifiable", st.identifiable}});
   }
   auto rows_json = [](const std::vector<ComparisonRow>& rs) {
     nlohmann::json a = nlohmann::json::array();
@@ -149,14 +185,12 @@ int RunScreen(const ScreenOptions& opt) {
     j["comparison_budget"] = rows_json(budget_rows);
     last_budget_rows = budget_rows;
   }
-  if (!opt.out_json.empty()) {
-    WriteFileAtomically(opt.out_json, j.dump(2) + "\n");
-    std::cout << "wrote " << opt.out_json << "\n";
-  }
+  if (!opt.out_json.empty()) files.emplace_back(opt.out_json, j.dump(2) + "\n");
   if (!opt.out_report.empty()) {
-    ScreeningReport(ex, s, rows, last_budget_rows, opt.threshold_mm).Write(opt.out_report);
-    std::cout << "wrote " << opt.out_report << "\n";
+    files.emplace_back(opt.out_report, ScreeningReport(ex, s, rows, last_budget_rows, opt.threshold_mm).Page());
   }
+  WriteFilesAtomically(files);
+  for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
 }
 
@@ -183,6 +217,7 @@ void RegisterThermalScreen(CLI::App* thermal, int* exit_code) {
   sub->add_option("--series", opt->out_series, "Write every candidate's identified series per cycle (CSV, mm/deg)");
   sub->add_option("--report", opt->out_report,
                   "Write one self-contained HTML page: the tables, the elimination and the selected drift");
+  AddGuardOptions(sub, &opt->in);
   sub->callback([opt, exit_code]() { *exit_code = RunScreen(*opt); });
 }
 

@@ -203,6 +203,13 @@ std::string HtmlReport::Html(const std::string& plotly_js) const {
   return html;
 }
 
+std::string HtmlReport::Page() const {
+  const std::string js = FindPlotlyJs();
+  if (js.empty())
+    throw std::runtime_error("Plotly.js not found (install the Debian package python3-plotly, or set RAMTK_PLOTLY_JS)");
+  return Html(ReadTextFile(js));
+}
+
 void HtmlReport::Write(const std::string& path) const {
   const std::string js = FindPlotlyJs();
   if (js.empty())

@@ -11,6 +11,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
+#include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/jacobian.h"
 
 namespace ramtk::thermal {
@@ -39,12 +40,22 @@ std::string IdentificationSummary::BriefReport() const {
   return std::string(buf) + (weighted ? ", each centre difference weighted by its covariance" : "");
 }
 
+double IdentificationSummary::Sigma(int k, int c) const {
+  if (c < 0 || c >= static_cast<int>(covariance.size()) || k < 0 || k >= covariance[c].rows()) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return std::sqrt(std::max(0.0, covariance[c](k, k)));
+}
+
 namespace {
 
 // Generalised least squares per column of y: every pose's 3 rows whitened by L⁻¹ (C = L·Lᵀ of
 // that column's difference), columns equilibrated, SVD with the same truncation as eq. (3-10).
+// With `inverse_info` and `chi2` given, also each column's (Aᵀ C⁻¹ A)⁻¹ (truncated like the solve)
+// and its whitened residual χ².
 Eigen::MatrixXd SolveWeighted(const Eigen::MatrixXd& a, const Eigen::MatrixXd& y, const std::vector<int>& poses,
-                              const IdentificationOptions& options) {
+                              const IdentificationOptions& options, std::vector<Eigen::MatrixXd>* inverse_info = nullptr,
+                              Eigen::VectorXd* chi2 = nullptr) {
   const auto& cov = options.difference_covariance_mm2;
   if (static_cast<Eigen::Index>(cov.size()) != y.cols()) {
     throw InputError({"", 0, "difference_covariance_mm2"},
@@ -82,14 +93,32 @@ Eigen::MatrixXd SolveWeighted(const Eigen::MatrixXd& a, const Eigen::MatrixXd& y
       if (s[i] > options.singular_value_rtol * smax && s[i] > 0.0) s_inv[i] = 1.0 / s[i];
     }
     x.col(c) = scale.asDiagonal() * (svd.matrixV() * s_inv.asDiagonal() * (svd.matrixU().transpose() * yw));
+    if (inverse_info != nullptr) {
+      const Eigen::MatrixXd vs = svd.matrixV() * s_inv.asDiagonal();
+      inverse_info->push_back(scale.asDiagonal() * (vs * vs.transpose()) * scale.asDiagonal());
+    }
+    if (chi2 != nullptr) {
+      if (chi2->size() != y.cols()) chi2->setZero(y.cols());
+      (*chi2)[c] = (yw - aw * x.col(c)).squaredNorm();
+    }
   }
   return x;
+}
+
+void CheckEquationCount(int m, int k) {
+  if (k == 0) throw InputError({"", 0, "params"}, "no parameters to identify");
+  if (3 * m < k) {
+    throw InputError({"", 0, "poses"}, std::to_string(m) + " poses give " + std::to_string(3 * m) +
+                                           " equations, fewer than the " + std::to_string(k) +
+                                           " parameters to identify (need at least " + std::to_string((k + 2) / 3) +
+                                           " poses)");
+  }
 }
 
 }  // namespace
 
 DriftModel::DriftModel(const RobotModel& model, const ThermalSetup& setup, const std::vector<JointVector>& taught)
-    : model_(model), a_full_(3 * taught.size(), kNumParams) {
+    : model_(model), taught_(taught), a_full_(3 * taught.size(), kNumParams) {
   const Mat3 r = setup.sensor_from_base.linear();
   for (std::size_t i = 0; i < taught.size(); ++i) {
     a_full_.block(3 * i, 0, 3, kNumParams) =
@@ -110,13 +139,7 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
   }
   const int m = static_cast<int>(poses.size());
   const int k = static_cast<int>(params.size());
-  if (k == 0) throw InputError({"", 0, "params"}, "no parameters to identify");
-  if (3 * m < k) {
-    throw InputError({"", 0, "poses"}, std::to_string(m) + " poses give " + std::to_string(3 * m) +
-                                           " equations, fewer than the " + std::to_string(k) +
-                                           " parameters to identify (need at least " + std::to_string((k + 2) / 3) +
-                                           " poses)");
-  }
+  CheckEquationCount(m, k);
   if (y.rows() != 3 * m) {
     throw InputError({"", 0, "Y"},
                      "differences have " + std::to_string(y.rows()) + " rows, expected " + std::to_string(3 * m));
@@ -146,11 +169,20 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
   // Eq. (3-10) on the equilibrated columns.
   Eigen::MatrixXd x_sub;
   const bool weighted = !options.difference_covariance_mm2.empty();
+  std::vector<Eigen::MatrixXd> inverse_info;  // per column, (Aᵀ W A)⁻¹
+  Eigen::VectorXd chi2 = Eigen::VectorXd::Zero(y.cols());
   if (!weighted) {
     const Eigen::MatrixXd x_scaled = svd.matrixV() * s_inv.asDiagonal() * (svd.matrixU().transpose() * y);
     x_sub = scale.asDiagonal() * x_scaled;
+    if (summary != nullptr) {
+      const Eigen::MatrixXd vs = svd.matrixV() * s_inv.asDiagonal();
+      inverse_info.assign(static_cast<std::size_t>(y.cols()),
+                          scale.asDiagonal() * (vs * vs.transpose()) * scale.asDiagonal());
+      chi2 = (y - a * x_sub).colwise().squaredNorm().transpose();
+    }
   } else {
-    x_sub = SolveWeighted(a, y, poses, options);
+    x_sub = SolveWeighted(a, y, poses, options, summary != nullptr ? &inverse_info : nullptr,
+                          summary != nullptr ? &chi2 : nullptr);
   }
   Eigen::MatrixXd x = Eigen::MatrixXd::Zero(kNumParams, y.cols());
   for (int c = 0; c < k; ++c) x.row(params[c]) = x_sub.row(c);
@@ -190,6 +222,37 @@ Eigen::MatrixXd DriftModel::Solve(const Eigen::MatrixXd& y, const Identification
     out.final_cost = 0.5 * residual.squaredNorm();
     out.rms_residual_mm = residual.size() > 0 ? std::sqrt(residual.squaredNorm() / residual.size()) : 0.0;
     out.worst_residual_mm = residual.size() > 0 ? residual.cwiseAbs().maxCoeff() : 0.0;
+    // Pooled residual χ² over the columns that hold data (the reference cycle's column is
+    // identically zero and carries no degrees of freedom).
+    double chi2_sum = 0.0;
+    for (Eigen::Index c = 0; c < y.cols(); ++c) {
+      if (y.col(c).isZero(0.0)) continue;
+      chi2_sum += chi2[c];
+      out.residual_dof += 3 * m - k;
+    }
+    out.reduced_chi2 = out.residual_dof > 0 ? chi2_sum / out.residual_dof : std::numeric_limits<double>::quiet_NaN();
+    char buf[200];
+    if (!weighted) {
+      out.covariance_scale = out.reduced_chi2;
+      std::snprintf(buf, sizeof(buf),
+                    "sigma from s^2 (A^T A)^-1, s^2 = residual chi^2 / dof = %.4g mm^2 (s = %.4g mm per coordinate, "
+                    "%d dof; unweighted: the noise is estimated from the residual)",
+                    out.reduced_chi2, std::sqrt(out.reduced_chi2), out.residual_dof);
+    } else {
+      out.covariance_scale =
+          std::isfinite(out.reduced_chi2) ? std::max(1.0, out.reduced_chi2) : 1.0;
+      std::snprintf(buf, sizeof(buf),
+                    "sigma from max(1, reduced chi^2) (A^T C^-1 A)^-1, reduced chi^2 = %.4g (%d dof; the centre "
+                    "covariances are a lower bound: inflated, never shrunk)",
+                    out.reduced_chi2, out.residual_dof);
+    }
+    out.covariance_scaling = buf;
+    // The reference cycle's ΔX is zero by definition: its covariance is zero.
+    out.covariance.reserve(inverse_info.size());
+    for (std::size_t c = 0; c < inverse_info.size(); ++c) {
+      const bool reference = y.col(static_cast<Eigen::Index>(c)).isZero(0.0);
+      out.covariance.push_back(reference ? Eigen::MatrixXd::Zero(k, k) : Eigen::MatrixXd(out.covariance_scale * inverse_info[c]));
+    }
   }
   return x;
 }
@@ -248,6 +311,192 @@ Eigen::MatrixXd IdentifyCycles(const RobotModel& model, const ThermalSetup& setu
                                const IdentificationOptions& options, IdentificationSummary* summary) {
   const DriftModel drift_model(model, setup, ball.taught);
   return drift_model.Solve(ball.DifferencesFromReference(options.poses), options, summary);
+}
+
+std::string IdentifiabilityOptions::Validate() const {
+  if (!(max_condition >= 1.0)) return "max_condition must be >= 1";
+  if (!(min_component > 0.0 && min_component < 1.0)) return "min_component must be in (0, 1)";
+  return "";
+}
+
+std::string UnobservableCombination::Describe() const {
+  std::string out;
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%s%+.3f*", out.empty() ? "" : " ", coefficients[i]);
+    out += buf + kinematics::ParamName(params[i]);
+  }
+  return out;
+}
+
+std::string IdentifiabilitySummary::BriefReport() const {
+  char buf[200];
+  std::snprintf(buf, sizeof(buf), "identifiability: %zu params, %d poses, condition number %.3g of the column-scaled "
+                "matrix (limit %.3g): ",
+                params.size(), num_poses, condition_number, max_condition);
+  return buf + message;
+}
+
+namespace {
+
+struct ScaledSvd {
+  Eigen::VectorXd s;
+  Eigen::MatrixXd v;
+  double condition = 0.0;
+};
+
+ScaledSvd AnalyseSet(const DriftModel& dm, const std::vector<int>& params, const std::vector<int>& poses) {
+  const int m = static_cast<int>(poses.size());
+  const int k = static_cast<int>(params.size());
+  Eigen::MatrixXd a(3 * m, k);
+  for (int i = 0; i < m; ++i) {
+    for (int c = 0; c < k; ++c) a.block(3 * i, c, 3, 1) = dm.FullSensitivity().block(3 * poses[i], params[c], 3, 1);
+  }
+  for (int c = 0; c < k; ++c) {
+    const double n = a.col(c).norm();
+    if (n > 0.0) a.col(c) /= n;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
+  ScaledSvd out{svd.singularValues(), svd.matrixV(), 0.0};
+  const double smin = out.s.size() > 0 ? out.s[out.s.size() - 1] : 0.0;
+  // A singular value at rounding level is a zero one.
+  const bool singular = !(smin > 1e-13 * out.s[0]);
+  out.condition = singular ? std::numeric_limits<double>::infinity() : out.s[0] / smin;
+  return out;
+}
+
+// "joints 1 and 5 axes parallel at these poses (largest angle 0.021 deg)" when every named
+// parameter moves along or about a joint axis (d, θ) and those axes stay within 1° of parallel.
+std::string ParallelAxesCause(const DriftModel& dm, const std::vector<int>& params, const std::vector<int>& poses,
+                              const std::vector<JointVector>& taught) {
+  std::vector<int> joints;
+  for (int p : params) {
+    const auto kind = kinematics::ParamKindOf(p);
+    if (kind != kinematics::ParamKind::kD && kind != kinematics::ParamKind::kTheta) return "";
+    const int j = kinematics::ParamJointOf(p);
+    if (std::find(joints.begin(), joints.end(), j) == joints.end()) joints.push_back(j);
+  }
+  if (joints.size() < 2 || taught.empty()) return "";
+  std::sort(joints.begin(), joints.end());
+  double worst = 0.0;
+  for (int pose : poses) {
+    const kinematics::ChainFrames f = kinematics::ComputeChainFrames(dm.model(), taught[pose]);
+    const Vec3 z0 = f.base_from_link[joints[0]].linear().col(2);
+    for (std::size_t i = 1; i < joints.size(); ++i) {
+      const Vec3 zi = f.base_from_link[joints[i]].linear().col(2);
+      worst = std::max(worst, std::atan2(z0.cross(zi).norm(), std::abs(z0.dot(zi))));
+    }
+  }
+  if (RadToDeg(worst) > 1.0) return "";
+  std::string names;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    names += (i == 0 ? "" : i + 1 == joints.size() ? " and " : ", ") + std::to_string(joints[i] + 1);
+  }
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), " axes parallel at these poses (largest angle %.3g deg)", RadToDeg(worst));
+  return "joints " + names + buf;
+}
+
+UnobservableCombination Weakest(const ScaledSvd& svd, const std::vector<int>& params, double min_component) {
+  UnobservableCombination c;
+  c.condition_number = svd.condition;
+  const Eigen::VectorXd v = svd.v.col(svd.v.cols() - 1);
+  // Sign convention: the largest component positive.
+  Eigen::Index largest = 0;
+  v.cwiseAbs().maxCoeff(&largest);
+  const double sign = v[largest] < 0.0 ? -1.0 : 1.0;
+  std::vector<int> order(params.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return std::abs(v[x]) > std::abs(v[y]); });
+  for (int i : order) {
+    if (std::abs(v[i]) <= min_component) break;
+    c.params.push_back(params[i]);
+    c.coefficients.push_back(sign * v[i]);
+  }
+  return c;
+}
+
+}  // namespace
+
+IdentifiabilitySummary CheckIdentifiability(const DriftModel& drift_model, const std::vector<int>& params,
+                                            const std::vector<int>& poses, const IdentifiabilityOptions& options) {
+  ThrowIfInvalid(options.Validate(), "IdentifiabilityOptions");
+  IdentifiabilitySummary out;
+  out.requested = params.empty() ? drift_model.model().FreeParams() : params;
+  std::vector<int> pose_list = poses;
+  if (pose_list.empty()) {
+    for (int i = 0; i < drift_model.NumPoses(); ++i) pose_list.push_back(i);
+  }
+  for (int p : pose_list) {
+    if (p < 0 || p >= drift_model.NumPoses())
+      throw InputError({"", 0, "poses"}, "pose position " + std::to_string(p) + " out of range");
+  }
+  for (int p : out.requested) {
+    if (p < 0 || p >= kNumParams) throw InputError({"", 0, "params"}, "parameter index out of range");
+  }
+  out.num_poses = static_cast<int>(pose_list.size());
+  out.max_condition = options.max_condition;
+  CheckEquationCount(out.num_poses, static_cast<int>(out.requested.size()));
+  const std::vector<JointVector>& taught = drift_model.taught();
+  std::vector<int> current = out.requested;
+  ScaledSvd svd = AnalyseSet(drift_model, current, pose_list);
+  while (!(svd.condition <= options.max_condition)) {
+    UnobservableCombination combo = Weakest(svd, current, options.min_component);
+    combo.cause = ParallelAxesCause(drift_model, combo.params, pose_list, taught);
+    if (!options.reduce || current.size() <= 1) {
+      out.combinations.push_back(combo);
+      out.params = current;
+      out.singular_values = svd.s;
+      out.condition_number = svd.condition;
+      out.termination = Termination::kNoResult;
+      std::string names;
+      for (std::size_t i = 0; i < combo.params.size(); ++i) {
+        names += (i == 0 ? "" : ", ") + kinematics::ParamName(combo.params[i]);
+      }
+      out.message = "not identifiable: " + combo.Describe() + " is not observable" +
+                    (combo.cause.empty() ? "" : " (" + combo.cause + ")") + "; drop one of " + names +
+                    " or add poses that separate them";
+      return out;
+    }
+    // Drop the member of the combination whose removal leaves the best-conditioned set; ties go
+    // to the larger component, then to the later parameter.
+    int best = -1;
+    double best_condition = std::numeric_limits<double>::infinity();
+    ScaledSvd best_svd;
+    for (int p : combo.params) {
+      std::vector<int> trial;
+      for (int q : current) {
+        if (q != p) trial.push_back(q);
+      }
+      ScaledSvd t = AnalyseSet(drift_model, trial, pose_list);
+      if (best < 0 || t.condition < best_condition * (1.0 - 1e-9)) {
+        best = p;
+        best_condition = t.condition;
+        best_svd = std::move(t);
+      }
+    }
+    current.erase(std::find(current.begin(), current.end(), best));
+    out.dropped.push_back(best);
+    out.combinations.push_back(combo);
+    svd = std::move(best_svd);
+  }
+  out.params = current;
+  out.singular_values = svd.s;
+  out.condition_number = svd.condition;
+  if (out.dropped.empty()) {
+    out.termination = Termination::kSuccess;
+    out.message = "identifiable";
+  } else {
+    out.termination = Termination::kPartial;
+    out.message = "identifiable after dropping " + ParamListToString(out.dropped) + " (";
+    for (std::size_t i = 0; i < out.combinations.size(); ++i) {
+      const UnobservableCombination& c = out.combinations[i];
+      out.message += (i == 0 ? "" : "; ") + kinematics::ParamName(out.dropped[i]) + " from " + c.Describe() +
+                     (c.cause.empty() ? "" : ", " + c.cause);
+    }
+    out.message += ")";
+  }
+  return out;
 }
 
 std::vector<int> SelectPoses(const DriftModel& drift_model, const std::vector<int>& params, int count) {
@@ -335,5 +584,7 @@ std::string ParamListToString(const std::vector<int>& params) {
 }
 
 double ToFileUnits(int index, double value) { return kinematics::IsAngleParam(index) ? RadToDeg(value) : value; }
+
+double SigmaToFileUnits(int index, double sigma) { return ToFileUnits(index, sigma); }
 
 }  // namespace ramtk::thermal

@@ -59,6 +59,24 @@ Eigen::VectorXd CompensatedMonitoringSigma(const MonitoringModel& monitoring, co
   return out;
 }
 
+std::vector<Mat3> CompensatedPointCovariances(const MonitoringModel& monitoring, const std::vector<int>& params,
+                                              const Eigen::MatrixXd& covariance) {
+  const Eigen::Index k = static_cast<Eigen::Index>(params.size());
+  if (covariance.rows() != k || covariance.cols() != k) {
+    throw InputError({"", 0, "covariance"}, "is " + std::to_string(covariance.rows()) + " x " +
+                                                std::to_string(covariance.cols()) + ", the parameters " +
+                                                std::to_string(k));
+  }
+  std::vector<Mat3> out;
+  out.reserve(static_cast<std::size_t>(monitoring.NumPoints()));
+  for (int p = 0; p < monitoring.NumPoints(); ++p) {
+    Eigen::MatrixXd j(3, k);
+    for (Eigen::Index c = 0; c < k; ++c) j.col(c) = monitoring.Jacobian(p).col(params[c]);
+    out.push_back(j * covariance * j.transpose());
+  }
+  return out;
+}
+
 Eigen::VectorXd DirectionStatistic(const Eigen::MatrixXd& residuals, LambdaStatistic statistic) {
   const int warm = static_cast<int>(residuals.cols()) - 1;
   Eigen::VectorXd out = Eigen::VectorXd::Zero(residuals.rows());

@@ -26,6 +26,8 @@ std::string ScreeningOptions::Validate() const {
   if (!p.empty()) return "acf: " + p;
   p = lambda.Validate();
   if (!p.empty()) return "lambda: " + p;
+  p = identifiability.Validate();
+  if (!p.empty()) return "identifiability: " + p;
   return identification.Validate();
 }
 
@@ -152,6 +154,14 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     step.card = static_cast<int>(current.size());
     step.removed = removed;
     step.lambda = lambda;
+    {
+      IdentifiabilityOptions check = options.identifiability;
+      check.reduce = false;
+      const IdentifiabilitySummary g =
+          CheckIdentifiability(scorer.drift_model, current, options.identification.poses, check);
+      step.condition_number = g.condition_number;
+      step.identifiable = g.Identifiable();
+    }
     // (3) steady parameters of the current set, from their identified series over the ball cycles.
     for (int p : current) {
       if (AutocorrelationTest(x_ball.row(p).transpose(), options.acf).steady) step.steady.push_back(p);
@@ -214,11 +224,17 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
       IdentificationOptions o = options.identification;
       o.params = path[i];
       errors.push_back(PoseErrors(scorer.drift_model, y_all, static_cast<int>(path[i].size()), o));
-      const bool finite = errors.back().allFinite() && errors.back().size() > 0;
+      const bool finite = errors.back().allFinite() && errors.back().size() > 0 && summary.steps[i].identifiable;
       summary.steps[i].heldout_rms_mm = finite ? std::sqrt(errors.back().mean()) : 0.0;
       if (finite && (best < 0 || errors.back().mean() < errors[best].mean())) best = static_cast<int>(i);
     }
     if (best < 0) {
+      bool any_identifiable = false;
+      for (const ScreeningStep& st : summary.steps) any_identifiable = any_identifiable || st.identifiable;
+      if (!any_identifiable) {
+        throw InputError({"", 0, "poses"}, "no set on the elimination path is identifiable with these poses "
+                                           "(condition number above the guard's limit for every set)");
+      }
       throw InputError({"", 0, "poses"}, "screening by held-out error needs enough ball poses to leave one out (" +
                                              std::to_string(errors.empty() ? 0 : errors[0].size()) + " given)");
     }
@@ -226,7 +242,7 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     const Eigen::VectorXd& e_best = errors[best];
     const double n = static_cast<double>(e_best.size());
     for (std::size_t i = 0; i < path.size(); ++i) {
-      if (!errors[i].allFinite() || static_cast<int>(i) == best) continue;
+      if (!errors[i].allFinite() || !summary.steps[i].identifiable || static_cast<int>(i) == best) continue;
       const Eigen::VectorXd d = errors[i] - e_best;
       const double mean = d.mean();
       const double sd = n > 1 ? std::sqrt((d.array() - mean).square().sum() / (n - 1.0)) : 0.0;
@@ -245,8 +261,24 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     scorer.Score(o, options.lambda, &x_ball);
   }
   if (summary.termination != Termination::kCancelled) {
-    summary.termination = Termination::kSuccess;
-    summary.message = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "");
+    // The guard on the selected set: refused, or reduced and identified again.
+    summary.identifiability =
+        CheckIdentifiability(scorer.drift_model, current, options.identification.poses, options.identifiability);
+    if (!summary.identifiability.Identifiable()) {
+      summary.termination = Termination::kNoResult;
+      summary.message = "selected set " + summary.identifiability.message;
+    } else if (!summary.identifiability.dropped.empty()) {
+      current = summary.identifiability.params;
+      IdentificationOptions o = options.identification;
+      o.params = current;
+      lambda = scorer.Score(o, options.lambda, &x_ball);
+      summary.termination = Termination::kPartial;
+      summary.message = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "") +
+                        ", the guard dropped " + ParamListToString(summary.identifiability.dropped);
+    } else {
+      summary.termination = Termination::kSuccess;
+      summary.message = "kept " + std::to_string(current.size()) + (from_heldout ? " (held-out)" : "");
+    }
   }
   summary.selected = current;
   summary.final_lambda = lambda;
@@ -302,6 +334,10 @@ std::string FormatEliminationTable(const ScreeningSummary& summary) {
     }
     out += s.steady.empty() ? "-" : ParamListToString(s.steady);
     if (s.steady_fallback) out += "  (S empty: every parameter tried)";
+    if (!s.identifiable) {
+      std::snprintf(buf, sizeof(buf), "  (not identifiable: cond %.3g)", s.condition_number);
+      out += buf;
+    }
     out += "\n";
   }
   return out;

@@ -38,6 +38,9 @@ class HtmlReport {
 
   // The page. `plotly_js` is the library's source (FindPlotlyJs()).
   std::string Html(const std::string& plotly_js) const;
+  // The page with Plotly.js from FindPlotlyJs() (for outputs written together as one unit);
+  // throws std::runtime_error when the bundle cannot be found.
+  std::string Page() const;
   // Writes the page atomically, with Plotly.js from FindPlotlyJs(); throws std::runtime_error
   // when the bundle cannot be found.
   void Write(const std::string& path) const;

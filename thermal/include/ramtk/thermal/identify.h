@@ -67,9 +67,81 @@ struct IdentificationSummary {
   double worst_residual_mm = 0.0;  // largest |coordinate residual|
   int outliers = 0;                // not rejected: always 0 (plain least squares)
   bool weighted = false;           // each difference weighted by its covariance
+  // Covariance of ΔX over `params` (mm, rad; params order), one matrix per column of Y (cycle):
+  // covariance_scale · (Aᵀ W A)⁻¹ with W = I unweighted, or the inverse difference covariances
+  // when weighted (the same truncated SVD as the solve). Empty when not computed.
+  std::vector<Eigen::MatrixXd> covariance;
+  int residual_dof = 0;  // Σ over the columns of Y that are not identically zero of (equations − params)
+  // Residual χ² / residual_dof: unweighted, the residual variance per coordinate s² (mm²);
+  // weighted, the reduced χ² of the whitened residual (dimensionless). NaN when residual_dof is 0.
+  double reduced_chi2 = 0.0;
+  // Factor on (Aᵀ W A)⁻¹: unweighted s² (the plain scaling, the noise is estimated from the
+  // residual); weighted max(1, reduced χ²) (the centre covariances are a lower bound, inflated
+  // when the residual is larger, never shrunk).
+  double covariance_scale = 0.0;
+  std::string covariance_scaling;  // one sentence saying which scaling was used, with its value
+  // Standard deviation of params[k] in column c (mm or rad); NaN without a covariance.
+  double Sigma(int k, int c) const;
 
   std::string BriefReport() const;
 };
+
+// ---------------------------------------------------------------- identifiability guard
+// Before solving, the identification matrix A of the chosen parameters and poses (unweighted: the
+// geometry of the poses) is scaled column by column to unit norm, so that mm and rad columns
+// compare and the condition number measures how nearly one parameter's effect is a combination
+// of the others' (it is 1 for orthogonal columns). A set whose condition number exceeds
+// max_condition is not identifiable: the right singular vector of the smallest singular value is
+// the combination of parameters the poses cannot see, and its noise is amplified by the condition
+// number relative to the best-determined combination.
+
+class DriftModel;
+
+struct IdentifiabilityOptions {
+  // Largest accepted condition number σ_max/σ_min of the column-scaled identification matrix.
+  double max_condition = 1e3;
+  // A parameter belongs to the unobservable combination when its component in the smallest
+  // right singular vector (unit length over the scaled columns) exceeds this in magnitude.
+  double min_component = 0.2;
+  // false: only check. true: drop one parameter of each unobservable combination (the one whose
+  // removal leaves the best-conditioned set) until the set passes.
+  bool reduce = false;
+  // Empty if valid, otherwise what is wrong.
+  std::string Validate() const;
+};
+
+// A combination Σ coefficient_k · Δp_k (over column-scaled parameters) the poses barely see.
+struct UnobservableCombination {
+  std::vector<int> params;           // parameters with |component| > min_component, by |component| descending
+  std::vector<double> coefficients;  // their components in the smallest right singular vector
+  double condition_number = 0.0;     // of the set in which it was found
+  // "joints 1 and 5 axes parallel at these poses (largest angle 0.021 deg)" when the named
+  // parameters are d or θ of joints whose axes stay within 1° of parallel over the poses; else "".
+  std::string cause;
+  // "+0.707·d1 -0.707·d5"
+  std::string Describe() const;
+};
+
+struct IdentifiabilitySummary {
+  Termination termination = Termination::kNotRun;  // kSuccess, kPartial (parameters dropped), kNoResult (refused)
+  std::string message = "not run";                 // "identifiable", "identifiable after dropping d5", the refusal
+  std::vector<int> requested;                      // the set asked for
+  std::vector<int> params;                         // the set that passed (after dropping), or the refused set
+  std::vector<int> dropped;                        // in the order they were dropped
+  std::vector<UnobservableCombination> combinations;  // the one behind each drop, or the refused one
+  Eigen::VectorXd singular_values;                 // column-scaled A of `params`, descending
+  double condition_number = 0.0;                   // of `params` (inf if singular)
+  double max_condition = 0.0;                      // the limit applied
+  int num_poses = 0;
+  bool Identifiable() const { return termination == Termination::kSuccess || termination == Termination::kPartial; }
+  // One line: condition number against the limit, and what was dropped or why it was refused.
+  std::string BriefReport() const;
+};
+
+// A pose set too small for the parameters (fewer equations than parameters) is an InputError, as
+// in DriftModel::Solve. params empty: every free parameter; poses empty: every pose.
+IdentifiabilitySummary CheckIdentifiability(const DriftModel& drift_model, const std::vector<int>& params,
+                                            const std::vector<int>& poses, const IdentifiabilityOptions& options);
 
 // The stacked sensitivity A (eq. 3-8, all 30 columns) of a fixed pose set, and solvers over it.
 class DriftModel {
@@ -81,6 +153,8 @@ class DriftModel {
   // 3·poses × 30, in the sensor frame (mm per mm / per rad).
   const Eigen::MatrixXd& FullSensitivity() const { return a_full_; }
   const RobotModel& model() const { return model_; }
+  // The poses' controller joints (rad), as given.
+  const std::vector<JointVector>& taught() const { return taught_; }
 
   // Solves ΔX for every column of `y` (3·|options.poses| × n, the differences of those poses).
   // Returns 30 × n with zeros outside options.params. InputError when the poses give fewer
@@ -101,6 +175,7 @@ class DriftModel {
 
  private:
   RobotModel model_;
+  std::vector<JointVector> taught_;
   Eigen::MatrixXd a_full_;
 };
 
@@ -127,5 +202,7 @@ std::vector<int> TraditionalParams(const RobotModel& model);
 std::string ParamListToString(const std::vector<int>& params);
 // Value of parameter `index` in file units: mm for lengths, degrees for angles.
 double ToFileUnits(int index, double value);
+// Standard deviation of parameter `index` in file units: mm for lengths, degrees for angles.
+double SigmaToFileUnits(int index, double sigma);
 
 }  // namespace ramtk::thermal

@@ -62,6 +62,12 @@ class MonitoringModel {
 Eigen::VectorXd CompensatedMonitoringSigma(const MonitoringModel& monitoring, const DriftModel& drift_model,
                                            const IdentificationOptions& id, double sigma_y_mm);
 
+// Covariance (base frame, mm²) of each monitoring point's compensated position that the
+// identification's noise causes: J_k Σ J_kᵀ with J_k the point's Jacobian over `params` and Σ
+// their covariance (params × params, mm / rad; IdentificationSummary::covariance of one cycle).
+std::vector<Mat3> CompensatedPointCovariances(const MonitoringModel& monitoring, const std::vector<int>& params,
+                                              const Eigen::MatrixXd& covariance);
+
 // Per direction (3·points) summary statistic over the columns except the reference (column 0).
 Eigen::VectorXd DirectionStatistic(const Eigen::MatrixXd& residuals, LambdaStatistic statistic);
 // λ in percent.

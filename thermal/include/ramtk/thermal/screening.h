@@ -67,6 +67,11 @@ struct ScreeningOptions {
   // direction, so ties are common once it saturates).
   bool first_improvement = true;
   ProgressCallback progress;  // called once per elimination step
+  // The guard (CheckIdentifiability) every set on the path is scored with. The kept count chosen
+  // by held-out error only considers identifiable sets; the selected set must pass (with
+  // identifiability.reduce, the parameters of its unobservable combinations are dropped),
+  // otherwise the screening ends with kNoResult.
+  IdentifiabilityOptions identifiability;
   std::string Validate() const;
 };
 
@@ -83,11 +88,17 @@ struct ScreeningStep {
   // (mean paired per-pose squared-error difference to the best set) / its standard error; 0 for
   // the best set itself.
   double heldout_z = 0.0;
+  // Condition number of this set's column-scaled identification matrix, and whether it is at or
+  // under the guard's limit.
+  double condition_number = 0.0;
+  bool identifiable = false;
 };
 
 struct ScreeningSummary {
-  Termination termination = Termination::kNotRun;  // kSuccess or kCancelled
-  std::string message = "not run";                 // "kept n", "kept n (held-out)", "cancelled"
+  // kSuccess, kPartial (the selected set was reduced by the guard), kNoResult (the selected set is
+  // not identifiable; nothing to use) or kCancelled
+  Termination termination = Termination::kNotRun;
+  std::string message = "not run";  // "kept n", "kept n (held-out)", "cancelled", the guard's refusal
   int iterations = 0;                              // elimination steps
   int lambda_evaluations = 0;
   double initial_lambda = 0.0;  // % with every candidate
@@ -100,6 +111,8 @@ struct ScreeningSummary {
   // 30 × ball cycles identified with every candidate: the per-parameter curves of Figs. 3-3/3-4
   // that the first autocorrelation test looks at.
   Eigen::MatrixXd initial_delta_x;
+  // The guard on the selected set (with the screening's poses).
+  IdentifiabilitySummary identifiability;
   std::string BriefReport() const;
 };
 
