@@ -1,6 +1,7 @@
 // ramtk plan poses: a thin wrapper over ramtk::calib's pose planning (calib/pose_planning.h).
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -71,7 +72,12 @@ int RunPlanPoses(const PlanPosesCommandOptions& opt) {
   const std::string problem = opt.plan.Validate();
   if (!problem.empty()) {
     const OptionsProblem p = SplitOptionsProblem(problem);
-    throw InputError({"", 0, p.field}, p.message);
+    const std::map<std::string, std::string> flags = {
+        {"num_poses", "--poses"},       {"num_targets", "--targets"},         {"position_sigma_mm", "--sigma"},
+        {"rotation_sigma_deg", "--rotation-sigma"}, {"exchange_passes", "--exchange-passes"},
+        {"random_draws", "--random-draws"}};
+    const auto flag = flags.find(p.field);
+    throw InputError({"", 0, flag != flags.end() ? flag->second : p.field}, p.message);
   }
   const calib::PosePlanner planner(nominal, candidates, opt.plan);
   calib::PosePlanningSummary summary;
