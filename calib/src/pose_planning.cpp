@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -136,8 +137,6 @@ PosePlanner::PosePlanner(const kinematics::RobotChain& nominal, std::vector<Eige
   base_.rows_per_pose = rows_;
 }
 
-double PosePlanner::LogDet(const Eigen::MatrixXd& information) const { return LogDetSmall(information); }
-
 PoseSetQuality PosePlanner::Evaluate(const std::vector<int>& poses) const {
   const int p = num_unknowns();
   PoseSetQuality q;
@@ -158,7 +157,7 @@ PoseSetQuality PosePlanner::Evaluate(const std::vector<int>& poses) const {
   q.noise_amplification_index = indices.noise_amplification_index;
   q.full_rank = std::isfinite(q.condition_number) && q.condition_number < 1e12;
   const Eigen::MatrixXd information = js.transpose() * js;
-  q.log_det = LogDet(information);
+  q.log_det = LogDetSmall(information);
   if (!q.full_rank) return q;
   // Column-scaled inverse for accuracy, then back to the unknowns' units.
   const Eigen::MatrixXd scaled = column_scale_.asDiagonal() * information * column_scale_.asDiagonal();

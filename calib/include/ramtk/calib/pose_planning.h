@@ -113,8 +113,6 @@ class PosePlanner {
   const std::vector<Eigen::VectorXd>& candidates() const { return candidates_; }
 
  private:
-  double LogDet(const Eigen::MatrixXd& information) const;
-
   PosePlanningOptions options_;
   std::vector<Eigen::VectorXd> candidates_;
   int rows_ = 0;                 // per pose
