@@ -17,13 +17,14 @@ seed() {  # target, seed files...
 seed fuzz_csv fuzz/seeds/*.csv tests/thermal/data/*.csv datasets/tcf/*.csv datasets/thermal/*.csv
 seed fuzz_measurements fuzz/seeds/*.csv tests/thermal/data/*.csv
 seed fuzz_robot_yaml datasets/robots/*.yaml
+seed fuzz_tracker fuzz/seeds/tracker_*.csv fuzz/seeds/*.csv docs/examples/ipa_tmac_*.yaml
 seed fuzz_manifest datasets/scan_default/manifest.json datasets/vision/*.json
 seed fuzz_laser_log fuzz/seeds/laser_log.csv
 seed fuzz_tcf_json fuzz/seeds/tcf_*.json
 seed fuzz_ply fuzz/seeds/*.ply
 seed fuzz_stereo_calibration datasets/scan_default/calibration.yml fuzz/seeds/*.yml fuzz/seeds/calibration.json
 seed fuzz_image fuzz/seeds/*.png fuzz/seeds/*.bmp
-for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply \
+for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_tracker fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply \
          fuzz_stereo_calibration fuzz_image; do
   # The motion JSON seed is ~4.5 KiB: room for it; the others fit in 1 KiB.
   len=1024

@@ -23,6 +23,7 @@ namespace ramtk::tools {
 void RegisterCalibCameras(CLI::App* calib, int* exit_code);                 // calib_cameras_command.cpp
 void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code);  // calib_hand_eye_command.cpp
 void RegisterCalibRobot(CLI::App* calib, int* exit_code);                   // calib_robot_command.cpp
+void RegisterSimulateRobot(CLI::App* simulate, int* exit_code);             // calib_robot_command.cpp
 
 namespace {
 
@@ -173,6 +174,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--noise-seed", opt->sim.noise_seed, "Seed of the noise")->capture_default_str();
     sub->callback([opt, exit_code]() { *exit_code = RunSimulateSensorRobot(*opt); });
   }
+  RegisterSimulateRobot(simulate, exit_code);
   RegisterCalibHandEye(app, calib, exit_code);
 }
 

@@ -106,6 +106,10 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   std::printf("  identifiability: %d identified, %d eliminated, condition number %.3g, O1 %.3g, noise amplification %.3g\n",
               summary.num_identified, summary.num_eliminated, summary.condition_number, summary.observability_index,
               summary.noise_amplification_index);
+  std::printf("  coverage: targets spread %.0f mm RMS (reach %.0f mm); joint ranges (deg)", summary.workspace_spread_mm,
+              summary.reach_mm);
+  for (double r : summary.joint_range_deg) std::printf(" %.0f", r);
+  std::printf("\n");
   // Other series: the calibrated links with the set-up re-fitted (the tracker may have moved).
   for (std::size_t i = 0; i < others.size(); ++i) {
     calib::RobotCalibrationOptions po;
@@ -129,7 +133,66 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
              : kExitNoSolution;
 }
 
+struct SimulateRobotCommandOptions {
+  std::string robot_path;
+  std::string csv_path;
+  std::string truth_path;
+  calib::RobotCalibrationSimOptions sim;
+};
+
+// Points only, in the default tracker columns: pose,q1..qN (deg),x,y,z (mm).
+std::string SimulatedCsv(const kinematics::TrackerMeasurements& data) {
+  std::string out = "pose";
+  for (int j = 1; j <= data.num_joints; ++j) out += ",q" + std::to_string(j);
+  out += ",x,y,z\n";
+  char cell[64];
+  for (std::size_t i = 0; i < data.poses.size(); ++i) {
+    out += std::to_string(i);
+    for (double q : data.poses[i].q_rad) {
+      std::snprintf(cell, sizeof cell, ",%.9f", RadToDeg(q));
+      out += cell;
+    }
+    const Vec3& p = data.poses[i].targets[0].position_mm;
+    std::snprintf(cell, sizeof cell, ",%.6f,%.6f,%.6f\n", p.x(), p.y(), p.z());
+    out += cell;
+  }
+  return out;
+}
+
+int RunSimulateRobot(const SimulateRobotCommandOptions& opt) {
+  CheckOutputsDistinct({{"--output", opt.csv_path}, {"--truth", opt.truth_path}});
+  CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
+  CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path}, "--truth");
+  const kinematics::RobotChain nominal = kinematics::ReadRobotChain(opt.robot_path);
+  const calib::RobotCalibrationSimulation sim = calib::SimulateRobotCalibration(nominal, opt.sim);
+  kinematics::RobotChain truth = sim.truth;
+  truth.source = "ramtk simulate robot-calibration (seed " + std::to_string(opt.sim.seed) + ")";
+  WriteFileAtomically(opt.csv_path, SimulatedCsv(sim.data));
+  kinematics::WriteRobotChain(truth, opt.truth_path);
+  std::printf("simulated %d poses of %s (link errors %.3f mm / %.4f deg, noise %.4f mm); wrote %s and %s\n",
+              opt.sim.num_poses, nominal.name.c_str(), opt.sim.length_error_mm, opt.sim.angle_error_deg,
+              opt.sim.position_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
+  return kExitOk;
+}
+
 }  // namespace
+
+void RegisterSimulateRobot(CLI::App* simulate, int* exit_code) {
+  auto opt = std::make_shared<SimulateRobotCommandOptions>();
+  CLI::App* sub = simulate->add_subcommand(
+      "robot-calibration", "A tracker measuring a target on a robot whose links differ from the file by known errors");
+  sub->add_option("--robot", opt->robot_path, "Nominal robot file (YAML, any number of joints)")->required();
+  sub->add_option("--output", opt->csv_path, "Tracker CSV to write (pose,q1..qN,x,y,z)")->required();
+  sub->add_option("--truth", opt->truth_path, "The true robot file to write (YAML)")->required();
+  sub->add_option("--poses", opt->sim.num_poses, "Number of poses")->capture_default_str();
+  sub->add_option("--length-error", opt->sim.length_error_mm, "Link length errors (mm, 1 sigma)")->capture_default_str();
+  sub->add_option("--angle-error", opt->sim.angle_error_deg, "Link angle errors (deg, 1 sigma)")->capture_default_str();
+  sub->add_option("--noise", opt->sim.position_noise_mm, "Tracker noise per coordinate (mm, 1 sigma)")
+      ->capture_default_str();
+  sub->add_option("--seed", opt->sim.seed, "Seed of the errors and poses")->capture_default_str();
+  sub->add_option("--noise-seed", opt->sim.noise_seed, "Seed of the noise")->capture_default_str();
+  sub->callback([opt, exit_code]() { *exit_code = RunSimulateRobot(*opt); });
+}
 
 void RegisterCalibRobot(CLI::App* calib, int* exit_code) {
   auto opt = std::make_shared<CalibRobotCommandOptions>();

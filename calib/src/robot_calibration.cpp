@@ -4,6 +4,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "ramtk/core/error.h"
@@ -30,6 +31,8 @@ std::string RobotCalibrationOptions::Validate() const {
   if (!(loss_scale > 0.0 && std::isfinite(loss_scale))) return "loss_scale: expected > 0";
   if (cyclic_harmonics < 0 || cyclic_harmonics > 4) return "cyclic_harmonics: expected 0..4";
   if (!(min_term_gain >= 0.0 && min_term_gain < 1.0)) return "min_term_gain: expected 0..1";
+  if (!(min_joint_range_deg >= 0.0)) return "min_joint_range_deg: expected >= 0";
+  if (!(min_spread_fraction >= 0.0 && min_spread_fraction < 1.0)) return "min_spread_fraction: expected 0..1";
   if (folds < 2 || folds > 100) return "folds: expected 2..100";
   if (max_iterations < 1 || max_iterations > 10000) return "max_iterations: expected 1..10000";
   if (num_threads < 1 || num_threads > 256) return "num_threads: expected 1..256";
@@ -268,6 +271,48 @@ void CheckInput(const kinematics::RobotChain& nominal, const kinematics::Tracker
   }
 }
 
+// Joint ranges and the spread of the measured targets, with the warnings they call for.
+void Coverage(const kinematics::RobotChain& nominal, const kinematics::TrackerMeasurements& data,
+              const RobotCalibrationOptions& options, RobotCalibrationSummary* summary) {
+  const int n = nominal.NumJoints();
+  std::vector<double> lo(n, 1e300), hi(n, -1e300);
+  Vec3 mean = Vec3::Zero();
+  for (const kinematics::TrackerPose& p : data.poses) {
+    for (int j = 0; j < n; ++j) {
+      lo[j] = std::min(lo[j], p.q_rad[j]);
+      hi[j] = std::max(hi[j], p.q_rad[j]);
+    }
+    mean += p.targets[0].position_mm;
+  }
+  mean /= static_cast<double>(data.poses.size());
+  double spread = 0.0;
+  for (const kinematics::TrackerPose& p : data.poses) spread += (p.targets[0].position_mm - mean).squaredNorm();
+  summary->workspace_spread_mm = std::sqrt(spread / data.poses.size());
+  summary->reach_mm = kinematics::ChainReachMm(nominal);
+  std::string narrow;
+  for (int j = 0; j < n; ++j) {
+    summary->joint_range_deg.push_back(RadToDeg(hi[j] - lo[j]));
+    if (summary->joint_range_deg.back() < options.min_joint_range_deg) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%sjoint %d over %.1f deg", narrow.empty() ? "" : ", ", j + 1,
+                    summary->joint_range_deg.back());
+      narrow += text;
+    }
+  }
+  if (!narrow.empty()) {
+    summary->warnings.push_back("the poses move " + narrow + " only: the calibration predicts other joint values by "
+                                "extrapolation");
+  }
+  if (summary->workspace_spread_mm < options.min_spread_fraction * summary->reach_mm) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the targets spread %.0f mm (RMS about their centroid) against a reach of %.0f mm: the poses cover "
+                  "a small part of the workspace",
+                  summary->workspace_spread_mm, summary->reach_mm);
+    summary->warnings.push_back(text);
+  }
+}
+
 }  // namespace
 
 RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kinematics::TrackerMeasurements& data,
@@ -469,6 +514,7 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
   summary.condition_number = stage.elimination.condition_number;
   summary.observability_index = stage.elimination.observability_index;
   summary.noise_amplification_index = stage.elimination.noise_amplification_index;
+  Coverage(nominal, data, options, &summary);
   if (summary.held_out.rms_per_coordinate_mm > 2.0 * summary.after.rms_per_coordinate_mm) {
     summary.warnings.push_back("held-out error is more than twice the fit's: the poses may not support prediction "
                                "beyond them (add poses spread over the workspace)");

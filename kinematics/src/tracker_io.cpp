@@ -116,7 +116,7 @@ Table SplitTable(const std::string& text, const std::string& path, char separato
                                                     " (separator '" +
                                                     (t.separator == '\t' ? "tab" : std::string(1, t.separator)) + "')");
     }
-    t.rows.push_back(cells);
+    t.rows.push_back(std::move(cells));
     t.lines.push_back(line_number);
   }
   if (t.header.empty()) throw InputError({path, 0, ""}, "empty file: expected a header row");
@@ -258,13 +258,16 @@ bool ParseIso8601(std::string_view s, Stamp* out) {
   if (!CivilToStamp(y, mo, d, h, mi, sec, out)) return false;
   std::size_t pos = 19;
   if (pos < s.size() && (s[pos] == '.' || s[pos] == ',')) {
-    double scale = 0.1, fraction = 0.0;
-    std::size_t digits = 0;
-    for (++pos; pos < s.size() && s[pos] >= '0' && s[pos] <= '9'; ++pos, ++digits, scale *= 0.1) {
-      fraction += (s[pos] - '0') * scale;
+    // As an integer over a power of ten: .125 is exactly 0.125.
+    long long digits = 0, scale = 1;
+    for (++pos; pos < s.size() && s[pos] >= '0' && s[pos] <= '9'; ++pos) {
+      if (scale < 1000000000000000000LL / 10) {  // beyond 1e-17 s the digits carry nothing
+        digits = digits * 10 + (s[pos] - '0');
+        scale *= 10;
+      }
     }
-    if (digits == 0) return false;
-    out->fraction = fraction;
+    if (scale == 1) return false;
+    out->fraction = static_cast<double>(digits) / static_cast<double>(scale);
   }
   if (pos == s.size()) return true;
   if (s[pos] == 'Z' || s[pos] == 'z') return pos + 1 == s.size();
@@ -508,7 +511,8 @@ Layout ResolveColumns(const Table& t, const Columns& cols, const TrackerFormat& 
   return l;
 }
 
-// `,` when the separator is `;` and a cell of a number column holds a comma, else `.`.
+// `,` when the separator is `;` and a cell of a number column (or a time without ':') holds a
+// comma, else `.`.
 char DetectDecimal(const Table& t, const Layout& l) {
   if (t.separator != ';') return '.';
   std::vector<int> numeric = l.joints;
@@ -518,6 +522,11 @@ char DetectDecimal(const Table& t, const Layout& l) {
   for (const auto& row : t.rows) {
     for (int c : numeric) {
       if (row[c].find(',') != std::string::npos) return ',';
+    }
+    // A time in seconds (or a rounded stamp) may be the only number with a decimal; an ISO 8601
+    // time's fraction may be written with a comma too, and says nothing about the other cells.
+    if (l.time >= 0 && row[l.time].find(',') != std::string::npos && row[l.time].find(':') == std::string::npos) {
+      return ',';
     }
   }
   return '.';

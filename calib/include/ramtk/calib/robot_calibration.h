@@ -77,6 +77,10 @@ struct RobotCalibrationOptions {
   int cyclic_harmonics = 2;
   bool try_compliance = true;
   double min_term_gain = 0.02;  // fraction of the held-out RMS
+  // Coverage warnings: a joint that moved less than this (deg), targets spread (RMS about their
+  // centroid) less than this fraction of the reach.
+  double min_joint_range_deg = 30.0;
+  double min_spread_fraction = 0.15;
   // Held-out validation: `folds` folds (≥ 2), split as named, seeded.
   int folds = 5;
   HoldoutSplit split = HoldoutSplit::kRandom;
@@ -152,6 +156,12 @@ struct RobotCalibrationSummary {
   double noise_amplification_index = 0.0;
   int num_identified = 0;
   int num_eliminated = 0;
+  // Pose-set coverage: the range each joint moved over (deg) and the RMS distance of the measured
+  // targets from their centroid (mm) beside the robot's reach (Σ|a| + |d|). A pose set that spans
+  // little of either fits well and predicts the rest of the workspace poorly: a warning says so.
+  std::vector<double> joint_range_deg;
+  double workspace_spread_mm = 0.0;
+  double reach_mm = 0.0;
   std::vector<std::string> terms_kept;  // "cyclic", "compliance"
   std::vector<std::string> warnings;
   std::vector<Vec3> residuals_before;   // per pose, first target (mm, tracker frame)
