@@ -36,5 +36,6 @@ void RegisterScanCommand(CLI::App& app, int* exit_code);  // scan SET | --batch 
 void RegisterMergeCommand(CLI::App& app, int* exit_code);  // merge --batch LIST --out DIR
 void RegisterMeasureCommand(CLI::App& app, int* exit_code);  // measure --scans --log
 void RegisterCampaignCommand(CLI::App& app, int* exit_code);  // simulate campaign
+void RegisterPlanCommands(CLI::App& app, int* exit_code);     // plan poses
 
 }  // namespace ramtk::tools

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterMergeCommand(app, &exit_code);
   ramtk::tools::RegisterMeasureCommand(app, &exit_code);
   ramtk::tools::RegisterCampaignCommand(app, &exit_code);
+  ramtk::tools::RegisterPlanCommands(app, &exit_code);
   using ramtk::tools::kExitBadInput;
   using ramtk::tools::kExitFailure;
   try {

@@ -10,6 +10,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/units.h"
+#include "ramtk/calib/robot_identifiability.h"
 #include "robot_calibration_internal.h"
 
 namespace ramtk::calib {
@@ -48,8 +49,6 @@ std::string RobotCalibrationSummary::BriefReport() const {
   return s.str();
 }
 
-namespace {
-
 std::vector<std::string> UnknownNames(const UnknownLayout& L) {
   std::vector<std::string> names(L.size);
   for (int i = 0; i < kinematics::kParamsPerLink * L.num_joints; ++i) names[L.kin + i] = kinematics::ChainParamName(i);
@@ -72,6 +71,8 @@ std::vector<std::string> UnknownNames(const UnknownLayout& L) {
   }
   return names;
 }
+
+namespace {
 
 // File units per internal unit (deg per rad for angles; compliance in deg per kg·m).
 double FileScale(const UnknownLayout& L, int i) {
@@ -169,8 +170,9 @@ std::vector<bool> SetupFree(const UnknownLayout& L) {
   return free;
 }
 
-// Candidate link unknowns: those not structural zeros of the file, and β where the axes of a
-// link are near-parallel (|α| within parallel_axes_deg of 0 or 180°).
+}  // namespace
+
+// |α| within parallel_axes_deg of 0 or 180° offers β.
 std::vector<bool> LinkCandidates(const kinematics::RobotChain& chain, const RobotCalibrationOptions& o) {
   std::vector<bool> c(chain.NumParams(), false);
   for (int i = 0; i < chain.NumParams(); ++i) c[i] = !chain.structural_zero[i];
@@ -181,7 +183,6 @@ std::vector<bool> LinkCandidates(const kinematics::RobotChain& chain, const Robo
   return c;
 }
 
-// Order of preference: set-up, then θ a α β of each joint, then every d, then the terms.
 std::vector<int> PreferenceOrder(const UnknownLayout& L, const std::vector<bool>& candidate) {
   std::vector<int> order;
   auto add = [&](int i) {
@@ -197,6 +198,8 @@ std::vector<int> PreferenceOrder(const UnknownLayout& L, const std::vector<bool>
   for (int i = L.cyclic; i < L.size; ++i) add(i);
   return order;
 }
+
+namespace {
 
 struct Stage {
   std::vector<bool> free;

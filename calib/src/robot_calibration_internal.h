@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "ramtk/calib/robot_calibration.h"
+#include "ramtk/calib/robot_identifiability.h"
 #include "ramtk/calib/robot_model_eval.h"
 
 namespace ramtk::calib::detail {
@@ -37,19 +38,9 @@ SolveResult SolveUnknowns(const CalibrationProblem& problem, const std::vector<b
 // Jacobian is exact there.
 void Recentre(CalibrationProblem* problem, Eigen::VectorXd* x);
 
-// The identifiability analysis of the candidate unknowns, in order of preference.
-struct Elimination {
-  std::vector<bool> keep;             // per unknown (layout.size)
-  std::vector<double> independence;   // fraction of the unit column outside the span before it
-  std::vector<std::string> status;    // "" kept, "not_identifiable", "weak"
-  std::vector<std::string> combination;
-  double condition_number = 0.0;
-  double observability_index = 0.0;
-  double noise_amplification_index = 0.0;
-};
-Elimination AnalyseIdentifiability(const Eigen::MatrixXd& jacobian, const std::vector<int>& order,
-                                   const std::vector<std::string>& names, double structural_tolerance,
-                                   double weak_tolerance);
+// The identifiability analysis (public in robot_identifiability.h).
+using Elimination = IdentifiabilityAnalysis;
+using calib::AnalyseIdentifiability;
 
 // k-fold held-out residuals (positions of every target, mm) per pose, from fits that start at x.
 std::vector<std::vector<Vec3>> HeldOutResiduals(const CalibrationProblem& problem, const std::vector<bool>& free,

@@ -129,67 +129,6 @@ void Recentre(CalibrationProblem* problem, Eigen::VectorXd* x) {
   }
 }
 
-Elimination AnalyseIdentifiability(const Eigen::MatrixXd& jacobian, const std::vector<int>& order,
-                                   const std::vector<std::string>& names, double structural_tolerance,
-                                   double weak_tolerance) {
-  const int size = static_cast<int>(jacobian.cols());
-  Elimination e;
-  e.keep.assign(size, false);
-  e.independence.assign(size, 0.0);
-  e.status.assign(size, "");
-  e.combination.assign(size, "");
-  Eigen::VectorXd norms = jacobian.colwise().norm();
-  std::vector<Eigen::VectorXd> basis;  // orthonormal, of the kept unit columns
-  std::vector<int> kept;
-  for (int c : order) {
-    if (norms[c] == 0.0) {
-      e.status[c] = "not_identifiable";
-      e.combination[c] = "does not move any measurement";
-      continue;
-    }
-    Eigen::VectorXd v = jacobian.col(c) / norms[c];
-    for (int pass = 0; pass < 2; ++pass) {
-      for (const Eigen::VectorXd& b : basis) v -= b.dot(v) * b;
-    }
-    const double fraction = v.norm();
-    e.independence[c] = fraction;
-    if (fraction >= weak_tolerance) {
-      e.keep[c] = true;
-      basis.push_back(v / fraction);
-      kept.push_back(c);
-      continue;
-    }
-    e.status[c] = fraction < structural_tolerance ? "not_identifiable" : "weak";
-    // Which kept unknowns it moves like: least squares of its column on theirs, in the
-    // unknowns' own units (a unit change of c acts as Σ coefficient·unit change of each).
-    Eigen::MatrixXd a(jacobian.rows(), kept.size());
-    for (std::size_t k = 0; k < kept.size(); ++k) a.col(k) = jacobian.col(kept[k]);
-    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(jacobian.col(c));
-    std::vector<int> idx(kept.size());
-    std::iota(idx.begin(), idx.end(), 0);
-    std::sort(idx.begin(), idx.end(), [&](int i, int j) {
-      return std::abs(coef[i]) * norms[kept[i]] > std::abs(coef[j]) * norms[kept[j]];
-    });
-    std::string text = "acts as";
-    for (std::size_t k = 0; k < idx.size() && k < 4; ++k) {
-      if (std::abs(coef[idx[k]]) * norms[kept[idx[k]]] < 0.05 * norms[c]) break;
-      text += " " + Signed(coef[idx[k]]) + "·" + names[kept[idx[k]]];
-    }
-    e.combination[c] = text;
-  }
-  if (!kept.empty()) {
-    Eigen::MatrixXd a(jacobian.rows(), kept.size());
-    for (std::size_t k = 0; k < kept.size(); ++k) a.col(k) = jacobian.col(kept[k]) / norms[kept[k]];
-    const Eigen::MatrixXd r = a.householderQr().matrixQR().topRows(kept.size()).triangularView<Eigen::Upper>();
-    const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
-    const double smax = sv[0], smin = sv[sv.size() - 1];
-    e.condition_number = smin > 0 ? smax / smin : std::numeric_limits<double>::infinity();
-    e.observability_index = std::exp(sv.array().log().mean()) / std::sqrt(static_cast<double>(jacobian.rows()));
-    e.noise_amplification_index = smin * smin / smax;
-  }
-  return e;
-}
-
 std::vector<std::vector<Vec3>> HeldOutResiduals(const CalibrationProblem& problem, const std::vector<bool>& free,
                                                 const RobotCalibrationOptions& options, const Eigen::VectorXd& x) {
   const int n = static_cast<int>(problem.poses.size());
@@ -239,3 +178,84 @@ ResidualStats StatsOf(const std::vector<std::vector<Vec3>>& residuals, const std
 }
 
 }  // namespace ramtk::calib::detail
+
+namespace ramtk::calib {
+
+IdentifiabilityAnalysis AnalyseIdentifiability(const Eigen::MatrixXd& jacobian, const std::vector<int>& order,
+                                               const std::vector<std::string>& names, double structural_tolerance,
+                                               double weak_tolerance) {
+  const int size = static_cast<int>(jacobian.cols());
+  IdentifiabilityAnalysis e;
+  e.keep.assign(size, false);
+  e.independence.assign(size, 0.0);
+  e.status.assign(size, "");
+  e.combination.assign(size, "");
+  Eigen::VectorXd norms = jacobian.colwise().norm();
+  std::vector<Eigen::VectorXd> basis;  // orthonormal, of the kept unit columns
+  std::vector<int> kept;
+  for (int c : order) {
+    if (norms[c] == 0.0) {
+      e.status[c] = "not_identifiable";
+      e.combination[c] = "does not move any measurement";
+      continue;
+    }
+    Eigen::VectorXd v = jacobian.col(c) / norms[c];
+    for (int pass = 0; pass < 2; ++pass) {
+      for (const Eigen::VectorXd& b : basis) v -= b.dot(v) * b;
+    }
+    const double fraction = v.norm();
+    e.independence[c] = fraction;
+    if (fraction >= weak_tolerance) {
+      e.keep[c] = true;
+      basis.push_back(v / fraction);
+      kept.push_back(c);
+      continue;
+    }
+    e.status[c] = fraction < structural_tolerance ? "not_identifiable" : "weak";
+    // Which kept unknowns it moves like: least squares of its column on theirs, in the
+    // unknowns' own units (a unit change of c acts as Σ coefficient·unit change of each).
+    Eigen::MatrixXd a(jacobian.rows(), kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) a.col(k) = jacobian.col(kept[k]);
+    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(jacobian.col(c));
+    std::vector<int> idx(kept.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    std::sort(idx.begin(), idx.end(), [&](int i, int j) {
+      return std::abs(coef[i]) * norms[kept[i]] > std::abs(coef[j]) * norms[kept[j]];
+    });
+    std::string text = "acts as";
+    for (std::size_t k = 0; k < idx.size() && k < 4; ++k) {
+      if (std::abs(coef[idx[k]]) * norms[kept[idx[k]]] < 0.05 * norms[c]) break;
+      text += " " + detail::Signed(coef[idx[k]]) + "·" + names[kept[idx[k]]];
+    }
+    e.combination[c] = text;
+  }
+  if (!kept.empty()) {
+    Eigen::MatrixXd a(jacobian.rows(), kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) a.col(k) = jacobian.col(kept[k]);
+    const ObservabilityIndices indices = ComputeObservabilityIndices(a);
+    e.condition_number = indices.condition_number;
+    e.observability_index = indices.observability_index;
+    e.noise_amplification_index = indices.noise_amplification_index;
+  }
+  return e;
+}
+
+ObservabilityIndices ComputeObservabilityIndices(const Eigen::MatrixXd& jacobian) {
+  ObservabilityIndices out;
+  const int p = static_cast<int>(jacobian.cols());
+  if (p == 0 || jacobian.rows() < p) return out;
+  Eigen::MatrixXd a = jacobian;
+  for (int k = 0; k < p; ++k) {
+    const double norm = a.col(k).norm();
+    if (norm > 0.0) a.col(k) /= norm;
+  }
+  const Eigen::MatrixXd r = a.householderQr().matrixQR().topRows(p).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
+  const double smax = sv[0], smin = sv[sv.size() - 1];
+  out.condition_number = smin > 0 ? smax / smin : std::numeric_limits<double>::infinity();
+  out.observability_index = std::exp(sv.array().log().mean()) / std::sqrt(static_cast<double>(jacobian.rows()));
+  out.noise_amplification_index = smin * smin / smax;
+  return out;
+}
+
+}  // namespace ramtk::calib
