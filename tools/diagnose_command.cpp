@@ -37,10 +37,11 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
     staged = std::make_unique<StagedFolder>(given.output_folder, force, "--out");
     options.output_folder = staged->path().string();
   }
-  diagnose::DataKind kind = diagnose::DetectKind(options.data);
-  if (kind_override == "fringe") kind = diagnose::DataKind::kFringe;
-  if (kind_override == "robot") kind = diagnose::DataKind::kRobot;
-  if (kind_override == "laser") kind = diagnose::DataKind::kLaser;
+  // A stated kind is not second-guessed (a tracker export has its own column names).
+  diagnose::DataKind kind = kind_override == "fringe"  ? diagnose::DataKind::kFringe
+                            : kind_override == "robot" ? diagnose::DataKind::kRobot
+                            : kind_override == "laser" ? diagnose::DataKind::kLaser
+                                                       : diagnose::DetectKind(options.data);
   diagnose::Diagnosis result;
   switch (kind) {
     case diagnose::DataKind::kRobot:

@@ -36,8 +36,9 @@ std::vector<Mat3X> ParamBlocks(const std::vector<Row>& rows, const std::vector<i
 }
 
 // Parameters among `params` not aliased with the design's columns (nor with earlier ones).
-std::vector<int> Identifiable(const std::vector<Row>& rows, const Design& d, const std::vector<int>& params) {
-  const std::vector<int> keep = IndependentColumns(PooledBlocks(d), ParamBlocks(rows, params));
+std::vector<int> Identifiable(const std::vector<Row>& rows, const Design& d, const std::vector<int>& params,
+                              double rtol = 1e-5) {
+  const std::vector<int> keep = IndependentColumns(PooledBlocks(d), ParamBlocks(rows, params), rtol);
   std::vector<int> out;
   for (int k : keep) out.push_back(params[k]);
   return out;
@@ -182,8 +183,20 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
   };
 
   // Static parameter errors (joint zeros, link lengths), against the set-up nuisance.
-  auto static_params = [&](const std::string& effect, const std::vector<int>& pool, const std::string& suffix) {
-    const std::vector<int> params = Identifiable(rows, ctx.base, pool);
+  auto static_params = [&](const std::string& effect, const std::vector<int>& pool, const std::string& suffix,
+                           double rtol = 1e-5) {
+    const std::vector<int> params = Identifiable(rows, ctx.base, pool, rtol);
+    if (params.size() < pool.size() && rtol > 1e-5) {
+      std::vector<int> weak;
+      const std::vector<int> structural = Identifiable(rows, ctx.base, pool);
+      for (int p : structural)
+        if (std::find(params.begin(), params.end(), p) == params.end()) weak.push_back(p);
+      if (!weak.empty()) {
+        notes->push_back(effect + ": " + thermal::ParamListToString(weak) +
+                         " left out (less than " + std::to_string(rtol) +
+                         " of each column outside the others: not identifiable from these poses)");
+      }
+    }
     if (params.empty()) {
       notes->push_back(effect + ": not testable (every parameter aliased with the current model)");
       return;
@@ -234,8 +247,10 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
       const ParamKind kind = kinematics::ParamKindOf(p);
       if (kind == ParamKind::kAlpha || kind == ParamKind::kBeta) twists.push_back(p);
     }
-    static_params("axis_misalignment", twists, "_twist");
-    static_params("geometric", geometric, "_error");
+    // Weakly observable directions would carry model error into wild values: a column must keep
+    // 0.1% of its norm outside the others' span (as the robot calibration's weak tolerance).
+    static_params("axis_misalignment", twists, "_twist", 1e-3);
+    static_params("geometric", geometric, "_error", 1e-3);
     tick("geometric");
   }
 

@@ -299,9 +299,17 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       verdict = kUnexplained;
       d.explaining_variable = ExplainingVariable(remaining);
       d.partial = {chosen.effect};
+      // Quote the strongest test of the variable named, not the strongest test overall.
+      const NamedTest* quoted = &remaining.front();
+      for (const NamedTest& t : remaining) {
+        if (t.variable == d.explaining_variable &&
+            (quoted->variable != d.explaining_variable || t.test.statistic - t.test.dof > quoted->test.statistic - quoted->test.dof)) {
+          quoted = &t;
+        }
+      }
       d.findings.push_back("after fitting '" + chosen.effect + "' (" + Num(100 * d.excess_removed, 3) +
                            "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
-                           remaining.front().test.Describe() + "): structure outside the catalogue, '" + chosen.effect +
+                           quoted->test.Describe() + "): structure outside the catalogue, '" + chosen.effect +
                            "' explains it only in part");
     } else {
       // Look-alikes: candidates with a material gain whose held-out error is not worse than the

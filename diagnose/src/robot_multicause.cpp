@@ -145,7 +145,18 @@ std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first,
       if (e.fit.effect == best.effect) chosen = &e;
     }
     if (chosen == nullptr) break;
-    steps.push_back(StepOf(best, last->fit.heldout_rms, rms_none, sigma));
+    // The same effect again (cyclic terms on further joints): one cause, its gains summed.
+    CauseStep step = StepOf(best, last->fit.heldout_rms, rms_none, sigma);
+    auto same = std::find_if(steps.begin(), steps.end(), [&](const CauseStep& c) { return c.effect == best.effect; });
+    if (same != steps.end()) {
+      same->rms_after = step.rms_after;
+      same->excess_removed += step.excess_removed;
+      same->num_parameters += step.num_parameters;
+      for (const auto& [key, v] : step.parameters) same->parameters[key] = v;
+      for (const auto& [key, v] : step.sigmas) same->sigmas[key] = v;
+    } else {
+      steps.push_back(step);
+    }
     findings->push_back("step " + std::to_string(k + 1) + ": '" + best.effect + "' added on top of the causes kept, " +
                         "held-out RMS " + Num(last->fit.heldout_rms) + " -> " + Num(best.heldout_rms) + " mm");
     *last = *chosen;
