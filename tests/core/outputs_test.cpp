@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -46,6 +48,24 @@ TEST(OutputSafety, AnOutputMayNotBeOrContainAnInput) {
     EXPECT_EQ(e.where().field, "--output");
     EXPECT_NE(std::string(e.what()).find("input"), std::string::npos);
   }
+}
+
+TEST(OutputSafety, FifosAndDevicesAreRefusedBeforeReading) {
+  const fs::path d = Fresh("special");
+  ASSERT_EQ(::mkfifo((d / "fifo").c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", d / "zero");
+  for (const fs::path& p : {d / "fifo", d / "zero", fs::path("/dev/urandom")}) {
+    try {
+      ReadTextFile(p.string());  // would block (FIFO) or never end (devices)
+      FAIL() << p;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(RequireRegularFile((d / "missing").string()), InputError);
+  Touch(d / "plain.txt", "text");
+  fs::create_symlink(d / "plain.txt", d / "link.txt");
+  EXPECT_EQ(ReadTextFile((d / "link.txt").string()), "text");
 }
 
 TEST(OutputSafety, TwoOutputsMayNotShareAPath) {
