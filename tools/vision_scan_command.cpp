@@ -54,7 +54,7 @@ struct ScanCommandOptions {
 // change results.
 std::string ResultSettings(const ScanCommandOptions& o) {
   std::ostringstream s;
-  s.precision(17);
+  s.precision(12);  // finer than any option is given on a command line
   s << "calib=" << o.calib << ";radius=" << o.radius << ";fix_radius=" << o.fix_radius << ";spheres=" << o.spheres
     << ";depth=" << o.min_depth << ".." << o.max_depth << ";reference_decode=" << o.reference_decode
     << ";full_search=" << o.full_search << ";curve_back_pass=" << o.curve_back_pass
