@@ -118,6 +118,37 @@ TEST(ScanShard, MergeOrdersRowsAndRefusesGapsAndDuplicates) {
   EXPECT_THROW(MergeScanShards(sets, {a, (d / "c.csv").string()}, true), InputError);  // header differs
 }
 
+// --resume: a set folder's row.csv is kept only for the same set, the same settings and a
+// finished status, and is written back into the results as it was.
+TEST(ScanBatchResume, AFinishedRowIsKeptOnlyForTheSameSetAndSettings) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(RAMTK_TEST_OUTPUT_DIR) / "batch_resume" / "000_a";
+  fs::remove_all(dir.parent_path());
+  fs::create_directories(dir);
+  const std::string header =
+      "set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,rms_mm,num_points,num_outliers,"
+      "seconds,out_dir,message";
+  const std::string cells = "/d/a/manifest.json,ok,100,1.5,-2,700,19.05,0.003,0.004,0.012,0.03,90,2,0.25,";
+  auto write = [&](const std::string& status, const std::string& settings) {
+    std::ofstream(dir / "row.csv") << header << ",settings\n"
+                                   << "/d/a/manifest.json," << status << cells.substr(cells.find(",ok,") + 3)
+                                   << dir.string() << ",," << settings << "\n";
+  };
+  write("ok", "radius=19.05");
+  const auto kept = ReadFinishedSetRow(dir.string(), "/d/a/manifest.json", "radius=19.05");
+  ASSERT_TRUE(kept);
+  EXPECT_TRUE(kept->has_sphere);
+  EXPECT_EQ(kept->sphere.centre_mm, Vec3(1.5, -2, 700));
+  EXPECT_NEAR(kept->sphere.CentreSigma().z(), 0.012, 1e-15);
+  EXPECT_EQ(ScanBatchCsv({*kept}), header + "\n" + cells + dir.string() + ",\n");
+  EXPECT_FALSE(ReadFinishedSetRow(dir.string(), "/d/a/manifest.json", "radius=19"));
+  EXPECT_FALSE(ReadFinishedSetRow(dir.string(), "/d/b/manifest.json", "radius=19.05"));
+  write("error", "radius=19.05");
+  EXPECT_FALSE(ReadFinishedSetRow(dir.string(), "/d/a/manifest.json", "radius=19.05"));
+  fs::remove(dir / "row.csv");
+  EXPECT_FALSE(ReadFinishedSetRow(dir.string(), "/d/a/manifest.json", "radius=19.05"));
+}
+
 // The batch totals: rows counted by status, the rate from the wall time, the peak memory read
 // from the process (at least the memory this test holds).
 TEST(ScanBatchSummary, CountsRowsAndGivesTheRateAndPeakMemory) {

@@ -199,6 +199,23 @@ void ScanBatchSet(const std::string& set, const std::optional<Vec3>& predicted, 
   }
 }
 
+// The numbers of a kept row back into its fields, for the batch totals and report (the centre
+// covariance as the diagonal of the recorded sigmas: the report shows their norm).
+void FillKeptSphere(const std::vector<std::string>& cells, const std::string& file, ScanBatchRow* row) {
+  auto number = [&](std::size_t i) { return ParseDouble(cells[i], {file, 2, CsvHeader()[i]}); };
+  row->points = static_cast<long>(number(2));
+  row->seconds = number(13);
+  if (cells[3].empty()) return;
+  SphereResult& s = row->sphere;
+  s.centre_mm = Vec3(number(3), number(4), number(5));
+  s.radius_mm = number(6);
+  s.centre_covariance_mm2 = Vec3(number(7), number(8), number(9)).cwiseAbs2().asDiagonal();
+  s.rms_mm = number(10);
+  s.num_points = static_cast<int>(number(11));
+  s.num_outliers = static_cast<int>(number(12));
+  row->has_sphere = true;
+}
+
 }  // namespace
 
 std::optional<ScanBatchRow> ReadFinishedSetRow(const std::string& folder, const std::string& set,
@@ -226,6 +243,11 @@ std::optional<ScanBatchRow> ReadFinishedSetRow(const std::string& folder, const 
   row.status = status;
   row.message = cells.back();
   row.kept_cells = cells;
+  try {
+    FillKeptSphere(cells, file, &row);
+  } catch (const InputError&) {
+    return std::nullopt;  // damaged: the set is scanned again
+  }
   return row;
 }
 
