@@ -216,9 +216,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   CLI::App* sub = app.add_subcommand(
       "scan", "Stereo fringe set -> point cloud (PLY) and sphere centres (JSON) in the left-camera frame");
   sub->add_option("set", opt->set, "Fringe image set manifest (JSON)");
-  CLI::Option* batch = sub->add_option("--batch", opt->batch,
-                  "File listing one manifest per line, optionally followed by a predicted ball centre X,Y,Z (mm, "
-                  "left camera: that set is scanned in windows around it); scanned in parallel, one CSV row each");
+  CLI::Option* batch =
+      sub->add_option("--batch", opt->batch,
+                      "File listing one manifest per line, optionally followed by a predicted ball centre X,Y,Z (mm, "
+                      "left camera: that set is scanned in windows around it); scanned in parallel, one CSV row each");
   sub->add_option("--calib", opt->calib, "Stereo calibration (default: the manifest's)");
   sub->add_option("--out", opt->out, "Output folder (batch: one sub-folder per set)")->capture_default_str();
   sub->add_option("--radius", opt->radius, "Sphere radius prior, mm (0 = unknown)")->capture_default_str();
@@ -231,7 +232,8 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "Sets scanned at once with --batch, and the threads the batch runs on (a set in flight alone "
                   "uses them all)")
       ->capture_default_str();
-  CLI::Option* force = sub->add_flag("--force", opt->force, "Replace existing outputs (with --batch: scan every set again)");
+  CLI::Option* force =
+      sub->add_flag("--force", opt->force, "Replace existing outputs (with --batch: scan every set again)");
   sub->add_flag("--resume", opt->resume,
                 "With --batch: keep every set an earlier run into --out finished with the same options (its row.csv) "
                 "and scan the rest")

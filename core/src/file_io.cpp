@@ -4,9 +4,8 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
-
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,7 +16,7 @@
 namespace ramtk {
 
 void RequireRegularFile(const std::string& path) {
-  struct stat st {};
+  struct stat st = {};
   if (::stat(path.c_str(), &st) != 0) {
     const int err = errno;
     throw InputError({path, 0, ""}, std::string("cannot open file: ") + std::strerror(err));
@@ -31,7 +30,8 @@ void RequireRegularFile(const std::string& path) {
                      : S_ISBLK(st.st_mode)  ? "is a block device"
                      : S_ISSOCK(st.st_mode) ? "is a socket"
                                             : "is a special file";
-  throw InputError({path, 0, ""}, std::string(what) + ", not a regular file: refusing to read it (it could block or never end)");
+  throw InputError({path, 0, ""},
+                   std::string(what) + ", not a regular file: refusing to read it (it could block or never end)");
 }
 
 std::string ReadTextFile(const std::string& path) {

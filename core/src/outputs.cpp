@@ -130,7 +130,8 @@ namespace {
 // True when both paths exist and are one file under two names (a hard link; symbolic links are
 // followed).
 bool SameFile(const fs::path& a, const fs::path& b) {
-  struct stat sa {}, sb {};
+  struct stat sa = {};
+  struct stat sb = {};
   return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 }  // namespace
@@ -149,7 +150,8 @@ void CheckOutputAgainstInputs(const std::string& output, const std::vector<std::
     }
     std::error_code ec;
     if (Within(out, i) && fs::is_directory(i, ec)) {
-      throw InputError({output, 0, field}, "lies inside the input folder " + in + ": an output may not change an input");
+      throw InputError({output, 0, field},
+                       "lies inside the input folder " + in + ": an output may not change an input");
     }
   }
 }
@@ -188,7 +190,8 @@ std::string HolderOf(const fs::path& lock_file) {
 // True when the descriptor still refers to the file at `path` (its previous holder may have
 // removed the lock file between our open and our flock).
 bool StillLinked(int fd, const fs::path& path) {
-  struct stat a {}, b {};
+  struct stat a = {};
+  struct stat b = {};
   return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
@@ -201,7 +204,8 @@ OutputLock::OutputLock(const std::string& target, const std::string& field) {
   for (int attempt = 0; attempt < 100; ++attempt) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0)
-      throw InputError({target, 0, field}, "cannot create the lock file " + path_.string() + ": " + std::strerror(errno));
+      throw InputError({target, 0, field},
+                       "cannot create the lock file " + path_.string() + ": " + std::strerror(errno));
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int err = errno;
       ::close(fd_);

@@ -114,8 +114,8 @@ namespace {
 
 const std::vector<std::string>& CsvHeader() {
   static const std::vector<std::string> h = {
-      "set",        "status",     "points",     "x_mm",   "y_mm",      "z_mm",           "radius_mm", "sigma_x_mm",
-      "sigma_y_mm", "sigma_z_mm", "rms_mm",     "num_points", "num_outliers", "seconds", "out_dir",   "message"};
+      "set",        "status",     "points", "x_mm",       "y_mm",         "z_mm",    "radius_mm", "sigma_x_mm",
+      "sigma_y_mm", "sigma_z_mm", "rms_mm", "num_points", "num_outliers", "seconds", "out_dir",   "message"};
   return h;
 }
 constexpr std::size_t kSetCell = 0, kOutDirCell = 14;
