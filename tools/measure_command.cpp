@@ -6,6 +6,7 @@
 #include "ramtk/campaign/controller_log.h"
 #include "ramtk/campaign/measure.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/outputs.h"
 
 namespace ramtk::tools {
 namespace {
@@ -24,6 +25,7 @@ int RunMeasure(const MeasureCommandOptions& opt) {
   options.by_time = opt.by_time;
   const std::string bad = options.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--time-tolerance"}, bad);
+  CheckOutputAgainstInputs(opt.out, {opt.scans, opt.log}, "--out");
   const std::vector<campaign::CaptureCentre> captures = campaign::ReadScanResults(opt.scans);
   const campaign::ControllerLog log = campaign::ReadControllerLog(opt.log);
   campaign::MeasureSummary summary;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "commands.h"
 #include "ramtk/core/error.h"
@@ -31,6 +32,7 @@ struct ScanCommandOptions {
   double min_depth = 100, max_depth = 10000;  // epipolar search range, mm
   int jobs = 2;                               // sets in parallel (--batch)
   bool force = false;                         // replace existing outputs
+  bool resume = false;                        // --batch: keep the sets an earlier run finished
   bool quiet = false;                         // no progress bar; a batch prints only its totals
   bool reference_decode = false;              // the reference (unfused) decode path
   bool full_search = false;                   // match every pixel by the whole-range search
@@ -46,6 +48,35 @@ struct ScanCommandOptions {
   int roi_stride = 0;                                      // coarse pass stride (0 = automatic)
   bool load_whole_frames = false;                          // --roi: load frames whole, not by rows
 };
+
+// The options that change a set's results, recorded in each batch set's row.csv: --resume keeps
+// only sets scanned with the same. --jobs, --quiet, --report and --load-whole-frames do not
+// change results.
+std::string ResultSettings(const ScanCommandOptions& o) {
+  std::ostringstream s;
+  s.precision(12);  // finer than any option is given on a command line
+  s << "calib=" << o.calib << ";radius=" << o.radius << ";fix_radius=" << o.fix_radius << ";spheres=" << o.spheres
+    << ";depth=" << o.min_depth << ".." << o.max_depth << ";reference_decode=" << o.reference_decode
+    << ";full_search=" << o.full_search << ";curve_back_pass=" << o.curve_back_pass
+    << ";no_nonlinearity=" << o.no_nonlinearity << ";whole_residual_sigma=" << o.whole_residual_sigma
+    << ";phase_filter=" << o.phase_filter << ";lr_sigma_factor=" << o.lr_sigma_factor << ";roi=" << o.roi
+    << ";roi_margin=" << o.roi_margin << ";roi_stride=" << o.roi_stride;
+  return s.str();
+}
+
+// Without --force or --resume a batch changes nothing that an earlier run wrote: it refuses up
+// front, before any set is scanned, when its results file or one of its set folders exists.
+void RefuseToReplaceEarlierResults(const std::string& results, const std::vector<std::string>& sets,
+                                   const std::vector<std::size_t>& positions, const std::string& out) {
+  const std::string how = ": pass --resume to keep the sets it finished, or --force to scan every set again";
+  std::error_code ec;
+  if (std::filesystem::exists(results, ec)) throw InputError({results, 0, "--out"}, "exists" + how);
+  for (std::size_t p : positions) {
+    const std::string dir = vision::ScanBatchSetFolder(out, p, sets[p]);
+    if (std::filesystem::exists(dir, ec) && !std::filesystem::is_empty(dir, ec))
+      throw InputError({dir, 0, "--out"}, "exists (a set folder of an earlier run)" + how);
+  }
+}
 
 void ProgressBar(std::size_t done, std::size_t total) {
   const int width = 30;
@@ -108,23 +139,30 @@ int RunScan(const ScanCommandOptions& opt) {
       };
     // A shard scans every N-th set into the same folders a single run would, and writes its rows
     // to results.shard-K-of-N.csv; `ramtk merge` joins the shards (docs/cluster.md).
-    std::vector<std::size_t> positions;
+    std::vector<std::size_t> positions(sets.size());
+    for (std::size_t i = 0; i < sets.size(); ++i) positions[i] = i;
     std::string results_name = "results.csv";
     if (!opt.shard.empty()) {
       const ScanShard shard = ParseScanShard(opt.shard);
       positions = ShardPositions(sets.size(), shard);
       results_name = ShardResultsName(shard);
-      if (positions.empty()) {
-        std::cout << "shard " << opt.shard << ": no set (the list has " << sets.size() << ")\n";
-      }
     }
+    const std::string results = opt.out + "/" + results_name;
+    std::filesystem::create_directories(opt.out);
+    // One run at a time per results file: a second run into this --out (or this shard) fails here.
+    const OutputLock lock(results, "--out");
+    if (!opt.force && !opt.resume) RefuseToReplaceEarlierResults(results, sets, positions, opt.out);
+    ScanBatchReuse reuse;
+    reuse.overwrite = opt.force;
+    reuse.resume = opt.resume;
+    reuse.settings = ResultSettings(opt);
     const auto started = std::chrono::steady_clock::now();
     const std::vector<ScanBatchRow> rows =
-        RunScanBatch(ReadScanBatchEntries(opt.batch), options, opt.out, opt.jobs, opt.force, progress, positions);
+        RunScanBatch(ReadScanBatchEntries(opt.batch), options, opt.out, opt.jobs, reuse, progress, positions);
     const ScanBatchSummary totals =
         SummariseScanBatch(rows, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     const std::string csv = ScanBatchCsv(rows);
-    WriteFileAtomically(opt.out + "/" + results_name, csv);
+    WriteFileAtomically(results, csv);
     if (!opt.quiet) std::cout << csv;  // a campaign's 1800 rows are in results.csv
     if (opt.report) {
       const std::string page = results_name.substr(0, results_name.size() - 4) == "results"
@@ -178,9 +216,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   CLI::App* sub = app.add_subcommand(
       "scan", "Stereo fringe set -> point cloud (PLY) and sphere centres (JSON) in the left-camera frame");
   sub->add_option("set", opt->set, "Fringe image set manifest (JSON)");
-  sub->add_option("--batch", opt->batch,
-                  "File listing one manifest per line, optionally followed by a predicted ball centre X,Y,Z (mm, "
-                  "left camera: that set is scanned in windows around it); scanned in parallel, one CSV row each");
+  CLI::Option* batch =
+      sub->add_option("--batch", opt->batch,
+                      "File listing one manifest per line, optionally followed by a predicted ball centre X,Y,Z (mm, "
+                      "left camera: that set is scanned in windows around it); scanned in parallel, one CSV row each");
   sub->add_option("--calib", opt->calib, "Stereo calibration (default: the manifest's)");
   sub->add_option("--out", opt->out, "Output folder (batch: one sub-folder per set)")->capture_default_str();
   sub->add_option("--radius", opt->radius, "Sphere radius prior, mm (0 = unknown)")->capture_default_str();
@@ -193,7 +232,13 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "Sets scanned at once with --batch, and the threads the batch runs on (a set in flight alone "
                   "uses them all)")
       ->capture_default_str();
-  sub->add_flag("--force", opt->force, "Replace existing outputs");
+  CLI::Option* force =
+      sub->add_flag("--force", opt->force, "Replace existing outputs (with --batch: scan every set again)");
+  sub->add_flag("--resume", opt->resume,
+                "With --batch: keep every set an earlier run into --out finished with the same options (its row.csv) "
+                "and scan the rest")
+      ->excludes(force)
+      ->needs(batch);
   sub->add_flag("-q,--quiet", opt->quiet,
                 "No progress bar; with --batch, no per-set table on stdout (results.csv has it)");
   sub->add_flag("--reference-decode", opt->reference_decode,
@@ -238,7 +283,8 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                 "BMP; by default only the rows the coarse pass and the windows read are read): for comparisons");
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
-                  "join the shards with `ramtk merge` (docs/cluster.md)");
+                  "join the shards with `ramtk merge` (docs/cluster.md)")
+      ->needs(batch);
   sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
 }
 

@@ -181,6 +181,7 @@ std::string FormatDouble(double v) {
 }  // namespace
 
 StereoCalibration ReadStereoCalibration(const std::string& path) {
+  RequireRegularFile(path);  // before the probe: opening a FIFO would block
   {
     std::ifstream probe(path);
     if (!probe) throw InputError({path, 0, ""}, "cannot open stereo calibration file");

@@ -1,8 +1,11 @@
 #include "ramtk/core/file_io.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,11 +15,27 @@
 
 namespace ramtk {
 
+void RequireRegularFile(const std::string& path) {
+  struct stat st = {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const int err = errno;
+    throw InputError({path, 0, ""}, std::string("cannot open file: ") + std::strerror(err));
+  }
+  if (S_ISREG(st.st_mode)) return;
+  // A folder opens as a stream on Linux and then reads as empty; a FIFO blocks until a writer
+  // comes; a device such as /dev/zero never ends.
+  if (S_ISDIR(st.st_mode)) throw InputError({path, 0, ""}, "is a folder, not a file");
+  const char* what = S_ISFIFO(st.st_mode)   ? "is a FIFO (named pipe)"
+                     : S_ISCHR(st.st_mode)  ? "is a character device"
+                     : S_ISBLK(st.st_mode)  ? "is a block device"
+                     : S_ISSOCK(st.st_mode) ? "is a socket"
+                                            : "is a special file";
+  throw InputError({path, 0, ""},
+                   std::string(what) + ", not a regular file: refusing to read it (it could block or never end)");
+}
+
 std::string ReadTextFile(const std::string& path) {
-  // A folder opens as a stream on Linux and then reads as empty: say what it is instead of
-  // letting the parser report an empty document.
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError({path, 0, ""}, "is a folder, not a file");
+  RequireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open file");
   std::stringstream ss;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/diagnose/diagnose.h"
 
 namespace ramtk::diagnose {
@@ -40,6 +41,7 @@ std::string DiagnoseOptions::Validate() const {
 
 DataKind DetectKind(const std::string& path) {
   if (!std::filesystem::exists(path)) throw InputError({path, 0, ""}, "file does not exist");
+  RequireRegularFile(path);  // a FIFO or a device would block or never end
   const std::string ext = Lower(std::filesystem::path(path).extension().string());
   if (ext == ".json") return DataKind::kFringe;
   std::ifstream in(path);

@@ -4,12 +4,14 @@
 #include <fstream>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/diagnose/laser.h"
 
 namespace ramtk::diagnose {
 namespace {
 
 bool IsCalibrationPoints(const std::string& path) {
+  RequireRegularFile(path);  // a FIFO would block the probe below
   std::ifstream in(path);
   std::string header;
   while (std::getline(in, header) && (header.empty() || header[0] == '#')) {

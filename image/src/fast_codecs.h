@@ -62,6 +62,9 @@ void ReverseRows(cv::Mat* image);
 // InputError naming `path` if a header's dimensions are empty or beyond kMaxImageSide /
 // kMaxImagePixels (image_file.cpp).
 void CheckDimensions(const std::string& path, long long width, long long height);
+// InputError naming the file unless it exists and is a regular file (not a FIFO or a device,
+// which would block or never end): every image reader calls it before opening.
+void RequireImageFile(const std::string& path);
 
 // PNG bytes of an 8/16-bit matrix with 1, 3 (BGR) or 4 (BGRA) channels; false with *error set.
 // Deflate level 1 with run-length strategy, as OpenCV's default PNG writer.

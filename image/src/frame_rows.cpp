@@ -49,7 +49,7 @@ bool FrameRows::Open(const std::string& path, std::string* why) {
     if (why) *why = s;
     return false;
   };
-  if (!std::filesystem::exists(path)) Fail(path, "image file does not exist");
+  detail::RequireImageFile(path);
   detail::FileCloser file{std::fopen(path.c_str(), "rb")};
   if (!file.f) Fail(path, std::string("cannot open: ") + std::strerror(errno));
   unsigned char b[8] = {};

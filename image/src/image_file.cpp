@@ -17,6 +17,7 @@
 #include "fast_codecs.h"
 #include "oiio_backend.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 
 namespace ramtk::image {
@@ -141,6 +142,12 @@ cv::Mat GreyDn(const cv::Mat& img) {
 
 }  // namespace
 
+void detail::RequireImageFile(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) Fail(path, "image file does not exist");
+  RequireRegularFile(path);  // a FIFO or a device would block or never end
+}
+
 // Dimensions from the header, checked before anything is allocated: a corrupt or hostile header
 // must give an error naming the file, not an allocation failure.
 void detail::CheckDimensions(const std::string& path, long long width, long long height) {
@@ -152,7 +159,7 @@ void detail::CheckDimensions(const std::string& path, long long width, long long
 }
 
 cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
-  if (!fs::exists(path)) Fail(path, "image file does not exist");
+  detail::RequireImageFile(path);
   const cv::Mat fast = ReadFast(path);
   if (!fast.empty()) {
     if (bits_per_sample) *bits_per_sample = fast.depth() == CV_8U ? 8 : 16;
@@ -167,7 +174,7 @@ cv::Mat LoadImageDn(const std::string& path, int* bits_per_sample) {
 }
 
 cv::Mat LoadImageNative(const std::string& path, int* bits_per_sample) {
-  if (!fs::exists(path)) Fail(path, "image file does not exist");
+  detail::RequireImageFile(path);
   // OpenCV's decoders read 8/16-bit grey BMP/PNG straight into the matrix (measured faster than
   // OpenImageIO's scanline path for BMP, docs/performance.md); the backend for the rest.
   const cv::Mat fast = ReadFast(path);
@@ -224,7 +231,7 @@ void WriteImage(const std::string& path, const cv::Mat& image) {
 }
 
 cv::Mat LoadImageGrey8(const std::string& path) {
-  if (!fs::exists(path)) Fail(path, "image file does not exist");
+  detail::RequireImageFile(path);
   cv::Mat img = ReadFast(path);
   if (img.empty()) {
     int bits = 0;

@@ -3,7 +3,11 @@
 #include "ramtk/core/outputs.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 
@@ -46,6 +50,41 @@ TEST(OutputSafety, AnOutputMayNotBeOrContainAnInput) {
     EXPECT_EQ(e.where().field, "--output");
     EXPECT_NE(std::string(e.what()).find("input"), std::string::npos);
   }
+}
+
+TEST(OutputSafety, AnOutputMayNotBeAHardLinkOfAnInputNorLieInsideAnInputFolder) {
+  const fs::path d = Fresh("links");
+  Touch(d / "log.csv");
+  fs::create_hard_link(d / "log.csv", d / "ball.csv");
+  try {
+    CheckOutputAgainstInputs((d / "ball.csv").string(), {(d / "log.csv").string()}, "--out");
+    FAIL() << "a hard link of an input was accepted as the output";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("is the input"), std::string::npos) << e.what();
+  }
+  fs::create_directories(d / "in_folder");
+  EXPECT_THROW(CheckOutputAgainstInputs((d / "in_folder" / "out").string(), {(d / "in_folder").string()}, "--out"),
+               InputError);
+  // Beside an input file (inside its folder, the folder not being an input): fine.
+  EXPECT_NO_THROW(CheckOutputAgainstInputs((d / "out.csv").string(), {(d / "log.csv").string()}, "--out"));
+}
+
+TEST(OutputSafety, FifosAndDevicesAreRefusedBeforeReading) {
+  const fs::path d = Fresh("special");
+  ASSERT_EQ(::mkfifo((d / "fifo").c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", d / "zero");
+  for (const fs::path& p : {d / "fifo", d / "zero", fs::path("/dev/urandom")}) {
+    try {
+      ReadTextFile(p.string());  // would block (FIFO) or never end (devices)
+      FAIL() << p;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(RequireRegularFile((d / "missing").string()), InputError);
+  Touch(d / "plain.txt", "text");
+  fs::create_symlink(d / "plain.txt", d / "link.txt");
+  EXPECT_EQ(ReadTextFile((d / "link.txt").string()), "text");
 }
 
 TEST(OutputSafety, TwoOutputsMayNotShareAPath) {
@@ -94,6 +133,79 @@ TEST(OutputSafety, StagedFolderReplacesOnlyWhenComplete) {
   Touch(d / "file");
   EXPECT_THROW(StagedFolder((d / "file").string(), true), InputError);
   EXPECT_THROW(StagedFolder((d / "no" / "such" / "parent").string(), false), InputError);
+}
+
+// Every entry of `d` other than `keep`: staging temporaries, old results and lock files left over.
+std::vector<std::string> Leftovers(const fs::path& d, const fs::path& keep) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(d))
+    if (e.path() != keep) out.push_back(e.path().filename().string());
+  return out;
+}
+
+// A child process replaces an old result and is sent SIGINT at `step` of the commit; returns its
+// exit status. The cleanup thread (InstallInterruptCleanup) ends the child.
+int CommitInterruptedAt(const fs::path& target, detail::CommitStep step) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    InstallInterruptCleanup("outputs_test");
+    StagedFolder s(target.string(), true);
+    Touch(s.path() / "a.txt", "new a");
+    Touch(s.path() / "b.txt", "new b");
+    detail::SetCommitStepHook([step](detail::CommitStep at) {
+      if (at != step) return;
+      ::kill(::getpid(), SIGINT);
+      ::sleep(10);  // the cleanup thread ends the process first
+      ::_exit(99);
+    });
+    s.Commit();
+    ::_exit(98);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(OutputSafety, AnInterruptedCommitLeavesTheOldOrTheNewResultWhole) {
+  using Step = detail::CommitStep;
+  const std::vector<std::pair<Step, std::string>> cases = {
+      {Step::kStart, "old"}, {Step::kOldMovedAside, "old"}, {Step::kNewInPlace, "new"}, {Step::kOldRemoved, "new"}};
+  for (const auto& [step, expected] : cases) {
+    SCOPED_TRACE("step " + std::to_string(static_cast<int>(step)));
+    const fs::path d = Fresh("interrupted_commit");
+    const fs::path target = d / "result";
+    fs::create_directories(target);
+    Touch(target / "a.txt", "old a");
+    Touch(target / "b.txt", "old b");
+    EXPECT_EQ(CommitInterruptedAt(target, step), 128 + SIGINT);
+    EXPECT_EQ(Read(target / "a.txt"), expected + " a");
+    EXPECT_EQ(Read(target / "b.txt"), expected + " b");
+    EXPECT_EQ(Leftovers(d, target), std::vector<std::string>{});
+  }
+}
+
+TEST(OutputSafety, TwoWritersOfOneOutputAreRefused) {
+  const fs::path d = Fresh("locked");
+  const fs::path target = d / "result";
+  {
+    StagedFolder first(target.string(), true);
+    try {
+      StagedFolder second(target.string(), true);
+      FAIL() << "a second writer of one output was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("another run is writing this output"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("process " + std::to_string(::getpid())), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(OutputLock((d / "result/").string(), "--out"), InputError);  // spelled differently
+    Touch(first.path() / "a.txt", "first");
+    first.Commit();
+  }
+  EXPECT_EQ(Read(target / "a.txt"), "first");
+  EXPECT_EQ(Leftovers(d, target), std::vector<std::string>{});
+  // A lock file left by a process that died holding it does not block: the lock went with it.
+  Touch(d / "result.lock", "12345\n");
+  { StagedFolder again(target.string(), true); }
+  EXPECT_EQ(Leftovers(d, target), std::vector<std::string>{});
 }
 
 TEST(OutputSafety, RegisteredTemporariesAreRemovedOnRequest) {

@@ -162,6 +162,22 @@ EOF
     no_temporaries .
     absent camp
     ;;
+  interrupted_batch_is_resumed)
+    # SIGINT in the middle of a batch: finished set folders stay, no results.csv, no lock; then
+    # --resume keeps those folders as they are and scans only the rest.
+    for _ in 1 2 3 4 5 6; do echo "$DATASETS/scan_default/manifest.json"; done >b.txt
+    interrupted "s/001_scan_default" 0.05 -- "$RAMTK" scan --batch b.txt --out s --roi auto --jobs 1 -q
+    no_temporaries .
+    absent s/results.csv
+    [ -z "$(find . -name '*.lock')" ] || fail "lock file left"
+    kept=$(stat -c %i s/000_scan_default)
+    "$RAMTK" scan --batch b.txt --out s --roi auto -q >/dev/null 2>err.txt && fail "a re-run without --resume was accepted"
+    grep -q -- "--resume" err.txt || fail "wrong message: $(cat err.txt)"
+    "$RAMTK" scan --batch b.txt --out s --roi auto --jobs 1 -q --resume >/dev/null || fail "--resume failed"
+    [ "$(grep -c ',ok,' s/results.csv)" = 6 ] || fail "expected 6 ok rows: $(cat s/results.csv)"
+    [ "$(stat -c %i s/000_scan_default)" = "$kept" ] || fail "a finished set was scanned again"
+    no_temporaries .
+    ;;
   *)
     fail "unknown case"
     ;;

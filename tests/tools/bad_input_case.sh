@@ -23,7 +23,7 @@ if [ -n "$pattern" ]; then
   grep -Eq -- "$pattern" stderr.txt || fail "stderr does not match /$pattern/: $(head -c 500 stderr.txt)"
 fi
 grep -Eq "terminate called|Check failed|Segmentation|Aborted|AddressSanitizer|runtime error" stderr.txt && fail "crash: $(head -c 500 stderr.txt)"
-left=$(find "$W" "$FX" \( -name '*.partial-*' -o -name '*.tmp[0-9]*' -o -name '*.old-*' \) 2>/dev/null | head -3)
+left=$(find "$W" "$FX" \( -name '*.partial-*' -o -name '*.tmp[0-9]*' -o -name '*.old-*' -o -name '*.lock' \) 2>/dev/null | head -3)
 [ -z "$left" ] || fail "temporaries left: $left"
 (cd "$FX" && md5sum --quiet -c ../bad_input_fixture.md5) >/dev/null 2>&1 || fail "an input in the fixture changed"
 echo "ok [$NAME]"

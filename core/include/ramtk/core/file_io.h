@@ -10,7 +10,13 @@
 
 namespace ramtk {
 
-// Reads a whole file; InputError naming the file if it cannot be read.
+// InputError naming the file unless `path` (after following symbolic links) is an existing
+// regular file: a folder, a FIFO, a socket or a device (/dev/zero, /dev/urandom, a terminal) is
+// refused before it is opened, since reading one may block forever or never end. Every reader of
+// input files calls it first.
+void RequireRegularFile(const std::string& path);
+// Reads a whole file; InputError naming the file if it cannot be read or is not a regular file
+// (RequireRegularFile).
 std::string ReadTextFile(const std::string& path);
 // Writes `contents` to `path` atomically (temporary file + rename); InputError on failure.
 void WriteFileAtomically(const std::string& path, const std::string& contents);

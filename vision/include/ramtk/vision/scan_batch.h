@@ -20,6 +20,20 @@ struct ScanBatchRow {
   bool has_sphere = false;  // the first (strongest) sphere below is valid
   SphereResult sphere;      // first sphere
   double seconds = 0;       // wall time of this set
+  // A row kept from an earlier run (ScanBatchReuse::resume): its CSV cells as recorded, written
+  // again as they were (set and out_dir from the fields above). Empty for a set scanned now.
+  std::vector<std::string> kept_cells;
+};
+
+// How a batch treats the results of earlier runs in its folder.
+struct ScanBatchReuse {
+  bool overwrite = false;  // rescan every set, replacing its folder (--force)
+  // Keep every set whose folder holds a finished row (row.csv: status neither error nor
+  // cancelled) recorded for the same set with the same `settings`; rescan the others, replacing
+  // their folders (--resume).
+  bool resume = false;
+  // The options that change a set's results, as text; recorded in each set's row.csv.
+  std::string settings;
 };
 
 // One line of a batch list: a manifest and, optionally, the ball's predicted centre.
@@ -53,6 +67,20 @@ std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& entrie
                                        const std::string& out_dir, int parallel_sets, bool overwrite,
                                        const ProgressCallback& progress = {},
                                        const std::vector<std::size_t>& positions = {});
+// The same with earlier results kept or replaced as `reuse` says. Each set folder written gets a
+// row.csv (its results row and `reuse.settings`) once the folder is in place, so an interrupted
+// batch can be resumed.
+std::vector<ScanBatchRow> RunScanBatch(const std::vector<ScanBatchEntry>& entries, const ScanOptions& options,
+                                       const std::string& out_dir, int parallel_sets, const ScanBatchReuse& reuse,
+                                       const ProgressCallback& progress = {},
+                                       const std::vector<std::size_t>& positions = {});
+// The folder a batch writes the set at `position` (0-based, in the whole list) into:
+// out_dir/NNN_<name>, name = the manifest's folder name.
+std::string ScanBatchSetFolder(const std::string& out_dir, std::size_t position, const std::string& set);
+// The finished row recorded in `folder`/row.csv for `set` with `settings`; nullopt when there is
+// none, it is of another set or other settings, or its status is error or cancelled.
+std::optional<ScanBatchRow> ReadFinishedSetRow(const std::string& folder, const std::string& set,
+                                               const std::string& settings);
 
 // A batch run's totals: its rows by status, its rate, and the process's peak memory.
 struct ScanBatchSummary {
@@ -71,11 +99,12 @@ struct ScanShard {
   int index = 1;  // K
   int count = 1;  // N
 };
-// "K/N" -> ScanShard; InputError (field --shard) unless 1 <= K <= N.
+// "K/N" -> ScanShard; InputError (field --shard) unless K and N are decimal integers with
+// 1 <= K <= N < 10^9 (a larger N is refused, never wrapped around).
 ScanShard ParseScanShard(const std::string& text);
 // The positions shard K of N scans: K-1, K-1+N, K-1+2N, ... (round robin, so sets of similar size
 // that are listed together spread over the shards). Deterministic; the shards cover every
-// position exactly once.
+// position exactly once. InputError (field --shard) when N exceeds `num_sets`: no share is empty.
 std::vector<std::size_t> ShardPositions(std::size_t num_sets, const ScanShard& shard);
 // The shard's results file name in the batch folder: results.shard-K-of-N.csv.
 std::string ShardResultsName(const ScanShard& shard);
@@ -84,9 +113,12 @@ std::string ShardResultsName(const ScanShard& shard);
 // lacks one of them.
 std::vector<std::string> FindShardResults(const std::string& folder);
 // Joins shard results (ScanBatchCsv files) into the single-run results.csv text, rows in list
-// order. InputError naming the file when a header differs, a set of the list is missing, a set
-// appears more often than listed (a shard run twice) or is not in the list.
-std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files);
+// order. InputError naming the file (and line) when a header differs from the first file's or
+// lacks `set` or `status`, a row has another number of cells than its header, a row's status is
+// `error` or `cancelled` (unless `allow_errors`), a set of the list is missing, a set appears more
+// often than listed (a shard run twice) or is not in the list.
+std::string MergeScanShards(const std::vector<std::string>& sets, const std::vector<std::string>& shard_files,
+                            bool allow_errors = false);
 
 // CSV text: header `set,status,points,x_mm,y_mm,z_mm,radius_mm,sigma_x_mm,sigma_y_mm,sigma_z_mm,
 // rms_mm,num_points,num_outliers,seconds,out_dir,message` and one row per set. With
