@@ -93,6 +93,12 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
     std::printf("std: rotation (arcsec) %.2f %.2f %.2f  translation (mm) %.4f %.4f %.4f  ball (mm) %.4f %.4f %.4f\n",
                 sr.x(), sr.y(), sr.z(), st.x(), st.y(), st.z(), sb.x(), sb.y(), sb.z());
   }
+  if (summary.held_out_rms_mm > 0) {
+    std::printf("held-out (poses left out in blocks): RMS %.4f mm against %.4f mm in the fit; sigma %s%s\n",
+                summary.held_out_rms_mm, summary.rms_mm, summary.covariance_source.c_str(),
+                summary.jackknife_ratio > 0 ? (" (jackknife/residual " + std::to_string(summary.jackknife_ratio) + ")").c_str()
+                                            : "");
+  }
   for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
   std::printf("wrote %s\n", opt.output_path.c_str());
   if (summary.termination != Termination::kSuccess) {

@@ -70,6 +70,9 @@ std::string SensorRobotResultJson(const SensorRobotCalibration& c, const SensorR
   sj["condition_number"] = s.diagnostics.condition_number;
   sj["warnings"] = s.warnings;
   sj["weighted_by_centre_covariance"] = s.weighted;
+  sj["held_out_rms_mm"] = s.held_out_rms_mm;
+  sj["jackknife_ratio"] = s.jackknife_ratio;
+  sj["covariance_source"] = s.covariance_source;
   sj["brief"] = s.BriefReport();
   j["summary"] = sj;
   return j.dump(2) + "\n";

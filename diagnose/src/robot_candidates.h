@@ -87,9 +87,15 @@ bool IsDriftEffect(const std::string& effect);
 // and returns the finding that says so; "" otherwise.
 std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluated, std::vector<CandidateFit>* candidates);
 
+// When the whole static calibration ('geometric') is in front and one of the specific static causes
+// (joint offsets, link lengths, axis twists) pays on its own (beats 'none' by min_improvement),
+// moves that one to the front: the specific names come first, 'geometric' mops up what remains.
+std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_improvement);
+
 // Forward selection from a first cause: each step refits the candidates on top of the causes kept,
-// adds the best plausible one (static before drift) while it removes at least 2% of the excess,
-// until `explained_share` of the excess is removed or nothing pays. `last` receives the final
+// adds the best plausible one (static before drift) while it beats the current model by the score
+// margin and removes a tenth of the excess left above the noise floor, until `explained_share` of
+// the excess is removed, the residual reaches the floor or nothing pays. `last` receives the final
 // model. The steps carry their own held-out gains.
 std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first, double rms_none, double sigma,
                                      double explained_share, const PlausibilityBounds& bounds,

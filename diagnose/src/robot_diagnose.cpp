@@ -254,6 +254,8 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   SelectCandidate(&d.candidates);
   const std::string static_first = robot_detail::PreferStatic(rs, evaluated, &d.candidates);
   if (!static_first.empty()) notes.push_back(static_first);
+  const std::string specific_first = robot_detail::PreferSpecific(&d.candidates, SelectionOptions{}.min_improvement);
+  if (!specific_first.empty()) notes.push_back(specific_first);
   for (const std::string& note : notes) d.findings.push_back("candidate " + note);
   const CandidateFit& chosen = d.candidates[0];
   const robot_detail::Evaluated* chosen_eval = nullptr;
@@ -413,9 +415,12 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   if (chosen_eval != nullptr && d.structure_found && chosen.effect != kNoEffect && chosen.implausible.empty() &&
       d.cause != kAmbiguous && d.cause != kNotObservable) {
     const double first_share = ExcessRemoved(none.heldout_rms, chosen.heldout_rms, sigma);
-    if (first_share >= 0.05 && first_share < kExplainedShare) {
-      std::vector<CauseStep> steps = robot_detail::ForwardSelect(ctx, *chosen_eval, none.heldout_rms, sigma,
-                                                                 kExplainedShare, bounds, &d.findings, &combined);
+    if (first_share >= 0.05 && chosen.heldout_rms > 1.05 * sigma) {
+      // Further causes are added while they pay (the score margin, a tenth of what is left) and the
+      // residual is above the noise floor: a small third error is still a cause once the large
+      // ones are in.
+      std::vector<CauseStep> steps = robot_detail::ForwardSelect(ctx, *chosen_eval, none.heldout_rms, sigma, 1.0,
+                                                                 bounds, &d.findings, &combined);
       if (steps.size() > 1) {
         multi = true;
         d.causes = steps;

@@ -3,7 +3,9 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "ramtk/calib/robot_calibration_sim.h"
 #include "ramtk/core/error.h"
+#include "ramtk/kinematics/chain.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/thermal/simulator.h"
@@ -158,6 +160,63 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
   draw.input.has_setup = true;
   draw.input.ball = std::move(sim.ball);
   draw.input.ball_path = "hidden-effect draw " + std::to_string(seed);
+  return draw;
+}
+
+HiddenRobotDraw DrawHiddenGeometricErrors(const kinematics::RobotModel& model, std::uint64_t seed, int poses) {
+  if (poses < 30) throw InputError({"", 0, "poses"}, "at least 30 poses");
+  std::mt19937_64 rng(seed * 0xD1B54A32D192ED03ull + 29);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  auto uniform = [&](double a, double b) { return a + (b - a) * u01(rng); };
+  auto sign = [&]() { return u01(rng) < 0.5 ? -1.0 : 1.0; };
+  auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(u01(rng) * n)); };
+  HiddenRobotDraw draw;
+  draw.seed = seed;
+  draw.effect = "joint_offset+link_length_error+axis_misalignment";
+  kinematics::RobotModel truth = model;
+  kinematics::ParamVector x = truth.Params();
+  // One joint zero (θ2..θ5), one length (a1 a2 a3 d4), one twist (α2..α4): none aliased with the set-up.
+  const int offset = ParamIndex(ParamKind::kTheta, 1 + pick(4));
+  static const int lengths[4] = {ParamIndex(ParamKind::kA, 0), ParamIndex(ParamKind::kA, 1),
+                                 ParamIndex(ParamKind::kA, 2), ParamIndex(ParamKind::kD, 3)};
+  const int length = lengths[pick(4)];
+  const int twist = ParamIndex(ParamKind::kAlpha, 1 + pick(3));
+  const double d_offset = sign() * uniform(0.01, 0.03), d_length = sign() * uniform(0.3, 1.0),
+               d_twist = sign() * uniform(0.01, 0.03);
+  x[offset] += DegToRad(d_offset);
+  x[length] += d_length;
+  x[twist] += DegToRad(d_twist);
+  truth.SetParams(x);
+  draw.truth[kinematics::ParamName(offset) + "_offset_deg"] = d_offset;
+  draw.truth[kinematics::ParamName(length) + "_error_mm"] = d_length;
+  draw.truth[kinematics::ParamName(twist) + "_twist_deg"] = d_twist;
+  draw.description = kinematics::ParamName(offset) + " off by " + Fmt(d_offset) + " deg, " +
+                     kinematics::ParamName(length) + " by " + Fmt(d_length) + " mm, " + kinematics::ParamName(twist) +
+                     " by " + Fmt(d_twist) + " deg";
+  // A tracker session over the workspace (calib/robot_calibration_sim.h), the truth's links.
+  calib::RobotCalibrationSimOptions so;
+  so.num_poses = poses;
+  so.length_error_mm = 0.0;
+  so.angle_error_deg = 0.0;
+  so.position_noise_mm = 0.01;
+  so.seed = seed;
+  so.noise_seed = seed;
+  const calib::RobotCalibrationSimulation sim = calib::SimulateRobotCalibration(kinematics::ChainFromRobotModel(truth), so);
+  draw.input.model = model;
+  draw.input.model_label = model.name;
+  draw.input.setup.sensor_from_base = so.tracker_from_base;
+  draw.input.setup.ball_in_flange = so.targets_in_flange.front();
+  draw.input.has_setup = true;
+  draw.input.ball.kind = kinematics::MeasurementKind::kBall;
+  for (std::size_t i = 0; i < sim.data.poses.size(); ++i) {
+    kinematics::RobotMeasurement m;
+    m.index = static_cast<int>(i);
+    m.time_s = 20.0 * static_cast<double>(i);
+    for (int j = 0; j < kinematics::kNumJoints; ++j) m.q_controller[j] = sim.data.poses[i].q_rad[j];
+    m.position_mm = sim.data.poses[i].targets[0].position_mm;
+    draw.input.ball.rows.push_back(m);
+  }
+  draw.input.ball_path = "hidden geometric errors, tracker session " + std::to_string(seed);
   return draw;
 }
 

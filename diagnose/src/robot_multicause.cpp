@@ -46,6 +46,20 @@ std::string Bound(const std::string& key, double value, double sigma, const Plau
   return "";
 }
 
+// Moves `effect` to the front; it takes over the evidence weight of the candidate it displaces.
+void MoveToFront(const std::string& effect, std::vector<CandidateFit>* candidates) {
+  const double front_weight = candidates->front().weight;
+  std::stable_partition(candidates->begin(), candidates->end(),
+                        [&](const CandidateFit& c) { return c.effect == effect; });
+  for (CandidateFit& c : *candidates) {
+    if (c.effect != effect && c.weight == front_weight) {
+      c.weight = candidates->front().weight;
+      break;
+    }
+  }
+  candidates->front().weight = front_weight;
+}
+
 CauseStep StepOf(const CandidateFit& f, double before, double rms_none, double sigma) {
   CauseStep s;
   s.effect = f.effect;
@@ -102,11 +116,28 @@ std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluat
   const double z = HeldoutDifferenceZ(rs, drift->cv.heldout_residual, best_static->cv.heldout_residual);
   if (z < -2.0) return "";  // the drift predicts better by more than two standard errors
   const std::string moved = best_static->fit.effect;
-  std::stable_partition(candidates->begin(), candidates->end(),
-                        [&](const CandidateFit& c) { return c.effect == moved; });
+  MoveToFront(moved, candidates);
   return "'" + drift->fit.effect + "' is not claimed: the static '" + moved +
          "' predicts the held-out poses as well (difference " + Num(z) +
          " standard errors); a drift is named only beyond the best static model";
+}
+
+std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_improvement) {
+  if (candidates->empty() || candidates->front().effect != "geometric") return "";
+  double none_score = 0.0;
+  for (const CandidateFit& c : *candidates) {
+    if (c.effect == kNoEffect) none_score = c.score;
+  }
+  for (const CandidateFit& c : *candidates) {
+    const bool specific =
+        c.effect == "joint_offset" || c.effect == "link_length_error" || c.effect == "axis_misalignment";
+    if (!specific || !c.implausible.empty() || none_score - c.score < min_improvement) continue;
+    const std::string moved = c.effect;
+    MoveToFront(moved, candidates);
+    return "'" + moved + "' pays on its own and is named before the whole 'geometric' calibration, which is "
+           "added after the specific causes only if it still pays";
+  }
+  return "";
 }
 
 std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first, double rms_none, double sigma,
@@ -115,8 +146,9 @@ std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first,
   std::vector<CauseStep> steps = {StepOf(first.fit, rms_none, rms_none, sigma)};
   *last = first;
   Context next = ctx;
-  for (int k = 1; k < 5; ++k) {
+  for (int k = 1; k < 6; ++k) {
     if (ExcessRemoved(rms_none, last->fit.heldout_rms, sigma) >= explained_share) break;
+    if (last->fit.heldout_rms <= 1.05 * sigma) break;  // at the noise floor: nothing left to name
     next.base = last->design;
     next.base_cv = last->cv;
     std::vector<std::string> notes;
@@ -135,11 +167,13 @@ std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first,
     SelectCandidate(&fits);
     const std::string preferred = PreferStatic(*ctx.rows, evaluated, &fits);
     if (!preferred.empty()) findings->push_back(preferred);
+    const std::string specific = PreferSpecific(&fits, 10.0);
+    if (!specific.empty()) findings->push_back(specific);
     const CandidateFit& best = fits.front();
     if (best.effect == kNoEffect) break;
-    const double gain = ExcessRemoved(rms_none, best.heldout_rms, sigma) -
-                        ExcessRemoved(rms_none, last->fit.heldout_rms, sigma);
-    if (gain < 0.02) break;
+    // It must remove a tenth of what is left above the noise floor (the score margin already asked
+    // that it pays for its parameters).
+    if (ExcessRemoved(last->fit.heldout_rms, best.heldout_rms, sigma) < 0.1) break;
     const Evaluated* chosen = nullptr;
     for (const Evaluated& e : evaluated) {
       if (e.fit.effect == best.effect) chosen = &e;

@@ -13,6 +13,7 @@
 #include <set>
 
 #include "ramtk/core/units.h"
+#include "ramtk/diagnose/report.h"
 #include "ramtk/diagnose/robot_hidden.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/robot_io.h"
@@ -201,6 +202,29 @@ namespace {
 // An effect outside the catalogue: the sensor shifts along its X with a variable logged in an
 // extra column (humidity, random from cycle to cycle). No candidate follows it; the report must
 // not name a catalogue cause but point at the column.
+// A real robot has several static errors at once: a joint zero, a link length and an axis twist
+// hidden together are each named, each with its own held-out gain, and together they remove the
+// excess (over several draws of which parameters and how much).
+TEST(RobotDiagnosis, NamesThreeSimultaneousGeometricErrors) {
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    const HiddenRobotDraw draw = DrawHiddenGeometricErrors(Kr150(), seed);  // a tracker over the workspace
+    DiagnoseOptions o;
+    o.noise = 0.01;  // the tracker's, known (one cycle: nothing to estimate it from)
+    const Diagnosis d = DiagnoseRobotData(draw.input, o);
+    std::set<std::string> named;
+    for (const CauseStep& c : d.causes) {
+      named.insert(c.effect);
+      EXPECT_GT(c.excess_removed, 0.0) << c.effect;
+      EXPECT_LT(c.rms_after, c.rms_before) << c.effect;
+    }
+    EXPECT_TRUE(named.count("joint_offset")) << draw.description << ": " << OneLine(d);
+    EXPECT_TRUE(named.count("link_length_error")) << draw.description << ": " << OneLine(d);
+    EXPECT_TRUE(named.count("axis_misalignment")) << draw.description << ": " << OneLine(d);
+    EXPECT_GE(d.excess_removed, 0.9) << OneLine(d);
+    EXPECT_NE(d.cause, kUnexplained) << OneLine(d);
+  }
+}
+
 TEST(RobotDiagnosis, PointsAtTheExtraColumnWhenNoCatalogueEffectExplainsIt) {
   HiddenRobotDraw draw = DrawHiddenRobotEffect(Kr150(), 2);  // clean
   ASSERT_EQ(draw.effect, kNoEffect);

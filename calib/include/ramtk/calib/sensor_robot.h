@@ -122,6 +122,12 @@ struct SensorRobotSummary {
   // Each centre's residual was weighted by its covariance (manifold method, every observation
   // has one and SensorRobotOptions::use_covariance).
   bool weighted = false;
+  // Block hold-out (SensorRobotOptions::jackknife_blocks): RMS of |residual| of the left-out poses
+  // (0 when not run), and sqrt(trace C_jackknife / trace C_residual-scaled): how much the model
+  // error widens the σ the residual alone gives.
+  double held_out_rms_mm = 0.0;
+  double jackknife_ratio = 0.0;
+  std::string covariance_source;  // "residual-scaled" or "block jackknife"
 
   std::string BriefReport() const;  // one line
 };
@@ -171,6 +177,14 @@ struct SensorRobotOptions {
   // Robot repeatability σ per axis (mm), added as σ²·I to every centre's covariance when
   // weighting: it moves the ball but is not in the scan's covariance.
   double robot_noise_mm = 0.0;
+  // Held-out check and honest σ: the poses in input order are cut into this many contiguous
+  // blocks, each left out in turn and predicted by the fit of the others (SensorRobotSummary::
+  // held_out_rms_mm). The spread of those fits, (K−1)/K·Σ(θ_k − θ̄)(θ_k − θ̄)ᵀ (delete-a-block
+  // jackknife), holds the error of the robot model, which differs from one region of the
+  // workspace to another and which the residual-scaled covariance misses; the reported covariance
+  // is the jackknife's when it is clearly the larger (trace above twice the residual-scaled one).
+  // 0 or 1: off. Needs ≥ 3 poses per block.
+  int jackknife_blocks = 10;
   PoseSetCheckOptions checks;
 
   std::string Validate() const;

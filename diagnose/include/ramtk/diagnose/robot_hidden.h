@@ -36,4 +36,10 @@ struct HiddenRobotDraw {
 HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::uint64_t seed,
                                       const HiddenRobotOptions& options = {});
 
+// Three static errors at once, as on a real robot: one joint zero (θ2..θ5, 0.01–0.03°), one link
+// length (a1 a2 a3 d4, 0.3–1 mm) and one axis twist (α2..α4, 0.01–0.03°), measured by a tracker
+// over the workspace (`poses` random joint sets within ±150°, 10 µm noise, one cycle; the set-up
+// is the simulator's). `effect` lists the three catalogue names joined by '+', `truth` their values.
+HiddenRobotDraw DrawHiddenGeometricErrors(const kinematics::RobotModel& model, std::uint64_t seed, int poses = 120);
+
 }  // namespace ramtk::diagnose
