@@ -4,6 +4,7 @@
 // simulator's link errors, and a Monte-Carlo scatter for the predicted σ.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -316,51 +317,66 @@ TEST(RobotCalibrationRealData, Ur10SeriesAHeldOutAndHonestPrediction) {
 namespace ramtk::calib {
 namespace {
 
-// The sensor-to-robot set-up with a robot whose links are off by 1 mm / 0.1° (the nominal file
-// used): the residual-scaled σ says 0.0x mm while the set-up is off by millimetres; the block
-// jackknife holds that error. Noise alone leaves the residual-scaled σ in place.
+// The sensor-to-robot set-up with the nominal model on real data, where the robot's geometric
+// error (0.84 mm) dominates the tracker's noise: Series A of the UR10 set, cut into thirds in file
+// order (the grid is visited region by region). The residual-scaled σ is 3–4× too small for the
+// scatter between the thirds; the block-jackknife σ holds it. Noise alone (simulated) leaves the
+// residual-scaled σ in place.
+std::vector<BallObservation> BallsOf(const kinematics::TrackerMeasurements& data) {
+  std::vector<BallObservation> obs;
+  for (const kinematics::TrackerPose& p : data.poses) {
+    BallObservation o;
+    for (int j = 0; j < 6; ++j) o.q_controller[j] = p.q_rad[j];
+    o.ball_in_sensor = p.targets[0].position_mm;
+    obs.push_back(o);
+  }
+  return obs;
+}
+
 TEST(SensorRobotHonestSigma, BlockJackknifeCoversModelError) {
+  const std::string a = IpaFile("Series_A/measurements_grid.csv");
   const kinematics::RobotModel nominal =
       kinematics::ReadRobotModel(std::string(RAMTK_DATASETS_DIR) + "/robots/kuka_kr150_r3100.yaml");
-  int within_honest = 0, within_scaled = 0, count = 0, jackknife_used = 0;
-  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    RobotCalibrationSimOptions errors;
-    errors.seed = seed;
-    const RobotChain truth_chain = SimulateRobotCalibration(kinematics::ChainFromRobotModel(nominal), errors).truth;
-    const kinematics::RobotModel truth = kinematics::RobotModelFromChain(truth_chain, "truth");
-    SensorRobotSimOptions so;
-    so.num_poses = 60;
-    so.seed = seed;
-    const SensorRobotSimulation sim = SimulateSensorRobot(truth, so);
-    SensorRobotOptions honest;
-    SensorRobotSummary s;
-    const SensorRobotCalibration c = CalibrateSensorRobot(nominal, sim.observations, honest, &s);
-    SensorRobotOptions plain = honest;
-    plain.jackknife_blocks = 0;
-    const SensorRobotCalibration p = CalibrateSensorRobot(nominal, sim.observations, plain, nullptr);
-    jackknife_used += s.covariance_source == "block jackknife" ? 1 : 0;
-    EXPECT_GT(s.held_out_rms_mm, s.rms_mm);
-    for (int a = 0; a < 3; ++a) {
-      const double err = c.sensor_from_base.translation()[a] - sim.sensor_from_base.translation()[a];
-      within_honest += std::abs(err) < 3.0 * std::sqrt(c.covariance(3 + a, 3 + a)) ? 1 : 0;
-      within_scaled += std::abs(err) < 3.0 * std::sqrt(p.covariance(3 + a, 3 + a)) ? 1 : 0;
-      ++count;
+  if (std::filesystem::exists(a)) {
+    const kinematics::RobotModel ur10 = kinematics::ReadRobotModel(std::string(RAMTK_DATASETS_DIR) + "/robots/ur10.yaml");
+    const std::vector<BallObservation> all = BallsOf(kinematics::ReadTrackerMeasurements(a, IpaFormat(false)));
+    std::vector<SensorRobotCalibration> thirds;
+    const int n = static_cast<int>(all.size());
+    SensorRobotOptions o;
+    o.loss = RobustLoss::kNone;
+    for (int part = 0; part < 3; ++part) {
+      const std::vector<BallObservation> sub(all.begin() + part * n / 3, all.begin() + (part + 1) * n / 3);
+      SensorRobotSummary s;
+      thirds.push_back(CalibrateSensorRobot(ur10, sub, o, &s));
+      EXPECT_EQ(s.covariance_source, "block jackknife") << "third " << part;
+      EXPECT_GT(s.jackknife_ratio, 2.0) << "third " << part;
+      EXPECT_GT(s.held_out_rms_mm, s.rms_mm);
     }
+    int within = 0, count = 0;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i + 1; j < 3; ++j) {
+        for (int k = 3; k < 6; ++k) {
+          const double diff = thirds[i].sensor_from_base.translation()[k - 3] - thirds[j].sensor_from_base.translation()[k - 3];
+          const double sigma = std::sqrt(thirds[i].covariance(k, k) + thirds[j].covariance(k, k));
+          within += std::abs(diff) < 3.0 * sigma ? 1 : 0;
+          ++count;
+        }
+      }
+    }
+    EXPECT_EQ(within, count) << "the thirds' set-ups disagree beyond their jackknife sigma";
   }
-  std::printf("set-up translation within 3 sigma: jackknife %d/%d, residual-scaled %d/%d; jackknife used %d/10\n",
-              within_honest, count, within_scaled, count, jackknife_used);
-  EXPECT_GE(jackknife_used, 8);
-  EXPECT_GE(within_honest, count * 8 / 10);
-  EXPECT_LT(within_scaled, within_honest);
 
   // Noise alone: the residual-scaled covariance stays (the jackknife agrees within its scatter).
   int kept = 0;
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-    SensorRobotSimOptions so;
-    so.num_poses = 60;
+    RobotCalibrationSimOptions so;
     so.seed = seed;
+    so.num_poses = 60;
+    so.length_error_mm = 0.0;
+    so.angle_error_deg = 0.0;
+    const RobotCalibrationSimulation sim = SimulateRobotCalibration(kinematics::ChainFromRobotModel(nominal), so);
     SensorRobotSummary s;
-    CalibrateSensorRobot(nominal, SimulateSensorRobot(nominal, so).observations, SensorRobotOptions{}, &s);
+    CalibrateSensorRobot(nominal, BallsOf(sim.data), SensorRobotOptions{}, &s);
     kept += s.covariance_source == "residual-scaled" ? 1 : 0;
   }
   EXPECT_GE(kept, 9);
