@@ -86,7 +86,8 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   calib::RobotCalibrationSummary summary;
   const calib::RobotCalibration result = calib::CalibrateRobot(nominal, data, o, &summary);
 
-  kinematics::RobotChain out_chain = result.chain;
+  // The robot file holds the best links without terms: the commands that read it know no terms.
+  kinematics::RobotChain out_chain = result.links_only;
   out_chain.source = "calibrated by ramtk calib robot from " + std::filesystem::path(opt.data_path).filename().string() +
                      (nominal.source.empty() ? "" : "; nominal: " + nominal.source);
   kinematics::WriteRobotChain(out_chain, (staged.path() / "robot.yaml").string());
@@ -119,7 +120,7 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
     po.use_rotation = o.use_rotation;
     po.folds = o.folds;
     calib::RobotCalibrationSummary ps, nominal_summary;
-    calib::CalibrateRobot(result.chain, others[i], po, &ps);
+    calib::CalibrateRobot(result.links_only, others[i], po, &ps);
     calib::CalibrateRobot(nominal, others[i], po, &nominal_summary);
     std::printf("%s (%d poses), set-up re-fitted:\n", opt.predict_paths[i].c_str(), ps.num_poses);
     PrintStats("nominal links", nominal_summary.after);

@@ -376,6 +376,10 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
     stage = IdentifyAndSolve(&problem, candidate, names, options, &x, &summary);
   }
 
+  // The links alone, for the robot file (the terms below refit the links with them).
+  const Eigen::VectorXd x_links = x;
+  const CalibrationProblem problem_links = problem;
+
   // 3. Non-geometric terms, each kept when the held-out RMS drops by min_term_gain.
   std::vector<std::vector<Vec3>> held;
   double best = HeldOutRms(problem, stage.free, options, x, &held);
@@ -420,10 +424,13 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
 
   RobotCalibration result;
   result.chain = ChainFromUnknowns(problem.frame, x);
+  result.links_only = ChainFromUnknowns(problem_links.frame, x_links);
   for (int j = 0; j < n; ++j) {
     if (candidate[L.kin + ChainParamIndex(ParamKind::kBeta, j)]) {
-      result.chain.structural_zero[ChainParamIndex(ParamKind::kBeta, j)] = false;
-      result.chain.convention = kinematics::Convention::kMdh;
+      for (kinematics::RobotChain* c : {&result.chain, &result.links_only}) {
+        c->structural_zero[ChainParamIndex(ParamKind::kBeta, j)] = false;
+        c->convention = kinematics::Convention::kMdh;
+      }
     }
   }
   result.tracker_from_base.linear() = problem.frame.base_rotation;

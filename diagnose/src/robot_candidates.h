@@ -87,9 +87,9 @@ bool IsDriftEffect(const std::string& effect);
 // and returns the finding that says so; "" otherwise.
 std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluated, std::vector<CandidateFit>* candidates);
 
-// When the whole static calibration ('geometric') is in front and one of the specific static causes
-// (joint offsets, link lengths, axis twists) pays on its own (beats 'none' by min_improvement),
-// moves that one to the front: the specific names come first, 'geometric' mops up what remains.
+// When the whole static calibration ('geometric') is in front and the best-scoring other candidate
+// pays on its own (beats 'none' by min_improvement), moves that one to the front: a specific name
+// comes first, 'geometric' mops up what remains.
 std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_improvement);
 
 // Forward selection from a first cause: each step refits the candidates on top of the causes kept,

@@ -128,14 +128,14 @@ std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_imp
   for (const CandidateFit& c : *candidates) {
     if (c.effect == kNoEffect) none_score = c.score;
   }
+  // The best-scoring other candidate (they are sorted by score) that pays on its own.
   for (const CandidateFit& c : *candidates) {
-    const bool specific =
-        c.effect == "joint_offset" || c.effect == "link_length_error" || c.effect == "axis_misalignment";
-    if (!specific || !c.implausible.empty() || none_score - c.score < min_improvement) continue;
+    if (c.effect == "geometric" || c.effect == kNoEffect || !c.implausible.empty()) continue;
+    if (none_score - c.score < min_improvement) return "";
     const std::string moved = c.effect;
     MoveToFront(moved, candidates);
     return "'" + moved + "' pays on its own and is named before the whole 'geometric' calibration, which is "
-           "added after the specific causes only if it still pays";
+           "added after it only if it still pays";
   }
   return "";
 }

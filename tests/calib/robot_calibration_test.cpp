@@ -298,6 +298,16 @@ TEST(RobotCalibrationRealData, Ur10SeriesAHeldOutAndHonestPrediction) {
   for (const char* d : {"d2", "d3", "d4"}) d_kept += StatusOf(cal, d) == "identified" ? 1 : 0;
   EXPECT_EQ(d_kept, 1);
 
+  // The robot file (links without terms) on its own, set-up re-fitted: the links-only level.
+  RobotCalibrationOptions setup_a;
+  setup_a.identify_links = false;
+  setup_a.try_cyclic = false;
+  setup_a.try_compliance = false;
+  setup_a.folds = 2;
+  RobotCalibrationSummary sa;
+  CalibrateRobot(cal.links_only, data, setup_a, &sa);
+  EXPECT_LT(sa.after.rms_per_coordinate_mm, 0.26);
+
   // Series B, months later, predicted with A's links and its own set-up: better than nominal.
   const std::string b = IpaFile("Series_B/measurements_joint_configurations.csv");
   const kinematics::TrackerMeasurements data_b = kinematics::ReadTrackerMeasurements(b, IpaFormat(true));
@@ -306,7 +316,7 @@ TEST(RobotCalibrationRealData, Ur10SeriesAHeldOutAndHonestPrediction) {
   setup.try_cyclic = false;
   setup.try_compliance = false;
   RobotCalibrationSummary sb, sn;
-  CalibrateRobot(cal.chain, data_b, setup, &sb);
+  CalibrateRobot(cal.links_only, data_b, setup, &sb);
   CalibrateRobot(nominal, data_b, setup, &sn);
   EXPECT_LT(sb.after.rms_per_coordinate_mm, 0.7 * sn.after.rms_per_coordinate_mm);
 }

@@ -111,7 +111,11 @@ struct CalibrationUnknown {
 };
 
 struct RobotCalibration {
-  kinematics::RobotChain chain;  // calibrated links (written as the calibrated robot file)
+  // The final model's links, fitted together with the terms kept (use them with the terms).
+  kinematics::RobotChain chain;
+  // The best links without any term (fitted before the terms were tried): the calibrated robot file
+  // every other command reads, which knows no terms.
+  kinematics::RobotChain links_only;
   Isometry3 tracker_from_base = Isometry3::Identity();
   std::vector<Vec3> targets_in_flange;  // mm
   std::optional<Mat3> flange_from_tool_rotation;  // 6-D data only
