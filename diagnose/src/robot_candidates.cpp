@@ -470,6 +470,13 @@ std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::s
           AddStaticColumns(SelectColumns(cols, keep), names, &d);
           CvResult cv = Cv(ctx, d);
           const int added = static_cast<int>(keep.size());
+          // A joint whose fitted cycle is beyond a plausible amplitude is aliased with something
+          // else (the set-up, another joint): it is not offered.
+          bool plausible = cv.full.ok;
+          for (int k = 0; k < added && plausible; ++k) {
+            plausible = std::abs(cv.full.s[d.ns - added + k]) * kDegPerRad <= PlausibilityBounds{}.cyclic_deg;
+          }
+          if (!plausible) continue;
           const double sc = Score(cv.heldout_ss, n, current_k + added);
           if (sc < best)
             best = sc, best_j = j, best_design = std::move(d), best_cv = std::move(cv), best_keys = ks,
