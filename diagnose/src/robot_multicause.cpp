@@ -122,6 +122,9 @@ std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluat
          " standard errors); a drift is named only beyond the best static model";
 }
 
+// Share of the excess left above the noise floor (mean square) a further cause must remove.
+constexpr double kMinStepShare = 0.05;
+
 std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_improvement) {
   if (candidates->empty() || candidates->front().effect != "geometric") return "";
   double none_score = 0.0;
@@ -132,6 +135,7 @@ std::string PreferSpecific(std::vector<CandidateFit>* candidates, double min_imp
   for (const CandidateFit& c : *candidates) {
     if (c.effect == "geometric" || c.effect == kNoEffect || !c.implausible.empty()) continue;
     if (none_score - c.score < min_improvement) return "";
+
     const std::string moved = c.effect;
     MoveToFront(moved, candidates);
     return "'" + moved + "' pays on its own and is named before the whole 'geometric' calibration, which is "
@@ -165,15 +169,27 @@ std::vector<CauseStep> ForwardSelect(const Context& ctx, const Evaluated& first,
       fits.push_back(e.fit);
     }
     SelectCandidate(&fits);
-    const std::string preferred = PreferStatic(*ctx.rows, evaluated, &fits);
-    if (!preferred.empty()) findings->push_back(preferred);
-    const std::string specific = PreferSpecific(&fits, 10.0);
-    if (!specific.empty()) findings->push_back(specific);
-    const CandidateFit& best = fits.front();
-    if (best.effect == kNoEffect) break;
-    // It must remove a tenth of what is left above the noise floor (the score margin already asked
-    // that it pays for its parameters).
-    if (ExcessRemoved(last->fit.heldout_rms, best.heldout_rms, sigma) < 0.1) break;
+    PreferStatic(*ctx.rows, evaluated, &fits);
+    PreferSpecific(&fits, 10.0);
+    // The first candidate in this order that beats the current model by the score margin and
+    // removes kMinStepShare of the excess left above the noise floor.
+    double none_score = 0.0;
+    for (const CandidateFit& c : fits) {
+      if (c.effect == kNoEffect) none_score = c.score;
+    }
+    const CandidateFit* pick = nullptr;
+    for (const CandidateFit& c : fits) {
+      if (c.effect == kNoEffect) {
+        if (pick == nullptr && &c == &fits.front()) break;  // nothing beats the current model
+        continue;
+      }
+      if (!c.implausible.empty() || none_score - c.score < 10.0) continue;
+      if (ExcessRemoved(last->fit.heldout_rms, c.heldout_rms, sigma) < kMinStepShare) continue;
+      pick = &c;
+      break;
+    }
+    if (pick == nullptr) break;
+    const CandidateFit best = *pick;
     const Evaluated* chosen = nullptr;
     for (const Evaluated& e : evaluated) {
       if (e.fit.effect == best.effect) chosen = &e;
