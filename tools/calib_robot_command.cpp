@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "ramtk/calib/robot_calibration.h"
 #include "ramtk/calib/robot_calibration_io.h"
+#include "ramtk/calib/robot_calibration_report.h"
 #include "ramtk/calib/robot_calibration_sim.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -31,6 +32,7 @@ struct CalibRobotCommandOptions {
   bool no_cyclic = false;
   bool no_compliance = false;
   bool remove_drift = false;
+  bool report = false;  // DIR/report.html
   std::string split = "random";
   std::string loss = "none";
   std::string covariance = "scaled";
@@ -93,6 +95,10 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   kinematics::WriteRobotChain(out_chain, (staged.path() / "robot.yaml").string());
   WriteFileAtomically((staged.path() / "calibration.json").string(), calib::RobotCalibrationJson(result, summary));
   WriteFileAtomically((staged.path() / "residuals.csv").string(), calib::RobotCalibrationResidualsCsv(data, summary));
+  if (opt.report) {
+    WriteFileAtomically((staged.path() / "report.html").string(),
+                        calib::RobotCalibrationReport(result, summary, data).Page());
+  }
 
   std::printf("%s\n", summary.BriefReport().c_str());
   std::printf("%s", calib::RobotCalibrationTable(result).c_str());
@@ -128,7 +134,7 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   }
   for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
   staged.Commit();
-  std::printf("wrote %s/{robot.yaml,calibration.json,residuals.csv}\n", opt.out.c_str());
+  std::printf("wrote %s/{robot.yaml,calibration.json,residuals.csv%s}\n", opt.out.c_str(), opt.report ? ",report.html" : "");
   return summary.termination == Termination::kSuccess || summary.termination == Termination::kPartial
              ? kExitOk
              : kExitNoSolution;
@@ -211,6 +217,9 @@ void RegisterCalibRobot(CLI::App* calib, int* exit_code) {
   sub->add_flag("--no-cyclic", opt->no_cyclic, "Do not try per-joint cyclic error terms");
   sub->add_flag("--no-compliance", opt->no_compliance, "Do not try gravity compliance terms");
   sub->add_flag("--remove-drift", opt->remove_drift, "Remove tracker drift with the reference targets");
+  sub->add_flag("--report", opt->report,
+                "Also write DIR/report.html: residuals per pose and against each joint, the targets in 3-D, the "
+                "identifiability table (opens offline)");
   sub->add_option("--folds", opt->calib.folds, "Folds of the held-out validation")->capture_default_str();
   sub->add_option("--split", opt->split, "Held-out split: random (seeded) or blocks (contiguous in file order)")
       ->check(CLI::IsMember({"random", "blocks"}))

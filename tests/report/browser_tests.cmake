@@ -83,6 +83,16 @@ report_write(thermal_compensate FIXTURE report_thermal_compensate REQUIRES repor
 report_browse(thermal_compensate FIXTURE report_thermal_compensate ARGS ${REPORT_DIR}/thermal_compensate.html
   --expect monitoring_error --expect identified_drift --screenshot ${REPORT_DIR}/thermal_compensate.png)
 
+# The robot calibration of a simulated tracker session (calib robot --report).
+set(U10 ${RAMTK_DATASETS_DIR}/robots/ur10.yaml)
+report_write(simulate_robot FIXTURE report_robot_data COMMAND $<TARGET_FILE:ramtk> simulate robot-calibration
+  --robot ${U10} --poses 60 --output ${REPORT_DIR}/robot_tracker.csv --truth ${REPORT_DIR}/robot_truth.yaml)
+report_write(calib_robot FIXTURE report_calib_robot REQUIRES report_robot_data COMMAND $<TARGET_FILE:ramtk> calib robot
+  --robot ${U10} --data ${REPORT_DIR}/robot_tracker.csv --out ${REPORT_DIR}/calib_robot --force --folds 2 --report)
+report_browse(calib_robot FIXTURE report_calib_robot ARGS ${REPORT_DIR}/calib_robot/report.html
+  --expect residual_per_pose --expect residual_vs_joints --expect targets_3d
+  --screenshot ${REPORT_DIR}/calib_robot.png)
+
 # The campaign's folder must not exist: removed first.
 report_write(campaign FIXTURE report_campaign COMMAND sh -c
   "rm -rf '${REPORT_DIR}/campaign' && '$<TARGET_FILE:ramtk>' simulate campaign --robot '${R}' --out '${REPORT_DIR}/campaign' --cycles 3 --poses 10 -q --report")
