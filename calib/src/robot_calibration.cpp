@@ -216,6 +216,20 @@ Stage IdentifyAndSolve(CalibrationProblem* problem, const std::vector<bool>& can
   stage.elimination = detail::AnalyseIdentifiability(j, PreferenceOrder(problem->frame.layout, candidate), names,
                                                      options.structural_tolerance, options.weak_tolerance);
   stage.free = stage.elimination.keep;
+  // A fit needs more equations than unknowns, and its held-out check needs the same of each fold's
+  // training share: else the "fit" is exact and every figure after it meaningless.
+  const int p = static_cast<int>(std::count(stage.free.begin(), stage.free.end(), true));
+  const int m = static_cast<int>(r.size());
+  const int m_train = m - (m + options.folds - 1) / options.folds;
+  if (m_train <= p + 2) {
+    throw InputError({"", 0, "poses"},
+                     std::to_string(problem->poses.size()) + " poses give " + std::to_string(m) + " equations for " +
+                         std::to_string(p) + " identifiable unknowns; with " + std::to_string(options.folds) +
+                         "-fold hold-out each fit would see " + std::to_string(m_train) +
+                         ": measure more poses (at least " +
+                         std::to_string((p + 3) * options.folds / (options.folds - 1) / problem->frame.layout.RowsPerPose() + 1) +
+                         ")");
+  }
   const detail::SolveResult solved = detail::SolveUnknowns(*problem, stage.free, {}, options, options.max_iterations, x);
   detail::Recentre(problem, x);
   summary->iterations += solved.iterations;
@@ -397,7 +411,13 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
     CalibrationProblem p2 = problem;
     Eigen::VectorXd x2 = x;
     RobotCalibrationSummary scratch;
-    const Stage s2 = IdentifyAndSolve(&p2, trial, names, options, &x2, &scratch);
+    Stage s2;
+    try {
+      s2 = IdentifyAndSolve(&p2, trial, names, options, &x2, &scratch);
+    } catch (const InputError& e) {
+      summary.warnings.push_back(group.first + " terms not tried: " + e.message());
+      continue;
+    }
     std::vector<std::vector<Vec3>> held2;
     const double rms2 = HeldOutRms(p2, s2.free, options, x2, &held2);
     RAMTK_LOG(kInfo) << "calib robot: " << group.first << " terms: held-out " << rms2 << " mm against " << best
