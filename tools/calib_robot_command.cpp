@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "progress_printer.h"
 #include "ramtk/calib/robot_calibration.h"
 #include "ramtk/calib/robot_calibration_io.h"
 #include "ramtk/calib/robot_calibration_report.h"
@@ -81,10 +82,7 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   o.covariance = opt.covariance == "sandwich" ? calib::CovarianceKind::kSandwich
                  : opt.covariance == "nominal" ? calib::CovarianceKind::kNominal
                                                : calib::CovarianceKind::kScaled;
-  o.progress = [](const Progress& p) {
-    std::fprintf(stderr, "calib robot: %s %zu/%zu\n", p.stage.c_str(), p.done, p.total);
-    return true;
-  };
+  o.progress = ProgressPrinter("steps");
   calib::RobotCalibrationSummary summary;
   const calib::RobotCalibration result = calib::CalibrateRobot(nominal, data, o, &summary);
 

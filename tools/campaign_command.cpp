@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "progress_printer.h"
 #include "ramtk/campaign/campaign.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
@@ -26,11 +27,7 @@ int RunCampaign(const CampaignCommandOptions& opt) {
   const std::string bad = o.Validate();
   if (!bad.empty()) throw InputError({"", 0, "campaign options"}, bad);
   if (!opt.quiet) {
-    o.progress = [](const Progress& p) {
-      std::fprintf(stderr, "\r%s %zu/%zu sets", p.stage.c_str(), p.done, p.total);
-      if (p.done == p.total) std::fprintf(stderr, "\n");
-      return true;
-    };
+    o.progress = ProgressPrinter("sets");
   }
   const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir, opt.force);
   if (s.cancelled) {

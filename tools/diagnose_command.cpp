@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "progress_printer.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/diagnose/diagnose.h"
@@ -97,11 +98,7 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
   sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
   sub->callback([options, kind, html, force, exit_code]() {
-    options->progress = [](const Progress& p) {
-      std::cerr << "\r" << p.stage << " " << p.done << "/" << p.total << std::flush;
-      if (p.total > 0 && p.done == p.total) std::cerr << '\n';
-      return true;
-    };
+    options->progress = ProgressPrinter("steps");
     *exit_code = RunDiagnose(*options, *kind, *html, *force);
   });
 }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "progress_printer.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
@@ -78,15 +79,6 @@ void RefuseToReplaceEarlierResults(const std::string& results, const std::vector
   }
 }
 
-void ProgressBar(std::size_t done, std::size_t total) {
-  const int width = 30;
-  const int filled = total ? static_cast<int>(width * done / total) : 0;
-  std::fprintf(stderr, "\r[%s%s] %zu/%zu sets", std::string(filled, '#').c_str(),
-               std::string(width - filled, '.').c_str(), done, total);
-  if (done == total) std::fprintf(stderr, "\n");
-  std::fflush(stderr);
-}
-
 int RunScan(const ScanCommandOptions& opt) {
   using namespace vision;
   if (opt.set.empty() == opt.batch.empty())
@@ -132,11 +124,7 @@ int RunScan(const ScanCommandOptions& opt) {
     }
     CheckOutputAgainstInputs(opt.out, inputs, "--out");
     ProgressCallback progress;
-    if (!opt.quiet)
-      progress = [](const Progress& p) {
-        ProgressBar(p.done, p.total);
-        return true;
-      };
+    if (!opt.quiet) progress = ProgressPrinter("sets");
     // A shard scans every N-th set into the same folders a single run would, and writes its rows
     // to results.shard-K-of-N.csv; `ramtk merge` joins the shards (docs/cluster.md).
     std::vector<std::size_t> positions(sets.size());

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.h"
+#include "progress_printer.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
@@ -113,14 +114,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
   }
   ProgressCallback progress;
   if (!opt.quiet) {
-    progress = [last = std::make_shared<int>(-1)](const Progress& p) {
-      const int percent = p.total ? static_cast<int>(100 * p.done / p.total) : 0;
-      if (percent / 10 != *last / 10 || p.done == p.total) {
-        *last = percent;
-        std::cerr << "\r" << p.stage << " " << percent << "%   " << (p.done == p.total ? "\n" : "") << std::flush;
-      }
-      return true;
-    };
+    progress = ProgressPrinter("rows");
   }
   const vision::FringeSimulationSummary summary = vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
   std::cout << summary.BriefReport() << '\n';
