@@ -117,7 +117,19 @@ std::string FormatRobotMeasurements(const RobotMeasurementSet& set) {
 }
 
 void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path) {
-  WriteFileAtomically(path, FormatRobotMeasurements(set));
+  const std::string text = FormatRobotMeasurements(set);
+  // What the reader would refuse is never written: the text is read back before the file exists,
+  // so a joint of 5000° or a covariance that is not positive definite stops here, naming the row,
+  // not in the command that reads the file next.
+  try {
+    const RobotMeasurementSet back = ParseRobotMeasurements(text, path);
+    if (back.kind == MeasurementKind::kBall && HasCentreCovariance(back, path)) {
+      for (const RobotMeasurement& row : back.rows) CentreCovariance(row, path);
+    }
+  } catch (const InputError& e) {
+    throw InputError(e.where(), "not written, the readers would refuse it: " + e.message());
+  }
+  WriteFileAtomically(path, text);
 }
 
 bool HasCentreCovariance(const RobotMeasurementSet& set, const std::string& path) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -79,6 +80,49 @@ TEST(MeasurementsIo, TextColumnsAreCarriedThroughAndLimitsNamed) {
     EXPECT_EQ(e.where().field, "z");
     EXPECT_NE(std::string(e.what()).find("kMaxAbsPositionMm"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace ramtk::kinematics
+
+namespace ramtk::kinematics {
+namespace {
+
+// The writer refuses what the reader would refuse, and writes nothing.
+TEST(MeasurementsIo, WriterRefusesWhatTheReaderWouldRefuse) {
+  const std::string dir = ::testing::TempDir();
+  RobotMeasurementSet set;
+  set.kind = MeasurementKind::kBall;
+  RobotMeasurement m;
+  m.q_controller << 0.1, 0.2, 0.3, 0.4, 0.5, 0.6;
+  m.position_mm = Vec3(1, 2, 3);
+  set.rows.push_back(m);
+  const std::string good = dir + "/writer_good.csv";
+  WriteRobotMeasurements(set, good);
+  EXPECT_EQ(ReadRobotMeasurements(good).rows.size(), 1u);
+
+  RobotMeasurementSet bad = set;
+  bad.rows[0].q_controller[2] = 5000.0 * 3.141592653589793 / 180.0;  // 5000°
+  const std::string path = dir + "/writer_bad_joint.csv";
+  std::remove(path.c_str());
+  try {
+    WriteRobotMeasurements(bad, path);
+    FAIL() << "a joint of 5000 deg was written";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not written"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("q3"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+
+  RobotMeasurementSet cov = set;
+  AddCentreCovarianceColumns(&cov);
+  Mat3 c = Mat3::Identity() * 1e-4;
+  c(0, 0) = -1e-4;  // a negative variance
+  SetCentreCovariance(c, &cov.rows[0]);
+  const std::string cov_path = dir + "/writer_bad_cov.csv";
+  std::remove(cov_path.c_str());
+  EXPECT_THROW(WriteRobotMeasurements(cov, cov_path), InputError);
+  EXPECT_FALSE(std::filesystem::exists(cov_path));
 }
 
 }  // namespace

@@ -48,7 +48,9 @@ inline constexpr double kMaxAbsPositionMm = 1e5;  // 100 m: any robot cell
 inline constexpr double kMaxAbsJointDeg = 1080.0;  // three turns
 inline constexpr double kMaxAbsTimeS = 1e10;       // 317 years: unix seconds fit
 // Writes atomically (no half-written file); positions with 6 decimals (nm), joints with 9, extra
-// columns with 10 significant digits (a covariance of 1e-7 mm² keeps its digits).
+// columns with 10 significant digits (a covariance of 1e-7 mm² keeps its digits). A set the reader
+// would refuse (a value beyond the limits below, a covariance not positive definite) is an
+// InputError naming the row and column, and nothing is written.
 void WriteRobotMeasurements(const RobotMeasurementSet& set, const std::string& path);
 std::string FormatRobotMeasurements(const RobotMeasurementSet& set);
 
