@@ -50,11 +50,6 @@ std::vector<int> AllPoses(const CalibrationProblem& problem, const std::vector<i
   return all;
 }
 
-Mat3 ExpSO3(const Vec3& w) {
-  const double angle = w.norm();
-  if (angle < 1e-300) return Mat3::Identity();
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-}
 
 std::string Signed(double v) {
   std::ostringstream s;

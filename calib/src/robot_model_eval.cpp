@@ -1,5 +1,6 @@
 #include "ramtk/calib/robot_model_eval.h"
 
+#include <array>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -28,16 +29,6 @@ kinematics::RobotChain ChainFromUnknowns(const ModelFrame& frame, const Eigen::V
   return chain;
 }
 
-namespace {
-
-Mat3 ExpSO3(const Vec3& w) {
-  const double angle = w.norm();
-  if (angle < 1e-300) return Mat3::Identity();
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-}
-
-}  // namespace
-
 void EvaluatePose(const ModelFrame& frame, const Eigen::VectorXd& x, const PoseInput& pose, Eigen::VectorXd* residual,
                   Eigen::MatrixXd* jacobian) {
   const UnknownLayout& L = frame.layout;
@@ -53,7 +44,9 @@ void EvaluatePose(const ModelFrame& frame, const Eigen::VectorXd& x, const PoseI
     theta_in[j] += x[L.compliance + j] * pose.torque[j];
   }
   // Frames: before[i] = base_from_link i (the frame whose Z is joint i+1's axis).
-  std::vector<Isometry3> frames(n + 1, Isometry3::Identity());
+  // On the stack: this runs once per pose and solver iteration.
+  std::array<Isometry3, kinematics::kMaxChainJoints + 1> frames;
+  frames[0] = Isometry3::Identity();
   for (int i = 0; i < n; ++i) {
     kinematics::LinkParams link;
     link.d = x[L.kin + ChainParamIndex(ParamKind::kD, i)];

@@ -68,6 +68,12 @@ double RotationAngleBetween(const Mat3& a, const Mat3& b) {
   return LogSO3(a.transpose() * b).norm();
 }
 
+Mat3 ExpSO3(const Vec3& rotation_vector) {
+  const double angle = rotation_vector.norm();
+  if (angle == 0.0) return Mat3::Identity();
+  return Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix();
+}
+
 Vec3 LogSO3(const Mat3& rotation) {
   const Eigen::AngleAxisd aa(rotation);
   return aa.axis() * aa.angle();

@@ -8,6 +8,7 @@
 #include "ramtk/kinematics/chain.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
+#include "ramtk/kinematics/tracker_io.h"
 #include "ramtk/thermal/simulator.h"
 #include "robot_linear.h"
 
@@ -207,15 +208,8 @@ HiddenRobotDraw DrawHiddenGeometricErrors(const kinematics::RobotModel& model, s
   draw.input.setup.sensor_from_base = so.tracker_from_base;
   draw.input.setup.ball_in_flange = so.targets_in_flange.front();
   draw.input.has_setup = true;
-  draw.input.ball.kind = kinematics::MeasurementKind::kBall;
-  for (std::size_t i = 0; i < sim.data.poses.size(); ++i) {
-    kinematics::RobotMeasurement m;
-    m.index = static_cast<int>(i);
-    m.time_s = 20.0 * static_cast<double>(i);
-    for (int j = 0; j < kinematics::kNumJoints; ++j) m.q_controller[j] = sim.data.poses[i].q_rad[j];
-    m.position_mm = sim.data.poses[i].targets[0].position_mm;
-    draw.input.ball.rows.push_back(m);
-  }
+  draw.input.ball = kinematics::BallSetFromTracker(sim.data, "hidden geometric errors");
+  for (auto& m : draw.input.ball.rows) m.time_s = 20.0 * m.index;
   draw.input.ball_path = "hidden geometric errors, tracker session " + std::to_string(seed);
   return draw;
 }

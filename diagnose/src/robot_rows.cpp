@@ -37,34 +37,6 @@ std::string ResolveRobotModelPath(const std::string& name_or_path) {
                                            ") not found; set RAMTK_ROBOTS_DIR or pass the YAML path");
 }
 
-namespace {
-
-// A tracker file (any column layout, docs/formats.md "Tracker files") as ball measurements: the
-// first target of each pose, its cycle and time, the pose's index.
-kinematics::RobotMeasurementSet BallSetFromTrackerFile(const std::string& path, const kinematics::TrackerFormat& format) {
-  const kinematics::TrackerMeasurements t = kinematics::ReadTrackerMeasurements(path, format);
-  if (t.num_joints != kinematics::kNumJoints) {
-    throw InputError({path, 0, "joints"}, "diagnose handles 6-joint robots; the file has " +
-                                              std::to_string(t.num_joints) + " joint columns");
-  }
-  kinematics::RobotMeasurementSet set;
-  set.kind = kinematics::MeasurementKind::kBall;
-  for (std::size_t i = 0; i < t.poses.size(); ++i) {
-    const kinematics::TrackerPose& p = t.poses[i];
-    kinematics::RobotMeasurement m;
-    m.cycle = p.cycle;
-    m.time_s = p.time_s;
-    m.index = static_cast<int>(i);
-    for (int j = 0; j < kinematics::kNumJoints; ++j) m.q_controller[j] = p.q_rad[j];
-    m.position_mm = p.targets[0].position_mm;
-    m.line = p.line;
-    set.rows.push_back(m);
-  }
-  return set;
-}
-
-}  // namespace
-
 RobotDiagnoseInput ReadRobotDiagnoseInput(const DiagnoseOptions& options) {
   RobotDiagnoseInput in;
   const std::string model_path = ResolveRobotModelPath(options.model.empty() ? "kr150" : options.model);
@@ -78,7 +50,10 @@ RobotDiagnoseInput ReadRobotDiagnoseInput(const DiagnoseOptions& options) {
     if (ext == ".yaml" || ext == ".yml") format_path = w;
   }
   in.ball = format_path.empty() ? kinematics::ReadRobotMeasurements(options.data)
-                                : BallSetFromTrackerFile(options.data, kinematics::ReadTrackerFormat(format_path));
+                                : kinematics::BallSetFromTracker(
+                                      kinematics::ReadTrackerMeasurements(options.data,
+                                                                          kinematics::ReadTrackerFormat(format_path)),
+                                      options.data);
   if (in.ball.kind != kinematics::MeasurementKind::kBall)
     throw InputError({options.data, 1, "pose"},
                      "diagnose needs ball measurements (a `pose` column), not monitoring points");

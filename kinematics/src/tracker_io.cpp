@@ -1058,4 +1058,25 @@ double RemoveTrackerDrift(TrackerMeasurements* measurements) {
   return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
 }
 
+RobotMeasurementSet BallSetFromTracker(const TrackerMeasurements& data, const std::string& path) {
+  if (data.num_joints != kNumJoints) {
+    throw InputError({path, 0, "joints"}, "ball measurements need 6 joints; the file has " +
+                                              std::to_string(data.num_joints) + " joint columns");
+  }
+  RobotMeasurementSet set;
+  set.kind = MeasurementKind::kBall;
+  for (std::size_t i = 0; i < data.poses.size(); ++i) {
+    const TrackerPose& p = data.poses[i];
+    RobotMeasurement m;
+    m.cycle = p.cycle;
+    m.time_s = p.time_s;
+    m.index = static_cast<int>(i);
+    for (int j = 0; j < kNumJoints; ++j) m.q_controller[j] = p.q_rad[j];
+    m.position_mm = p.targets.front().position_mm;
+    m.line = p.line;
+    set.rows.push_back(m);
+  }
+  return set;
+}
+
 }  // namespace ramtk::kinematics

@@ -16,23 +16,14 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/robot_io.h"
+#include "robot_test_util.h"
 
 namespace ramtk::calib {
 namespace {
 
 using kinematics::RobotChain;
-
-RobotChain Robot(const std::string& file) {
-  return kinematics::ReadRobotChain(std::string(RAMTK_DATASETS_DIR) + "/robots/" + file);
-}
-
-RobotCalibrationOptions Quick() {
-  RobotCalibrationOptions o;
-  o.try_cyclic = false;
-  o.try_compliance = false;
-  o.folds = 2;
-  return o;
-}
+using test::Quick;
+using test::Robot;
 
 std::vector<Eigen::VectorXd> JointsOf(const kinematics::TrackerMeasurements& data) {
   std::vector<Eigen::VectorXd> q;

@@ -18,15 +18,14 @@
 #include "ramtk/calib/sensor_robot_sim.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/robot_io.h"
+#include "robot_test_util.h"
 
 namespace ramtk::calib {
 namespace {
 
 using kinematics::RobotChain;
-
-RobotChain Robot(const std::string& file) {
-  return kinematics::ReadRobotChain(std::string(RAMTK_DATASETS_DIR) + "/robots/" + file);
-}
+using test::Quick;
+using test::Robot;
 
 // A 7-joint arm of the KUKA LBR iiwa kind (standard DH, lengths of the published 14 kg model).
 RobotChain SevenJoint() {
@@ -42,14 +41,6 @@ joints:
   - {d: 126, theta0: 0, a: 0, alpha: 0}
 )";
   return kinematics::ParseRobotChain(yaml, "seven.yaml");
-}
-
-RobotCalibrationOptions Quick() {
-  RobotCalibrationOptions o;
-  o.try_cyclic = false;
-  o.try_compliance = false;
-  o.folds = 2;
-  return o;
 }
 
 int CountStatus(const RobotCalibration& c, const std::string& status) {
@@ -259,16 +250,10 @@ namespace {
 
 // The public UR10 laser-tracker data (../shared/data/ipa-robot-accuracy, MIT): a Leica T-Mac's
 // 6-D pose per row, joints in radians, `;` and decimal commas.
+// The column files shipped with the docs (docs/examples): the same the worked example uses.
 kinematics::TrackerFormat IpaFormat(bool sigma) {
-  kinematics::TrackerFormat f;
-  f.joint_columns = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-                     "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
-  f.joint_unit = kinematics::AngleUnit::kRadian;
-  f.position_columns = {"measurement_x", "measurement_y", "measurement_z"};
-  f.rotation = kinematics::RotationForm::kEulerXyz;
-  f.rotation_columns = {"measurement_rx", "measurement_ry", "measurement_rz"};
-  if (sigma) f.sigma_columns = {"measurement_std_x", "measurement_std_y", "measurement_std_z"};
-  return f;
+  return kinematics::ReadTrackerFormat(std::string(RAMTK_DATASETS_DIR) + "/../docs/examples/" +
+                                       (sigma ? "ipa_tmac_sigma_format.yaml" : "ipa_tmac_format.yaml"));
 }
 
 std::string IpaFile(const std::string& series) {
@@ -333,14 +318,7 @@ namespace {
 // scatter between the thirds; the block-jackknife σ holds it. Noise alone (simulated) leaves the
 // residual-scaled σ in place.
 std::vector<BallObservation> BallsOf(const kinematics::TrackerMeasurements& data) {
-  std::vector<BallObservation> obs;
-  for (const kinematics::TrackerPose& p : data.poses) {
-    BallObservation o;
-    for (int j = 0; j < 6; ++j) o.q_controller[j] = p.q_rad[j];
-    o.ball_in_sensor = p.targets[0].position_mm;
-    obs.push_back(o);
-  }
-  return obs;
+  return BallObservationsFromMeasurements(kinematics::BallSetFromTracker(data, "tracker"), "tracker");
 }
 
 TEST(SensorRobotHonestSigma, BlockJackknifeCoversModelError) {

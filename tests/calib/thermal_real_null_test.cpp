@@ -21,11 +21,12 @@ namespace ramtk::thermal {
 namespace {
 
 // Cycle 0: the first measurement of each repeated configuration; cycle 1: the second.
-kinematics::RobotMeasurementSet RepeatedPairs(const kinematics::TrackerMeasurements& t) {
+kinematics::RobotMeasurementSet RepeatedPairs(const kinematics::TrackerMeasurements& t, const std::string& path) {
+  const kinematics::RobotMeasurementSet all = kinematics::BallSetFromTracker(t, path);
   std::map<std::vector<long long>, std::vector<int>> groups;
-  for (std::size_t i = 0; i < t.poses.size(); ++i) {
+  for (std::size_t i = 0; i < all.rows.size(); ++i) {
     std::vector<long long> key;
-    for (double q : t.poses[i].q_rad) key.push_back(std::llround(q * 1e4));  // 0.006° bins
+    for (int j = 0; j < 6; ++j) key.push_back(std::llround(all.rows[i].q_controller[j] * 1e4));  // 0.006° bins
     groups[key].push_back(static_cast<int>(i));
   }
   kinematics::RobotMeasurementSet set;
@@ -34,14 +35,10 @@ kinematics::RobotMeasurementSet RepeatedPairs(const kinematics::TrackerMeasureme
   for (const auto& [key, rows] : groups) {
     if (rows.size() != 2) continue;
     for (int c = 0; c < 2; ++c) {
-      const kinematics::TrackerPose& p = t.poses[rows[c]];
-      kinematics::RobotMeasurement m;
+      kinematics::RobotMeasurement m = all.rows[rows[c]];
       m.cycle = c;
       m.time_s = 60.0 * c;
       m.index = pose;
-      for (int j = 0; j < 6; ++j) m.q_controller[j] = p.q_rad[j];
-      m.position_mm = p.targets[0].position_mm;
-      m.line = p.line;
       set.rows.push_back(m);
     }
     ++pose;
@@ -53,22 +50,16 @@ TEST(ThermalRealNull, Ur10SeriesBRepeatedPosesDriftWithinThreeSigmaOfZero) {
   const std::string b =
       std::string(RAMTK_SHARED_DIR) + "/data/ipa-robot-accuracy/Series_B/measurements_joint_configurations.csv";
   if (!std::filesystem::exists(b)) GTEST_SKIP() << "no " << b;
-  kinematics::TrackerFormat f;
-  f.joint_columns = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-                     "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
-  f.joint_unit = kinematics::AngleUnit::kRadian;
-  f.position_columns = {"measurement_x", "measurement_y", "measurement_z"};
-  const kinematics::TrackerMeasurements t = kinematics::ReadTrackerMeasurements(b, f);
-  const kinematics::RobotMeasurementSet set = RepeatedPairs(t);
+  const std::string examples = std::string(RAMTK_DATASETS_DIR) + "/../docs/examples/";
+  const kinematics::TrackerMeasurements t =
+      kinematics::ReadTrackerMeasurements(b, kinematics::ReadTrackerFormat(examples + "ipa_tmac_sigma_format.yaml"));
+  const kinematics::RobotMeasurementSet set = RepeatedPairs(t, b);
   ASSERT_GE(set.rows.size(), 2u * 30u);
   const RobotModel model = kinematics::ReadRobotModel(std::string(RAMTK_DATASETS_DIR) + "/robots/ur10.yaml");
 
   // The set-up: every Series B pose with its 6-D rotation (the repeated ones share one flange
   // orientation, from which the ball offset cannot be told from the tracker's translation), the
   // links as in the file (calib robot, set-up only).
-  kinematics::TrackerFormat f6 = f;
-  f6.rotation = kinematics::RotationForm::kEulerXyz;
-  f6.rotation_columns = {"measurement_rx", "measurement_ry", "measurement_rz"};
   calib::RobotCalibrationOptions so;
   so.identify_links = false;
   so.try_cyclic = false;
@@ -76,7 +67,7 @@ TEST(ThermalRealNull, Ur10SeriesBRepeatedPosesDriftWithinThreeSigmaOfZero) {
   so.folds = 2;
   const calib::RobotCalibration cal = calib::CalibrateRobot(
       kinematics::ReadRobotChain(std::string(RAMTK_DATASETS_DIR) + "/robots/ur10.yaml"),
-      kinematics::ReadTrackerMeasurements(b, f6), so, nullptr);
+      t, so, nullptr);
   ThermalSetup setup;
   setup.sensor_from_base = cal.tracker_from_base;
   setup.ball_in_flange = cal.targets_in_flange.front();

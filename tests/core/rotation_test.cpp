@@ -149,4 +149,15 @@ TEST(Rotation, SkewIsTheCrossProduct) {
 }
 
 }  // namespace
+// The exp map against Rodrigues' formula written out, and as the inverse of the log map.
+TEST(Rotation, ExpSO3IsRodriguesAndInvertsLogSO3) {
+  const Vec3 w(0.3, -1.1, 0.4);
+  const double t = w.norm();
+  const Mat3 k = Skew(w / t);
+  const Mat3 rodrigues = Mat3::Identity() + std::sin(t) * k + (1.0 - std::cos(t)) * k * k;
+  EXPECT_LT((ExpSO3(w) - rodrigues).norm(), 1e-14);
+  EXPECT_LT((LogSO3(ExpSO3(w)) - w).norm(), 1e-13);
+  EXPECT_EQ(ExpSO3(Vec3::Zero()), Mat3::Identity());
+}
+
 }  // namespace ramtk

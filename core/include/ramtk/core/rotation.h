@@ -49,6 +49,8 @@ double RotationAngleBetween(const Mat3& a, const Mat3& b);
 
 // Rotation vector (axis * angle) of R, log map of SO(3).
 Vec3 LogSO3(const Mat3& rotation);
+// The rotation of a rotation vector (axis * angle), exp map of SO(3); the inverse of LogSO3.
+Mat3 ExpSO3(const Vec3& rotation_vector);
 
 // Largest deviation of R^T R from identity, and |det R - 1|: how far R is from a rotation.
 double OrthonormalityError(const Mat3& rotation);

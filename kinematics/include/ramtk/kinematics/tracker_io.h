@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "ramtk/core/rotation.h"
+#include "ramtk/kinematics/measurements_io.h"
 
 namespace ramtk::kinematics {
 
@@ -134,5 +135,10 @@ TrackerMeasurements ParseTrackerMeasurements(const std::string& text, const std:
 // corrected poses share one frame. References on one line are an InputError. Returns the RMS correction (mm);
 // does nothing and returns 0 when the poses have no references.
 double RemoveTrackerDrift(TrackerMeasurements* measurements);
+
+// The first target of every pose as ball measurements (kind kBall: `pose` = the pose's index,
+// its cycle, time and line): the form `diagnose`, `calib sensor-robot` and `thermal` read.
+// InputError naming `path` unless the data has 6 joints.
+RobotMeasurementSet BallSetFromTracker(const TrackerMeasurements& data, const std::string& path);
 
 }  // namespace ramtk::kinematics
