@@ -1,5 +1,5 @@
 // Thermal drift: the thesis simulator, identification of ΔX per cycle and parameter screening,
-// from the files of docs/formats.md (ball / monitoring CSV, set-up JSON).
+// from the files of docs/formats.md (ball / monitoring CSV, set-up JSON) or tables in memory.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -16,15 +16,16 @@ namespace {
 
 using namespace ramtk::thermal;
 
-CycleSeries Series(const std::string& path) { return GroupCycles(kinematics::ReadRobotMeasurements(path), path); }
+CycleSeries Series(const std::string& source, const std::string& text) {
+  return GroupCycles(MeasurementsOf(source, text), source);
+}
 
 }  // namespace
 
 void BindThermal(py::module_& m) {
   m.def(
       "simulate_thermal",
-      [](const std::string& robot, const std::string& out, std::uint64_t seed, int cycles, bool force) {
-        const kinematics::RobotModel model = kinematics::ReadRobotModel(robot);
+      [](const kinematics::RobotModel& model, const std::string& out, std::uint64_t seed, int cycles, bool force) {
         ThermalSimOptions o = ThesisPreset(seed);
         if (cycles > 0) o.cycles = cycles;
         ThermalSimResult r;
@@ -42,17 +43,14 @@ void BindThermal(py::module_& m) {
         d["monitoring"] = out + "/monitoring.csv";
         d["setup"] = out + "/setup.json";
         return d;
-      },
-      py::arg("robot"), py::arg("out"), py::arg("seed") = 1, py::arg("cycles") = 0, py::arg("force") = false,
-      "The thesis thermal experiment (ramtk simulate thermal): writes ball.csv, monitoring.csv, setup.json, truth "
-      "into `out`; returns the truth");
+      });
 
   m.def(
       "thermal_identify",
-      [](const std::string& robot, const std::string& setup, const std::string& ball, const std::vector<std::string>& params) {
-        const kinematics::RobotModel model = kinematics::ReadRobotModel(robot);
+      [](const kinematics::RobotModel& model, const std::string& setup, const std::string& ball,
+         const std::string& ball_text, const std::vector<std::string>& params) {
         const ThermalSetup s = ReadThermalSetup(setup);
-        const CycleSeries series = Series(ball);
+        const CycleSeries series = Series(ball, ball_text);
         std::string list;
         for (const std::string& p : params) list += (list.empty() ? "" : ",") + p;
         IdentificationOptions o;
@@ -75,16 +73,15 @@ void BindThermal(py::module_& m) {
         d["rms_residual_mm"] = summary.rms_residual_mm;
         d["report"] = summary.BriefReport();
         return d;
-      },
-      py::arg("robot"), py::arg("setup"), py::arg("ball"), py::arg("params"),
-      "ΔX of the named parameters per cycle (eq. 3-8; rows in `params` order, mm for lengths, rad for angles)");
+      });
 
   m.def(
       "thermal_screen",
-      [](const std::string& robot, const std::string& setup, const std::string& ball, const std::string& monitoring,
-         int keep, double heldout_z) {
-        const kinematics::RobotModel model = kinematics::ReadRobotModel(robot);
-        const ThermalExperiment e = MakeExperiment(model, ReadThermalSetup(setup), Series(ball), Series(monitoring));
+      [](const kinematics::RobotModel& model, const std::string& setup, const std::string& ball,
+         const std::string& ball_text, const std::string& monitoring, const std::string& monitoring_text, int keep,
+         double heldout_z) {
+        const ThermalExperiment e = MakeExperiment(model, ReadThermalSetup(setup), Series(ball, ball_text),
+                                                   Series(monitoring, monitoring_text));
         ScreeningOptions o;
         o.keep = keep;
         o.heldout_z = heldout_z;
@@ -110,10 +107,7 @@ void BindThermal(py::module_& m) {
         d["steps"] = steps;
         d["table"] = FormatEliminationTable(s);
         return d;
-      },
-      py::arg("robot"), py::arg("setup"), py::arg("ball"), py::arg("monitoring"),
-      py::arg("keep") = ScreeningOptions{}.keep, py::arg("heldout_z") = ScreeningOptions{}.heldout_z,
-      "Screens the drifting parameters (thesis §3.2; keep=0 chooses the count by held-out error)");
+      });
 }
 
 }  // namespace ramtk::python

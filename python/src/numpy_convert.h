@@ -7,6 +7,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "ramtk/kinematics/measurements_io.h"
+
 namespace ramtk::python {
 
 namespace py = pybind11;
@@ -42,6 +44,12 @@ py::array_t<double> ToArray(const Eigen::MatrixBase<Derived>& m) {
   for (Eigen::Index i = 0; i < m.rows(); ++i)
     for (Eigen::Index j = 0; j < m.cols(); ++j) r(i, j) = m(i, j);
   return out;
+}
+
+// A robot measurement table: the file `source`, or (text not empty) the CSV text the Python layer
+// made from arrays or columns, parsed with the file reader's checks; errors name `source`.
+inline kinematics::RobotMeasurementSet MeasurementsOf(const std::string& source, const std::string& text) {
+  return text.empty() ? kinematics::ReadRobotMeasurements(source) : kinematics::ParseRobotMeasurements(text, source);
 }
 
 }  // namespace ramtk::python
