@@ -29,6 +29,8 @@ PACKAGES=(
   python3                  # bench/diagnose_independent_sweep.py and its ctest smoke run
   pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
   python3-numpy python3-pytest  # its arrays and its tests
+  python3-venv python3-pip python3-setuptools python3-wheel  # the wheel (pyproject.toml) and its venv test
+  mypy python3-opencv      # stubs checked (mypy --strict, stubtest); cv2-loaded frames in tests and examples
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
   opencv-doc               # its real stereo chessboard images: ctest RealBoard.* (calib on real boards)
   gnuplot-nox              # PNG figures (report/gnuplot.h)

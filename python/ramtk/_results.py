@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Type, TypeVar
 
 import numpy as np
 import numpy.typing as npt
@@ -50,12 +50,12 @@ class _Result:
 
     def to_dict(self) -> Dict[str, Any]:
         return {f.name: _jsonable(getattr(self, f.name))
-                for f in dataclasses.fields(self)  # type: ignore[arg-type]
+                for f in dataclasses.fields(self)
                 if not f.name.startswith("_")}
 
     def __repr__(self) -> str:
         parts = [f"{f.name}={_short(getattr(self, f.name))}"
-                 for f in dataclasses.fields(self)  # type: ignore[arg-type]
+                 for f in dataclasses.fields(self)
                  if not f.name.startswith("_")]
         return f"ramtk.{type(self).__name__}({', '.join(parts)})"
 
@@ -206,7 +206,10 @@ class Diagnosis(_Result):
     diagnosis_json: Optional[str]
 
 
-def as_type(cls: Any, d: Dict[str, Any]) -> Any:
+T = TypeVar("T", bound=_Result)
+
+
+def as_type(cls: Type[T], d: Dict[str, Any]) -> T:
     """The dataclass `cls` from the C++ layer's dict (keys = field names)."""
     names = {f.name for f in dataclasses.fields(cls)}
     return cls(**{k: v for k, v in d.items() if k in names})

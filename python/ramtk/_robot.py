@@ -33,7 +33,8 @@ def fk(model: RobotLike, q_deg: npt.ArrayLike) -> F64:
     N×6 batch (computed in one C++ loop)."""
     q, single = check.joints(q_deg, "q_deg")
     t = _core.fk_batch(robot_model(model, "model"), q)
-    return t[0] if single else t
+    out: F64 = t[0] if single else t
+    return out
 
 
 def point_jacobian(model: RobotLike, q_deg: npt.ArrayLike, point_in_flange_mm: npt.ArrayLike = (0.0, 0.0, 0.0)) -> F64:
@@ -43,7 +44,8 @@ def point_jacobian(model: RobotLike, q_deg: npt.ArrayLike, point_in_flange_mm: n
     q, single = check.joints(q_deg, "q_deg")
     p = check.vector(point_in_flange_mm, "point_in_flange_mm", 3)
     j = _core.point_jacobian_batch(robot_model(model, "model"), q, p)
-    return j[0] if single else j
+    out: F64 = j[0] if single else j
+    return out
 
 
 def ik(model: RobotLike, pose: npt.ArrayLike, seed_deg: npt.ArrayLike) -> IkSolution:
