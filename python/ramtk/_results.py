@@ -214,3 +214,67 @@ def as_type(cls: Type[T], d: Dict[str, Any]) -> T:
     names = {f.name for f in dataclasses.fields(cls)}
     return cls(**{k: v for k, v in d.items() if k in names})
 
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class BatchResult(_Result):
+    """`ramtk scan --batch`: counts per status and the results table (results.csv's text)."""
+    results: str  # the results file written ("" when cancelled)
+    sets: int
+    ok: int
+    no_sphere: int
+    errors: int
+    cancelled: int
+    report: str
+    csv: str
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class Measurements(_Result):
+    """`ramtk measure`: the robot-measurement table (ball centres in the sensor frame, mm, with
+    their covariance) as columns, ready for calibrate_sensor_robot / thermal_identify."""
+    columns: Dict[str, F64]
+    written: int
+    match: str  # "id" or "time"
+    left_out: List[Dict[str, Any]]
+    warnings: List[str]
+    report: str
+    table: str  # the CSV text
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class CampaignResult(_Result):
+    """`ramtk simulate campaign`: the error budget stage by stage against truth (budget.json)."""
+    out_dir: str
+    cancelled: bool
+    budget: Dict[str, Any]
+    budget_md: str
+    left_out: List[str]
+    report: str
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class RobotCalibration(_Result):
+    """`ramtk calib robot`: the calibrated robot file, the unknowns with σ (calibration.json) and
+    the RMS per coordinate before, after and held out (mm)."""
+    termination: str
+    rms_before_mm: float
+    rms_after_mm: float
+    rms_held_out_mm: float
+    robot_yaml: str
+    calibration: Dict[str, Any]
+    table: str
+    warnings: List[str]
+    report: str
+
+
+@dataclasses.dataclass(frozen=True, repr=False)
+class HandEye(_Result):
+    """Hand-eye of a camera on a stand: camera_from_base and flange_from_board (4×4, mm)."""
+    camera_from_base: F64
+    flange_from_board: F64
+    rotation_residual_deg: List[float]
+    translation_residual_mm: List[float]
+    rms_rotation_deg: float
+    rms_translation_mm: float
+    report: str

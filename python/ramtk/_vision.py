@@ -99,6 +99,35 @@ def _calibration_path(calibration: Union[None, PathLike, _core.StereoCalibration
     return check.path(calibration, "calibration")
 
 
+def scan_options(*, calibration: Optional[PathLike] = None, radius: float = 19.05, fix_radius: bool = False,
+                 spheres: int = 1, min_depth: float = 100.0, max_depth: float = 10000.0, phase_filter: int = 0,
+                 roi: str = "full", roi_margin: float = _D["roi_margin"], roi_stride: int = 0,
+                 no_nonlinearity: bool = False, whole_residual_sigma: bool = False,
+                 lr_sigma_factor: float = _D["lr_sigma_factor"], reference_decode: bool = False,
+                 full_search: bool = False, curve_back_pass: bool = False,
+                 load_whole_frames: bool = False) -> Dict[str, Any]:
+    """The scan's options checked, as the dict the C++ layer reads (ramtk.scan documents them)."""
+    if not isinstance(roi, str):
+        raise check.fail("roi", f"expected 'full', 'auto' or 'X,Y,Z', got {type(roi).__name__}")
+    opts: Dict[str, Any] = {
+        "calibration": "" if calibration is None else check.path(calibration, "calibration"),
+        "radius": check.number(radius, "radius", 0.0), "fix_radius": check.flag(fix_radius, "fix_radius"),
+        "spheres": check.count(spheres, "spheres", 1), "min_depth": check.number(min_depth, "min_depth", 0.0, True),
+        "max_depth": check.number(max_depth, "max_depth", 0.0, True), "roi": roi,
+        "roi_margin": check.number(roi_margin, "roi_margin", 0.0), "roi_stride": check.count(roi_stride, "roi_stride", 0),
+        "lr_sigma_factor": check.number(lr_sigma_factor, "lr_sigma_factor", 0.0),
+        "full_search": check.flag(full_search, "full_search"),
+        "curve_back_pass": check.flag(curve_back_pass, "curve_back_pass"),
+        "load_whole_frames": check.flag(load_whole_frames, "load_whole_frames"),
+        "reference_decode": check.flag(reference_decode, "reference_decode"),
+        **_decode_options(_D["min_modulation"], 0.0, no_nonlinearity, phase_filter, whole_residual_sigma)}
+    if opts["max_depth"] <= opts["min_depth"]:
+        raise check.fail("max_depth", f"must exceed min_depth ({opts['min_depth']:g} mm)")
+    if opts["phase_filter"] > 6:
+        raise check.fail("phase_filter", f"at most 6 px, got {opts['phase_filter']}")
+    return opts
+
+
 def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
          calibration: Union[None, PathLike, _core.StereoCalibration] = None,
          sequence: Optional[SequenceLike] = None, *, radius: float = 19.05, fix_radius: bool = False,
@@ -125,22 +154,12 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
         termination is then "cancelled"). Ctrl-C raises KeyboardInterrupt at the next stage.
     Returns the cloud (mm, left-camera frame, σ per point), the depth map (mm) and the spheres.
     """
-    opts: Dict[str, Any] = {
-        "radius": check.number(radius, "radius", 0.0), "fix_radius": check.flag(fix_radius, "fix_radius"),
-        "spheres": check.count(spheres, "spheres", 1), "min_depth": check.number(min_depth, "min_depth", 0.0, True),
-        "max_depth": check.number(max_depth, "max_depth", 0.0, True),
-        "roi": roi if isinstance(roi, str) else "", "roi_margin": check.number(roi_margin, "roi_margin", 0.0),
-        "roi_stride": check.count(roi_stride, "roi_stride", 0),
-        "lr_sigma_factor": check.number(lr_sigma_factor, "lr_sigma_factor", 0.0),
-        "full_search": check.flag(full_search, "full_search"),
-        "curve_back_pass": check.flag(curve_back_pass, "curve_back_pass"),
-        "load_whole_frames": check.flag(load_whole_frames, "load_whole_frames"),
-        "reference_decode": check.flag(reference_decode, "reference_decode"),
-        **_decode_options(_D["min_modulation"], 0.0, no_nonlinearity, phase_filter, whole_residual_sigma)}
-    if not isinstance(roi, str):
-        raise check.fail("roi", f"expected 'full', 'auto' or 'X,Y,Z', got {type(roi).__name__}")
-    if opts["max_depth"] <= opts["min_depth"]:
-        raise check.fail("max_depth", f"must exceed min_depth ({opts['min_depth']:g} mm)")
+    opts = scan_options(radius=radius, fix_radius=fix_radius, spheres=spheres, min_depth=min_depth,
+                        max_depth=max_depth, phase_filter=phase_filter, roi=roi, roi_margin=roi_margin,
+                        roi_stride=roi_stride, no_nonlinearity=no_nonlinearity,
+                        whole_residual_sigma=whole_residual_sigma, lr_sigma_factor=lr_sigma_factor,
+                        reference_decode=reference_decode, full_search=full_search, curve_back_pass=curve_back_pass,
+                        load_whole_frames=load_whole_frames)
     if progress is not None and not callable(progress):
         raise check.fail("progress", "expected a callable progress(stage, done, total)")
     keep: List[Any] = []

@@ -11,6 +11,7 @@
 
 #include "numpy_convert.h"
 #include "progress_bridge.h"
+#include "scan_options.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode.h"
@@ -76,27 +77,6 @@ void ApplyDecodeOptions(const py::dict& o, vision::DecodeOptions* d) {
   if (o.contains("phase_filter")) d->coordinate_filter.radius_px = o["phase_filter"].cast<int>();
   if (o.contains("whole_residual_sigma")) d->noise_from_neighbours = !o["whole_residual_sigma"].cast<bool>();
   if (o.contains("reference_decode")) d->reference_path = o["reference_decode"].cast<bool>();
-}
-
-// ScanOptions as `ramtk scan` builds them from its options (tools/vision_scan_command.cpp).
-vision::ScanOptions ScanOptionsOf(const py::dict& o) {
-  vision::ScanOptions s;
-  if (o.contains("calibration")) s.calibration_path = o["calibration"].cast<std::string>();
-  s.sphere.radius_mm = o["radius"].cast<double>();
-  s.sphere.fix_radius = o["fix_radius"].cast<bool>();
-  s.sphere.max_spheres = o["spheres"].cast<int>();
-  s.match.min_depth_mm = o["min_depth"].cast<double>();
-  s.match.max_depth_mm = o["max_depth"].cast<double>();
-  ApplyDecodeOptions(o, &s.decode);
-  s.match.full_search = o["full_search"].cast<bool>();
-  s.match.rectified_back_pass = !o["curve_back_pass"].cast<bool>();
-  s.match.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
-  s.roi = vision::ParseScanRoi(o["roi"].cast<std::string>());
-  s.roi.margin_mm = o["roi_margin"].cast<double>();
-  s.roi.coarse_stride = o["roi_stride"].cast<int>();
-  s.read_rows_on_demand = !o["load_whole_frames"].cast<bool>();
-  ThrowIfInvalid(s.Validate(), "ScanOptions");
-  return s;
 }
 
 using ScanHandle = std::shared_ptr<vision::ScanResult>;
@@ -219,6 +199,27 @@ void BindScanData(py::module_& m) {
 }
 
 }  // namespace
+
+// ScanOptions as `ramtk scan` builds them from its options (tools/vision_scan_command.cpp).
+vision::ScanOptions ScanOptionsOf(const py::dict& o) {
+  vision::ScanOptions s;
+  if (o.contains("calibration")) s.calibration_path = o["calibration"].cast<std::string>();
+  s.sphere.radius_mm = o["radius"].cast<double>();
+  s.sphere.fix_radius = o["fix_radius"].cast<bool>();
+  s.sphere.max_spheres = o["spheres"].cast<int>();
+  s.match.min_depth_mm = o["min_depth"].cast<double>();
+  s.match.max_depth_mm = o["max_depth"].cast<double>();
+  ApplyDecodeOptions(o, &s.decode);
+  s.match.full_search = o["full_search"].cast<bool>();
+  s.match.rectified_back_pass = !o["curve_back_pass"].cast<bool>();
+  s.match.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
+  s.roi = vision::ParseScanRoi(o["roi"].cast<std::string>());
+  s.roi.margin_mm = o["roi_margin"].cast<double>();
+  s.roi.coarse_stride = o["roi_stride"].cast<int>();
+  s.read_rows_on_demand = !o["load_whole_frames"].cast<bool>();
+  ThrowIfInvalid(s.Validate(), "ScanOptions");
+  return s;
+}
 
 void BindVision(py::module_& m) {
   BindStereoCalibration(m);
