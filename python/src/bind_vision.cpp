@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
 
@@ -111,6 +112,12 @@ void BindStereoCalibration(py::module_& m) {
                        const std::vector<double>& dist, int width, int height, const char* side) {
     const std::string f = std::string(side) + "_K";
     if (k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3) throw InputError({"", 0, f}, "expected a 3x3 matrix");
+    if (k.at(0, 1) != 0 || k.at(1, 0) != 0 || k.at(2, 0) != 0 || k.at(2, 1) != 0 || k.at(2, 2) != 1 ||
+        !(k.at(0, 0) > 0) || !(k.at(1, 1) > 0) || !std::isfinite(k.at(0, 2)) || !std::isfinite(k.at(1, 2)) ||
+        !std::isfinite(k.at(0, 0)) || !std::isfinite(k.at(1, 1)))
+      throw InputError({"", 0, f}, "not a pinhole matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0");
+    for (double v : dist)
+      if (!std::isfinite(v)) throw InputError({"", 0, std::string(side) + "_distortion"}, "not finite");
     if (dist.size() != 5)
       throw InputError({"", 0, std::string(side) + "_distortion"}, "expected 5 coefficients k1 k2 p1 p2 k3");
     CameraIntrinsics c;
@@ -122,22 +129,35 @@ void BindStereoCalibration(py::module_& m) {
   auto distortion = [](const CameraIntrinsics& c) {
     return std::vector<double>{c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2, c.distortion.k3};
   };
+  // A changed copy is accepted only if the file reader accepts it (pinhole K, 5 distortion
+  // coefficients, a rotation, positive sizes); InputError names the field otherwise.
+  auto checked = [](const StereoCalibration& c) {
+    return camera::ParseStereoCalibration(camera::StereoCalibrationText(c, true), "StereoCalibration");
+  };
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  auto set_intrinsics = [intrinsics, checked](StereoCalibration& c, bool left, const Array* k,
+                                              const std::vector<double>* dist) {
+    StereoCalibration copy = c;
+    CameraIntrinsics& cam = left ? copy.left : copy.right;
+    const Array current = ToArray(cam.K());
+    cam = intrinsics(k ? *k : current, dist ? *dist : std::vector<double>{cam.distortion.k1, cam.distortion.k2,
+                                                                             cam.distortion.p1, cam.distortion.p2,
+                                                                             cam.distortion.k3},
+                     cam.width, cam.height, left ? "left" : "right");
+    c = checked(copy);
+  };
   py::class_<StereoCalibration>(m, "StereoCalibration")
-      .def(py::init([intrinsics](const py::array_t<double, py::array::c_style | py::array::forcecast>& left_K,
-                                 const std::vector<double>& left_distortion,
-                                 const py::array_t<double, py::array::c_style | py::array::forcecast>& right_K,
-                                 const std::vector<double>& right_distortion,
-                                 const py::array_t<double, py::array::c_style | py::array::forcecast>& right_from_left,
-                                 std::pair<int, int> image_size) {
+      .def(py::init([intrinsics, checked](const Array& left_K, const std::vector<double>& left_distortion,
+                                          const Array& right_K, const std::vector<double>& right_distortion,
+                                          const Array& right_from_left, std::pair<int, int> image_size) {
              StereoCalibration c;
              c.left = intrinsics(left_K, left_distortion, image_size.first, image_size.second, "left");
              c.right = intrinsics(right_K, right_distortion, image_size.first, image_size.second, "right");
-             Eigen::Matrix4d t;
+             if (right_from_left.ndim() != 2 || right_from_left.shape(0) != 4 || right_from_left.shape(1) != 4)
+               throw InputError({"", 0, "right_from_left"}, "expected a 4x4 matrix");
              for (int i = 0; i < 4; ++i)
-               for (int j = 0; j < 4; ++j) t(i, j) = right_from_left.at(i, j);
-             c.right_from_left.matrix() = t;
-             // The file reader's checks (pinhole K, a rotation, positive sizes), naming the field.
-             return camera::ParseStereoCalibration(camera::StereoCalibrationText(c, true), "StereoCalibration");
+               for (int j = 0; j < 4; ++j) c.right_from_left.matrix()(i, j) = right_from_left.at(i, j);
+             return checked(c);
            }),
            py::arg("left_K"), py::arg("left_distortion"), py::arg("right_K"), py::arg("right_distortion"),
            py::arg("right_from_left"), py::arg("image_size"))
@@ -145,15 +165,36 @@ void BindStereoCalibration(py::module_& m) {
       .def(
           "write", [](const StereoCalibration& c, const std::string& path) { camera::WriteStereoCalibration(path, c); },
           py::arg("path"))
-      .def_property_readonly("left_K", [](const StereoCalibration& c) { return ToArray(c.left.K()); })
-      .def_property_readonly("right_K", [](const StereoCalibration& c) { return ToArray(c.right.K()); })
-      .def_property_readonly("left_distortion", [distortion](const StereoCalibration& c) { return distortion(c.left); })
-      .def_property_readonly("right_distortion",
-                             [distortion](const StereoCalibration& c) { return distortion(c.right); })
-      .def_property_readonly("image_size",
-                             [](const StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
-      .def_property_readonly("right_from_left",
-                             [](const StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); })
+      .def_property(
+          "left_K", [](const StereoCalibration& c) { return ToArray(c.left.K()); },
+          [set_intrinsics](StereoCalibration& c, const Array& k) { set_intrinsics(c, true, &k, nullptr); })
+      .def_property(
+          "right_K", [](const StereoCalibration& c) { return ToArray(c.right.K()); },
+          [set_intrinsics](StereoCalibration& c, const Array& k) { set_intrinsics(c, false, &k, nullptr); })
+      .def_property(
+          "left_distortion", [distortion](const StereoCalibration& c) { return distortion(c.left); },
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) { set_intrinsics(c, true, nullptr, &d); })
+      .def_property(
+          "right_distortion", [distortion](const StereoCalibration& c) { return distortion(c.right); },
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) { set_intrinsics(c, false, nullptr, &d); })
+      .def_property(
+          "image_size", [](const StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); },
+          [checked](StereoCalibration& c, std::pair<int, int> size) {
+            StereoCalibration copy = c;
+            copy.left.width = copy.right.width = size.first;
+            copy.left.height = copy.right.height = size.second;
+            c = checked(copy);
+          })
+      .def_property(
+          "right_from_left", [](const StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
+          [checked](StereoCalibration& c, const Array& t) {
+            if (t.ndim() != 2 || t.shape(0) != 4 || t.shape(1) != 4)
+              throw InputError({"", 0, "right_from_left"}, "expected a 4x4 matrix");
+            StereoCalibration copy = c;
+            for (int i = 0; i < 4; ++i)
+              for (int j = 0; j < 4; ++j) copy.right_from_left.matrix()(i, j) = t.at(i, j);
+            c = checked(copy);
+          })
       .def_readonly("rms_px", &StereoCalibration::rms_px)
       .def_readonly("parameter_std", &StereoCalibration::parameter_std)
       .def("__repr__", [](const StereoCalibration& c) {

@@ -166,6 +166,24 @@ def test_stereo_calibration_is_constructed_and_shows_its_distortion(datasets):
         ramtk.StereoCalibration(c.left_K, c.left_distortion, c.right_K, c.right_distortion, bent, c.image_size)
 
 
+def test_stereo_calibration_setters_check_like_the_file_reader(datasets, scratch):
+    c = ramtk.StereoCalibration.read(str(datasets / "scan_default" / "calibration.yml"))
+    c.left_distortion = [0.01, -0.002, 0.0001, 0.0, 0.0]
+    k = c.right_K.copy()
+    k[0, 2] += 1.5
+    c.right_K = k
+    c.write(str(scratch / "changed.yml"))
+    back = ramtk.StereoCalibration.read(str(scratch / "changed.yml"))
+    assert back.left_distortion == [0.01, -0.002, 0.0001, 0.0, 0.0]
+    np.testing.assert_array_equal(back.right_K, k)
+    before = c.right_from_left
+    for name, value in (("right_from_left", 2 * np.eye(4)), ("left_K", np.array([[1, 0.5, 2], [0, 1, 2], [0, 0, 1]])),
+                        ("left_distortion", [0.0, 0.0, 0.0]), ("right_distortion", [np.nan] * 5)):
+        with pytest.raises(ramtk.InputError):
+            setattr(c, name, value)
+    np.testing.assert_array_equal(c.right_from_left, before)  # unchanged by a refused value
+
+
 def bad(call, field):
     with pytest.raises(ramtk.InputError) as e:
         call()
