@@ -36,9 +36,9 @@ std::string ResultSettings(const py::dict& o) {
   s.precision(12);
   auto b = [&](const char* k) { return o[k].cast<bool>(); };
   auto d = [&](const char* k) { return o[k].cast<double>(); };
-  s << "calib=" << o["calibration"].cast<std::string>() << ";radius=" << d("radius") << ";fix_radius=" << b("fix_radius")
-    << ";spheres=" << o["spheres"].cast<int>() << ";depth=" << d("min_depth") << ".." << d("max_depth")
-    << ";reference_decode=" << b("reference_decode") << ";full_search=" << b("full_search")
+  s << "calib=" << o["calibration"].cast<std::string>() << ";radius=" << d("radius")
+    << ";fix_radius=" << b("fix_radius") << ";spheres=" << o["spheres"].cast<int>() << ";depth=" << d("min_depth")
+    << ".." << d("max_depth") << ";reference_decode=" << b("reference_decode") << ";full_search=" << b("full_search")
     << ";curve_back_pass=" << b("curve_back_pass") << ";no_nonlinearity=" << b("no_nonlinearity")
     << ";whole_residual_sigma=" << b("whole_residual_sigma") << ";phase_filter=" << o["phase_filter"].cast<int>()
     << ";lr_sigma_factor=" << d("lr_sigma_factor") << ";roi=" << o["roi"].cast<std::string>()
@@ -207,9 +207,10 @@ py::dict CalibrateRobot(const std::string& robot, const std::string& data_path, 
   const std::string split = o["split"].cast<std::string>(), loss = o["loss"].cast<std::string>(),
                     covariance = o["covariance"].cast<std::string>();
   opt.split = split == "blocks" ? calib::HoldoutSplit::kBlocks : calib::HoldoutSplit::kRandom;
-  opt.loss = loss == "huber" ? calib::RobustLoss::kHuber : loss == "cauchy" ? calib::RobustLoss::kCauchy
-                                                                              : calib::RobustLoss::kNone;
-  opt.covariance = covariance == "sandwich" ? calib::CovarianceKind::kSandwich
+  opt.loss = loss == "huber"    ? calib::RobustLoss::kHuber
+             : loss == "cauchy" ? calib::RobustLoss::kCauchy
+                                : calib::RobustLoss::kNone;
+  opt.covariance = covariance == "sandwich"  ? calib::CovarianceKind::kSandwich
                    : covariance == "nominal" ? calib::CovarianceKind::kNominal
                                              : calib::CovarianceKind::kScaled;
   opt.folds = o["folds"].cast<int>();
@@ -237,7 +238,8 @@ py::dict CalibrateRobot(const std::string& robot, const std::string& data_path, 
   if (staged) {
     kinematics::WriteRobotChain(out_chain, (staged->path() / "robot.yaml").string());
     WriteFileAtomically((staged->path() / "calibration.json").string(), json);
-    WriteFileAtomically((staged->path() / "residuals.csv").string(), calib::RobotCalibrationResidualsCsv(data, summary));
+    WriteFileAtomically((staged->path() / "residuals.csv").string(),
+                        calib::RobotCalibrationResidualsCsv(data, summary));
     staged->Commit();
   }
   py::dict d;

@@ -90,8 +90,8 @@ void BindKinematics(py::module_& m) {
       py::gil_scoped_release release;
       for (py::ssize_t i = 0; i < n; ++i) {
         const kinematics::PointParamJacobian j = kinematics::ComputePointParamJacobian(model, JointsAt(q + 6 * i), p);
-        Eigen::Map<Eigen::Matrix<double, 3, kinematics::kNumParams, Eigen::RowMajor>>(o + 3 * kinematics::kNumParams * i) =
-            j;
+        Eigen::Map<Eigen::Matrix<double, 3, kinematics::kNumParams, Eigen::RowMajor>>(o + 3 * kinematics::kNumParams *
+                                                                                              i) = j;
       }
     }
     return out;

@@ -12,7 +12,6 @@
 
 #include "numpy_convert.h"
 #include "progress_bridge.h"
-#include "scan_options.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode.h"
@@ -20,6 +19,7 @@
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/sphere_fit.h"
+#include "scan_options.h"
 
 namespace ramtk::python {
 
@@ -64,8 +64,8 @@ std::vector<cv::Mat> FramesOf(const py::list& frames) {
     const int type = a.dtype().is(py::dtype::of<std::uint8_t>())    ? CV_8UC1
                      : a.dtype().is(py::dtype::of<std::uint16_t>()) ? CV_16UC1
                                                                     : CV_32FC1;
-    out.emplace_back(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), type,
-                     const_cast<void*>(a.data()), static_cast<std::size_t>(a.strides(0)));
+    out.emplace_back(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), type, const_cast<void*>(a.data()),
+                     static_cast<std::size_t>(a.strides(0)));
   }
   return out;
 }
@@ -140,9 +140,10 @@ void BindStereoCalibration(py::module_& m) {
     StereoCalibration copy = c;
     CameraIntrinsics& cam = left ? copy.left : copy.right;
     const Array current = ToArray(cam.K());
-    cam = intrinsics(k ? *k : current, dist ? *dist : std::vector<double>{cam.distortion.k1, cam.distortion.k2,
-                                                                             cam.distortion.p1, cam.distortion.p2,
-                                                                             cam.distortion.k3},
+    cam = intrinsics(k ? *k : current,
+                     dist ? *dist
+                          : std::vector<double>{cam.distortion.k1, cam.distortion.k2, cam.distortion.p1,
+                                                cam.distortion.p2, cam.distortion.k3},
                      cam.width, cam.height, left ? "left" : "right");
     c = checked(copy);
   };
@@ -173,10 +174,14 @@ void BindStereoCalibration(py::module_& m) {
           [set_intrinsics](StereoCalibration& c, const Array& k) { set_intrinsics(c, false, &k, nullptr); })
       .def_property(
           "left_distortion", [distortion](const StereoCalibration& c) { return distortion(c.left); },
-          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) { set_intrinsics(c, true, nullptr, &d); })
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) {
+            set_intrinsics(c, true, nullptr, &d);
+          })
       .def_property(
           "right_distortion", [distortion](const StereoCalibration& c) { return distortion(c.right); },
-          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) { set_intrinsics(c, false, nullptr, &d); })
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) {
+            set_intrinsics(c, false, nullptr, &d);
+          })
       .def_property(
           "image_size", [](const StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); },
           [checked](StereoCalibration& c, std::pair<int, int> size) {
@@ -223,10 +228,11 @@ void BindScanData(py::module_& m) {
                              })
       .def_property_readonly("depth", [](const vision::ScanResult& r) { return MatToArray(r.depth); })
       .def_property_readonly("spheres", [](const vision::ScanResult& r) { return SpheresToPython(r.summary.spheres); })
-      .def_property_readonly("summary",
-                             [](const vision::ScanResult& r) { return JsonToPython(vision::ScanSummaryToJson(r.summary)); })
-      .def_property_readonly("termination",
-                             [](const vision::ScanResult& r) { return std::string(TerminationName(r.summary.termination)); })
+      .def_property_readonly(
+          "summary", [](const vision::ScanResult& r) { return JsonToPython(vision::ScanSummaryToJson(r.summary)); })
+      .def_property_readonly(
+          "termination",
+          [](const vision::ScanResult& r) { return std::string(TerminationName(r.summary.termination)); })
       .def_property_readonly("report", [](const vision::ScanResult& r) { return r.summary.BriefReport(); })
       .def(
           "write",
@@ -314,65 +320,65 @@ void BindVision(py::module_& m) {
   m.def("scan", [](const std::string& manifest, const py::dict& options, const py::object& progress) {
     return RunScan(options, progress, [&](const vision::ScanOptions& o) { return vision::ScanFringeSet(manifest, o); });
   });
-  m.def("scan_frames", [](const py::list& left, const py::list& right, const camera::StereoCalibration& calibration,
-                          const std::string& calibration_path, const std::string& sequence_text,
-                          const std::string& sequence_path, double full_scale, const py::dict& options,
-                          const py::object& progress) {
-    const vision::FringeManifest mf = vision::ParseFringeManifest(sequence_text, sequence_path);
-    const std::vector<cv::Mat> l = FramesOf(left), r = FramesOf(right);
-    return RunScan(options, progress, [&](const vision::ScanOptions& o) {
-      return vision::ScanFrames(mf, calibration, l, r, full_scale, o, calibration_path);
-    });
-  });
-  m.def("fit_sphere", [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points,
-                         const py::object& sigma, double radius, bool fix_radius, int spheres, std::uint64_t seed,
-                         int min_points) {
-    std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
-    auto p = points.unchecked<2>();
-    for (py::ssize_t i = 0; i < points.shape(0); ++i) pts[i] = Eigen::Vector3f(p(i, 0), p(i, 1), p(i, 2));
-    std::vector<float> sig;
-    if (!sigma.is_none()) {
-      const auto s = sigma.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
-      for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
-    }
-    vision::SphereFitOptions o;
-    o.radius_mm = radius;
-    o.fix_radius = fix_radius;
-    o.max_spheres = spheres;
-    o.seed = seed;
-    o.min_points = min_points;
-    ThrowIfInvalid(o.Validate(), "SphereFitOptions");
-    vision::SphereFitSummary s;
-    {
-      py::gil_scoped_release release;
-      s = vision::FindSpheres(pts, sig, o);
-    }
-    return SpheresToPython(s);
-  });
-  m.def("simulate_fringe", [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise,
-                              int supersampling, bool force, const std::string& frame_format,
-                              const py::object& progress) {
-    vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
-    config.seed = seed;
-    config.sensor.noise = noise;
-    config.supersampling = supersampling;
-    config.frame_format = frame_format;
-    ProgressBridge bridge(progress);
-    vision::FringeSimulationSummary s;
-    {
-      py::gil_scoped_release release;
-      s = vision::SimulateFringeSet(config, out, force, bridge.Callback());
-    }
-    bridge.Rethrow();
-    py::dict d;
-    d["out_dir"] = s.out_dir;
-    d["frames"] = s.frames;
-    d["width"] = s.width;
-    d["height"] = s.height;
-    d["manifest"] = out + "/manifest.json";
-    d["truth"] = out + "/truth/truth.json";
-    return d;
-  });
+  m.def("scan_frames",
+        [](const py::list& left, const py::list& right, const camera::StereoCalibration& calibration,
+           const std::string& calibration_path, const std::string& sequence_text, const std::string& sequence_path,
+           double full_scale, const py::dict& options, const py::object& progress) {
+          const vision::FringeManifest mf = vision::ParseFringeManifest(sequence_text, sequence_path);
+          const std::vector<cv::Mat> l = FramesOf(left), r = FramesOf(right);
+          return RunScan(options, progress, [&](const vision::ScanOptions& o) {
+            return vision::ScanFrames(mf, calibration, l, r, full_scale, o, calibration_path);
+          });
+        });
+  m.def("fit_sphere",
+        [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, const py::object& sigma,
+           double radius, bool fix_radius, int spheres, std::uint64_t seed, int min_points) {
+          std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
+          auto p = points.unchecked<2>();
+          for (py::ssize_t i = 0; i < points.shape(0); ++i) pts[i] = Eigen::Vector3f(p(i, 0), p(i, 1), p(i, 2));
+          std::vector<float> sig;
+          if (!sigma.is_none()) {
+            const auto s = sigma.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+            for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
+          }
+          vision::SphereFitOptions o;
+          o.radius_mm = radius;
+          o.fix_radius = fix_radius;
+          o.max_spheres = spheres;
+          o.seed = seed;
+          o.min_points = min_points;
+          ThrowIfInvalid(o.Validate(), "SphereFitOptions");
+          vision::SphereFitSummary s;
+          {
+            py::gil_scoped_release release;
+            s = vision::FindSpheres(pts, sig, o);
+          }
+          return SpheresToPython(s);
+        });
+  m.def("simulate_fringe",
+        [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise, int supersampling,
+           bool force, const std::string& frame_format, const py::object& progress) {
+          vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
+          config.seed = seed;
+          config.sensor.noise = noise;
+          config.supersampling = supersampling;
+          config.frame_format = frame_format;
+          ProgressBridge bridge(progress);
+          vision::FringeSimulationSummary s;
+          {
+            py::gil_scoped_release release;
+            s = vision::SimulateFringeSet(config, out, force, bridge.Callback());
+          }
+          bridge.Rethrow();
+          py::dict d;
+          d["out_dir"] = s.out_dir;
+          d["frames"] = s.frames;
+          d["width"] = s.width;
+          d["height"] = s.height;
+          d["manifest"] = out + "/manifest.json";
+          d["truth"] = out + "/truth/truth.json";
+          return d;
+        });
   m.def("read_truth_spheres", [](const std::string& path) {
     py::list out;
     for (const vision::Sphere& s : vision::ReadTruthSpheres(path)) {

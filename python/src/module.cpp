@@ -3,9 +3,9 @@
 // (a ValueError) whose message names the file, line and field, with the parts as attributes.
 #include <pybind11/pybind11.h>
 
+#include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
-#include "ramtk/calib/sensor_robot.h"
 #include "ramtk/diagnose/diagnose.h"
 #include "ramtk/thermal/screening.h"
 #include "ramtk/vision/scan.h"
@@ -22,7 +22,8 @@ void BindCampaign(py::module_& m);
 }  // namespace ramtk::python
 
 PYBIND11_MODULE(_core, m) {
-  m.doc() = "ramtk: robot accuracy maintenance toolkit (fringe scans, sphere centres, robot calibration, thermal drift)";
+  m.doc() =
+      "ramtk: robot accuracy maintenance toolkit (fringe scans, sphere centres, robot calibration, thermal drift)";
   m.attr("__version__") = RAMTK_VERSION;
   // Library warnings go to Python's logging module ("ramtk" logger), not to stderr.
   ramtk::SetLogSink([](ramtk::LogLevel level, const std::string& message) {
