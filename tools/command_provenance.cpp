@@ -1,0 +1,80 @@
+#include "command_provenance.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace ramtk::tools {
+namespace {
+
+std::vector<std::string>& CommandLine() {
+  static std::vector<std::string> argv;
+  return argv;
+}
+
+// "true"/"false" -> bool, a decimal number -> number, anything else -> string.
+nlohmann::json Typed(const std::string& text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  if (!text.empty() && text.find_first_not_of("0123456789+-.eE") == std::string::npos) {
+    errno = 0;
+    char* end = nullptr;
+    if (text.find_first_of(".eE") == std::string::npos) {
+      const long long v = std::strtoll(text.c_str(), &end, 10);
+      if (errno == 0 && end && *end == '\0') return v;
+    } else {
+      const double v = std::strtod(text.c_str(), &end);
+      if (errno == 0 && end && *end == '\0' && std::isfinite(v)) return v;
+    }
+  }
+  return text;
+}
+
+std::string NameOf(const CLI::Option* opt) {
+  std::string name = opt->get_single_name();
+  while (!name.empty() && name.front() == '-') name.erase(name.begin());
+  return name;
+}
+
+}  // namespace
+
+void RecordCommandLine(int argc, char** argv) {
+  CommandLine().assign(argv, argv + argc);
+}
+
+nlohmann::json EffectiveOptions(CLI::App* command) {
+  nlohmann::json options = nlohmann::json::object();
+  for (CLI::Option* opt : command->get_options()) {
+    if (opt == command->get_help_ptr() || opt == command->get_help_all_ptr()) continue;
+    const std::string name = NameOf(opt);
+    if (name.empty()) continue;
+    if (opt->get_expected_max() == 0) {  // a flag
+      bool on = opt->count() > 0;
+      if (on && !opt->results().empty() && (opt->results()[0] == "false" || opt->results()[0] == "0")) on = false;
+      options[name] = on;
+      continue;
+    }
+    if (opt->count() > 0) {
+      const std::vector<std::string>& r = opt->results();
+      if (r.size() == 1 && opt->get_expected_max() <= 1) {
+        options[name] = Typed(r[0]);
+      } else {
+        nlohmann::json list = nlohmann::json::array();
+        for (const std::string& v : r) list.push_back(Typed(v));
+        options[name] = list;
+      }
+      continue;
+    }
+    // Not given: the bound variable still holds its default.
+    opt->capture_default_str();
+    const std::string d = opt->get_default_str();
+    options[name] = d.empty() && opt->get_expected_max() > 1 ? nlohmann::json::array() : Typed(d);
+  }
+  return options;
+}
+
+Provenance CommandProvenance(CLI::App* command) {
+  return StartProvenance(CommandLine(), EffectiveOptions(command));
+}
+
+}  // namespace ramtk::tools

@@ -1,0 +1,26 @@
+#pragma once
+// The command line and the effective options of the running subcommand, as the Provenance that
+// every output of the command records (ramtk/core/provenance.h, docs/formats.md#provenance).
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/core/provenance.h"
+
+namespace ramtk::tools {
+
+// Keeps argv for CommandProvenance; main calls it once before parsing.
+void RecordCommandLine(int argc, char** argv);
+
+// Every option of `command` (positionals and flags included, --help excluded) with its effective
+// value: as given on the command line, else its default. Keys are the option names without
+// dashes ("min-depth"); values are JSON booleans, numbers or strings (lists as arrays), null for
+// an option without a value or default.
+nlohmann::json EffectiveOptions(CLI::App* command);
+
+// StartProvenance with the recorded command line and EffectiveOptions(command).
+Provenance CommandProvenance(CLI::App* command);
+
+}  // namespace ramtk::tools
