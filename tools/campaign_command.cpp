@@ -76,7 +76,7 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
                   "parameters kept; 0 = by held-out error; -1 = skip")
       ->capture_default_str();
   sub->add_option("--scan-min-depth", opt->o.scan_min_depth_mm,
-                  "Nearest depth the scan searches, mm (ramtk scan --min-depth; the ball lies 500-900 mm away)")
+                  "Nearest depth the scan searches, mm (ramtk scan --min-depth; the simulated scene lies 600-900 mm away)")
       ->capture_default_str();
   sub->add_option("--scan-max-depth", opt->o.scan_max_depth_mm,
                   "Farthest depth the scan searches, mm (ramtk scan --max-depth)")

@@ -140,7 +140,7 @@ def rescan_set(ramtk, out, set_folder, problems):
         recorded = json.load(f)["provenance"]["command"]
     again = os.path.abspath(out) + ".rescan"
     shutil.rmtree(again, ignore_errors=True)
-    run([ramtk] + with_out(recorded, again)[1:], cwd=out)
+    run([os.path.abspath(ramtk)] + with_out(recorded, again)[1:], cwd=out)
     for name in ["cloud.ply", "depth.png", "spheres.json", "summary.json"]:
         with open(os.path.join(out, set_folder, name), "rb") as f:
             ba = f.read()

@@ -42,7 +42,7 @@ struct CampaignOptions {
   // `ramtk thermal screen`: the count kept (thesis: 8); 0 = chosen by held-out error; -1 = skip.
   int screen_keep = 8;
   // The depth range the scan searches, mm (`ramtk scan --min-depth/--max-depth`; its defaults
-  // are 100 and 10000). The simulated ball lies 500–900 mm from the left camera.
+  // are 100 and 10000). The simulated scene lies 600–900 mm from the left camera.
   double scan_min_depth_mm = 400.0;
   double scan_max_depth_mm = 1000.0;
   bool html_report = false;       // also write report.html (CampaignReport) into the folder
