@@ -3,6 +3,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+
+#include "ramtk/core/file_io.h"
 
 namespace ramtk::tools {
 namespace {
@@ -71,6 +74,17 @@ nlohmann::json EffectiveOptions(CLI::App* command) {
     options[name] = d.empty() && opt->get_expected_max() > 1 ? nlohmann::json::array() : Typed(d);
   }
   return options;
+}
+
+std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
+  const std::filesystem::path out(output_path);
+  const std::string sidecar = (out.parent_path() / (out.stem().string() + ".provenance.json")).string();
+  nlohmann::ordered_json j;
+  j["format"] = "ramtk-provenance";
+  j["version"] = 1;
+  j["describes"] = out.filename().string();
+  WriteFileAtomically(sidecar, WithProvenance(j.dump(2) + "\n", provenance));
+  return sidecar;
 }
 
 Provenance CommandProvenance(CLI::App* command) {

@@ -23,4 +23,9 @@ nlohmann::json EffectiveOptions(CLI::App* command);
 // StartProvenance with the recorded command line and EffectiveOptions(command).
 Provenance CommandProvenance(CLI::App* command);
 
+// The provenance of an output that has no place for it (a CSV, a YAML file read by other tools):
+// `<path without its extension>.provenance.json` = {"format": "ramtk-provenance", "version": 1,
+// "describes": "<file name>", "provenance": {...}}, written atomically; returns its path.
+std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
+
 }  // namespace ramtk::tools

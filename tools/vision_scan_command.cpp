@@ -155,12 +155,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
         SummariseScanBatch(rows, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(results, csv);
-    // results.csv's provenance beside it (a CSV has no place for it): results.provenance.json.
-    const std::string stem = results_name.substr(0, results_name.size() - 4);
-    WriteFileAtomically(opt.out + "/" + stem + ".provenance.json",
-                        WithProvenance("{\n  \"format\": \"ramtk-provenance\",\n  \"version\": 1,\n  \"describes\": \"" +
-                                           results_name + "\"\n}\n",
-                                       provenance));
+    WriteProvenanceSidecar(results, provenance);  // results.provenance.json
     if (!opt.quiet) std::cout << csv;  // a campaign's 1800 rows are in results.csv
     if (opt.report) {
       const std::string page = results_name.substr(0, results_name.size() - 4) == "results"

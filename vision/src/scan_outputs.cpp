@@ -125,8 +125,9 @@ void ScanOutputWriter::Finish(const ScanResult& result, bool html_report) {
     WriteCloud(result.cloud, windowed ? result.depth(w) : result.depth);
   }
   const Provenance& provenance = impl_->provenance;
-  WriteFileAtomically((tmp / "spheres.json").string(),
-                      WithProvenance(SphereFitToJson(result.summary.spheres, kScanFrame), provenance));
+  // spheres.json is the folder's science payload, the same bytes however the set was scanned (one
+  // run, a batch, a shard); the folder's provenance is in summary.json beside it.
+  WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
   WriteFileAtomically((tmp / "summary.json").string(), WithProvenance(ScanSummaryToJson(result.summary), provenance));
   if (html_report) {
     for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {

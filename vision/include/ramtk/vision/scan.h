@@ -151,7 +151,7 @@ std::string ScanSummaryToJson(const ScanSummary& summary);
 // temporary sibling folder first, then renamed into place, so a failure leaves nothing. An
 // existing non-empty `out_dir` is an InputError unless `overwrite`. With `html_report`, also
 // report.html (scan_report.h) and sphere<k>_residual.png (when gnuplot is installed).
-// spheres.json, summary.json and report.html carry `provenance` (docs/formats.md#provenance).
+// summary.json and report.html carry `provenance` (docs/formats.md#provenance).
 void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false,
                       bool html_report = false, const Provenance& provenance = {});
 
@@ -168,7 +168,7 @@ class ScanOutputWriter {
   ScanOutputWriter(const ScanOutputWriter&) = delete;
   ScanOutputWriter& operator=(const ScanOutputWriter&) = delete;
 
-  // The provenance block Finish writes into spheres.json, summary.json and the report (default:
+  // The provenance block Finish writes into summary.json and the report (default:
   // the version and commit only).
   void SetProvenance(const Provenance& provenance);
   // For ScanOptions::on_cloud (it refers to this writer, which must outlive the scan).

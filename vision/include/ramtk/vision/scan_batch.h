@@ -36,7 +36,7 @@ struct ScanBatchReuse {
   // The options that change a set's results, as text; recorded in each set's row.csv.
   std::string settings;
   // What each set's folder records about how it was made (not about reuse): the provenance
-  // block of its spheres.json and summary.json, given the set's manifest and folder as recorded
+  // block of its summary.json, given the set's manifest and folder as recorded
   // (see paths_relative_to); the set's input files are added with their hashes. Empty: the
   // version and commit only.
   std::function<Provenance(const std::string& set, const std::string& folder)> provenance;
