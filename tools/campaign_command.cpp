@@ -24,7 +24,7 @@ struct CampaignCommandOptions {
 int RunCampaign(const CampaignCommandOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
-  AddProvenanceInput(&provenance, opt.robot_path);
+  AddProvenanceFile(&provenance, opt.robot_path);
   campaign::CampaignOptions o = opt.o;
   const std::string bad = o.Validate();
   if (!bad.empty()) throw InputError({"", 0, "campaign options"}, bad);

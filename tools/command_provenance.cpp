@@ -76,15 +76,38 @@ nlohmann::json EffectiveOptions(CLI::App* command) {
   return options;
 }
 
-std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
+std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
   const std::filesystem::path out(output_path);
   const std::string sidecar = (out.parent_path() / (out.stem().string() + ".provenance.json")).string();
   nlohmann::ordered_json j;
   j["format"] = "ramtk-provenance";
   j["version"] = 1;
   j["describes"] = out.filename().string();
-  WriteFileAtomically(sidecar, WithProvenance(j.dump(2) + "\n", provenance));
-  return sidecar;
+  return {sidecar, WithProvenance(j.dump(2) + "\n", provenance)};
+}
+
+std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
+  const auto [path, text] = ProvenanceSidecar(output_path, provenance);
+  WriteFileAtomically(path, text);
+  return path;
+}
+
+void StampOutputs(std::vector<std::pair<std::string, std::string>>* files, const Provenance& provenance) {
+  std::vector<std::pair<std::string, std::string>> sidecars;
+  for (auto& [path, text] : *files) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".json") {
+      text = WithProvenance(text, provenance);
+    } else if (ext == ".csv" || ext == ".yaml" || ext == ".yml" || ext == ".txt") {
+      sidecars.push_back(ProvenanceSidecar(path, provenance));
+    }
+  }
+  files->insert(files->end(), sidecars.begin(), sidecars.end());
+}
+
+void AddProvenanceFile(Provenance* provenance, const std::string& path) {
+  std::error_code ec;
+  if (!path.empty() && std::filesystem::is_regular_file(path, ec)) AddProvenanceInput(provenance, path);
 }
 
 Provenance CommandProvenance(CLI::App* command) {

@@ -20,6 +20,10 @@ void RecordCommandLine(int argc, char** argv);
 // an option without a value or default.
 nlohmann::json EffectiveOptions(CLI::App* command);
 
+// AddProvenanceInput for `path` when it names a regular file (an option may also take a model
+// name such as kr150, or be empty).
+void AddProvenanceFile(Provenance* provenance, const std::string& path);
+
 // StartProvenance with the recorded command line and EffectiveOptions(command).
 Provenance CommandProvenance(CLI::App* command);
 
@@ -27,5 +31,13 @@ Provenance CommandProvenance(CLI::App* command);
 // `<path without its extension>.provenance.json` = {"format": "ramtk-provenance", "version": 1,
 // "describes": "<file name>", "provenance": {...}}, written atomically; returns its path.
 std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
+// The same without writing: the sidecar's path and text.
+std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
+
+// Outputs assembled for WriteFilesAtomically, stamped: a JSON object gets the block as its last
+// member (WithProvenance); a CSV, YAML or text file gets its sidecar added to `files` (written in
+// the same unit); HTML pages and pictures are left as they are (a page gets the block through
+// HtmlReport::AddProvenance before it is rendered).
+void StampOutputs(std::vector<std::pair<std::string, std::string>>* files, const Provenance& provenance);
 
 }  // namespace ramtk::tools

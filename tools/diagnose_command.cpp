@@ -34,10 +34,7 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
     for (const std::string& w : given.with)
       if (w.find('=') == std::string::npos) inputs.push_back(w);
     CheckOutputAgainstInputs(given.output_folder, inputs, "--out");
-    for (const std::string& f : inputs) {
-      std::error_code ec;
-      if (std::filesystem::is_regular_file(f, ec)) AddProvenanceInput(&provenance, f);  // not a model name
-    }
+    for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);  // a model name is no file
     // As before staging: missing parent folders are created.
     const std::filesystem::path parent = std::filesystem::path(given.output_folder).lexically_normal().parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);

@@ -33,7 +33,7 @@ int RunMeasure(const MeasureCommandOptions& opt, Provenance provenance) {
   const kinematics::RobotMeasurementSet set = campaign::JoinCentresWithLog(captures, log, options, &summary);
   if (set.rows.empty()) throw InputError({opt.scans, 0, "status"}, "no capture has a sphere centre: nothing to write");
   kinematics::WriteRobotMeasurements(set, opt.out);
-  for (const std::string& f : {opt.scans, opt.log}) AddProvenanceInput(&provenance, f);
+  for (const std::string& f : {opt.scans, opt.log}) AddProvenanceFile(&provenance, f);
   const std::string sidecar = WriteProvenanceSidecar(opt.out, provenance);
   for (const campaign::LeftOut& l : summary.left_out) {
     std::printf("left out: %s (cycle %d, pose %d): %s\n", l.set.c_str(), l.cycle, l.pose, l.reason.c_str());

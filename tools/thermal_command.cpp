@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -81,8 +82,10 @@ nlohmann::json GuardJson(const IdentifiabilitySummary& g) {
   return j;
 }
 
-int RunIdentify(const IdentifyOptions& opt) {
+int RunIdentify(const IdentifyOptions& opt, Provenance provenance) {
   CheckOutputs(opt.in, {{"--out", opt.out_path}, {"--json", opt.json_path}});
+  for (const std::string& f : {opt.in.robot_path, opt.in.setup_path, opt.in.ball_path, opt.in.monitoring_path})
+    AddProvenanceFile(&provenance, f);
   const LoadedExperiment e = Load(opt.in);
   const DriftModel dm(e.model, e.setup, e.ball.taught);
   IdentificationOptions id = MakeIdOptions(opt.in, e, dm, ParseParamList(opt.in.params, e.model, "--params"));
@@ -147,6 +150,7 @@ int RunIdentify(const IdentifyOptions& opt) {
   std::vector<std::pair<std::string, std::string>> files;
   if (!opt.out_path.empty()) files.emplace_back(opt.out_path, csv);
   if (!opt.json_path.empty()) files.emplace_back(opt.json_path, j.dump(2) + "\n");
+  StampOutputs(&files, provenance);
   WriteFilesAtomically(files);
   for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
@@ -185,7 +189,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--out", opt->out_path, "ΔX per cycle CSV (mm, deg), each parameter followed by its sigma");
     sub->add_option("--json", opt->json_path, "ΔX and sigma per cycle, the guard and the covariance scaling (JSON)");
     AddGuardOptions(sub, &opt->in);
-    sub->callback([opt, exit_code]() { *exit_code = RunIdentify(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunIdentify(*opt, CommandProvenance(sub)); });
   }
   RegisterThermalScreen(thermal, exit_code);
   RegisterThermalCompensate(thermal, exit_code);

@@ -33,7 +33,7 @@ int RunMerge(const MergeCommandOptions& opt, Provenance provenance) {
   if (std::filesystem::exists(target, ec) && !opt.force)
     throw InputError({target, 0, "--out"}, "exists (pass --force to replace it)");
   WriteFileAtomically(target, vision::MergeScanShards(sets, shards, opt.allow_errors));
-  for (const std::string& f : inputs) AddProvenanceInput(&provenance, f);
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
   WriteProvenanceSidecar(target, provenance);
   std::cout << "merged " << shards.size() << " shards, " << sets.size() << " sets, into " << target << "\n";
   return kExitOk;

@@ -125,7 +125,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
     }
     CheckOutputAgainstInputs(opt.out, inputs, "--out");
     // The batch's own provenance names the list and the calibration; each set's folder adds its files.
-    for (const std::string& f : {opt.batch, opt.calib, opt.truth}) AddProvenanceInput(&provenance, f);
+    for (const std::string& f : {opt.batch, opt.calib, opt.truth}) AddProvenanceFile(&provenance, f);
     ProgressCallback progress;
     if (!opt.quiet) progress = ProgressPrinter("sets");
     // A shard scans every N-th set into the same folders a single run would, and writes its rows
@@ -172,7 +172,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
 
   add_set(opt.set);
   CheckOutputAgainstInputs(opt.out, inputs, "--out");
-  for (const std::string& f : inputs) AddProvenanceInput(&provenance, f);
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
   const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
   // cloud.ply and depth.png are written beside the sphere fit; the folder is checked before the scan.
   ScanOutputWriter writer(opt.out, opt.force, opt.set);

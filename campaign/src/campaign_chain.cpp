@@ -256,8 +256,9 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                             s.screening_elimination + img.screening.BriefReport() +
                             "\n\nParameter sets compared (form of thesis Table 5-2):\n" + s.screening_comparison);
   }
-  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration, img.calibration_summary,
-                                img.cold);
+  WriteFileAtomically((dir / "chain" / "calibration.json").string(),
+                      WithProvenance(calib::SensorRobotResultJson(img.calibration, img.calibration_summary, img.cold),
+                                     provenance));
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
   thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
   s.chain_s = Seconds(t0);
