@@ -86,6 +86,15 @@ std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_
   return {sidecar, WithProvenance(j.dump(2) + "\n", provenance)};
 }
 
+std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
+                                                     const Provenance& provenance) {
+  nlohmann::ordered_json j;
+  j["format"] = "ramtk-provenance";
+  j["version"] = 1;
+  j["describes"] = names;
+  return {(std::filesystem::path(folder) / "provenance.json").string(), WithProvenance(j.dump(2) + "\n", provenance)};
+}
+
 std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
   const auto [path, text] = ProvenanceSidecar(output_path, provenance);
   WriteFileAtomically(path, text);

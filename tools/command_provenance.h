@@ -34,6 +34,11 @@ std::string WriteProvenanceSidecar(const std::string& output_path, const Provena
 // The same without writing: the sidecar's path and text.
 std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
 
+// One sidecar for several files of a folder that other commands read as data (a simulator's
+// outputs): `folder`/provenance.json with "describes" listing `names`.
+std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
+                                                     const Provenance& provenance);
+
 // Outputs assembled for WriteFilesAtomically, stamped: a JSON object gets the block as its last
 // member (WithProvenance); a CSV, YAML or text file gets its sidecar added to `files` (written in
 // the same unit); HTML pages and pictures are left as they are (a page gets the block through

@@ -172,7 +172,8 @@ int RunSimulate(const SimulateOptions& o, Provenance provenance) {
   // The four files as one unit: none of them is replaced unless all were written.
   std::vector<std::pair<std::string, std::string>> files = {
       {d + "laser_log.csv", log}, {d + "motion.json", motion}, {d + "sensor.json", sensor}, {d + "truth.json", truth}};
-  StampOutputs(&files, provenance);
+  // The four files are data other commands read; their provenance is one sidecar beside them.
+  files.push_back(FolderProvenance(o.out_dir, {"laser_log.csv", "motion.json", "sensor.json", "truth.json"}, provenance));
   WriteFilesAtomically(files);
   std::cout << "wrote " << sim.events.size() << " events to " << d
             << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
