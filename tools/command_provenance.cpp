@@ -76,25 +76,6 @@ nlohmann::json EffectiveOptions(CLI::App* command) {
   return options;
 }
 
-std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
-  const std::filesystem::path out(output_path);
-  const std::string sidecar = (out.parent_path() / (out.stem().string() + ".provenance.json")).string();
-  nlohmann::ordered_json j;
-  j["format"] = "ramtk-provenance";
-  j["version"] = 1;
-  j["describes"] = out.filename().string();
-  return {sidecar, WithProvenance(j.dump(2) + "\n", provenance)};
-}
-
-std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
-                                                     const Provenance& provenance) {
-  nlohmann::ordered_json j;
-  j["format"] = "ramtk-provenance";
-  j["version"] = 1;
-  j["describes"] = names;
-  return {(std::filesystem::path(folder) / "provenance.json").string(), WithProvenance(j.dump(2) + "\n", provenance)};
-}
-
 std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
   const auto [path, text] = ProvenanceSidecar(output_path, provenance);
   WriteFileAtomically(path, text);

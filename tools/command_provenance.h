@@ -27,17 +27,8 @@ void AddProvenanceFile(Provenance* provenance, const std::string& path);
 // StartProvenance with the recorded command line and EffectiveOptions(command).
 Provenance CommandProvenance(CLI::App* command);
 
-// The provenance of an output that has no place for it (a CSV, a YAML file read by other tools):
-// `<path without its extension>.provenance.json` = {"format": "ramtk-provenance", "version": 1,
-// "describes": "<file name>", "provenance": {...}}, written atomically; returns its path.
+// ProvenanceSidecar written atomically; returns its path.
 std::string WriteProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
-// The same without writing: the sidecar's path and text.
-std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
-
-// One sidecar for several files of a folder that other commands read as data (a simulator's
-// outputs): `folder`/provenance.json with "describes" listing `names`.
-std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
-                                                     const Provenance& provenance);
 
 // Outputs assembled for WriteFilesAtomically, stamped: a JSON object gets the block as its last
 // member (WithProvenance); a CSV, YAML or text file gets its sidecar added to `files` (written in

@@ -37,7 +37,7 @@ struct SimulateThermalOptions {
   bool force = false;  // replace an existing output folder
 };
 
-int RunSimulateThermal(const SimulateThermalOptions& opt) {
+int RunSimulateThermal(const SimulateThermalOptions& opt, Provenance provenance) {
   if (opt.preset != "thesis") throw InputError({"", 0, "--preset"}, "unknown preset '" + opt.preset + "' (thesis)");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   ThermalSimOptions o = ThesisPreset(opt.seed);
@@ -46,7 +46,8 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   if (opt.repeatability_mm >= 0.0) o.repeatability_mm = opt.repeatability_mm;
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const ThermalSimResult r = SimulateThermal(model, o);
-  WriteThermalSimulation(r, o, opt.preset, opt.out_dir, opt.force);
+  AddProvenanceFile(&provenance, opt.robot_path);
+  WriteThermalSimulation(r, o, opt.preset, opt.out_dir, opt.force, provenance);
   const double max_drift = LargestBallDriftMm(r);
   std::cout << "simulated " << o.cycles << " cycles (" << o.ball_poses << " ball poses, " << o.monitoring_points
             << " monitoring points) into " << opt.out_dir << "\n"
@@ -175,7 +176,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--out", opt->out_dir, "Output folder")->required();
     sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
-    sub->callback([opt, exit_code]() { *exit_code = RunSimulateThermal(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateThermal(*opt, CommandProvenance(sub)); });
   }
   CLI::App* thermal =
       GetOrAddSubcommand(app, "thermal", "Thermal drift: identify, screen parameters, compensate, predict");

@@ -141,6 +141,25 @@ std::string WithProvenance(const std::string& json_text, const Provenance& prove
   return out;
 }
 
+std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance) {
+  const std::filesystem::path out(output_path);
+  const std::string sidecar = (out.parent_path() / (out.stem().string() + ".provenance.json")).string();
+  nlohmann::ordered_json j;
+  j["format"] = "ramtk-provenance";
+  j["version"] = 1;
+  j["describes"] = out.filename().string();
+  return {sidecar, WithProvenance(j.dump(2) + "\n", provenance)};
+}
+
+std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
+                                                     const Provenance& provenance) {
+  nlohmann::ordered_json j;
+  j["format"] = "ramtk-provenance";
+  j["version"] = 1;
+  j["describes"] = names;
+  return {(std::filesystem::path(folder) / "provenance.json").string(), WithProvenance(j.dump(2) + "\n", provenance)};
+}
+
 std::string ProvenanceMarkdown(const Provenance& p) {
   std::string md = "## Provenance\n\n";
   md += "- ramtk " + p.version + ", commit " + p.git_commit + "\n";

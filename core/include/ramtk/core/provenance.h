@@ -68,6 +68,15 @@ nlohmann::ordered_json ProvenanceToJson(const Provenance& provenance);
 // Text that is not an object is returned unchanged.
 std::string WithProvenance(const std::string& json_text, const Provenance& provenance);
 
+// The provenance of an output that has no place for it (a CSV, a YAML file read by other tools):
+// the path `<output without its extension>.provenance.json` and its text {"format":
+// "ramtk-provenance", "version": 1, "describes": "<file name>", "provenance": {...}}.
+std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_path, const Provenance& provenance);
+// One sidecar for several files of a folder that other commands read as data (a simulator's
+// outputs): `folder`/provenance.json, "describes" listing `names`.
+std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
+                                                     const Provenance& provenance);
+
 // The block as Markdown: a "## Provenance" section (version, commit, command line, inputs, run)
 // with the options as a JSON code block.
 std::string ProvenanceMarkdown(const Provenance& provenance);
