@@ -1,5 +1,6 @@
 #include "command_provenance.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -71,7 +72,19 @@ nlohmann::json EffectiveOptions(CLI::App* command) {
     // Not given: the bound variable still holds its default.
     opt->capture_default_str();
     const std::string d = opt->get_default_str();
-    options[name] = d.empty() && opt->get_expected_max() > 1 ? nlohmann::json::array() : Typed(d);
+    if (opt->get_expected_max() > 1) {  // a list: CLI11 writes its default as "[a,b]"
+      nlohmann::json list = nlohmann::json::array();
+      const std::string inner = d.size() >= 2 && d.front() == '[' && d.back() == ']' ? d.substr(1, d.size() - 2) : d;
+      std::size_t start = 0;
+      while (!inner.empty() && start <= inner.size()) {
+        const std::size_t comma = std::min(inner.find(',', start), inner.size());
+        list.push_back(Typed(inner.substr(start, comma - start)));
+        start = comma + 1;
+      }
+      options[name] = list;
+    } else {
+      options[name] = Typed(d);
+    }
   }
   return options;
 }

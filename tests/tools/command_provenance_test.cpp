@@ -14,6 +14,7 @@ TEST(CommandProvenance, EveryOptionWithItsEffectiveValue) {
   int jobs = 2;
   bool quiet = false, force = false;
   std::vector<std::string> with;
+  std::vector<int> poses = {3, 4}, none;
   sub->add_option("set", set, "");
   sub->add_option("--out", out, "");
   sub->add_option("--radius", radius, "");
@@ -21,12 +22,16 @@ TEST(CommandProvenance, EveryOptionWithItsEffectiveValue) {
   sub->add_option("--jobs", jobs, "");
   sub->add_option("--roi", roi, "");
   sub->add_option("--with", with, "");
+  sub->add_option("--poses", poses, "");
+  sub->add_option("--none", none, "");
   sub->add_flag("-q,--quiet", quiet, "");
   sub->add_flag("--force", force, "");
   const char* argv[] = {"ramtk", "scan", "m.json", "--radius", "12.5", "-q", "--with", "a", "--with", "b"};
   app.parse(10, const_cast<char**>(argv));
   const nlohmann::json o = EffectiveOptions(sub);
-  EXPECT_EQ(o.size(), 9u) << o.dump();  // --help is not an option of the run
+  EXPECT_EQ(o.size(), 11u) << o.dump();  // --help is not an option of the run
+  EXPECT_EQ(o["poses"], nlohmann::json::array({3, 4}));
+  EXPECT_EQ(o["none"], nlohmann::json::array());
   EXPECT_EQ(o["set"], "m.json");
   EXPECT_EQ(o["out"], "scan_out");
   EXPECT_EQ(o["radius"], 12.5);
