@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RecordCommandLine(argc, argv);
   CLI::App app{"ramtk — robot accuracy maintenance toolkit"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "ramtk " + ramtk::RamtkVersion() + " (" + ramtk::RamtkGitCommit() + ")");
+  app.set_version_flag("--version", "ramtk " + ramtk::RamtkVersion());
   app.add_flag_callback(
       "-v,--verbose", [] { ramtk::SetLogThreshold(ramtk::LogLevel::kDebug); }, "Log debug messages");
   ramtk::SetLogSink([](ramtk::LogLevel level, const std::string& message) {
