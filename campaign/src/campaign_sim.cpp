@@ -28,6 +28,8 @@ std::string CampaignOptions::Validate() const {
   if (supersampling < 1 || supersampling > 8) return "supersampling must be in 1..8";
   if (!(repeatability_mm >= 0.0) || !(tool_sensor_noise_mm >= 0.0)) return "noise levels must be >= 0";
   if (jobs < 1) return "jobs must be >= 1";
+  if (!(scan_min_depth_mm > 0.0 && scan_max_depth_mm > scan_min_depth_mm))
+    return "scan depth range: expected 0 < scan_min_depth_mm < scan_max_depth_mm";
   if (screen_keep < -1 || screen_keep > 30) return "screen_keep must be -1 (skip), 0 (held-out) or a count up to 30";
   return "";
 }
