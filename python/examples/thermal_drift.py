@@ -41,17 +41,25 @@ def main() -> None:
     # Against the truth (30 x cycles; lengths in mm, angles in rad): the first cycle is the
     # reference, so both are compared as changes from it.
     truth = sim.true_delta_x[[ramtk.PARAM_NAMES.index(p) for p in drift.params]]
+    # Column 0 is the reference (ΔX ≡ 0 there), so the last column's σ is the change's σ.
+    worst = 0.0
     for i, p in enumerate(drift.params):
         got = drift.delta_x[i] - drift.delta_x[i, 0]
         want = truth[i, : got.size] - truth[i, 0]
+        sigma = drift.sigma[i, -1]
         scale = 1.0 if p.startswith(("d", "a")) and not p.startswith("alpha") else 180 / np.pi * 3600
         unit = "mm" if scale == 1.0 else "arcsec"
-        print(f"{p:7s} last cycle {got[-1] * scale:+9.4f} {unit} (truth {want[-1] * scale:+9.4f})")
+        z = (got[-1] - want[-1]) / sigma
+        worst = max(worst, abs(z))
+        print(f"{p:7s} last cycle {got[-1] * scale:+9.4f} ± {sigma * scale:.4f} {unit} "
+              f"(truth {want[-1] * scale:+9.4f}, {z:+.1f} σ)")
 
     report = out / "drift.json"
     report.write_text(json.dumps(drift.to_dict(), indent=1))
     print(f"wrote {report}")
     assert drift.rank == len(drift.params)
+    # The estimate differs from the truth by its noise: every parameter within 4 σ.
+    assert worst < 4.0, f"a parameter is {worst:.1f} σ from the truth"
     print("ok")
 
 

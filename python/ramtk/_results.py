@@ -182,6 +182,7 @@ class DriftEstimate(_Result):
     params: List[str]
     cycles: List[int]
     delta_x: F64  # params × cycles; mm for lengths, rad for angles
+    sigma: F64  # standard deviation of delta_x, same shape and units (NaN: parameter not kept)
     rank: int
     condition_number: float
     rms_residual_mm: float

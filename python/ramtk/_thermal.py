@@ -36,6 +36,7 @@ def thermal_identify(robot: RobotLike, setup: PathLike, ball: Table, params: Seq
     d = _core.thermal_identify(robot_model(robot), check.path(setup, "setup"), source, text, list(params))
     d["params"] = list(params)
     d["delta_x"] = np.asarray(d["delta_x"])
+    d["sigma"] = np.asarray(d["sigma"])
     return as_type(DriftEstimate, d)
 
 

@@ -1,5 +1,6 @@
 // Thermal drift: the thesis simulator, identification of ΔX per cycle and parameter screening,
 // from the files of docs/formats.md (ball / monitoring CSV, set-up JSON) or tables in memory.
+#include <algorithm>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -62,6 +63,15 @@ void BindThermal(py::module_& m) {
     for (std::size_t i = 0; i < o.params.size(); ++i) selected.row(i) = x.row(o.params[i]);
     py::dict d;
     d["delta_x"] = ToArray(selected);  // params × cycles, mm / rad
+    // σ of each ΔX from the identification's covariance (params × cycles; NaN for a parameter
+    // the identification did not keep).
+    Eigen::MatrixXd sigma(selected.rows(), selected.cols());
+    for (std::size_t i = 0; i < o.params.size(); ++i) {
+      const auto at = std::find(summary.params.begin(), summary.params.end(), o.params[i]);
+      const int k = at == summary.params.end() ? -1 : static_cast<int>(at - summary.params.begin());
+      for (Eigen::Index c = 0; c < sigma.cols(); ++c) sigma(static_cast<Eigen::Index>(i), c) = summary.Sigma(k, static_cast<int>(c));
+    }
+    d["sigma"] = ToArray(sigma);
     std::vector<int> cycle_numbers;
     for (const Cycle& c : series.cycles) cycle_numbers.push_back(c.cycle);
     d["cycles"] = cycle_numbers;
