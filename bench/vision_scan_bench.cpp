@@ -38,13 +38,13 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/cloud_noise.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/stereo/cloud_noise.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 #include "sphere_pcl_peer.h"
 

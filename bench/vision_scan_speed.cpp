@@ -45,11 +45,11 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 
 using namespace ramtk::vision;
 using Clock = std::chrono::steady_clock;

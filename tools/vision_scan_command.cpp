@@ -13,10 +13,10 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/scan_batch.h"
-#include "ramtk/vision/scan_report.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/scan/scan_batch.h"
+#include "ramtk/vision/scan/scan_report.h"
 
 namespace ramtk::tools {
 namespace {

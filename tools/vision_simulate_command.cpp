@@ -10,7 +10,7 @@
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::tools {
 namespace {

@@ -21,7 +21,7 @@
 #include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/monitoring.h"
 #include "ramtk/thermal/screening.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 
 namespace ramtk::campaign {
 namespace fs = std::filesystem;

@@ -10,7 +10,7 @@
 #include "ramtk/diagnose/fringe.h"
 #include "ramtk/diagnose/model_selection.h"
 #include "ramtk/diagnose/statistics.h"
-#include "ramtk/vision/image_io.h"
+#include "ramtk/vision/fringe/image_io.h"
 
 namespace ramtk::diagnose {
 namespace {

@@ -4,7 +4,7 @@
 #include <random>
 
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::diagnose {
 namespace {

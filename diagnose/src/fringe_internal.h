@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "ramtk/diagnose/diagnosis.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::diagnose::fringe {
 

@@ -7,8 +7,8 @@
 
 #include "fringe_internal.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/phase_shift.h"
-#include "ramtk/vision/unwrap.h"
+#include "ramtk/vision/fringe/phase_shift.h"
+#include "ramtk/vision/fringe/unwrap.h"
 
 namespace ramtk::diagnose::fringe {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "fringe_internal.h"
 #include "ramtk/diagnose/plot.h"
-#include "ramtk/vision/image_io.h"
+#include "ramtk/vision/fringe/image_io.h"
 
 namespace ramtk::diagnose::fringe {
 namespace {

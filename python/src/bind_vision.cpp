@@ -10,11 +10,11 @@
 #include "numpy_convert.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 
 namespace ramtk::python {
 namespace {

@@ -17,7 +17,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/fringe_hidden.h"
-#include "ramtk/vision/nonlinearity.h"
+#include "ramtk/vision/decode/nonlinearity.h"
 
 namespace ramtk::diagnose {
 namespace {

@@ -9,8 +9,8 @@
 
 #include "decode_synth.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/scan/scan.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/decode_internal.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/decode/detail/decode_internal.h"
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/phase_shift.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/phase_shift.h"
 
 namespace ramtk::vision {
 namespace {

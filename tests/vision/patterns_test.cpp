@@ -1,14 +1,14 @@
 // Pattern generation: layout (SLMaster convention) and decode round trips where the truth is the
 // projector pixel index itself.
-#include "ramtk/vision/patterns.h"
+#include "ramtk/vision/fringe/patterns.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
 namespace {

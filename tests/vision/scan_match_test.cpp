@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/coordinate_filter.h"
-#include "ramtk/vision/stereo_match.h"
-#include "ramtk/vision/triangulate.h"
+#include "ramtk/vision/decode/coordinate_filter.h"
+#include "ramtk/vision/stereo/stereo_match.h"
+#include "ramtk/vision/stereo/triangulate.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

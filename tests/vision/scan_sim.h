@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision::testing {
 

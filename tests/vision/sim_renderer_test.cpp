@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ramtk/vision/fringe_renderer.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_renderer.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::vision {
 namespace {

@@ -15,12 +15,12 @@
 #include <tuple>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/back_reach_lanes.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/stereo/detail/back_reach_lanes.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -11,9 +11,9 @@
 #include <iostream>
 
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -19,12 +19,12 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/stereo_rectified_grid.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/stereo/detail/stereo_rectified_grid.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

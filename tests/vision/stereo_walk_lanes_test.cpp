@@ -1,22 +1,22 @@
-// The match's walks on four AVX2 lanes (vision/src/stereo_walk_lanes.h: along the curves and along
+// The match's walks on four AVX2 lanes (vision/stereo/include/ramtk/vision/stereo/detail/stereo_walk_lanes.h: along the curves and along
 // the rectified rows) against the scalar walks:
 // every root the lanes settle is the scalar walk's to the bit (RunPass recomputes each one the
 // scalar way and compares all its fields), and the match's outputs with the lanes on are those
 // with the lanes off, bit for bit. On a simulated set, on the real SLMaster capture (skipped if
 // absent) and with the options that change what the walk reads (no left-right check, the curve
 // back pass, no sigma-widened tolerance).
-#include "../../vision/src/stereo_walk_lanes.h"
+#include "ramtk/vision/stereo/detail/stereo_walk_lanes.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <iostream>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

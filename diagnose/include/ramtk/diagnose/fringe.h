@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "ramtk/diagnose/diagnose.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::diagnose {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::diagnose {
 
