@@ -18,6 +18,7 @@
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -32,8 +33,10 @@ namespace {
 
 // The match with the lanes off, then on with the check; returns how many roots the lanes settled.
 long ExpectLanesAreTheScalarWalk(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r,
-                                 double period, StereoMatchOptions o) {
-  o.keep_back_matches = true;
+                                 double period, const StereoMatchOptions& o,
+                                 detail::StereoMatchTestHooks hooks = {}) {
+  hooks.keep_back_matches = true;
+  const detail::ScopedStereoMatchTestHooks scope(hooks);
   detail::SetAvx2Kernels(false);
   const StereoMatch scalar = MatchStereo(calib, l, r, period, o);
   detail::SetAvx2Kernels(true);
@@ -82,9 +85,10 @@ TEST(StereoWalkLanes, SettleTheScalarWalksRootsOnASimulatedSet) {
   // curves (the curve walk without a check), the tolerance not widened by the back sigma.
   o.lr_tolerance_px = 0;
   EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o), 0.8 * m.summary.matched);
-  o = StereoMatchOptions{};
-  o.rectified_back_pass = false;
-  EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o), 1.6 * m.summary.matched);
+  detail::StereoMatchTestHooks curve;
+  curve.rectified_back_pass = false;
+  EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, StereoMatchOptions{}, curve),
+            1.6 * m.summary.matched);
   o = StereoMatchOptions{};
   o.lr_sigma_factor = 0;
   ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o);

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "nonlinearity_internal.h"
+#include "ramtk/vision/decode/detail/decode_internal.h"
 #include "ramtk/core/error.h"
 #include "ramtk/vision/kernels/rank_select.h"
 
@@ -149,8 +150,9 @@ std::string NonlinearityEstimate::BriefReport() const {
   return s.str();
 }
 
-NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
-                                              int steps, const NonlinearityOptions& options) {
+NonlinearityEstimate detail::CorrectPhaseNonlinearityReference(cv::Mat& abs_phase, const cv::Mat& wrapped,
+                                                               const cv::Mat& mask, int steps,
+                                                               const NonlinearityOptions& options) {
   ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
   NonlinearityEstimate est;
   est.steps = steps;
@@ -339,8 +341,7 @@ std::vector<double> MeasureHarmonicRatios(const std::vector<cv::Mat>& frames, co
 double SecondHarmonicOfGamma(double gamma) {
   // (0.5 + 0.5 cos t)^g = cos^(2g)(t / 2), whose Fourier coefficients are
   // c_h = C Gamma(2g + 1) / (Gamma(g + h + 1) Gamma(g - h + 1)): the ratio c_2 / c_1 is
-  // Gamma(g + 2) Gamma(g) / (Gamma(g + 3) Gamma(g - 1)) = (g - 1) / (g + 2). (Until 2026-11-26 a
-  // 720-sample sum, off by 2.6e-5 at g = 0.3, and its inverse a table that cost ~5 ms per process.)
+  // Gamma(g + 2) Gamma(g) / (Gamma(g + 3) Gamma(g - 1)) = (g - 1) / (g + 2).
   return (gamma - 1.0) / (gamma + 2.0);
 }
 

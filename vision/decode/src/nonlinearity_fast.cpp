@@ -1,4 +1,4 @@
-// The same ripple estimator as CorrectPhaseNonlinearity (nonlinearity.cpp), organised for speed
+// The ripple estimator of detail::CorrectPhaseNonlinearityReference (nonlinearity.cpp), organised for speed
 // and memory: only the bounding box of the mask is processed (every pixel the fit uses has its
 // whole window inside it), in strips of rows whose buffers are a few window heights deep (not
 // maps of the box: 12 basis maps of a 1.3 Mpx frame were 60 MB), the basis functions are
@@ -238,9 +238,8 @@ void AccumulateRow(const double* h, const float* d, const uchar* m, const float*
 
 }  // namespace
 
-NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
-                                                  const cv::Mat& mask_full, int steps,
-                                                  const NonlinearityOptions& options) {
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
+                                              const cv::Mat& mask_full, int steps, const NonlinearityOptions& options) {
   ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
   NonlinearityEstimate est;
   est.steps = steps;

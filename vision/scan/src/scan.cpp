@@ -15,6 +15,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
+#include "ramtk/vision/decode/detail/test_hooks.h"
 #include "ramtk/vision/stereo/cloud_noise.h"
 #include "ramtk/vision/fringe/image_io.h"
 #include "ramtk/vision/fringe/manifest.h"
@@ -471,6 +472,7 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
 
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
   ThrowIfInvalid(options.Validate(), "ScanOptions");
+  const bool reference_decode = detail::CurrentDecodeTestHooks().reference_path;
   const FringeManifest m = ReadFringeManifest(manifest_path);
   for (const std::string& cam : {options.left_camera, options.right_camera})
     if (!m.cameras.count(cam))
@@ -495,8 +497,8 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   auto load = [&](const std::string& cam) {
     std::vector<std::string> paths;
     for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
-    // The fast path reads 8/16-bit grey files as stored; the reference path as float.
-    ImageStack stack = LoadImageStack(paths, options.decode.dark_fraction, !options.decode.reference_path);
+    // The fused decode reads 8/16-bit grey files as stored; the reference decode (a test hook) as float.
+    ImageStack stack = LoadImageStack(paths, options.decode.dark_fraction, !reference_decode);
     check_size(cam, paths.front(), stack.frames.front().size());
     return stack;
   };
@@ -551,7 +553,7 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     // loaded whole.
     auto t0 = std::chrono::steady_clock::now();
     std::vector<image::FrameRows> left_rows, right_rows;
-    if (options.read_rows_on_demand && !options.decode.reference_path) {
+    if (options.read_rows_on_demand && !reference_decode) {
       left_rows = open_rows(options.left_camera);
       if (!left_rows.empty()) right_rows = open_rows(options.right_camera);
     }

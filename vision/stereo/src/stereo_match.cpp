@@ -23,6 +23,7 @@
 #include "ramtk/vision/stereo/detail/stereo_rectified_grid.h"
 #include "ramtk/vision/stereo/detail/stereo_search_list.h"
 #include "ramtk/vision/stereo/detail/stereo_walk_lanes.h"
+#include "ramtk/vision/stereo/detail/test_hooks.h"
 #include "ramtk/vision/stereo/detail/undistort_chains.h"
 
 namespace ramtk::vision {
@@ -115,9 +116,9 @@ struct Pass {
   bool points = false;                  // also write each match's depth and point sigma (the left-to-right pass)
   bool pixels = true;                   // write the matched pixels u, v (the back pass must: the check reads them)
   bool sigma_map = true;                // keep the sigma map (the back pass must); false: its values per block only
-  bool full_search = false;             // StereoMatchOptions::full_search
-  bool exhaustive = false;              // StereoMatchOptions::exhaustive_search
-  // StereoMatchOptions::rectified_back_pass: the search runs on the destination coordinate map resampled
+  bool full_search = false;             // StereoMatchTestHooks::full_search
+  bool exhaustive = false;              // StereoMatchTestHooks::exhaustive_search
+  // StereoMatchTestHooks::rectified_back_pass: the search runs on the destination coordinate map resampled
   // onto the rectified grid (RectifiedGrid), whose rows are epipolar lines. A point X in the
   // rectified frame of a camera (its rotation, rect_from_src for the source, the camera centre at
   // the origin) lies at rectified pixel f (X_x, X_y) / X_z; the two frames differ by the baseline
@@ -360,8 +361,8 @@ struct Matcher {
   };
   // Regula falsi (Illinois) on the bilinear surface between two samples of opposite sign. It stops
   // at 1e-6 of a period in coordinate or a 1e-3 px bracket: the match sigma is ~0.05 px, and a
-  // tighter stop (1e-9 period / 1e-6 px until 2026-11-24) moved points by < 0.4 um for 5-7 % more
-  // match time (docs/performance.md).
+  // tighter stop (1e-9 period / 1e-6 px) moves points by < 0.4 um for 5-7 % more match time
+  // (docs/performance.md).
   bool Refine(double wa, Sample sa, double wb, Sample sb, Root* root) const {
     if (std::abs(sb.f - sa.f) > p.max_span) return false;
     const double slope = (sb.f - sa.f) / (wb - wa);
@@ -1202,7 +1203,7 @@ detail::WalkMaps LaneMaps(const Pass& p) {
   return w;
 }
 
-// Whether the lanes can walk the pass: with the walk (not StereoMatchOptions::full_search), on a
+// Whether the lanes can walk the pass: with the walk (not StereoMatchTestHooks::full_search), on a
 // CPU with AVX2, with the three destination maps in one layout (MatchStereo makes them so) and
 // every offset in an int.
 bool LanesWalk(const Pass& p) {
@@ -1593,9 +1594,27 @@ std::string StereoMatchSummary::BriefReport() const {
   return s.str();
 }
 
+namespace detail {
+namespace {
+std::mutex g_hooks_mutex;
+StereoMatchTestHooks g_hooks;
+}  // namespace
+
+StereoMatchTestHooks CurrentStereoMatchTestHooks() {
+  std::lock_guard<std::mutex> lock(g_hooks_mutex);
+  return g_hooks;
+}
+
+void SetStereoMatchTestHooks(const StereoMatchTestHooks& hooks) {
+  std::lock_guard<std::mutex> lock(g_hooks_mutex);
+  g_hooks = hooks;
+}
+}  // namespace detail
+
 StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                         double period, const StereoMatchOptions& options, const std::string& calibration_path) {
   ThrowIfInvalid(options.Validate(), "StereoMatchOptions");
+  const detail::StereoMatchTestHooks hooks = detail::CurrentStereoMatchTestHooks();
   CheckSize(calibration.left, left, "left", calibration_path);
   CheckSize(calibration.right, right, "right", calibration_path);
   if (!(period > 0)) throw InputError({"", 0, "period"}, "the fringe period must be > 0");
@@ -1603,7 +1622,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   const Vec3 T = calibration.right_from_left.translation();
 
   const detail::RectifiedPair rectified =
-      options.rectified_back_pass ? detail::MakeRectifiedPair(calibration) : detail::RectifiedPair{};
+      hooks.rectified_back_pass ? detail::MakeRectifiedPair(calibration) : detail::RectifiedPair{};
   auto make_pass = [&](bool left_to_right) {
     Pass p;
     const DecodedCamera& s = left_to_right ? left : right;
@@ -1631,7 +1650,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
         detail::CellRow(d.coordinate.ptr<float>(y), d.coordinate.ptr<float>(y + 1), d.coordinate.cols - 1, p.max_span,
                         p.cell_ok.data() + static_cast<std::size_t>(y) * d.coordinate.cols);
     });
-    if (options.rectified_back_pass && !left_to_right) {
+    if (hooks.rectified_back_pass && !left_to_right) {
       // The back pass (right to left): the left map on its rectified grid (at most 16 times the
       // image's pixels; without a grid the pass keeps the curve search).
       p.grid = detail::ResampleOnRectifiedGrid(*p.dst, rectified.rect_from_left, rectified.f, d.coordinate, p.cell_ok,
@@ -1647,8 +1666,8 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     }
     SetIdealBox(&p);
     if (!p.rect) BuildCurveTables(options, d.coordinate, &p);
-    p.full_search = options.full_search;
-    p.exhaustive = options.exhaustive_search;
+    p.full_search = hooks.full_search;
+    p.exhaustive = hooks.exhaustive_search;
     p.max_modulation_ratio = options.max_modulation_ratio;
     // Inverse depth along the source ray (its z = 1 direction). For the right camera's rays the
     // depth range is taken in its own frame, a close approximation for a rig whose cameras
@@ -1693,7 +1712,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
               (lrp.back_v.size == lrp.back_u.size && lrp.back_v_rows.stride == lrp.back_u_rows.stride &&
                (!lrp.lr_sigma ||
                 (lrp.back_sigma.size == lrp.back_u.size && lrp.back_sigma_rows.stride == lrp.back_u_rows.stride))));
-    if (lrp.lr_check && options.skip_without_back_match)
+    if (lrp.lr_check && hooks.skip_without_back_match)
       lrp.reach = BackReach(lrp, left.coordinate.cols, left.coordinate.rows);
   }
   PassResult fwd;
@@ -1702,7 +1721,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     sum.message = "cancelled";
     return result;
   }
-  if (options.keep_back_matches) {
+  if (hooks.keep_back_matches) {
     result.back_u = back.u;
     result.back_v = back.v;
     result.back_sigma_px = back.sigma;

@@ -36,7 +36,7 @@ struct DiagnoseOptions {
   uint64_t seed = 1;
   ProgressCallback progress;
 
-  // Throws InputError naming the field when a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 // Optional smoothing of a decoded projector-coordinate map in the phase domain, with its effect
-// carried into each pixel's sigma (issue 16: dense matches on low-modulation captures).
+// carried into each pixel's sigma: dense matches on low-modulation captures.
 //
 // Each valid pixel's coordinate is replaced by the value at its centre of a least-squares
 // quadratic surface c0 + c1 x + c2 y + c3 x² + c4 xy + c5 y² fitted to the valid pixels of its

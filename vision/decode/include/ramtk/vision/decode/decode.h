@@ -32,7 +32,7 @@ struct DecodeOptions {
   // real SLMaster set they are ~99 % of the residual's power), and the phase ripple they leave
   // at the pixel scale is measured on the decoded phase and added to sigma_phi
   // (DecodeSummary::phase_ripple_rad). false: sigma_I = the whole residual RMS and no ripple
-  // term, as before 2026-11-24 (sigma was then 7x too large on SLMaster).
+  // term (on SLMaster a sigma 7x too large).
   bool noise_from_neighbours = true;
   int noise_stride = 4;  // every noise_stride-th pixel in x and y for those estimates (1/16 of them)
   // Those estimates and the fast path's harmonic ratios read every s-th pixel in x and y with
@@ -47,15 +47,8 @@ struct DecodeOptions {
   NonlinearityOptions nonlinearity;  // used when correct_nonlinearity
   // Heterodyne: reject pixels whose beat orders disagree by more than this (periods).
   double max_order_residual = 0.3;
-  // Run the reference implementation (separate passes over float copies of the frames, every
-  // pixel; the pre-issue-13 code) instead of the fused fast path. Both give the same phase,
-  // mask and coordinate within float rounding (tests/vision/decode_fast_test.cpp); kept for
-  // tests and benchmarks. The fast path differs only in (a) `wrapped` is 0 where a pixel is
-  // masked by darkness, saturation or modulation, (b) edge_corrections counts unmasked pixels
-  // only, (c) the harmonic ratios are averaged over every harmonic_stride-th pixel.
-  bool reference_path = false;
-  // Fast path: the harmonic ratios (a diagnostic, not used for the coordinate) are averaged
-  // over every harmonic_stride-th pixel in x and y (1 = all, as the reference path).
+  // The harmonic ratios (a diagnostic, not used for the coordinate) are averaged over every
+  // harmonic_stride-th pixel in x and y (1 = all, as the reference decode).
   int harmonic_stride = 4;
   // Keep the diagnostic maps (DecodedCamera::wrapped, background, sigma_phase, fit_residual).
   // false: they are left empty and, on the fast path, never allocated; a scan needs only the
@@ -67,7 +60,7 @@ struct DecodeOptions {
   CoordinateFilterOptions coordinate_filter;
   // Called after each stage; returning false stops the decode (termination "cancelled").
   ProgressCallback progress;
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

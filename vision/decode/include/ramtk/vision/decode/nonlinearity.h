@@ -48,7 +48,7 @@ struct NonlinearityOptions {
   // ~k for a real ripple (its power), not under the null (its false-alarm rate). 1 = every row.
   int row_subsample = 4;
   long row_subsample_min_pixels = 100000;
-  // Throws InputError naming the field when a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 
@@ -72,15 +72,12 @@ struct NonlinearityEstimate {
 };
 
 // `abs_phase` (CV_32F, radians of the finest block, unwrapped) is corrected in place where
-// `mask` (CV_8U) is non-zero; `wrapped` is the measured LS phase of the same block.
+// `mask` (CV_8U) is non-zero; `wrapped` is the measured LS phase of the same block. Only the
+// mask's bounding box is processed, the basis functions at valid pixels, with parallel box filters
+// and accumulation; the reference over whole maps (detail::CorrectPhaseNonlinearityReference,
+// detail/decode_internal.h) gives the same within float rounding of the basis functions.
 NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
                                               int steps, const NonlinearityOptions& options = {});
-
-// The same estimate and correction computed faster (only the mask's bounding box, basis functions
-// at valid pixels, parallel box filters and accumulation); equal to CorrectPhaseNonlinearity
-// within float rounding of the basis functions. The decode's fast path uses it.
-NonlinearityEstimate CorrectPhaseNonlinearityFast(cv::Mat& abs_phase, const cv::Mat& wrapped, const cv::Mat& mask,
-                                                  int steps, const NonlinearityOptions& options = {});
 
 // Direct harmonic content for N >= 5 steps (harmonics h < N/2 are resolved per pixel): the
 // signed ratio r_h = B_h / B_1 of a memoryless response, phase-locked to h*phi and averaged over

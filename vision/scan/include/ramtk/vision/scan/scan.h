@@ -65,7 +65,7 @@ struct ScanOptions {
   ProgressCallback progress;
 
   ScanOptions();
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

@@ -43,7 +43,7 @@ struct ScanRoiOptions {
   // If the windowed scan finds no sphere (or the coarse pass finds none), scan the whole frame
   // instead (logged and recorded in ScanSummary::roi_source). false: report "no sphere found".
   bool fall_back_to_full = true;
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

@@ -91,7 +91,7 @@ struct RenderOptions {
   FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
   bool shadows = true;                                         // trace projector shadow rays
   ProgressCallback progress;                                   // called from worker threads (serialised), rows done
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 
@@ -123,7 +123,7 @@ struct SensorOptions {
   // an algebraic soft clip that is linear at the knee and approaches F smoothly.
   double soft_knee_fraction = 0.0;
   bool noise = true;  // add shot and read noise
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
   int MaxValue() const { return (1 << bits) - 1; }
 };

@@ -39,7 +39,7 @@ struct FringeEffects {
   void Set(const std::string& name, double magnitude, const std::string& where = "--effect");
   // All effects by catalogue name, with their current magnitudes.
   std::map<std::string, double> ByName() const;
-  // Throws InputError for an out-of-range magnitude.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 
@@ -59,7 +59,7 @@ struct FringeSimulationConfig {
   // sensors only; what many cameras write, and read by rows under `ramtk scan --roi`).
   std::string frame_format = "png";
 
-  // Throws InputError naming the field for invalid values.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

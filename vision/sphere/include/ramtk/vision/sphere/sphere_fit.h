@@ -103,7 +103,7 @@ struct SphereFitOptions {
   int max_solver_iterations = 50;
   // Called after each sphere; returning false stops the search (termination "cancelled").
   ProgressCallback progress;
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 

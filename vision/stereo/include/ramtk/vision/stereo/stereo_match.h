@@ -8,8 +8,9 @@
 // and lie within one period (no unwrap jump, no occlusion edge), and the crossing
 // c_right(w) = c_left is refined on that bilinear surface. The points are never taken from a
 // rectified or resampled grid, and the phase is never interpolated across a jump. Only the
-// left-right check's back pass (right to left) searches a rectified grid of the left map by
-// default (StereoMatchOptions::rectified_back_pass): its matches decide which points are kept.
+// left-right check's back pass (right to left) searches a rectified grid of the left map
+// (detail::StereoMatchTestHooks::rectified_back_pass, on in production): its matches decide which
+// points are kept.
 //
 // Rejections: invalid or noisy left pixels, no crossing in the depth range, a modulation that
 // differs between the cameras (another surface lit by the same projector column on the same
@@ -41,7 +42,7 @@ struct StereoMatchOptions {
   double lr_tolerance_px = 0.5;
   // ... or within this many of the back match's own sigma (px along its epipolar curve), if
   // larger: on low-modulation data a pixel is rejected because its sigma says the two matches
-  // disagree, not by the fixed distance alone. 0: the fixed tolerance only (before 2026-11-24).
+  // disagree, not by the fixed distance alone. 0: the fixed tolerance only.
   double lr_sigma_factor = 3.0;
   // Pixels whose coordinate sigma exceeds this fraction of a fringe period are not matched.
   double max_sigma_periods = 0.02;
@@ -55,36 +56,6 @@ struct StereoMatchOptions {
   // Sampling step along the epipolar curve in the full search, right-camera pixels (a
   // crossing is bracketed between samples and refined on the bilinear surface).
   double search_step_px = 2.0;
-  // Reference search: every pixel is searched over the whole depth range. false (the default):
-  // a pixel whose left neighbour matched walks from that neighbour's depth to the equal-coordinate
-  // crossing (the coordinate is monotone along the curve, so a few samples); a run start walks
-  // from the match of the pixel above (rows run in fixed blocks of 16, each in order); it falls back to
-  // the whole-range search only if the walk finds no crossing or its crossing is rejected by the
-  // modulation or left-right check. Both give the same matches (ctest StereoWalk.*).
-  bool full_search = false;
-  // Reference for the whole-range search itself: every sample along the curve is evaluated, with
-  // none of the tile bounds that prove stretches free of crossings. Far slower (minutes on a
-  // whole frame); it should find the same crossings as the pruned search (ctest
-  // StereoFullSearch.*). For comparisons only.
-  bool exhaustive_search = false;
-  // With the left-right check: a left pixel that no right pixel's own match can accept (none
-  // lands within the check's tolerance of it, BackReach in stereo_match.cpp) is not searched and
-  // is counted in rejected_no_back_match: any crossing would fail the check. The matches are the
-  // same either way (ctest StereoBackReach.*); on a real capture most occlusion-shadow pixels are
-  // skipped, which had each cost a whole-range search. false: search them (for comparisons).
-  bool skip_without_back_match = true;
-  // The right-to-left pass, whose matches only feed the left-right check, searches rectified rows:
-  // both cameras are turned about their centres to one orientation whose x axis is the baseline,
-  // so every epipolar curve becomes a row; the left camera's coordinate map is resampled once onto
-  // integer rectified pixels (bilinear reads of the cells the curve search interpolates), and each
-  // right pixel's crossing is found along one row pair, in closed form per cell. Its distorted
-  // pixel, variance and modulation are then read as in the curve search. The crossing itself is
-  // the grid's (the coordinate interpolated twice): ~0.01 px from the curve search's inside a
-  // surface, against the check's 0.5 px tolerance. The left-to-right pass, which gives the points,
-  // always searches along the curves: the points are those of the curve search, and only which
-  // pixels the check accepts can differ, at edges (ctest StereoRectified.*). false: both passes
-  // along the curves (for comparisons).
-  bool rectified_back_pass = true;
   // Write the matched right pixels (StereoMatch::right_u, right_v). The scan needs only the
   // depths and sigmas: without the two maps a thesis frame's match holds 66 MB less.
   bool right_pixels = true;
@@ -92,11 +63,9 @@ struct StereoMatchOptions {
   // (point_sigma_mm), and the summary's median needs only the matched pixels' values: false
   // saves a float map (5 MB on a 1.3 Mpx frame, first touched and then released).
   bool sigma_map = true;
-  // Keep the right-to-left pass's matches (StereoMatch::back_u, back_v): for comparisons.
-  bool keep_back_matches = false;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
-  // Throws InputError naming the field if a value is out of range.
+  // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
 
@@ -138,7 +107,7 @@ struct StereoMatch {
   cv::Mat x_mm, y_mm;
   // Per right pixel: its own match in the left image (the left-right check's back match) and that
   // match's sigma along its epipolar curve (left px), CV_32F, NaN unmatched; empty unless
-  // StereoMatchOptions::keep_back_matches (and the check is on).
+  // detail::StereoMatchTestHooks::keep_back_matches (and the check is on).
   cv::Mat back_u, back_v, back_sigma_px;
   StereoMatchSummary summary;
 };

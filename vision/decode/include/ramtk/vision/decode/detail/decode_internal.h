@@ -1,11 +1,13 @@
 #pragma once
-// Internal interface of the fused decode path (decode_fast.cpp), used by decode.cpp.
+// Internal interface of the fused decode path (decode_fast.cpp) and of the references it is
+// tested against (decode_reference.cpp, nonlinearity.cpp), used by decode.cpp and the tests.
 
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/decode/nonlinearity.h"
 
 namespace ramtk::vision::detail {
 
@@ -97,5 +99,17 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
 // where the mask byte is 0, NaN in both and in the coordinate `c` (otherwise left as it is).
 void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
               float* sp, float* sc);
+
+// The reference decode: float frames, one pass per stage over every pixel (phase_shift.h,
+// unwrap.h, CorrectPhaseNonlinearityReference). Runs in place of DecodeFramesFast under the test
+// hook DecodeTestHooks::reference_path.
+DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                                    const DecodeOptions& options, const std::string& camera);
+
+// The reference ripple estimator over whole maps (nonlinearity.cpp): the same estimate and
+// correction as CorrectPhaseNonlinearity within float rounding of the basis functions.
+NonlinearityEstimate CorrectPhaseNonlinearityReference(cv::Mat& abs_phase, const cv::Mat& wrapped,
+                                                       const cv::Mat& mask, int steps,
+                                                       const NonlinearityOptions& options = {});
 
 }  // namespace ramtk::vision::detail
