@@ -73,16 +73,7 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   m.projector_width = config.projector.intrinsics.width;
   m.projector_height = config.projector.intrinsics.height;
   m.direction = vision::FringeDirection::kVertical;
-  vision::SequenceBlock ps;
-  ps.type = vision::BlockType::kPhaseShift;
-  ps.steps = config.sequence[0].steps;
-  ps.cycles = {config.sequence[0].cycles};
-  ps.phase_at_origin_rad = config.sequence[0].phase_at_origin_rad;
-  vision::SequenceBlock gc;
-  gc.type = vision::BlockType::kGrayCode;
-  gc.bits = config.sequence[1].bits;
-  gc.complementary = config.sequence[1].complementary;
-  m.sequence = {ps, gc};
+  m.sequence = {config.sequence[0], config.sequence[1]};
   const vision::EffectRealisation truth = vision::RealiseEffects(config, vision::ExpandSequence(config.sequence));
   for (double e : truth.shift_errors_rad) out.shift_errors_deg.push_back(e * 180.0 / 3.14159265358979323846);
   out.gains = truth.gains;

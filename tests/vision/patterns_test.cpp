@@ -110,6 +110,7 @@ TEST(Patterns, HeterodyneRoundTrip) {
 TEST(Patterns, WritePatternSetWritesPngsAndManifest) {
   const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/pattern_set";
   std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(RAMTK_TEST_OUTPUT_DIR);  // the parent, whichever test runs first
   WritePatternSet(dir, Make(FringeDirection::kVertical, {Ps(3, 32), Gray(6, true)}), 16);
   const FringeManifest m = ReadFringeManifest(dir + "/manifest.json");
   ASSERT_EQ(m.cameras.at("projector").size(), 9u);

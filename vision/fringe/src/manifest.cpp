@@ -87,6 +87,36 @@ const char* BlockTypeName(BlockType type) {
   return "?";
 }
 
+const char* FringeDirectionName(FringeDirection direction) {
+  return direction == FringeDirection::kVertical ? "vertical" : "horizontal";
+}
+
+SequenceBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad) {
+  SequenceBlock b;
+  b.type = BlockType::kPhaseShift;
+  b.steps = steps;
+  b.cycles = {cycles};
+  b.phase_at_origin_rad = phase_at_origin_rad;
+  return b;
+}
+
+SequenceBlock HeterodyneBlock(int steps, const std::vector<double>& cycles, double phase_at_origin_rad) {
+  SequenceBlock b;
+  b.type = BlockType::kHeterodyne;
+  b.steps = steps;
+  b.cycles = cycles;
+  b.phase_at_origin_rad = phase_at_origin_rad;
+  return b;
+}
+
+SequenceBlock GrayCodeBlock(int bits, bool complementary) {
+  SequenceBlock b;
+  b.type = BlockType::kGrayCode;
+  b.bits = bits;
+  b.complementary = complementary;
+  return b;
+}
+
 int SequenceBlock::ImageCount() const {
   switch (type) {
     case BlockType::kPhaseShift:
@@ -234,7 +264,7 @@ std::string FringeManifestToJson(const FringeManifest& m) {
   j["format"] = "ramtk-fringe-set";
   j["version"] = 1;
   j["projector"] = {{"width", m.projector_width}, {"height", m.projector_height}};
-  j["direction"] = m.direction == FringeDirection::kVertical ? "vertical" : "horizontal";
+  j["direction"] = FringeDirectionName(m.direction);
   if (!m.calibration.empty()) j["calibration"] = m.calibration;
   json seq = json::array();
   for (const SequenceBlock& b : m.sequence) {

@@ -31,12 +31,6 @@ double PatternPhase(double u, double cycles, int extent, double phase_at_origin_
   return kTwoPi * cycles * u / extent + phase_at_origin_rad;
 }
 
-int GrayCodeCell(double u, int bits, int extent) {
-  const int cells = 1 << bits;
-  const int c = static_cast<int>(std::floor(u * cells / extent));
-  return std::clamp(c, 0, cells - 1);
-}
-
 std::vector<cv::Mat> GeneratePatterns(const FringeManifest& m) {
   const int extent = m.Extent();
   std::vector<cv::Mat> out;
@@ -45,9 +39,7 @@ std::vector<cv::Mat> GeneratePatterns(const FringeManifest& m) {
     if (b.type == BlockType::kGrayCode) {
       for (int j = 0; j < b.bits; ++j) {
         for (int u = 0; u < extent; ++u) {
-          const int cell = GrayCodeCell(u, b.bits, extent);
-          const int gray = cell ^ (cell >> 1);
-          line[u] = static_cast<float>((gray >> (b.bits - 1 - j)) & 1);
+          line[u] = static_cast<float>(GrayCodeImageBit(GrayCodeWord(GrayCodeCell(u, b.bits, extent)), b.bits, j));
         }
         out.push_back(Expand(line, m));
       }

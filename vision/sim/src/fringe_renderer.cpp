@@ -11,6 +11,7 @@
 #include <random>
 
 #include "ramtk/core/error.h"
+#include "ramtk/vision/fringe/gray_code.h"
 
 namespace ramtk::vision {
 namespace {
@@ -86,15 +87,6 @@ class RayTracer {
   Vec3 projector_centre_;
 };
 
-// Gray code word G(n) = n xor (n >> 1) of the section n = floor(c·2^bits / L) holding fringe
-// coordinate c (clamped to the projector). Image i of the block shows bit (bits − 1 − i).
-long long GrayCodeWord(double c, double extent, int bits) {
-  const long long sections = 1LL << bits;
-  long long n = static_cast<long long>(std::floor(c * static_cast<double>(sections) / extent));
-  n = std::max(0LL, std::min(n, sections - 1));
-  return n ^ (n >> 1);
-}
-
 // Bit `shift` of the Gray code at coordinate c seen through a Gaussian projector blur of σ
 // projector px across the fringes: each step of the sharp bit pattern becomes the normal CDF.
 double BlurredGrayBit(double c, double extent, int bits, int shift, double sigma) {
@@ -102,7 +94,7 @@ double BlurredGrayBit(double c, double extent, int bits, int shift, double sigma
   const double cell = extent / static_cast<double>(sections);
   const auto bit = [&](long long n) {
     n = std::max(0LL, std::min(n, sections - 1));
-    return static_cast<int>(((n ^ (n >> 1)) >> shift) & 1);
+    return static_cast<int>((GrayCodeWord(n) >> shift) & 1);
   };
   const long long c0 = static_cast<long long>(std::floor(c / cell));
   const long long span = 1 + static_cast<long long>(std::ceil(6.0 * sigma / cell));
@@ -116,52 +108,24 @@ double BlurredGrayBit(double c, double extent, int bits, int shift, double sigma
 
 }  // namespace
 
-const char* FringeOrientationName(FringeOrientation direction) {
-  return direction == FringeOrientation::kVertical ? "vertical" : "horizontal";
-}
-
-PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad) {
-  PatternBlock b;
-  b.type = PatternBlock::Type::kPhaseShift;
-  b.steps = steps;
-  b.cycles = cycles;
-  b.phase_at_origin_rad = phase_at_origin_rad;
-  return b;
-}
-
-PatternBlock HeterodyneBlock(int steps, const std::vector<double>& cycles, double phase_at_origin_rad) {
-  PatternBlock b;
-  b.type = PatternBlock::Type::kHeterodyne;
-  b.steps = steps;
-  b.heterodyne_cycles = cycles;
-  b.phase_at_origin_rad = phase_at_origin_rad;
-  return b;
-}
-
-PatternBlock GrayCodeBlock(int bits, bool complementary) {
-  PatternBlock b;
-  b.type = PatternBlock::Type::kGrayCode;
-  b.bits = bits;
-  b.complementary = complementary;
-  return b;
-}
-
-std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks) {
+std::vector<PatternFrame> ExpandSequence(const std::vector<SequenceBlock>& blocks) {
   std::vector<PatternFrame> frames;
   for (std::size_t b = 0; b < blocks.size(); ++b) {
-    const PatternBlock& block = blocks[b];
+    const SequenceBlock& block = blocks[b];
     const std::string field = "sequence[" + std::to_string(b) + "]";
-    if (block.type != PatternBlock::Type::kGrayCode) {
+    if (block.type != BlockType::kGrayCode) {
       if (block.steps < 3) throw InputError({"", 0, field + ".steps"}, "a phase shift needs at least 3 steps");
-      const bool heterodyne = block.type == PatternBlock::Type::kHeterodyne;
-      const std::vector<double> all_cycles = heterodyne ? block.heterodyne_cycles : std::vector<double>{block.cycles};
+      const bool heterodyne = block.type == BlockType::kHeterodyne;
+      const std::vector<double>& all_cycles = block.cycles;
       if (heterodyne && all_cycles.size() < 2)
         throw InputError({"", 0, field + ".cycles"}, "a heterodyne block needs at least 2 frequencies");
+      if (!heterodyne && all_cycles.size() != 1)
+        throw InputError({"", 0, field + ".cycles"}, "a phase-shift block has one frequency");
       for (double cycles : all_cycles) {
         if (!(cycles > 0.0)) throw InputError({"", 0, field + ".cycles"}, "cycles must be positive");
         for (int k = 0; k < block.steps; ++k) {
           PatternFrame f;
-          f.type = PatternBlock::Type::kPhaseShift;
+          f.type = BlockType::kPhaseShift;
           f.block = static_cast<int>(b);
           f.index = k;
           f.steps = block.steps;
@@ -200,7 +164,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
   if (width <= 0 || height <= 0) throw InputError({"", 0, "camera.width"}, "camera image size must be positive");
   const int n = options.supersampling;
   const int samples = n * n;
-  const bool vertical = options.direction == FringeOrientation::kVertical;
+  const bool vertical = options.direction == FringeDirection::kVertical;
   const double extent = vertical ? projector.intrinsics.width : projector.intrinsics.height;
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
@@ -258,7 +222,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         double cached_cycles = 0.0;
         for (std::size_t f = 0; f < frames.size(); ++f) {
           const PatternFrame& frame = frames[f];
-          const bool phase = frame.type == PatternBlock::Type::kPhaseShift;
+          const bool phase = frame.type == BlockType::kPhaseShift;
           if (frame.block != cached_block || frame.cycles != cached_cycles) {
             cached_block = frame.block;
             cached_cycles = frame.cycles;
@@ -268,7 +232,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
                 cos_phi[s] = std::cos(phi);
                 sin_phi[s] = std::sin(phi);
               } else {
-                gray[s] = GrayCodeWord(sub[s].coord, extent, frame.bits);
+                gray[s] = GrayCodeWord(GrayCodeCell(sub[s].coord, frame.bits, extent));
               }
             }
           }

@@ -51,18 +51,18 @@ json IntrinsicsJson(const CameraIntrinsics& c) {
           {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
 }
 
-json SequenceJson(const std::vector<PatternBlock>& blocks) {
+json SequenceJson(const std::vector<SequenceBlock>& blocks) {
   json seq = json::array();
-  for (const PatternBlock& b : blocks) {
-    if (b.type == PatternBlock::Type::kHeterodyne) {
+  for (const SequenceBlock& b : blocks) {
+    if (b.type == BlockType::kHeterodyne) {
       seq.push_back({{"type", "heterodyne"},
                      {"steps", b.steps},
-                     {"cycles", b.heterodyne_cycles},
+                     {"cycles", b.cycles},
                      {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
-    } else if (b.type == PatternBlock::Type::kPhaseShift) {
+    } else if (b.type == BlockType::kPhaseShift) {
       seq.push_back({{"type", "phase_shift"},
                      {"steps", b.steps},
-                     {"cycles", b.cycles},
+                     {"cycles", b.cycles.at(0)},
                      {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
     } else {
       seq.push_back({{"type", "gray_code"}, {"bits", b.bits}, {"complementary", b.complementary}});
@@ -281,7 +281,7 @@ EffectRealisation RealiseEffects(const FringeSimulationConfig& config, const std
   const std::size_t n = frames.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double z = normal(rng);  // drawn for every frame so realisations do not depend on the sequence mix
-    r.shift_errors_rad.push_back(frames[i].type == PatternBlock::Type::kPhaseShift ? sigma * z : 0.0);
+    r.shift_errors_rad.push_back(frames[i].type == BlockType::kPhaseShift ? sigma * z : 0.0);
     r.gains.push_back(1.0 + config.effects.intensity_drift * (n > 1 ? static_cast<double>(i) / (n - 1) : 0.0));
   }
   return r;
@@ -401,7 +401,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
         {"format", "ramtk-fringe-set"},
         {"version", 1},
         {"projector", {{"width", config.projector.intrinsics.width}, {"height", config.projector.intrinsics.height}}},
-        {"direction", FringeOrientationName(config.direction)},
+        {"direction", FringeDirectionName(config.direction)},
         {"sequence", SequenceJson(config.sequence)},
         {"pattern_convention",
          "phase shift k of N: 0.5+0.5*cos(2*pi*cycles*c/L + phase_at_origin + 2*pi*k/N); gray code image i: bit "

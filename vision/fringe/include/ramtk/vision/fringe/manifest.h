@@ -9,8 +9,8 @@
 // and step k of an N-step block shows 0.5 + 0.5*cos(phi(u) + 2*pi*k/N). The default
 // phase_at_origin = -180 deg makes every period start dark, which is the layout of SLMaster
 // (shared/data/slmaster-binocular), so Gray-code cell edges coincide with period edges.
-// Gray code: cell c = floor(u * 2^bits / extent), gray = c ^ (c >> 1), image j (0 = most
-// significant) shows bit (bits-1-j) of gray, white = 1. Complementary Gray code has one more
+// Gray code (gray_code.h): cell c = floor(u * 2^bits / extent), gray = c ^ (c >> 1), image j (0 =
+// most significant) shows bit (bits-1-j) of gray, white = 1. Complementary Gray code has one more
 // bit than log2(cycles): its last image splits every period into halves.
 
 #include <map>
@@ -44,6 +44,17 @@ struct SequenceBlock {
   // Number of images this block occupies.
   int ImageCount() const;
 };
+
+// A phase-shift block: `steps` >= 3 images, `cycles` periods across the projector, phase at u = 0.
+SequenceBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad = -3.14159265358979323846);
+// A heterodyne block: for each entry of `cycles` (finest first), `steps` phase-shift images.
+SequenceBlock HeterodyneBlock(int steps, const std::vector<double>& cycles,
+                              double phase_at_origin_rad = -3.14159265358979323846);
+// A Gray-code block of `bits` images (complementary: the last bit splits each period in halves).
+SequenceBlock GrayCodeBlock(int bits, bool complementary);
+
+// "vertical" / "horizontal", as in the manifest file.
+const char* FringeDirectionName(FringeDirection direction);
 
 struct FringeManifest {
   // Path the manifest was read from ("" when built in memory). Relative image and calibration

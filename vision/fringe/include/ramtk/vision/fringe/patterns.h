@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/vision/fringe/gray_code.h"
 #include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
@@ -20,9 +21,6 @@ std::vector<cv::Mat> QuantisePatterns(const std::vector<cv::Mat>& patterns, int 
 // Phase (radians, not wrapped) of a phase_shift/heterodyne frequency with `cycles` across
 // `extent` projector pixels at pixel coordinate u.
 double PatternPhase(double u, double cycles, int extent, double phase_at_origin_rad);
-
-// Gray-code cell of projector coordinate u: floor(u * 2^bits / extent), clamped.
-int GrayCodeCell(double u, int bits, int extent);
 
 // Writes pattern_00.png ... and manifest.json (camera "projector" lists the pattern files) into
 // the folder `out_dir`, as a unit (core/outputs.h StagedFolder): an existing non-empty folder is

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/kernels/camera.h"
 #include "ramtk/vision/sim/scene.h"
 
@@ -39,35 +40,10 @@ struct PinholeView {
   Isometry3 view_from_left = Isometry3::Identity();  // maps left-camera coordinates into this view
 };
 
-// Which way the fringes run: vertical fringes code the projector x, horizontal ones the y.
-// (Named apart from the manifest's FringeDirection until the two halves of vision/ are merged.)
-enum class FringeOrientation { kVertical, kHorizontal };
-const char* FringeOrientationName(FringeOrientation direction);  // "vertical" / "horizontal"
-
-// One block of the pattern sequence.
-struct PatternBlock {
-  enum class Type { kPhaseShift, kGrayCode, kHeterodyne };
-  Type type = Type::kPhaseShift;
-  int steps = 0;                                         // phase shift: number of steps N ≥ 3
-  double cycles = 0.0;                                   // phase shift: fringe periods across the projector
-  std::vector<double> heterodyne_cycles;                 // heterodyne: periods per frequency, finest first
-  double phase_at_origin_rad = -3.14159265358979323846;  // phase shift: φ0, phase at c = 0
-  int bits = 0;                                          // Gray code: number of code images
-  bool complementary = false;  // Gray code: the last bit is the complementary (half-period) code
-};
-
-// A phase-shift block: `steps` ≥ 3 images, `cycles` periods across the projector, phase φ0 at c = 0.
-PatternBlock PhaseShiftBlock(int steps, double cycles, double phase_at_origin_rad = -3.14159265358979323846);
-// A heterodyne block: for each entry of `cycles` (finest first), `steps` phase-shift images.
-PatternBlock HeterodyneBlock(int steps, const std::vector<double>& cycles,
-                             double phase_at_origin_rad = -3.14159265358979323846);
-// A Gray-code block of `bits` images (complementary: the last bit splits each period in halves).
-PatternBlock GrayCodeBlock(int bits, bool complementary);
-
 // One projected image of the sequence (heterodyne blocks expand to phase-shift frames).
 struct PatternFrame {
-  PatternBlock::Type type = PatternBlock::Type::kPhaseShift;  // kPhaseShift or kGrayCode
-  int block = 0;                                              // index of its block in the sequence
+  BlockType type = BlockType::kPhaseShift;  // kPhaseShift or kGrayCode
+  int block = 0;                            // index of its block in the sequence
   int index = 0;                     // step k (phase shift) or image i (Gray code) within the block
   int steps = 0;                     // phase shift: N
   double cycles = 0.0;               // phase shift: periods across the projector
@@ -78,7 +54,7 @@ struct PatternFrame {
 
 // Expands blocks into frames (with zero shift errors). Throws InputError (field "sequence[i]") for
 // N < 3, cycles ≤ 0, bits outside 1..16.
-std::vector<PatternFrame> ExpandSequence(const std::vector<PatternBlock>& blocks);
+std::vector<PatternFrame> ExpandSequence(const std::vector<SequenceBlock>& blocks);
 
 struct RenderOptions {
   int supersampling = 4;         // n: n×n rays per camera pixel
@@ -88,7 +64,7 @@ struct RenderOptions {
   // it changes nothing); 0 = sharp. Applied to the pattern before the response P^γ (exact for
   // γ = 1).
   double projector_blur_px = 0.0;
-  FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
+  FringeDirection direction = FringeDirection::kVertical;  // fringe direction
   bool shadows = true;                                         // trace projector shadow rays
   ProgressCallback progress;                                   // called from worker threads (serialised), rows done
   // "" when usable, else the first problem as `field: what is wrong`.

@@ -49,8 +49,8 @@ struct FringeSimulationConfig {
   StereoCalibration cameras;                                   // true cameras: intrinsics, distortion, right_from_left
   PinholeView projector;                                       // projector intrinsics and projector_from_left
   Scene scene;                                                 // spheres and planes, left-camera frame, mm
-  std::vector<PatternBlock> sequence;                          // projected pattern sequence
-  FringeOrientation direction = FringeOrientation::kVertical;  // fringe direction
+  std::vector<SequenceBlock> sequence;                     // projected pattern sequence
+  FringeDirection direction = FringeDirection::kVertical;  // fringe direction
   int supersampling = 4;                                       // n×n rays per camera pixel
   SensorOptions sensor;    // bit depth, exposure, noise, (blur is set by `camera_defocus`)
   FringeEffects effects;   // effect magnitudes
