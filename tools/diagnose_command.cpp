@@ -22,7 +22,7 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
   ThrowIfInvalid(given.Validate(), "DiagnoseOptions");
   if (html && given.output_folder.empty())
     throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
-  // The output folder is written as a unit (issue 17): everything goes into a temporary sibling
+  // The output folder is written as a unit: everything goes into a temporary sibling
   // that replaces --out only when the report is complete; an error or an interruption leaves the
   // old folder as it was.
   std::unique_ptr<StagedFolder> staged;

@@ -231,7 +231,7 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "at most 6); the smoothing is carried into every point's sigma")
       ->check(CLI::Range(0, 6));
   sub->add_flag("--whole-residual-sigma", opt->whole_residual_sigma,
-                "sigma_I = the whole sinusoid-fit residual (harmonics included), as before 2026-11-24");
+                "sigma_I = the whole sinusoid-fit residual (harmonics included, no ripple term)");
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
       ->capture_default_str();
