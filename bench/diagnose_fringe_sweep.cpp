@@ -11,8 +11,8 @@
 #include <map>
 #include <string>
 
-#include "ramtk/diagnose/fringe.h"
-#include "ramtk/diagnose/fringe_hidden.h"
+#include "ramtk/diagnose/fringe/fringe.h"
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
 
 using namespace ramtk::diagnose;
 

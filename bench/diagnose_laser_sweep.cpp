@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/diagnose/laser.h"
-#include "ramtk/diagnose/laser_hidden.h"
+#include "ramtk/diagnose/laser/laser.h"
+#include "ramtk/diagnose/laser/laser_hidden.h"
 
 int main(int argc, char** argv) {
   using namespace ramtk::diagnose;

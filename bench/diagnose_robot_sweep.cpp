@@ -11,8 +11,8 @@
 #include <set>
 #include <string>
 
-#include "ramtk/diagnose/report.h"
-#include "ramtk/diagnose/robot_hidden.h"
+#include "ramtk/diagnose/engine/report.h"
+#include "ramtk/diagnose/robot/robot_hidden.h"
 #include "ramtk/kinematics/robot_io.h"
 
 int main(int argc, char** argv) {

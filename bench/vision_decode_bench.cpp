@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/phase_shift.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/phase_shift.h"
 
 namespace {
 

@@ -38,13 +38,14 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/cloud_noise.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/stereo/cloud_noise.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/stereo/detail/test_hooks.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
 #include "sphere_pcl_peer.h"
 
@@ -233,6 +234,14 @@ struct MethodStats {
   }
 };
 
+// The stereo match's test hooks with the back pass `rectified` 0 (along the curves) / 1 (rectified
+// rows); -1 keeps the default.
+detail::StereoMatchTestHooks BackPassHooks(int rectified) {
+  detail::StereoMatchTestHooks hooks;
+  if (rectified >= 0) hooks.rectified_back_pass = rectified != 0;
+  return hooks;
+}
+
 // Pose p of the sweep: p = 0 the bundled default pose (0, 0, 700); then a 5 x 4 grid over the
 // field (x -40..40, y -30..30 mm) with z alternating 680 / 720 mm.
 Vec3 SweepPose(int p) {
@@ -241,8 +250,9 @@ Vec3 SweepPose(int p) {
   return Vec3(-40 + 20 * ix, -30 + 20 * iy, q % 2 ? 720 : 680);
 }
 
-// `rectified` 0 / 1 sets StereoMatchOptions::rectified_back_pass, -1 keeps the default.
+// `rectified` 0 / 1 sets the test hook StereoMatchTestHooks::rectified_back_pass, -1 keeps the default.
 int Accuracy(int first_pose, int poses, int seeds, int rectified) {
+  const detail::ScopedStereoMatchTestHooks hooks(BackPassHooks(rectified));
   MethodStats ours, all_points, pcl;
   for (int p = first_pose; p < first_pose + poses; ++p) {
     const Vec3 ball = SweepPose(p);
@@ -256,7 +266,6 @@ int Accuracy(int first_pose, int poses, int seeds, int rectified) {
       const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
       const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
       ScanOptions options;
-      if (rectified >= 0) options.match.rectified_back_pass = rectified != 0;
       const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
       if (res.summary.spheres.spheres.empty()) {
         std::printf("pose %d seed %d: %s\n", p, s, res.summary.BriefReport().c_str());
@@ -533,8 +542,9 @@ int DecodeStages(const std::string& manifest_path, int repeat) {
 // The match of one set, repeated on the decoded cameras: each pass's time (min / median) and the
 // summary. `threads` > 0 caps TBB's threads (1: the per-pixel cost without the machine's
 // scheduling noise).
-// `rectified` 0 / 1 sets StereoMatchOptions::rectified_back_pass, -1 keeps the default.
+// `rectified` 0 / 1 sets the test hook StereoMatchTestHooks::rectified_back_pass, -1 keeps the default.
 int MatchPasses(const std::string& manifest_path, int repeat, int threads, int rectified) {
+  const detail::ScopedStereoMatchTestHooks hooks(BackPassHooks(rectified));
   if (manifest_path.empty()) {
     std::fprintf(stderr, "match: --manifest SET/manifest.json is required\n");
     return 2;
@@ -555,7 +565,6 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads, int r
   std::vector<std::vector<double>> times;
   for (int r = 0; r < repeat; ++r) {
     StereoMatchOptions o = so.match;
-    if (rectified >= 0) o.rectified_back_pass = rectified != 0;
     auto last = Clock::now();
     std::string stage;
     std::size_t k = 0;

@@ -17,8 +17,8 @@
 // first run (page faults of every new buffer, thread start) faces the other's first run. Until
 // 2026-11-26 the warm ramtk figure faced SLMaster's cold one, which overstated the ratio
 // (SLMaster's pipeline: ~0.83 s warm against ~1.29 s cold on the same machine).
-// With --reference the reference decode path (DecodeOptions::reference_path) runs too, for the
-// before/after ratio in the same run. The in-process run keeps freed blocks in the heap, as
+// With --reference the reference decode (the test hook DecodeTestHooks::reference_path) runs too,
+// for the before/after ratio in the same run. The in-process run keeps freed blocks in the heap, as
 // `ramtk scan` does (main() below); it does not take the scan's single arena and huge-page
 // reserve (tools/huge_pages.h), which matter to a cold process, not to warm repetitions.
 //
@@ -45,11 +45,12 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/detail/test_hooks.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 
 using namespace ramtk::vision;
 using Clock = std::chrono::steady_clock;
@@ -136,7 +137,8 @@ std::vector<DecodedCamera> DecodeBoth(const FringeManifest& m, const DecodeOptio
     std::vector<std::string> paths;
     for (const std::string& f : m.cameras.at(cam)) paths.push_back(m.Resolve(f));
     const auto tl = Clock::now();
-    const ImageStack stack = LoadImageStack(paths, decode.dark_fraction, !decode.reference_path);
+    const ImageStack stack =
+        LoadImageStack(paths, decode.dark_fraction, !detail::CurrentDecodeTestHooks().reference_path);
     *load_ms += Ms(tl);
     const auto td = Clock::now();
     decoded.push_back(DecodeFrames(m, stack.frames, stack.full_scale, decode, cam));
@@ -150,8 +152,10 @@ InProcess RunRamtk(const std::string& set, bool reference) {
   const auto t0 = Clock::now();
   const FringeManifest m = ReadFringeManifest(set);
   const StereoCalibration calib = ReadStereoCalibration(m.Resolve(m.calibration));
+  detail::DecodeTestHooks hooks;
+  hooks.reference_path = reference;
+  const detail::ScopedDecodeTestHooks scope(hooks);
   ScanOptions opt;
-  opt.decode.reference_path = reference;
   const std::vector<DecodedCamera> decoded = DecodeBoth(m, opt.decode, &r.load_ms, &r.decode_ms);
   const ScanResult res = ScanDecoded(calib, decoded[0], decoded[1], decoded[0].summary.period_px, opt);
   r.match_ms = 1000 * res.summary.match_s;

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 // all). Read the ratio ramtk/PCL; the machine is shared.
 #include <benchmark/benchmark.h>
 
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 #include "sphere_pcl_peer.h"
 #include "sphere_synth.h"
 

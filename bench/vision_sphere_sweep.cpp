@@ -10,7 +10,7 @@
 #include <fstream>
 #include <string>
 
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 #include "sphere_pcl_peer.h"
 #include "sphere_synth.h"
 

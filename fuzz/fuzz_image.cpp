@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "fuzz_common.h"
-#include "ramtk/vision/image_io.h"
+#include "ramtk/vision/fringe/image_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string path = "/tmp/ramtk_fuzz_image_" + std::to_string(::getpid()) + ".png";

@@ -1,6 +1,6 @@
 // The fringe image set manifest (JSON).
 #include "fuzz_common.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   RAMTK_FUZZ_BODY({

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "fuzz_common.h"
-#include "ramtk/vision/point_cloud.h"
+#include "ramtk/vision/stereo/point_cloud.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string path = "/tmp/ramtk-fuzz-" + std::to_string(::getpid()) + ".ply";

@@ -10,11 +10,11 @@
 #include "progress_printer.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/diagnose/diagnose.h"
-#include "ramtk/diagnose/fringe.h"
-#include "ramtk/diagnose/laser.h"
-#include "ramtk/diagnose/report.h"
-#include "ramtk/diagnose/robot.h"
+#include "ramtk/diagnose/engine/diagnose.h"
+#include "ramtk/diagnose/fringe/fringe.h"
+#include "ramtk/diagnose/laser/laser.h"
+#include "ramtk/diagnose/engine/report.h"
+#include "ramtk/diagnose/robot/robot.h"
 
 namespace ramtk::tools {
 namespace {
@@ -24,7 +24,7 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
   ThrowIfInvalid(given.Validate(), "DiagnoseOptions");
   if (html && given.output_folder.empty())
     throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
-  // The output folder is written as a unit (issue 17): everything goes into a temporary sibling
+  // The output folder is written as a unit: everything goes into a temporary sibling
   // that replaces --out only when the report is complete; an error or an interruption leaves the
   // old folder as it was.
   std::unique_ptr<StagedFolder> staged;

@@ -5,11 +5,10 @@
 // measured in docs/performance.md. When the kernel's THP mode is "madvise" (huge pages on
 // request), the heap is grown once by 1.5 GiB of address space (no page touched) marked
 // MADV_HUGEPAGE, and every block is cut from that one heap: glibc is told to keep one arena for
-// all threads, to map nothing on its own below 2 GiB and never to trim. Until 2026-11-26 the
-// program re-executed itself with GLIBC_TUNABLES=glibc.malloc.hugetlb=1 instead, which paid the
-// start-up of 46 shared libraries twice. Since 2026-11-26 the reserve is made only where a 2 MiB
-// probe finds 4 KiB first touches dear (>= 1.5 ms/MiB): on a host where they are cheap the huge
-// pages gained nothing and their faults sometimes stalled. RAMTK_HUGEPAGES=1 makes the reserve
+// all threads, to map nothing on its own below 2 GiB and never to trim (re-executing with
+// GLIBC_TUNABLES=glibc.malloc.hugetlb=1 would pay the start-up of 46 shared libraries twice). The
+// reserve is made only where a 2 MiB probe finds 4 KiB first touches dear (>= 1.5 ms/MiB): on a
+// host where they are cheap the huge pages gain nothing and their faults sometimes stall. RAMTK_HUGEPAGES=1 makes the reserve
 // without the probe, RAMTK_HUGEPAGES=0 never (the heap settings stay either way); an explicit
 // GLIBC_TUNABLES containing glibc.malloc.hugetlb is respected.
 #pragma once

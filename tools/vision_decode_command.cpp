@@ -4,8 +4,8 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::tools {
 namespace {

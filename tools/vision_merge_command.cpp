@@ -8,7 +8,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 
 namespace ramtk::tools {
 namespace {

@@ -5,8 +5,8 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/parse.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/patterns.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/fringe/patterns.h"
 
 namespace ramtk::tools {
 namespace {

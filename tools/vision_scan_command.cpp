@@ -11,13 +11,14 @@
 #include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
+#include "test_hooks.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/scan_batch.h"
-#include "ramtk/vision/scan_report.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/scan/scan_batch.h"
+#include "ramtk/vision/scan/scan_report.h"
 
 namespace ramtk::tools {
 namespace {
@@ -36,9 +37,7 @@ struct ScanCommandOptions {
   bool force = false;                         // replace existing outputs
   bool resume = false;                        // --batch: keep the sets an earlier run finished
   bool quiet = false;                         // no progress bar; a batch prints only its totals
-  bool reference_decode = false;              // the reference (unfused) decode path
-  bool full_search = false;                   // match every pixel by the whole-range search
-  bool curve_back_pass = false;               // the back pass along distorted curves, not rectified rows
+  TestHooks hooks;                            // from RAMTK_TEST_HOOKS (test_hooks.h), no flag
   bool no_nonlinearity = false;               // skip the projector-nonlinearity correction
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   int phase_filter = 0;                       // coordinate filter radius (px), 0 = off
@@ -58,8 +57,8 @@ std::string ResultSettings(const ScanCommandOptions& o) {
   std::ostringstream s;
   s.precision(12);  // finer than any option is given on a command line
   s << "calib=" << o.calib << ";radius=" << o.radius << ";fix_radius=" << o.fix_radius << ";spheres=" << o.spheres
-    << ";depth=" << o.min_depth << ".." << o.max_depth << ";reference_decode=" << o.reference_decode
-    << ";full_search=" << o.full_search << ";curve_back_pass=" << o.curve_back_pass
+    << ";depth=" << o.min_depth << ".." << o.max_depth << ";reference_decode=" << o.hooks.reference_decode
+    << ";full_search=" << o.hooks.full_search << ";curve_back_pass=" << o.hooks.curve_back_pass
     << ";no_nonlinearity=" << o.no_nonlinearity << ";whole_residual_sigma=" << o.whole_residual_sigma
     << ";phase_filter=" << o.phase_filter << ";lr_sigma_factor=" << o.lr_sigma_factor << ";roi=" << o.roi
     << ";roi_margin=" << o.roi_margin << ";roi_stride=" << o.roi_stride;
@@ -96,11 +95,8 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   options.sphere.max_spheres = opt.spheres;
   options.match.min_depth_mm = opt.min_depth;
   options.match.max_depth_mm = opt.max_depth;
-  options.decode.reference_path = opt.reference_decode;
   options.decode.correct_nonlinearity = !opt.no_nonlinearity;
   options.decode.coordinate_filter.radius_px = opt.phase_filter;
-  options.match.full_search = opt.full_search;
-  options.match.rectified_back_pass = !opt.curve_back_pass;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
   options.roi = ParseScanRoi(opt.roi);
@@ -238,23 +234,13 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
       ->needs(batch);
   sub->add_flag("-q,--quiet", opt->quiet,
                 "No progress bar; with --batch, no per-set table on stdout (results.csv has it)");
-  sub->add_flag("--reference-decode", opt->reference_decode,
-                "Decode with the reference implementation (float copies, one pass per stage; same results within "
-                "float rounding, ~20x slower): for comparisons");
-  sub->add_flag("--full-search", opt->full_search,
-                "Match every pixel by searching its whole epipolar curve instead of walking from its neighbour's "
-                "match (the reference; nearly the same matches, slower): for comparisons");
-  sub->add_flag("--curve-back-pass", opt->curve_back_pass,
-                "Search the right-to-left pass of the left-right check along the distorted epipolar curves, as the "
-                "left-to-right pass, instead of along rectified rows (slower; the same points, the check accepts "
-                "slightly different pixels at edges): for comparisons");
   sub->add_flag("--no-nonlinearity", opt->no_nonlinearity, "Do not correct the projector nonlinearity (as decode)");
   sub->add_option("--phase-filter", opt->phase_filter,
                   "Smooth each decoded coordinate map with a quadratic fit over a (2R+1)^2 window, R px (0 = off, "
                   "at most 6); the smoothing is carried into every point's sigma")
       ->check(CLI::Range(0, 6));
   sub->add_flag("--whole-residual-sigma", opt->whole_residual_sigma,
-                "sigma_I = the whole sinusoid-fit residual (harmonics included), as before 2026-11-24");
+                "sigma_I = the whole sinusoid-fit residual (harmonics included, no ripple term)");
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
       ->capture_default_str();
@@ -282,7 +268,10 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)")
       ->needs(batch);
-  sub->callback([opt, exit_code, sub]() { *exit_code = RunScan(*opt, CommandProvenance(sub)); });
+  sub->callback([opt, exit_code, sub]() {
+    opt->hooks = ApplyTestHooksFromEnvironment();
+    *exit_code = RunScan(*opt, CommandProvenance(sub));
+  });
 }
 
 }  // namespace ramtk::tools

@@ -10,7 +10,7 @@
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::tools {
 namespace {
@@ -39,8 +39,8 @@ struct SimulateFringeOptions {
 
 // "ps:12:64,cgc:7" → blocks. Items: ps:STEPS:CYCLES (phase shift), gc:BITS (Gray code),
 // cgc:BITS (complementary Gray code), het:STEPS:C1/C2[/C3] (heterodyne, finest first).
-std::vector<vision::PatternBlock> ParseSequence(const std::string& spec) {
-  std::vector<vision::PatternBlock> blocks;
+std::vector<vision::SequenceBlock> ParseSequence(const std::string& spec) {
+  std::vector<vision::SequenceBlock> blocks;
   std::stringstream items(spec);
   std::string item;
   while (std::getline(items, item, ',')) {
@@ -108,7 +108,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
   }
   if (opt.no_backdrop) config.scene.planes.clear();
   if (opt.direction == "horizontal") {
-    config.direction = vision::FringeOrientation::kHorizontal;
+    config.direction = vision::FringeDirection::kHorizontal;
   } else if (opt.direction != "vertical") {
     throw InputError({"", 0, "--direction"}, "expected vertical or horizontal, got '" + opt.direction + "'");
   }

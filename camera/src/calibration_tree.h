@@ -2,9 +2,9 @@
 // The text of a stereo calibration file as a small tree (internal to the camera module).
 //
 // OpenCV writes calibration files in two dialects: YAML with a `%YAML:1.0` first line and
-// `!!opencv-matrix` maps, and JSON with `"type_id": "opencv-matrix"` maps. They used to be read
-// with cv::FileStorage, whose YAML parser in OpenCV 4.6 hangs on some malformed files (a finding
-// of fuzz/fuzz_stereo_calibration.cpp, kept in fuzz/known_hangs/). The text is now parsed by
+// `!!opencv-matrix` maps, and JSON with `"type_id": "opencv-matrix"` maps. cv::FileStorage's YAML
+// parser in OpenCV 4.6 hangs on some malformed files (a finding of
+// fuzz/fuzz_stereo_calibration.cpp, kept in fuzz/known_hangs/), so the text is parsed by
 // yaml-cpp (YAML) or nlohmann-json (JSON) into this tree, which remembers each node's line for
 // error messages. XML files are refused with a message.
 

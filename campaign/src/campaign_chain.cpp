@@ -17,11 +17,11 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
-#include "ramtk/diagnose/plot.h"
+#include "ramtk/diagnose/engine/plot.h"
 #include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/monitoring.h"
 #include "ramtk/thermal/screening.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 
 namespace ramtk::campaign {
 namespace fs = std::filesystem;

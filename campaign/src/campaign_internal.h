@@ -4,7 +4,7 @@
 
 #include "ramtk/campaign/campaign.h"
 #include "ramtk/thermal/simulator.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::campaign::internal {
 

@@ -14,7 +14,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/thermal/simulator.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::campaign {
 namespace fs = std::filesystem;

@@ -103,9 +103,7 @@ def scan_options(*, calibration: Optional[PathLike] = None, radius: float = 19.0
                  spheres: int = 1, min_depth: float = 100.0, max_depth: float = 10000.0, phase_filter: int = 0,
                  roi: str = "full", roi_margin: float = _D["roi_margin"], roi_stride: int = 0,
                  no_nonlinearity: bool = False, whole_residual_sigma: bool = False,
-                 lr_sigma_factor: float = _D["lr_sigma_factor"], reference_decode: bool = False,
-                 full_search: bool = False, curve_back_pass: bool = False,
-                 load_whole_frames: bool = False) -> Dict[str, Any]:
+                 lr_sigma_factor: float = _D["lr_sigma_factor"], load_whole_frames: bool = False) -> Dict[str, Any]:
     """The scan's options checked, as the dict the C++ layer reads (ramtk.scan documents them)."""
     if not isinstance(roi, str):
         raise check.fail("roi", f"expected 'full', 'auto' or 'X,Y,Z', got {type(roi).__name__}")
@@ -116,10 +114,7 @@ def scan_options(*, calibration: Optional[PathLike] = None, radius: float = 19.0
         "max_depth": check.number(max_depth, "max_depth", 0.0, True), "roi": roi,
         "roi_margin": check.number(roi_margin, "roi_margin", 0.0), "roi_stride": check.count(roi_stride, "roi_stride", 0),
         "lr_sigma_factor": check.number(lr_sigma_factor, "lr_sigma_factor", 0.0),
-        "full_search": check.flag(full_search, "full_search"),
-        "curve_back_pass": check.flag(curve_back_pass, "curve_back_pass"),
         "load_whole_frames": check.flag(load_whole_frames, "load_whole_frames"),
-        "reference_decode": check.flag(reference_decode, "reference_decode"),
         **_decode_options(_D["min_modulation"], 0.0, no_nonlinearity, phase_filter, whole_residual_sigma)}
     if opts["max_depth"] <= opts["min_depth"]:
         raise check.fail("max_depth", f"must exceed min_depth ({opts['min_depth']:g} mm)")
@@ -134,7 +129,6 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
          spheres: int = 1, min_depth: float = 100.0, max_depth: float = 10000.0, phase_filter: int = 0,
          roi: str = "full", roi_margin: float = _D["roi_margin"], roi_stride: int = 0, no_nonlinearity: bool = False,
          whole_residual_sigma: bool = False, lr_sigma_factor: float = _D["lr_sigma_factor"],
-         reference_decode: bool = False, full_search: bool = False, curve_back_pass: bool = False,
          load_whole_frames: bool = False, full_scale: Optional[float] = None,
          progress: Optional[ProgressFn] = None) -> ScanResult:
     """Scans a stereo fringe set (`ramtk scan`; keyword options named as its command-line options).
@@ -158,7 +152,6 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
                         max_depth=max_depth, phase_filter=phase_filter, roi=roi, roi_margin=roi_margin,
                         roi_stride=roi_stride, no_nonlinearity=no_nonlinearity,
                         whole_residual_sigma=whole_residual_sigma, lr_sigma_factor=lr_sigma_factor,
-                        reference_decode=reference_decode, full_search=full_search, curve_back_pass=curve_back_pass,
                         load_whole_frames=load_whole_frames)
     if progress is not None and not callable(progress):
         raise check.fail("progress", "expected a callable progress(stage, done, total)")

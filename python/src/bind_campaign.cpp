@@ -23,7 +23,7 @@
 #include "ramtk/core/outputs.h"
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/kinematics/tracker_io.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 #include "scan_options.h"
 
 namespace ramtk::python {
@@ -39,8 +39,8 @@ std::string ResultSettings(const py::dict& o) {
   auto d = [&](const char* k) { return o[k].cast<double>(); };
   s << "calib=" << o["calibration"].cast<std::string>() << ";radius=" << d("radius")
     << ";fix_radius=" << b("fix_radius") << ";spheres=" << o["spheres"].cast<int>() << ";depth=" << d("min_depth")
-    << ".." << d("max_depth") << ";reference_decode=" << b("reference_decode") << ";full_search=" << b("full_search")
-    << ";curve_back_pass=" << b("curve_back_pass") << ";no_nonlinearity=" << b("no_nonlinearity")
+    << ".." << d("max_depth") << ";reference_decode=0;full_search=0;curve_back_pass=0"  // test hooks, never set from Python
+    << ";no_nonlinearity=" << b("no_nonlinearity")
     << ";whole_residual_sigma=" << b("whole_residual_sigma") << ";phase_filter=" << o["phase_filter"].cast<int>()
     << ";lr_sigma_factor=" << d("lr_sigma_factor") << ";roi=" << o["roi"].cast<std::string>()
     << ";roi_margin=" << d("roi_margin") << ";roi_stride=" << o["roi_stride"].cast<int>();

@@ -4,11 +4,11 @@
 
 #include "numpy_convert.h"
 #include "ramtk/core/error.h"
-#include "ramtk/diagnose/diagnose.h"
-#include "ramtk/diagnose/fringe.h"
-#include "ramtk/diagnose/laser.h"
-#include "ramtk/diagnose/report.h"
-#include "ramtk/diagnose/robot.h"
+#include "ramtk/diagnose/engine/diagnose.h"
+#include "ramtk/diagnose/fringe/fringe.h"
+#include "ramtk/diagnose/laser/laser.h"
+#include "ramtk/diagnose/engine/report.h"
+#include "ramtk/diagnose/robot/robot.h"
 
 namespace ramtk::python {
 

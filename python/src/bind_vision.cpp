@@ -14,11 +14,11 @@
 #include "progress_bridge.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/scan.h"
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 #include "scan_options.h"
 
 namespace ramtk::python {
@@ -77,7 +77,6 @@ void ApplyDecodeOptions(const py::dict& o, vision::DecodeOptions* d) {
   if (o.contains("no_nonlinearity")) d->correct_nonlinearity = !o["no_nonlinearity"].cast<bool>();
   if (o.contains("phase_filter")) d->coordinate_filter.radius_px = o["phase_filter"].cast<int>();
   if (o.contains("whole_residual_sigma")) d->noise_from_neighbours = !o["whole_residual_sigma"].cast<bool>();
-  if (o.contains("reference_decode")) d->reference_path = o["reference_decode"].cast<bool>();
 }
 
 using ScanHandle = std::shared_ptr<vision::ScanResult>;
@@ -257,8 +256,6 @@ vision::ScanOptions ScanOptionsOf(const py::dict& o) {
   s.match.min_depth_mm = o["min_depth"].cast<double>();
   s.match.max_depth_mm = o["max_depth"].cast<double>();
   ApplyDecodeOptions(o, &s.decode);
-  s.match.full_search = o["full_search"].cast<bool>();
-  s.match.rectified_back_pass = !o["curve_back_pass"].cast<bool>();
   s.match.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
   s.roi = vision::ParseScanRoi(o["roi"].cast<std::string>());
   s.roi.margin_mm = o["roi_margin"].cast<double>();

@@ -6,9 +6,9 @@
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
-#include "ramtk/diagnose/diagnose.h"
+#include "ramtk/diagnose/engine/diagnose.h"
 #include "ramtk/thermal/screening.h"
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/scan/scan.h"
 
 namespace py = pybind11;
 

@@ -3,7 +3,7 @@
 // scan, scan_frames and scan_batch.
 #include <pybind11/pybind11.h>
 
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/scan/scan.h"
 
 namespace ramtk::python {
 

@@ -2,7 +2,7 @@
 // be the hidden one ("none" for clean sets and for effects the ideal intensity model cannot see),
 // and an extension must remove at least half of the excess on held-out tiles. Parameter estimates
 // are checked against the simulator's truth and closed forms.
-#include "ramtk/diagnose/fringe.h"
+#include "ramtk/diagnose/fringe/fringe.h"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +16,8 @@
 #include <tuple>
 
 #include "ramtk/core/error.h"
-#include "ramtk/diagnose/fringe_hidden.h"
-#include "ramtk/vision/nonlinearity.h"
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
+#include "ramtk/vision/decode/nonlinearity.h"
 
 namespace ramtk::diagnose {
 namespace {

@@ -2,7 +2,7 @@
 # gain against the hidden truth), parameter estimates against the simulator's truth and closed
 # forms, bad input; CLI runs on a simulated set.
 ramtk_add_gtest(diagnose_fringe_tests fringe_test.cpp)
-target_link_libraries(diagnose_fringe_tests PRIVATE ramtk::diagnose ${OpenCV_LIBS})
+target_link_libraries(diagnose_fringe_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})
 target_compile_definitions(diagnose_fringe_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
 
 set(_fringe_set ${CMAKE_CURRENT_BINARY_DIR}/cli_fringe_gamma)

@@ -1,4 +1,4 @@
-// The laser diagnosis' least-squares fit (diagnose/src/laser_fit.h, Ceres Levenberg–Marquardt with
+// The laser diagnosis' least-squares fit (diagnose/laser/src/laser_fit.h, Ceres Levenberg–Marquardt with
 // central-difference Jacobians and ceres::Covariance): against the normal equations of a linear
 // model, with fixed parameters and masked rows, and its sigma against a Monte-Carlo re-solve of a
 // non-linear circle fit.

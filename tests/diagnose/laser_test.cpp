@@ -1,14 +1,14 @@
 // Laser diagnosis against truth it did not produce: effects hidden by the TCF simulator (fixed
 // seeds), simulated calibration points with a known β and beam offset, and the thesis's Table 5-3
 // with the β of the library's closed-form sensor calibration (eqs. 4-17..4-27) as the peer.
-#include "ramtk/diagnose/laser.h"
+#include "ramtk/diagnose/laser/laser.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ramtk/core/units.h"
-#include "ramtk/diagnose/laser_hidden.h"
+#include "ramtk/diagnose/laser/laser_hidden.h"
 #include "ramtk/tcf/sensor_frame.h"
 #include "ramtk/tcf/simulator.h"
 

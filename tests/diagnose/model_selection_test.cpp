@@ -1,4 +1,4 @@
-#include "ramtk/diagnose/model_selection.h"
+#include "ramtk/diagnose/engine/model_selection.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "ramtk/diagnose/report.h"
+#include "ramtk/diagnose/engine/report.h"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "ramtk/diagnose/catalogue.h"
-#include "ramtk/diagnose/plot.h"
+#include "ramtk/diagnose/engine/catalogue.h"
+#include "ramtk/diagnose/engine/plot.h"
 #include "ramtk/report/gnuplot.h"
 
 namespace ramtk::diagnose {

@@ -1,7 +1,7 @@
 // Robot/ball diagnosis: hidden-effect draws (the named cause must be the hidden one, and a present
 // effect must lose at least half of its held-out excess), the thesis's thermal case, and the
 // building blocks against independent truth (finite differences, geometry, the simulator's noise).
-#include "ramtk/diagnose/robot.h"
+#include "ramtk/diagnose/robot/robot.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <set>
 
 #include "ramtk/core/units.h"
-#include "ramtk/diagnose/report.h"
-#include "ramtk/diagnose/robot_hidden.h"
+#include "ramtk/diagnose/engine/report.h"
+#include "ramtk/diagnose/robot/robot_hidden.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/thermal/identify.h"

@@ -1,4 +1,4 @@
-#include "ramtk/diagnose/statistics.h"
+#include "ramtk/diagnose/engine/statistics.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The phase-domain coordinate filter against closed forms and Monte Carlo: exact on quadratic
 // surfaces, its reported sigma equal to the scatter it leaves, the ripple not averaged away, and
 // a depth step left alone.
-#include "ramtk/vision/coordinate_filter.h"
+#include "ramtk/vision/decode/coordinate_filter.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <limits>
 #include <random>
 
-#include "ramtk/vision/decode.h"
+#include "ramtk/vision/decode/decode.h"
 
 namespace ramtk::vision {
 namespace {

@@ -3,7 +3,7 @@
 // analytic truth (decode_fast_test.cpp, decode_phase_test.cpp); the frames come from the analytic
 // synthesiser, with dark and saturated patches and a width that leaves tails for every kernel, as
 // 8-bit samples and as 12-bit ones in 16-bit words.
-#include "../../vision/src/decode_avx2.h"
+#include "ramtk/vision/decode/detail/decode_avx2.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <string>
 
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
+#include "ramtk/vision/decode/decode.h"
 
 namespace ramtk::vision {
 namespace {

@@ -1,7 +1,8 @@
-// The fused decode path (default) against the reference path (DecodeOptions::reference_path, the
-// pre-issue-13 implementation) on simulated sets: phase within 1e-4 rad, the same mask and
-// matches, ball centres within 0.1 um (issue 13). Neither path produced the data: the stereo set
-// comes from the fringe simulator, the single-camera sets from the analytic synthesiser.
+// The fused decode path (default) against the reference decode (the test hook
+// detail::DecodeTestHooks::reference_path, decode_reference.cpp) on simulated sets: phase within
+// 1e-4 rad, the same mask and matches, ball centres within 0.1 um. Neither path produced the data:
+// the stereo set comes from the fringe simulator, the single-camera sets from the analytic
+// synthesiser.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,9 +10,10 @@
 
 #include "decode_synth.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/scan/scan.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -82,9 +84,9 @@ TEST(DecodeFast, StereoSetSameDecodeMatchesAndCentreAsTheReferencePath) {
   c.effects.projector_nonlinearity = 1.3;
   c.supersampling = 1;  // speed; the comparison does not need the antialiased edges
   const SimulatedCamera left = SimulateCamera(c, 0), right = SimulateCamera(c, 1);
-  DecodeOptions ref_opt;
-  ref_opt.reference_path = true;
-  const DecodedCamera lr = testing::DecodeSimulated(c, left, ref_opt), rr = testing::DecodeSimulated(c, right, ref_opt);
+  const DecodeOptions ref_opt;
+  const DecodedCamera lr = testing::WithReferenceDecode(true, [&] { return testing::DecodeSimulated(c, left, ref_opt); });
+  const DecodedCamera rr = testing::WithReferenceDecode(true, [&] { return testing::DecodeSimulated(c, right, ref_opt); });
   const FringeManifest m = testing::ManifestForConfig(c);
   const double fs = (1 << c.sensor.bits) - 1.0;
   ASSERT_EQ(left.images[0].depth(), CV_8U);
@@ -126,9 +128,8 @@ TEST(DecodeFast, SixteenBitGrayAndHeterodyneSetsAsTheReferencePath) {
     for (const long floor : {500000L, 1000L}) {
       DecodeOptions fast_opt;
       fast_opt.nonlinearity.row_subsample_min_pixels = floor;
-      DecodeOptions ref_opt = fast_opt;
-      ref_opt.reference_path = true;
-      const DecodedCamera ref = DecodeFrames(m, as16, 65535.0, ref_opt, "cam");
+      const DecodedCamera ref =
+          testing::WithReferenceDecode(true, [&] { return DecodeFrames(m, as16, 65535.0, fast_opt, "cam"); });
       const DecodedCamera fast = DecodeFrames(m, as16, 65535.0, fast_opt, "cam");
       EXPECT_EQ(fast.summary.nonlinearity.row_subsample, floor == 1000 ? 4 : 1);
       ExpectSameDecode(fast, ref,
@@ -152,9 +153,8 @@ TEST(DecodeFast, EightBitFramesOfAnOddWidthAsTheReferencePath) {
     const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
     std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
     for (cv::Mat& f : frames) f.convertTo(f, CV_8U);  // rounded, as an 8-bit camera gives them
-    DecodeOptions ref_opt;
-    ref_opt.reference_path = true;
-    const DecodedCamera ref = DecodeFrames(m, frames, 255.0, ref_opt, "cam");
+    const DecodedCamera ref =
+        testing::WithReferenceDecode(true, [&] { return DecodeFrames(m, frames, 255.0, DecodeOptions{}, "cam"); });
     const DecodedCamera fast = DecodeFrames(m, frames, 255.0, DecodeOptions{}, "cam");
     ExpectSameDecode(fast, ref, (std::to_string(m.sequence[0].steps) + "-step, 403 px wide").c_str());
     // The last three columns (the one-by-one tail) hold valid pixels too.
@@ -210,8 +210,8 @@ TEST(DecodeFast, DarkSetIsAnErrorOnlyWhenEveryFrameIsDark) {
   const std::size_t count = static_cast<std::size_t>(m.sequence[0].steps) + m.sequence[1].ImageCount();
   std::vector<cv::Mat> dark(count, cv::Mat(24, 40, CV_8U, cv::Scalar(2)));
   for (const bool reference : {false, true}) {
+    const detail::ScopedDecodeTestHooks scope(testing::ReferenceDecodeHooks(reference));
     DecodeOptions o;
-    o.reference_path = reference;
     try {
       (void)DecodeFrames(m, dark, 255.0, o, "cam");
       ADD_FAILURE() << "an all-dark set decoded (reference path " << reference << ")";

@@ -5,9 +5,9 @@
 #include <fstream>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
 namespace {

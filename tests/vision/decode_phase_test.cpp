@@ -8,11 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/decode_internal.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/decode/detail/decode_internal.h"
+#include "test_hooks_scope.h"
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/phase_shift.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/phase_shift.h"
 
 namespace ramtk::vision {
 namespace {
@@ -101,10 +102,10 @@ std::vector<cv::Mat> GammaFrames(const FringeManifest& m, unsigned seed) {
 
 TEST(WrappedPhaseNoise, RandomIntensityNoiseSeparatedFromTheHarmonics) {
   for (bool reference : {false, true}) {
+    const detail::ScopedDecodeTestHooks scope(testing::ReferenceDecodeHooks(reference));
     const FringeManifest m = testing::GrayManifest(8, 32, true);
     const std::vector<cv::Mat> frames = GammaFrames(m, 2024);
     DecodeOptions opt;
-    opt.reference_path = reference;
     const DecodedCamera d = DecodeFrames(m, frames, 255.0, opt, "cam");
     const DecodeSummary& s = d.summary;
     std::cout << (reference ? "reference" : "fast") << ": residual " << s.fit_residual_rms_dn << " DN, random "

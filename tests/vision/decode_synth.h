@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/patterns.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/fringe/patterns.h"
 
 namespace ramtk::vision::testing {
 

@@ -1,7 +1,7 @@
-// The decode's branch-free atan2 (vision/src/fast_atan2.h) against std::atan2: within 1e-11 rad
+// The decode's branch-free atan2 (vision/kernels/include/ramtk/vision/kernels/fast_atan2.h) against std::atan2: within 1e-11 rad
 // over random pairs of every sign and magnitude ratio, exact on the axes and diagonals and with
 // IEEE's signed zeros, and rounded to float it is the correctly rounded phase.
-#include "../../vision/src/fast_atan2.h"
+#include "ramtk/vision/kernels/fast_atan2.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// The rounding helpers of the per-pixel loops (vision/src/fast_round.h) against the standard
+// The rounding helpers of the per-pixel loops (vision/kernels/include/ramtk/vision/kernels/fast_round.h) against the standard
 // functions they replace: the same value, bit for bit, on edge cases and on random values.
-#include "../../vision/src/fast_round.h"
+#include "ramtk/vision/kernels/fast_round.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The nonlinearity basis's branch-free sin/cos (vision/src/fast_sincos.h) against std::sin and
+// The nonlinearity basis's branch-free sin/cos (vision/kernels/include/ramtk/vision/kernels/fast_sincos.h) against std::sin and
 // std::cos: within 2 ulp over the arguments the basis meets (N * phi, |N| <= 64, |phi| <= pi)
 // and beyond, at quadrant boundaries, and by the identities sin^2 + cos^2 = 1 and odd/even symmetry.
-#include "../../vision/src/fast_sincos.h"
+#include "ramtk/vision/kernels/fast_sincos.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 
 namespace {
 

@@ -15,9 +15,9 @@
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/tcf/device_io.h"
 #include "ramtk/tcf/sensor_frame.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/point_cloud.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/point_cloud.h"
 
 namespace fs = std::filesystem;
 

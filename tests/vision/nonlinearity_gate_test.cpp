@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -1,6 +1,6 @@
 // Projector gamma 2.2 on 3- and 4-step sets: phase error against truth before and after the
 // self-calibrated correction.
-#include "ramtk/vision/nonlinearity.h"
+#include "ramtk/vision/decode/nonlinearity.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
+#include "ramtk/vision/decode/decode.h"
 
 namespace ramtk::vision {
 namespace {

@@ -1,14 +1,14 @@
 // Pattern generation: layout (SLMaster convention) and decode round trips where the truth is the
 // projector pixel index itself.
-#include "ramtk/vision/patterns.h"
+#include "ramtk/vision/fringe/patterns.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/image_io.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
 namespace {
@@ -110,6 +110,7 @@ TEST(Patterns, HeterodyneRoundTrip) {
 TEST(Patterns, WritePatternSetWritesPngsAndManifest) {
   const std::string dir = std::string(RAMTK_TEST_OUTPUT_DIR) + "/pattern_set";
   std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(RAMTK_TEST_OUTPUT_DIR);  // the parent, whichever test runs first
   WritePatternSet(dir, Make(FringeDirection::kVertical, {Ps(3, 32), Gray(6, true)}), 16);
   const FringeManifest m = ReadFringeManifest(dir + "/manifest.json");
   ASSERT_EQ(m.cameras.at("projector").size(), 9u);

@@ -1,7 +1,7 @@
-// Order statistics by histogram (vision/src/rank_select.h) against std::nth_element on the
+// Order statistics by histogram (vision/kernels/include/ramtk/vision/kernels/rank_select.h) against std::nth_element on the
 // gathered values: random values over many octaves, ties, masks, NaN pixels, both ranks in one bin;
 // each with the AVX2 lanes and without.
-#include "../../vision/src/rank_select.h"
+#include "ramtk/vision/kernels/rank_select.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <limits>
 #include <random>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 
 namespace {
 

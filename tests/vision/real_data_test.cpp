@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
 namespace {

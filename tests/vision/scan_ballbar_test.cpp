@@ -5,7 +5,7 @@
 #include <cmath>
 #include <iostream>
 
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/scan/scan.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/cloud_noise.h"
+#include "ramtk/vision/stereo/cloud_noise.h"
 
 namespace ramtk::vision {
 namespace {

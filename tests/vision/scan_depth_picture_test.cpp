@@ -7,7 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/scan/scan.h"
 
 namespace ramtk::vision {
 namespace {

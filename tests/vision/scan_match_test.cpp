@@ -10,10 +10,11 @@
 #include <vector>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/coordinate_filter.h"
-#include "ramtk/vision/stereo_match.h"
-#include "ramtk/vision/triangulate.h"
+#include "ramtk/vision/decode/coordinate_filter.h"
+#include "ramtk/vision/stereo/stereo_match.h"
+#include "ramtk/vision/stereo/triangulate.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -80,7 +81,7 @@ cv::Mat SigmaMap(const PointCloud& cloud, cv::Size size) {
   return m;
 }
 
-// With either back pass (StereoMatchOptions::rectified_back_pass): along the distorted epipolar
+// With either back pass (detail::StereoMatchTestHooks::rectified_back_pass): along the distorted epipolar
 // curves, and along rectified rows (the default).
 TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
   for (const bool rectified : {false, true}) {
@@ -88,9 +89,10 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
     std::cout << (rectified ? "rectified back pass\n" : "curve back pass\n");
     const DecodedStereo& s = SmallSet();
     const StereoCalibration calib = SmallCalibration();
-    StereoMatchOptions options;
-    options.rectified_back_pass = rectified;
-    const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, options);
+    detail::StereoMatchTestHooks hooks;
+    hooks.rectified_back_pass = rectified;
+    const StereoMatch match =
+        testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, s.left, s.right, s.period, {}); });
     ASSERT_EQ(match.summary.termination, Termination::kSuccess);
     std::cout << match.summary.BriefReport() << "\n";
     TriangulationSummary tsum;
@@ -127,9 +129,10 @@ TEST(ScanMatch, DepthMatchesTheSimulatorTruthWithinThePredictedSigma) {
 TEST(ScanMatch, MatchDepthsGiveTheRayIntersection) {
   const DecodedStereo& s = SmallSet();
   const StereoCalibration calib = SmallCalibration();
-  StereoMatchOptions o;
-  o.full_search = true;
-  const StereoMatch match = MatchStereo(calib, s.left, s.right, s.period, o);
+  detail::StereoMatchTestHooks hooks;
+  hooks.full_search = true;
+  const StereoMatch match =
+      testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, s.left, s.right, s.period, {}); });
   ASSERT_FALSE(match.depth_mm.empty());
   StereoMatch rays = match;
   rays.depth_mm = cv::Mat();

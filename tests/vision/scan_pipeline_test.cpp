@@ -8,8 +8,8 @@
 #include <unordered_map>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/cloud_noise.h"
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/stereo/cloud_noise.h"
+#include "ramtk/vision/scan/scan.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/point_cloud.h"
+#include "ramtk/vision/stereo/point_cloud.h"
 
 namespace ramtk::vision {
 namespace {

@@ -2,7 +2,7 @@
 // against the full camera's projection, the window of a centred sphere against its closed-form
 // silhouette, and windowed scans of a wide rendered frame against the whole-frame scan of the
 // same images and against the simulator's truth.
-#include "ramtk/vision/scan_roi.h"
+#include "ramtk/vision/scan/scan_roi.h"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 
 #include "ramtk/camera/camera_model.h"
 #include "ramtk/core/error.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/scan.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/scan/scan.h"
 #include "scan_sim.h"
 
 namespace ramtk::vision {

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 
 namespace ramtk::vision {
 namespace {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/fringe_simulator.h"
-#include "ramtk/vision/manifest.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision::testing {
 
@@ -18,21 +18,8 @@ inline FringeManifest ManifestForConfig(const FringeSimulationConfig& c) {
   FringeManifest m;
   m.projector_width = c.projector.intrinsics.width;
   m.projector_height = c.projector.intrinsics.height;
-  m.direction = c.direction == FringeOrientation::kVertical ? FringeDirection::kVertical : FringeDirection::kHorizontal;
-  for (const PatternBlock& b : c.sequence) {
-    SequenceBlock s;
-    if (b.type == PatternBlock::Type::kPhaseShift) {
-      s.type = BlockType::kPhaseShift;
-      s.steps = b.steps;
-      s.cycles = {b.cycles};
-      s.phase_at_origin_rad = b.phase_at_origin_rad;
-    } else {
-      s.type = BlockType::kGrayCode;
-      s.bits = b.bits;
-      s.complementary = b.complementary;
-    }
-    m.sequence.push_back(s);
-  }
+  m.direction = c.direction;
+  m.sequence = c.sequence;
   // Placeholder file names: the frames come from memory, but a manifest lists its images.
   std::vector<std::string> names(static_cast<std::size_t>(m.ImageCount()), "in-memory");
   m.cameras = {{"left", names}, {"right", names}};

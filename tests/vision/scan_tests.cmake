@@ -36,11 +36,20 @@ ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
        --phase-filter 2
   STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm")
-# The back pass along the distorted curves (the previous default): the same ball on the truth.
+# The back pass along the distorted curves (the test hook RAMTK_TEST_HOOKS=curve_back_pass,
+# tools/test_hooks.h): the same ball on the truth.
 ramtk_cli_test(scan_default_curve_back_pass 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/curve_back_pass
-       --force --curve-back-pass
-  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm")
+       --force
+  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm"
+  FILE ${SCAN_CLI}/curve_back_pass/summary.json FILE_REGEX "\"back_pass\": \"curve\"")
+set_tests_properties(cli.scan_default_curve_back_pass PROPERTIES ENVIRONMENT RAMTK_TEST_HOOKS=curve_back_pass)
+# An unknown hook name is refused, naming the variable.
+ramtk_cli_test(scan_unknown_test_hook 1
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/never_hook
+  STDERR "RAMTK_TEST_HOOKS.*unknown hook 'curve_pass'"
+  NO_PATH ${SCAN_CLI}/never_hook)
+set_tests_properties(cli.scan_unknown_test_hook PROPERTIES ENVIRONMENT RAMTK_TEST_HOOKS=curve_pass)
 ramtk_cli_test(scan_bad_phase_filter 2
   ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/never_pf --phase-filter 9
   NO_PATH ${SCAN_CLI}/never_pf)

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ramtk/vision/fringe_renderer.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_renderer.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::vision {
 namespace {
@@ -77,8 +77,8 @@ TEST(SimRenderer, DecodedProjectorCoordinateOnTheBallMatchesAnalyticHit) {
   config.cameras.left.distortion = {};  // ideal pinhole: the analytic ray below needs no undistortion
   const std::vector<PatternFrame> frames = ExpandSequence({PhaseShiftBlock(4, 64.0)});
   const PinholeView camera{config.cameras.left, Isometry3::Identity()};
-  for (const FringeOrientation orientation : {FringeOrientation::kVertical, FringeOrientation::kHorizontal}) {
-    const bool vertical = orientation == FringeOrientation::kVertical;
+  for (const FringeDirection orientation : {FringeDirection::kVertical, FringeDirection::kHorizontal}) {
+    const bool vertical = orientation == FringeDirection::kVertical;
     SCOPED_TRACE(vertical ? "vertical fringes" : "horizontal fringes");
     RenderOptions options;
     options.supersampling = 4;

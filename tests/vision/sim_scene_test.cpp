@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "ramtk/vision/scene.h"
+#include "ramtk/vision/sim/scene.h"
 
 namespace ramtk::vision {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "ramtk/core/error.h"
-#include "ramtk/vision/fringe_renderer.h"
+#include "ramtk/vision/sim/fringe_renderer.h"
 
 namespace ramtk::vision {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/image/frame_rows.h"
-#include "ramtk/vision/fringe_simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::vision {
 namespace {

@@ -3,7 +3,7 @@
 // outliers (error against the simulated truth), known vs free radius, a ball bar, no-sphere and
 // too-few-points cases, bad input and the JSON result.
 
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 #include <numeric>
 #include <random>
 
-#include "../../vision/src/sphere_fit_internal.h"  // AlongRayResidual, FitGeometric
+#include "ramtk/vision/sphere/detail/sphere_fit_internal.h"  // AlongRayResidual, FitGeometric
 #include "ramtk/core/error.h"
 #include "sphere_synth.h"
 

@@ -1,4 +1,4 @@
-// The RANSAC point grid (vision/src/sphere_fit_internal.h; its cell keys four points at a time on
+// The RANSAC point grid (vision/sphere/include/ramtk/vision/sphere/detail/sphere_fit_internal.h; its cell keys four points at a time on
 // AVX2 lanes, and one by one) against a brute-force listing: every
 // neighbourhood holds exactly the active points whose cell is within one cell of the query's on
 // each axis, cell by cell in offset order and, within a cell, in the order of the active list.
@@ -14,8 +14,8 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/sphere_fit_internal.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/sphere/detail/sphere_fit_internal.h"
 
 namespace ramtk::vision::sphere_internal {
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "ramtk/vision/sphere_fit.h"
+#include "ramtk/vision/sphere/sphere_fit.h"
 #include "sphere_synth.h"
 
 namespace ramtk::vision {

@@ -1,4 +1,4 @@
-// The left-right check's shortcut (StereoMatchOptions::skip_without_back_match): a left pixel that
+// The left-right check's shortcut (detail::StereoMatchTestHooks::skip_without_back_match): a left pixel that
 // no right pixel's own match can accept is not searched. The check would reject any crossing of
 // it, so the match must be the same, bit for bit, as when every pixel is searched and the check
 // itself rejects them; only the counts move from rejected_lr / rejected_no_match to
@@ -15,13 +15,14 @@
 #include <tuple>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/back_reach_lanes.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/stereo/detail/back_reach_lanes.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -37,11 +38,11 @@ bool SameBits(const cv::Mat& a, const cv::Mat& b) {
 // Returns the number of pixels the shortcut skipped.
 long ExpectSameMatchWithTheShortcut(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r,
                                     double period) {
-  StereoMatchOptions o;
-  o.skip_without_back_match = false;
-  const StereoMatch every = MatchStereo(calib, l, r, period, o);
-  o.skip_without_back_match = true;
-  const StereoMatch skip = MatchStereo(calib, l, r, period, o);
+  detail::StereoMatchTestHooks hooks;
+  hooks.skip_without_back_match = false;
+  const StereoMatch every = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, {}); });
+  hooks.skip_without_back_match = true;
+  const StereoMatch skip = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, {}); });
   const StereoMatchSummary &a = every.summary, &b = skip.summary;
   std::cout << "every pixel searched: " << a.BriefReport() << "\nshortcut: " << b.BriefReport() << "\n";
   EXPECT_EQ(a.rejected_no_back_match, 0);

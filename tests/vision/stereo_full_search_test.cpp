@@ -1,6 +1,6 @@
 // The whole-range search's pruning (tile bounds over dilated tiles, sub-stretches, segment
 // bounding boxes, the row bounds) against the search that evaluates every sample along the curve
-// (StereoMatchOptions::exhaustive_search): the pruning only skips samples it has proven cannot
+// (detail::StereoMatchTestHooks::exhaustive_search): the pruning only skips samples it has proven cannot
 // bracket a crossing, so both find the same crossings. Checked with every pixel searched over the
 // whole range (full_search), on a simulated set and on a band of rows of the real SLMaster capture
 // (skipped if absent).
@@ -11,10 +11,11 @@
 #include <iostream>
 
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -24,11 +25,12 @@ namespace {
 // stored as float. 1e-3 px bounds the difference of one crossing reached twice.
 void ExpectSameCrossings(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r, double period,
                          StereoMatchOptions o) {
-  o.full_search = true;
-  o.exhaustive_search = false;
-  const StereoMatch pruned = MatchStereo(calib, l, r, period, o);
-  o.exhaustive_search = true;
-  const StereoMatch every = MatchStereo(calib, l, r, period, o);
+  detail::StereoMatchTestHooks hooks;
+  hooks.full_search = true;
+  hooks.exhaustive_search = false;
+  const StereoMatch pruned = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, o); });
+  hooks.exhaustive_search = true;
+  const StereoMatch every = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, o); });
   long only_pruned = 0, only_every = 0, both = 0;
   double worst_px = 0;
   for (int y = 0; y < pruned.right_u.rows; ++y)

@@ -1,4 +1,4 @@
-// The rectified back pass (StereoMatchOptions::rectified_back_pass).
+// The rectified back pass (detail::StereoMatchTestHooks::rectified_back_pass).
 // - The rectified pair's geometry against projection: a scene point projected into both distorted
 //   images and taken back through the rectification lands on the same row in both, at the
 //   disparity f B / Z of its depth (closed form).
@@ -19,13 +19,14 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
-#include "../../vision/src/stereo_rectified_grid.h"
+#include "ramtk/vision/kernels/avx2.h"
+#include "ramtk/vision/stereo/detail/stereo_rectified_grid.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -188,12 +189,12 @@ struct Agreement {
 // The match with the back pass along the curves and along rectified rows: the points (the
 // left-to-right pass's own: depth, sigma and right pixel) and the back matches.
 Agreement Compare(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r, double period) {
-  StereoMatchOptions o;
-  o.keep_back_matches = true;
-  o.rectified_back_pass = false;
-  const StereoMatch curve = MatchStereo(calib, l, r, period, o);
-  o.rectified_back_pass = true;
-  const StereoMatch rect = MatchStereo(calib, l, r, period, o);
+  detail::StereoMatchTestHooks hooks;
+  hooks.keep_back_matches = true;
+  hooks.rectified_back_pass = false;
+  const StereoMatch curve = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, {}); });
+  hooks.rectified_back_pass = true;
+  const StereoMatch rect = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, {}); });
   std::cout << "curve back pass: " << curve.summary.BriefReport()
             << "\nrectified back pass: " << rect.summary.BriefReport() << "\n";
   EXPECT_EQ(curve.summary.back_pass, "curve");

@@ -1,9 +1,9 @@
-// The match's searched pixels of a row and its valid cells (vision/src/stereo_search_list.h)
+// The match's searched pixels of a row and its valid cells (vision/stereo/include/ramtk/vision/stereo/detail/stereo_search_list.h)
 // against the rules written out pixel by pixel: mask set and coordinate finite (valid), sigma <=
 // the limit compared in double (else noisy), reach set (else unreachable). With the AVX2 lanes
 // and without, on rows of odd widths with NaN and infinite coordinates, NaN sigmas, sigmas one
 // float step either side of the limit, and runs of masked pixels.
-#include "../../vision/src/stereo_search_list.h"
+#include "ramtk/vision/stereo/detail/stereo_search_list.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 
 namespace ramtk::vision::detail {
 namespace {

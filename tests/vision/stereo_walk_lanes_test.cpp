@@ -1,23 +1,24 @@
-// The match's walks on four AVX2 lanes (vision/src/stereo_walk_lanes.h: along the curves and along
+// The match's walks on four AVX2 lanes (vision/stereo/include/ramtk/vision/stereo/detail/stereo_walk_lanes.h: along the curves and along
 // the rectified rows) against the scalar walks:
 // every root the lanes settle is the scalar walk's to the bit (RunPass recomputes each one the
 // scalar way and compares all its fields), and the match's outputs with the lanes on are those
 // with the lanes off, bit for bit. On a simulated set, on the real SLMaster capture (skipped if
 // absent) and with the options that change what the walk reads (no left-right check, the curve
 // back pass, no sigma-widened tolerance).
-#include "../../vision/src/stereo_walk_lanes.h"
+#include "ramtk/vision/stereo/detail/stereo_walk_lanes.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <iostream>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -32,8 +33,10 @@ namespace {
 
 // The match with the lanes off, then on with the check; returns how many roots the lanes settled.
 long ExpectLanesAreTheScalarWalk(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r,
-                                 double period, StereoMatchOptions o) {
-  o.keep_back_matches = true;
+                                 double period, const StereoMatchOptions& o,
+                                 detail::StereoMatchTestHooks hooks = {}) {
+  hooks.keep_back_matches = true;
+  const detail::ScopedStereoMatchTestHooks scope(hooks);
   detail::SetAvx2Kernels(false);
   const StereoMatch scalar = MatchStereo(calib, l, r, period, o);
   detail::SetAvx2Kernels(true);
@@ -82,9 +85,10 @@ TEST(StereoWalkLanes, SettleTheScalarWalksRootsOnASimulatedSet) {
   // curves (the curve walk without a check), the tolerance not widened by the back sigma.
   o.lr_tolerance_px = 0;
   EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o), 0.8 * m.summary.matched);
-  o = StereoMatchOptions{};
-  o.rectified_back_pass = false;
-  EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o), 1.6 * m.summary.matched);
+  detail::StereoMatchTestHooks curve;
+  curve.rectified_back_pass = false;
+  EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, StereoMatchOptions{}, curve),
+            1.6 * m.summary.matched);
   o = StereoMatchOptions{};
   o.lr_sigma_factor = 0;
   ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o);

@@ -1,5 +1,5 @@
 // The walking search (default: seeded from the left neighbour's match, whole-range search as the
-// fallback) against the reference whole-range search of every pixel (StereoMatchOptions::
+// fallback) against the reference whole-range search of every pixel (detail::StereoMatchTestHooks::
 // full_search): nearly the same pixels matched, at the same crossings, on a simulated set and on the real
 // SLMaster capture (skipped if absent).
 #include <gtest/gtest.h>
@@ -9,10 +9,11 @@
 #include <iostream>
 
 #include "ramtk/camera/stereo_calibration.h"
-#include "ramtk/vision/decode.h"
-#include "ramtk/vision/manifest.h"
-#include "ramtk/vision/stereo_match.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/stereo/stereo_match.h"
 #include "scan_sim.h"
+#include "test_hooks_scope.h"
 
 namespace ramtk::vision {
 namespace {
@@ -26,10 +27,11 @@ struct Comparison {
 // two brackets agrees to ~1e-6 px; stored as float (u, v ~ 1e3 px: rounding 6e-5 px).
 Comparison Compare(const StereoCalibration& calib, const DecodedCamera& l, const DecodedCamera& r, double period,
                    StereoMatchOptions o) {
-  o.full_search = false;
-  const StereoMatch walk = MatchStereo(calib, l, r, period, o);
-  o.full_search = true;
-  const StereoMatch full = MatchStereo(calib, l, r, period, o);
+  detail::StereoMatchTestHooks hooks;
+  hooks.full_search = false;
+  const StereoMatch walk = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, o); });
+  hooks.full_search = true;
+  const StereoMatch full = testing::WithStereoHooks(hooks, [&] { return MatchStereo(calib, l, r, period, o); });
   Comparison c;
   c.walk = walk.summary.matched;
   c.full = full.summary.matched;

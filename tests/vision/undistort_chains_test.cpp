@@ -4,7 +4,7 @@
 // (AVX2) and without, for rows of different lengths with gaps, for a lens whose Gauss-Newton does
 // not converge at the corners, and for a lens term that is not a number (the lanes hand such
 // pixels back to the scalar function).
-#include "../../vision/src/undistort_chains.h"
+#include "ramtk/vision/stereo/detail/undistort_chains.h"
 
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@
 #include <random>
 #include <vector>
 
-#include "../../vision/src/avx2.h"
+#include "ramtk/vision/kernels/avx2.h"
 
 namespace ramtk::vision {
 namespace {

@@ -1,11 +1,11 @@
 // Temporal unwrapping against analytic truth: period-order errors for heterodyne, plain and
 // complementary Gray code under projector blur and noise.
-#include "ramtk/vision/unwrap.h"
+#include "ramtk/vision/fringe/unwrap.h"
 
 #include <gtest/gtest.h>
 
 #include "decode_synth.h"
-#include "ramtk/vision/decode.h"
+#include "ramtk/vision/decode/decode.h"
 
 namespace ramtk::vision {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "ramtk/core/rotation.h"
 #include "ramtk/kinematics/measurements_io.h"
-#include "ramtk/vision/scan_batch.h"
+#include "ramtk/vision/scan/scan_batch.h"
 
 namespace ramtk::campaign {
 

@@ -1,6 +1,6 @@
 #pragma once
 // The sample autocorrelation of a series, written once for the thermal screening's steadiness
-// test and diagnose's Ljung–Box test (issue 18).
+// test and diagnose's Ljung–Box test.
 #include <vector>
 
 namespace ramtk {

@@ -1,5 +1,5 @@
 #pragma once
-// Output safety (issue 17). Every output is written beside its target under a temporary name and
+// Output safety. Every output is written beside its target under a temporary name and
 // moved into place only when complete, so an error or an interruption never leaves a
 // half-written result, and `--force` replaces an old result only once the new one exists.
 // Temporaries in flight are registered so that SIGINT / SIGTERM can remove them

@@ -1,5 +1,5 @@
 #pragma once
-// The source thesis's measured set-up, written once (issue 18): the fixed sensor's pose in the
+// The source thesis's measured set-up, written once: the fixed sensor's pose in the
 // robot base, eq. (5-1), its printed 4-decimal rotation projected onto SO(3), and the ball centre
 // in the flange frame, eq. (5-2). Simulators of several modules default to them.
 #include "ramtk/core/rotation.h"

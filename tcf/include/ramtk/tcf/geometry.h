@@ -1,5 +1,5 @@
 #pragma once
-// Geometry shared by the laser-device simulator, solver and diagnosis (issue 18: written once).
+// Geometry shared by the laser-device simulator, solver and diagnosis, written once.
 #include "ramtk/core/rotation.h"
 
 namespace ramtk::tcf {

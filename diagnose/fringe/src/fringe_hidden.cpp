@@ -1,0 +1,89 @@
+// Hidden-effect draws for the fringe diagnosis, rendered with the vision simulator.
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
+
+#include <random>
+
+#include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+
+namespace ramtk::diagnose {
+namespace {
+
+struct EffectRange {
+  const char* name;
+  double lo, hi;     // magnitude range (simulator units)
+  bool either_sign;  // draw ± magnitude
+  bool visible;      // the ideal intensity model can see it
+};
+
+// Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,
+// a few percent lamp/exposure drift over the sequence, 50–120 % over-exposure (the brightest
+// surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px camera
+// defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of
+// full scale (the scene's brightest samples reach ~70 %; a knee above ~40 % bends them by less than the per-pixel fit
+// leaves visible), ambient light 5–20 % of projector white, an extra k1 of a poorly calibrated lens.
+const EffectRange kRanges[] = {
+    {"projector_nonlinearity", 1.3, 2.2, false, true},
+    {"phase_shift_error", 1.5, 5.0, false, true},
+    {"intensity_drift", 0.03, 0.10, true, true},
+    {"saturation", 1.5, 2.2, false, true},
+    {"camera_defocus", 0.8, 2.5, false, true},
+    {"defocus", 0.5, 1.4, false, true},
+    {"soft_knee_response", 0.2, 0.35, false, true},
+    {"ambient_light", 0.05, 0.2, false, false},
+    {"lens_distortion_unmodelled", 0.02, 0.1, true, false},
+};
+
+}  // namespace
+
+HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
+  std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0xF81E6Eu};
+  std::mt19937_64 rng(seq);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  HiddenFringeDraw d;
+  d.seed = seed;
+  if (unit(rng) < 1.0 / 3.0) return d;
+  const int n = static_cast<int>(sizeof(kRanges) / sizeof(kRanges[0]));
+  const EffectRange& e = kRanges[std::min(n - 1, static_cast<int>(unit(rng) * n))];
+  d.effect = e.name;
+  d.magnitude = e.lo + (e.hi - e.lo) * unit(rng);
+  if (e.either_sign && unit(rng) < 0.5) d.magnitude = -d.magnitude;
+  d.expected = e.visible ? e.name : "none";
+  return d;
+}
+
+HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
+  vision::FringeSimulationConfig config = vision::MakeFringePreset("small");
+  // Half resolution: the same view on a 320×256 sensor (pixel centres at integers).
+  camera::CameraIntrinsics& cam = config.cameras.left;
+  cam.fx *= 0.5, cam.fy *= 0.5;
+  cam.cx = (cam.cx + 0.5) * 0.5 - 0.5, cam.cy = (cam.cy + 0.5) * 0.5 - 0.5;
+  cam.width /= 2, cam.height /= 2;
+  config.cameras.right = cam;  // unused: only the left camera is rendered
+  config.supersampling = 2;
+  config.seed = draw.seed;
+  config.sensor.full_well_electrons /= draw.camera_gain;
+  if (draw.effect != "none") config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
+  const vision::SimulatedCamera sim = vision::SimulateCamera(config, 0);
+
+  HiddenFringeSet out;
+  out.draw = draw;
+  out.full_scale = config.sensor.MaxValue();
+  vision::FringeManifest& m = out.manifest;
+  m.projector_width = config.projector.intrinsics.width;
+  m.projector_height = config.projector.intrinsics.height;
+  m.direction = vision::FringeDirection::kVertical;
+  m.sequence = {config.sequence[0], config.sequence[1]};
+  const vision::EffectRealisation truth = vision::RealiseEffects(config, vision::ExpandSequence(config.sequence));
+  for (double e : truth.shift_errors_rad) out.shift_errors_deg.push_back(e * 180.0 / 3.14159265358979323846);
+  out.gains = truth.gains;
+  for (size_t i = 0; i < sim.images.size(); ++i) {
+    m.cameras["left"].push_back(std::to_string(i) + ".png");
+    cv::Mat f;
+    sim.images[i].convertTo(f, CV_32F);
+    out.frames.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace ramtk::diagnose

@@ -1,0 +1,115 @@
+#pragma once
+// Internal interface of the fused decode path (decode_fast.cpp) and of the references it is
+// tested against (decode_reference.cpp, nonlinearity.cpp), used by decode.cpp and the tests.
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/decode/nonlinearity.h"
+
+namespace ramtk::vision::detail {
+
+struct FastDecodeInput {
+  int width = 0, height = 0;
+  // Phase-shift frames per frequency, finest first (all CV_8U, all CV_16U or all CV_32F).
+  std::vector<std::vector<const cv::Mat*>> ps_frames;
+  std::vector<int> steps;                                // N per frequency
+  std::vector<std::vector<float>> sin_table, cos_table;  // sin/cos(2 pi k / N) per frequency
+  std::vector<const cv::Mat*> gray_frames;               // Gray-code frames (empty: none)
+  bool complementary = false;                            // the Gray code has the extra half-period bit
+  bool heterodyne = false;                               // coordinate from several frequencies (after the pass)
+  double phase_at_origin_rad = 0;
+  double period = 0;                          // finest period, projector px
+  int extent = 0;                             // projector px along the coded direction
+  float b_min = 0, saturation = 0, dark = 0;  // thresholds, DN
+  bool keep_diagnostic_maps = true;           // false: no background / fit_residual maps
+};
+
+struct FastDecodeOutput {
+  // background and fit_residual are empty without FastDecodeInput::keep_diagnostic_maps
+  // (fit_residual is kept for the heterodyne unwrap).
+  cv::Mat wrapped, background, modulation, fit_residual, coordinate, mask;
+  std::vector<cv::Mat> coarse_wrapped;  // heterodyne: wrapped phase of frequencies 1.. (0 where masked)
+};
+
+struct FastDecodeCounts {
+  long dark = 0, saturated = 0, low_modulation = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
+  double residual_ss = 0, phase_ss = 0, worst_residual = 0;  // over valid pixels (not for heterodyne)
+  double brightest = 0;                                      // the brightest sample of the finest phase-shift frames
+};
+
+// The fast path of DecodeFrames (arguments already validated; frames all CV_8UC1, CV_16UC1 or CV_32FC1).
+DecodedCamera DecodeFramesFast(const FringeManifest& manifest, const std::vector<cv::Mat>& frames, double full_scale,
+                               const DecodeOptions& options, const std::string& camera);
+
+// LS phase atan2(-S, C) in [-pi, pi).
+float WrappedPhase(float s, float c);
+// WrappedPhase of n pixels, on two lanes where the build has them (the same bits).
+void WrappedPhaseRow(const float* s, const float* c, int n, float* phi);
+
+// The fused pass. Pixels masked by darkness, saturation or modulation get phase 0 and a NaN
+// coordinate; for heterodyne sets the coordinate and the counts of valid pixels are left to the caller.
+void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCounts* counts);
+
+// MeasureHarmonicRatios over every `stride`-th pixel in x and y, on frames of any sample type.
+std::vector<double> MeasureHarmonicRatiosFast(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                                              int stride);
+
+// The intensity noise split into its random part and the total fit residual. The random part
+// comes from the second difference r(-1) - 2 r(0) + r(+1) of the fit residual vectors of three
+// neighbouring pixels along the fringe (the row or column whose phase changes least): noise that
+// is independent from pixel to pixel adds up (6 sigma^2 per degree of freedom), while the
+// phase-dependent residual (projector harmonics, gamma) and slow gain changes cancel to second
+// order. Every `stride`-th pixel in x and y; N >= 4 equally spaced steps over 2 pi; frames
+// CV_8U, CV_16U or CV_32F. Noise correlated between pixels (demosaicing, compression) would be
+// under-estimated.
+struct IntensityNoise {
+  double random_dn = 0;  // sigma of the pixel-independent part, DN
+  double total_dn = 0;   // RMS fit residual per degree of freedom over the same pixels, DN
+  long pairs = 0;        // pixel triples used
+};
+IntensityNoise EstimateIntensityNoise(const std::vector<const cv::Mat*>& frames, const cv::Mat& mask, int stride);
+
+// RMS phase ripple (rad) that varies across the fringes but not along them: the excess of the
+// decoded phase's second differences across the fringes over those along them (robust MAD
+// variances), divided by the white-noise gain 6. The pixel-scale error a phase-dependent
+// residual (projector harmonics not removed by the nonlinearity correction) leaves in the
+// points; 0 if too few pixels. Every `stride`-th pixel.
+double EstimatePhaseRipple(const cv::Mat& coordinate, const cv::Mat& mask, double period_px, int stride);
+
+// EstimatePhaseRipple when DecodeOptions::noise_from_neighbours and N > 3, else 0; `valid`
+// pixels in the mask (EstimateStride).
+double PhaseRipple(const DecodeOptions& options, const cv::Mat& coordinate, const cv::Mat& mask, int n,
+                   double period_px, long valid);
+
+// The sampling stride of a per-pixel estimate over `valid` pixels: `stride`, or the smallest
+// larger one that reads at most ~max_samples of them (DecodeOptions::estimate_max_samples;
+// 0: `stride`).
+int EstimateStride(int stride, long valid, long max_samples);
+
+// Sets sum->sigma_intensity_dn (and the random/systematic split) from the options, the fit
+// residual RMS already in `sum`, and the finest phase-shift frames (both decode paths).
+void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const cv::Mat*>& frames, const cv::Mat& mask,
+                          int n, long valid, DecodeSummary* sum);
+
+// One row of a decode's sigma maps (the fast path): sigma_phi = sqrt(k_sigma^2 / B^2 + ripple^2),
+// +inf where B <= 0 or NaN, into `sp` (if not null) and sigma_phi * to_px (as float) into `sc`;
+// where the mask byte is 0, NaN in both and in the coordinate `c` (otherwise left as it is).
+void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
+              float* sp, float* sc);
+
+// The reference decode: float frames, one pass per stage over every pixel (phase_shift.h,
+// unwrap.h, CorrectPhaseNonlinearityReference). Runs in place of DecodeFramesFast under the test
+// hook DecodeTestHooks::reference_path.
+DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                                    const DecodeOptions& options, const std::string& camera);
+
+// The reference ripple estimator over whole maps (nonlinearity.cpp): the same estimate and
+// correction as CorrectPhaseNonlinearity within float rounding of the basis functions.
+NonlinearityEstimate CorrectPhaseNonlinearityReference(cv::Mat& abs_phase, const cv::Mat& wrapped,
+                                                       const cv::Mat& mask, int steps,
+                                                       const NonlinearityOptions& options = {});
+
+}  // namespace ramtk::vision::detail
