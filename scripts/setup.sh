@@ -30,6 +30,8 @@ PACKAGES=(
   pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
   python3-numpy python3-pytest  # its arrays and its tests
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
+  slurm-wlm munge          # a single-node Slurm for the job-array recipe of docs/cluster.md (ctest -L slurm)
+  libspdlog-dev            # logging (core/log.h): levels, timestamps, the --log-file sink
   opencv-doc               # its real stereo chessboard images: ctest RealBoard.* (calib on real boards)
   gnuplot-nox              # PNG figures (report/gnuplot.h)
   python3-plotly uglifyjs  # Plotly.js, minified at build time and inlined into HTML reports
