@@ -192,8 +192,8 @@ RobotChain ReadRobotChain(const std::string& path) {
   std::string text;
   try {
     text = ReadTextFile(path);
-  } catch (const InputError&) {
-    throw InputError({path, 0, ""}, "cannot open robot model file");
+  } catch (const InputError& e) {
+    throw InputError({path, 0, ""}, "cannot open robot model file: " + e.message());
   }
   return ParseRobotChain(text, path);
 }
@@ -202,8 +202,8 @@ RobotModel ReadRobotModel(const std::string& path) {
   std::string text;
   try {
     text = ReadTextFile(path);
-  } catch (const InputError&) {
-    throw InputError({path, 0, ""}, "cannot open robot model file");
+  } catch (const InputError& e) {
+    throw InputError({path, 0, ""}, "cannot open robot model file: " + e.message());
   }
   return ParseRobotModel(text, path);
 }
