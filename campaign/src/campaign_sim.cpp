@@ -13,6 +13,7 @@
 #include "ramtk/campaign/controller_log.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/thermal/simulator.h"
 #include "ramtk/vision/fringe_simulator.h"
 
@@ -104,7 +105,7 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
       vision::SimulateFringeSet(config, dir, false);
       // The capture time on the controller's clock, for matching by time.
       const std::string manifest = dir + "/manifest.json";
-      nlohmann::json j = nlohmann::json::parse(ReadTextFile(manifest));
+      nlohmann::json j = ParseJsonText(ReadTextFile(manifest), manifest);
       j["capture_time_s"] = row.time_s;
       WriteFileAtomically(manifest, j.dump(2) + "\n");
       std::lock_guard<std::mutex> lock(mutex);
