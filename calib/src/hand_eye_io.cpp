@@ -303,6 +303,7 @@ std::vector<BoardPoseObservation> SimulateBoardPoses(const kinematics::RobotMode
                                                      const Isometry3& camera_from_base,
                                                      const Isometry3& flange_from_board, double sigma_deg,
                                                      double sigma_mm, unsigned seed) {
+  internal::RequirePoseNoise(sigma_deg, sigma_mm);
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<BoardPoseObservation> obs;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "campaign_internal.h"
 #include "ramtk/campaign/controller_log.h"
@@ -27,7 +28,10 @@ std::string CampaignOptions::Validate() const {
   if (!(cycle_period_s > 0.0)) return "cycle_period_s must be > 0";
   if (!(image_scale > 0.05 && image_scale <= 1.0)) return "image_scale must be in (0.05, 1]";
   if (supersampling < 1 || supersampling > 8) return "supersampling must be in 1..8";
-  if (!(repeatability_mm >= 0.0) || !(tool_sensor_noise_mm >= 0.0)) return "noise levels must be >= 0";
+  for (const auto& [field, value] : {std::pair<const char*, double>{"repeatability_mm", repeatability_mm},
+                                     {"tool_sensor_noise_mm", tool_sensor_noise_mm}}) {
+    if (std::string bad = CheckNoise(field, value, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  }
   if (jobs < 1) return "jobs must be >= 1";
   if (screen_keep < -1 || screen_keep > 30) return "screen_keep must be -1 (skip), 0 (held-out) or a count up to 30";
   return "";
