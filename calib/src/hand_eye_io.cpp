@@ -149,7 +149,8 @@ struct FlangeColumns {
       Isometry3 pose = Isometry3::Identity();
       const int rot[9] = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
       pose.linear() = PrintedRotation(t, r, rot, "flange_m00..flange_m22");
-      const double px = FlangeMm(t, r, m[3], scale), py = FlangeMm(t, r, m[7], scale), pz = FlangeMm(t, r, m[11], scale);
+      const double px = FlangeMm(t, r, m[3], scale), py = FlangeMm(t, r, m[7], scale),
+                   pz = FlangeMm(t, r, m[11], scale);
       pose.translation() = Vec3(px, py, pz);
       forms.emplace_back("flange_m00..flange_m23", pose);
     }

@@ -46,7 +46,7 @@ void RequireRegularFile(const std::string& path) {
 }
 
 namespace {
-std::atomic<double> g_read_deadline_s{0.0};  // <= 0: from the environment or the default
+std::atomic<double> g_read_deadline_s{0.0};    // <= 0: from the environment or the default
 constexpr double kLongestReadDeadlineS = 1e7;  // beyond this a steady_clock deadline could overflow
 }  // namespace
 
@@ -98,7 +98,8 @@ std::string ReadToEndWithDeadline(int fd, const std::string& path, double deadli
     shared->finished.notify_all();
   });
   std::unique_lock<std::mutex> lock(shared->mutex);
-  const bool done = shared->finished.wait_for(lock, std::chrono::duration<double>(deadline_s), [&] { return shared->done; });
+  const bool done =
+      shared->finished.wait_for(lock, std::chrono::duration<double>(deadline_s), [&] { return shared->done; });
   if (!done) {
     shared->cancel = true;
     lock.unlock();

@@ -51,12 +51,16 @@ TEST(Json, TheThreeFormsOfOnePoseAgree) {
 
 // A key given twice in one object is refused at any depth; the same key in two objects is fine.
 TEST(Json, AKeyTwiceInOneObjectIsRefused) {
-  EXPECT_EQ(Message([] { ParseJsonText(R"({"a": 1, "b": 2, "a": 3})", "x.json"); }).rfind("x.json: field 'a': duplicate key", 0),
+  EXPECT_EQ(Message([] {
+              ParseJsonText(R"({"a": 1, "b": 2, "a": 3})", "x.json");
+            }).rfind("x.json: field 'a': duplicate key", 0),
             0u);
-  EXPECT_EQ(Message([] { ParseJsonText(R"({"s": [{"r": 1}, {"r": 2, "q": 0, "r": 5}]})", "x.json"); })
-                .rfind("x.json: field 'r': duplicate key", 0),
+  EXPECT_EQ(Message([] {
+              ParseJsonText(R"({"s": [{"r": 1}, {"r": 2, "q": 0, "r": 5}]})", "x.json");
+            }).rfind("x.json: field 'r': duplicate key", 0),
             0u);
-  const nlohmann::json ok = ParseJsonText(R"({"r": 1, "s": {"r": 2, "t": {"r": 3}}, "u": [{"r": 4}, {"r": 5}]})", "x.json");
+  const nlohmann::json ok =
+      ParseJsonText(R"({"r": 1, "s": {"r": 2, "t": {"r": 3}}, "u": [{"r": 4}, {"r": 5}]})", "x.json");
   EXPECT_EQ(ok["s"]["t"]["r"], 3);
   EXPECT_EQ(ok["u"][1]["r"], 5);
 }

@@ -111,7 +111,7 @@ std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>&
 inline constexpr double kMaxAbsPoseAngleDeg = 360.0;  // KUKA A, B, C of a pose
 inline constexpr double kFlangeFormsAgreeDeg = 0.01;  // two forms of one row's flange pose
 inline constexpr double kFlangeFormsAgreeMm = 0.01;
-inline constexpr double kMinFlangeReachMm = 20.0;     // some flange position is at least this far from the base
+inline constexpr double kMinFlangeReachMm = 20.0;  // some flange position is at least this far from the base
 std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path,
                                                               const std::string& flange_units = "mm",
                                                               const kinematics::RobotModel* model = nullptr);
