@@ -1,5 +1,4 @@
 // Hand-eye pose files (joints or flange poses), result JSON and the board-pose simulator.
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -12,6 +11,7 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/json.h"
 #include "ramtk/core/parse.h"
+#include "ramtk/core/rotation.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/measurements_io.h"
@@ -118,8 +118,7 @@ Mat3 PrintedRotation(const CsvTable& t, std::size_t r, const int (&cols)[9], con
                   orth, std::min(tolerance, 2e-3));
     throw InputError({t.path, t.line_numbers[r], field}, text);
   }
-  const Eigen::JacobiSVD<Mat3> svd(rot, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return svd.matrixU() * svd.matrixV().transpose();
+  return NearestRotation(rot);
 }
 
 // Columns of the flange pose: every form the header holds (matrix, quaternion, KUKA A,B,C). A row
