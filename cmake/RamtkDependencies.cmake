@@ -9,6 +9,7 @@ find_package(CLI11 REQUIRED)
 # spdlog: the logging behind core/log.h (levels, time stamps, the --log-file sink).
 find_package(spdlog REQUIRED)
 find_package(TBB REQUIRED)
+find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)  # SHA-256 of input files (provenance)
 find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs calib3d features2d
              structured_light phase_unwrapping aruco)
 find_package(OpenImageIO REQUIRED)

@@ -16,6 +16,7 @@ PACKAGES=(
   nlohmann-json3-dev       # manifests and results
   libcli11-dev             # the ramtk command line
   libtbb-dev               # parallel loops
+  libssl-dev               # SHA-256 of input files in every output's provenance (libcrypto)
   libopencv-dev libopencv-contrib-dev  # calibration, image ops, structured_light peer
   libopenimageio-dev       # image and EXR I/O
   libpng-dev libdeflate-dev  # PNG frames: libpng, and one-call inflate of grey camera frames
@@ -29,6 +30,8 @@ PACKAGES=(
   python3                  # bench/diagnose_independent_sweep.py and its ctest smoke run
   pybind11-dev python3-dev # the Python module (import ramtk, docs/python.md)
   python3-numpy python3-pytest  # its arrays and its tests
+  python3-venv python3-pip python3-setuptools python3-wheel  # the wheel (pyproject.toml) and its venv test
+  mypy python3-opencv      # stubs checked (mypy --strict, stubtest); cv2-loaded frames in tests and examples
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
   slurm-wlm munge          # a single-node Slurm for the job-array recipe of docs/cluster.md (ctest -L slurm)
   libspdlog-dev            # logging (core/log.h): levels, timestamps, the --log-file sink

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/calib/camera_calibration.h"
 #include "ramtk/core/error.h"
@@ -29,7 +30,7 @@ struct CamerasCommandOptions {
 
 std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
-int RunCameras(const CamerasCommandOptions& opt) {
+int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
   const calib::BoardSpec board = calib::ReadBoardSpecArgument(opt.board);
   calib::CameraCalibrationOptions co;
   co.outlier_factor = opt.outlier_factor;
@@ -82,6 +83,7 @@ int RunCameras(const CamerasCommandOptions& opt) {
   }
   const std::vector<unsigned char> png = image::EncodePng(picture, coverage_path);
   WriteFileAtomically(opt.output, yaml);
+  WriteProvenanceSidecar(opt.output, provenance);  // the YAML is OpenCV's FileStorage: the block goes beside it
   WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
   std::printf("%s\n", summary.BriefReport().c_str());
   if (compare) std::printf("%s\n", corners.BriefReport().c_str());
@@ -118,7 +120,7 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
                     "reported either way")
         ->check(CLI::IsMember({"subpix", "sector", "auto"}))
         ->capture_default_str();
-    sub->callback([opt, exit_code]() { *exit_code = RunCameras(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunCameras(*opt, CommandProvenance(sub)); });
   }
 }
 

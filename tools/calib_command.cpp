@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/calib/sensor_robot.h"
 #include "ramtk/calib/sensor_robot_io.h"
@@ -41,7 +42,7 @@ struct SensorRobotCommandOptions {
   double robot_noise_mm = 0.0;  // robot repeatability σ per axis added to every centre's covariance
 };
 
-int RunSensorRobot(const SensorRobotCommandOptions& opt) {
+int RunSensorRobot(const SensorRobotCommandOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.measurements_path}, "--output");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   kinematics::RobotMeasurementSet set = kinematics::ReadRobotMeasurements(opt.measurements_path);
@@ -80,7 +81,8 @@ int RunSensorRobot(const SensorRobotCommandOptions& opt) {
     if (!e.where().file.empty()) throw;
     throw InputError({opt.measurements_path, 0, e.where().field}, e.message());
   }
-  calib::WriteSensorRobotResult(opt.output_path, result, summary, obs);
+  for (const std::string& f : {opt.robot_path, opt.measurements_path}) AddProvenanceFile(&provenance, f);
+  WriteFileAtomically(opt.output_path, WithProvenance(calib::SensorRobotResultJson(result, summary, obs), provenance));
   const Isometry3& t = result.sensor_from_base;
   const KukaAbc abc = KukaAbcFromRotation(t.linear());
   std::printf("%s\n", summary.BriefReport().c_str());
@@ -117,7 +119,7 @@ struct SimulateSensorRobotOptions {
   calib::SensorRobotSimOptions sim;  // the library's options and defaults, bound to the flags below
 };
 
-int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
+int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt, Provenance provenance) {
   CheckOutputsDistinct({{"--output", opt.csv_path}, {"--truth", opt.truth_path}});
   CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
   CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path}, "--truth");
@@ -126,7 +128,8 @@ int RunSimulateSensorRobot(const SimulateSensorRobotOptions& opt) {
   const calib::SensorRobotSimulation sim = calib::SimulateSensorRobot(model, o);
   const std::string truth = calib::SensorRobotTruthJson(sim, o);
   kinematics::WriteRobotMeasurements(calib::MeasurementsFromObservations(sim.observations), opt.csv_path);
-  WriteFileAtomically(opt.truth_path, truth);
+  WriteProvenanceSidecar(opt.csv_path, provenance);
+  WriteFileAtomically(opt.truth_path, WithProvenance(truth, provenance));
   std::printf("simulated %d poses (centre noise %.4f mm, repeatability %.4f mm); wrote %s and %s\n", o.num_poses,
               o.center_noise_mm, o.repeatability_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
   return kExitOk;
@@ -157,7 +160,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
                   "centre by its covariance when the file has them)");
     sub->add_option("--robot-noise", opt->robot_noise_mm,
                     "Robot repeatability sigma per axis (mm) added to every centre's covariance when weighting");
-    sub->callback([opt, exit_code]() { *exit_code = RunSensorRobot(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunSensorRobot(*opt, CommandProvenance(sub)); });
   }
   RegisterCalibCameras(calib, exit_code);
   RegisterCalibRobot(calib, exit_code);
@@ -178,7 +181,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
         ->capture_default_str();
     sub->add_option("--seed", opt->sim.seed, "Seed of the pose geometry")->capture_default_str();
     sub->add_option("--noise-seed", opt->sim.noise_seed, "Seed of the noise")->capture_default_str();
-    sub->callback([opt, exit_code]() { *exit_code = RunSimulateSensorRobot(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateSensorRobot(*opt, CommandProvenance(sub)); });
   }
   RegisterSimulateRobot(simulate, exit_code);
   RegisterCalibHandEye(app, calib, exit_code);

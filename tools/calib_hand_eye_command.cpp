@@ -7,6 +7,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange.h"
@@ -57,7 +58,7 @@ auto NamingThePoseFile(const std::string& poses_path, F&& solve) {
   }
 }
 
-int RunHandEye(const HandEyeCommandOptions& opt) {
+int RunHandEye(const HandEyeCommandOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
   const std::vector<calib::StandCameraObservation> obs = ReadPoses(opt);
   calib::HandEyeOptions o;
@@ -70,7 +71,9 @@ int RunHandEye(const HandEyeCommandOptions& opt) {
     return opt.no_refine ? calib::CalibrateStandCamera(obs, o, &summary)
                          : calib::CalibrateStandCameraWithCovariance(obs, o, ro, &summary, &ref);
   });
-  WriteFileAtomically(opt.output_path, calib::HandEyeResultJson(r, summary, opt.no_refine ? nullptr : &ref));
+  for (const std::string& f : {opt.poses_path, opt.robot_path}) AddProvenanceFile(&provenance, f);
+  WriteFileAtomically(opt.output_path,
+                      WithProvenance(calib::HandEyeResultJson(r, summary, opt.no_refine ? nullptr : &ref), provenance));
   const KukaAbc abc = KukaAbcFromRotation(r.camera_from_base.linear());
   std::printf("%s\n", summary.BriefReport().c_str());
   std::printf("camera_from_base  t (mm) %12.4f %12.4f %12.4f   A,B,C (deg) %10.5f %10.5f %10.5f\n",
@@ -88,7 +91,7 @@ int RunHandEye(const HandEyeCommandOptions& opt) {
   return kExitOk;
 }
 
-int RunHandEyeFlange(const HandEyeCommandOptions& opt) {
+int RunHandEyeFlange(const HandEyeCommandOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
   const calib::EyeInHandMethod method = calib::ParseEyeInHandMethod(opt.method, {"", 0, "--method"});
   const std::vector<calib::FlangeCameraObservation> obs = ReadPoses(opt);
@@ -106,7 +109,8 @@ int RunHandEyeFlange(const HandEyeCommandOptions& opt) {
     json = calib::EyeInHandResultJson(r, method, &ref);
     brief = calib::EyeInHandBriefReport(r, method, &ref);
   }
-  WriteFileAtomically(opt.output_path, json);
+  for (const std::string& f : {opt.poses_path, opt.robot_path}) AddProvenanceFile(&provenance, f);
+  WriteFileAtomically(opt.output_path, WithProvenance(json, provenance));
   std::printf("%s\nwrote %s\n", brief.c_str(), opt.output_path.c_str());
   return kExitOk;
 }
@@ -133,7 +137,7 @@ Isometry3 SimulatedFlangeFromCamera() {
   return x;
 }
 
-int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
+int RunSimulateHandEye(const SimulateHandEyeOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
   CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path, opt.csv_path}, "--truth");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
@@ -181,8 +185,10 @@ int RunSimulateHandEye(const SimulateHandEyeOptions& opt) {
                                                                        : calib::FlangePoseForm::kMatrix;
     csv = calib::FormatFlangePoseObservations(obs, form, opt.flange_units, "flange translation in " + opt.flange_units);
   }
-  WriteFileAtomically(opt.csv_path, csv);
-  WriteFileAtomically(opt.truth_path, truth_json);
+  AddProvenanceFile(&provenance, opt.robot_path);
+  std::vector<std::pair<std::string, std::string>> files = {{opt.csv_path, csv}, {opt.truth_path, truth_json}};
+  StampOutputs(&files, provenance);
+  for (const auto& [path, text] : files) WriteFileAtomically(path, text);
   std::printf("simulated %d %s poses (camera %s; noise %.4f deg, %.4f mm); wrote %s and %s\n", opt.poses,
               opt.pose_form.c_str(), opt.setup == "stand" ? "on a stand" : "on the flange", opt.rotation_noise_deg,
               opt.translation_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
@@ -211,7 +217,7 @@ void AddPoseFileOptions(CLI::App* sub, HandEyeCommandOptions* opt) {
 // One hand-eye subcommand: the pose-file options, --method among `methods` (the first is the
 // default), and `run` on the parsed options.
 void AddHandEyeCommand(CLI::App* calib, const std::string& name, const std::string& description,
-                       const std::vector<std::string>& methods, int (*run)(const HandEyeCommandOptions&),
+                       const std::vector<std::string>& methods, int (*run)(const HandEyeCommandOptions&, Provenance),
                        int* exit_code) {
   auto opt = std::make_shared<HandEyeCommandOptions>();
   opt->method = methods.front();
@@ -220,7 +226,7 @@ void AddHandEyeCommand(CLI::App* calib, const std::string& name, const std::stri
   std::string listed;
   for (const std::string& m : methods) listed += (listed.empty() ? "" : ", ") + m;
   sub->add_option("--method", opt->method, listed)->check(CLI::IsMember(methods))->capture_default_str();
-  sub->callback([opt, run, exit_code]() { *exit_code = run(*opt); });
+  sub->callback([opt, run, exit_code, sub]() { *exit_code = run(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace
@@ -258,7 +264,7 @@ void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code) {
     sub->add_option("--rotation-noise", opt->rotation_noise_deg, "Board-pose rotation noise (deg, 1 sigma)");
     sub->add_option("--translation-noise", opt->translation_noise_mm, "Board-pose translation noise (mm per axis)");
     sub->add_option("--seed", opt->seed, "Seed of poses and noise");
-    sub->callback([opt, exit_code]() { *exit_code = RunSimulateHandEye(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateHandEye(*opt, CommandProvenance(sub)); });
   }
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
 #include "ramtk/calib/robot_calibration.h"
@@ -57,7 +58,7 @@ void PrintStats(const char* what, const calib::ResidualStats& s) {
   std::printf("\n");
 }
 
-int RunCalibRobot(CalibRobotCommandOptions opt) {
+int RunCalibRobot(CalibRobotCommandOptions opt, Provenance provenance) {
   std::vector<std::string> inputs = {opt.robot_path, opt.data_path};
   if (!opt.format_path.empty()) inputs.push_back(opt.format_path);
   inputs.insert(inputs.end(), opt.predict_paths.begin(), opt.predict_paths.end());
@@ -69,6 +70,7 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   std::vector<kinematics::TrackerMeasurements> others;
   for (const std::string& p : opt.predict_paths) others.push_back(ReadData(p, format, opt.remove_drift));
   StagedFolder staged(opt.out, opt.force, "--out");
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
 
   calib::RobotCalibrationOptions& o = opt.calib;
   o.identify_links = !opt.setup_only;
@@ -91,11 +93,12 @@ int RunCalibRobot(CalibRobotCommandOptions opt) {
   out_chain.source = "calibrated by ramtk calib robot from " + std::filesystem::path(opt.data_path).filename().string() +
                      (nominal.source.empty() ? "" : "; nominal: " + nominal.source);
   kinematics::WriteRobotChain(out_chain, (staged.path() / "robot.yaml").string());
-  WriteFileAtomically((staged.path() / "calibration.json").string(), calib::RobotCalibrationJson(result, summary));
+  WriteFileAtomically((staged.path() / "calibration.json").string(), WithProvenance(calib::RobotCalibrationJson(result, summary), provenance));
   WriteFileAtomically((staged.path() / "residuals.csv").string(), calib::RobotCalibrationResidualsCsv(data, summary));
   if (opt.report) {
-    WriteFileAtomically((staged.path() / "report.html").string(),
-                        calib::RobotCalibrationReport(result, summary, data).Page());
+    report::HtmlReport page = calib::RobotCalibrationReport(result, summary, data);
+    page.AddProvenance(provenance);
+    WriteFileAtomically((staged.path() / "report.html").string(), page.Page());
   }
 
   std::printf("%s\n", summary.BriefReport().c_str());
@@ -164,7 +167,7 @@ std::string SimulatedCsv(const kinematics::TrackerMeasurements& data) {
   return out;
 }
 
-int RunSimulateRobot(const SimulateRobotCommandOptions& opt) {
+int RunSimulateRobot(const SimulateRobotCommandOptions& opt, Provenance provenance) {
   CheckOutputsDistinct({{"--output", opt.csv_path}, {"--truth", opt.truth_path}});
   CheckOutputAgainstInputs(opt.csv_path, {opt.robot_path}, "--output");
   CheckOutputAgainstInputs(opt.truth_path, {opt.robot_path}, "--truth");
@@ -172,8 +175,11 @@ int RunSimulateRobot(const SimulateRobotCommandOptions& opt) {
   const calib::RobotCalibrationSimulation sim = calib::SimulateRobotCalibration(nominal, opt.sim);
   kinematics::RobotChain truth = sim.truth;
   truth.source = "ramtk simulate robot-calibration (seed " + std::to_string(opt.sim.seed) + ")";
+  AddProvenanceFile(&provenance, opt.robot_path);
   WriteFileAtomically(opt.csv_path, SimulatedCsv(sim.data));
   kinematics::WriteRobotChain(truth, opt.truth_path);
+  WriteProvenanceSidecar(opt.csv_path, provenance);
+  WriteProvenanceSidecar(opt.truth_path, provenance);
   std::printf("simulated %d poses of %s (link errors %.3f mm / %.4f deg, noise %.4f mm); wrote %s and %s\n",
               opt.sim.num_poses, nominal.name.c_str(), opt.sim.length_error_mm, opt.sim.angle_error_deg,
               opt.sim.position_noise_mm, opt.csv_path.c_str(), opt.truth_path.c_str());
@@ -196,7 +202,7 @@ void RegisterSimulateRobot(CLI::App* simulate, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--seed", opt->sim.seed, "Seed of the errors and poses")->capture_default_str();
   sub->add_option("--noise-seed", opt->sim.noise_seed, "Seed of the noise")->capture_default_str();
-  sub->callback([opt, exit_code]() { *exit_code = RunSimulateRobot(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateRobot(*opt, CommandProvenance(sub)); });
 }
 
 void RegisterCalibRobot(CLI::App* calib, int* exit_code) {
@@ -244,7 +250,7 @@ void RegisterCalibRobot(CLI::App* calib, int* exit_code) {
   sub->add_option("--rotation-sigma", opt->calib.rotation_sigma_deg,
                   "Sigma of a rotation component where the file gives none (deg); re-estimated")
       ->capture_default_str();
-  sub->callback([opt, exit_code]() { *exit_code = RunCalibRobot(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunCalibRobot(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

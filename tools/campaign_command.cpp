@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
 #include "ramtk/campaign/campaign.h"
@@ -20,16 +21,17 @@ struct CampaignCommandOptions {
   bool force = false;
 };
 
-int RunCampaign(const CampaignCommandOptions& opt) {
+int RunCampaign(const CampaignCommandOptions& opt, Provenance provenance) {
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
+  AddProvenanceFile(&provenance, opt.robot_path);
   campaign::CampaignOptions o = opt.o;
   const std::string bad = o.Validate();
   if (!bad.empty()) throw InputError({"", 0, "campaign options"}, bad);
   if (!opt.quiet) {
     o.progress = ProgressPrinter("sets");
   }
-  const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir, opt.force);
+  const campaign::CampaignSummary s = campaign::SimulateAndRunCampaign(model, o, opt.out_dir, opt.force, provenance);
   if (s.cancelled) {
     std::fprintf(stderr, "cancelled: nothing written to %s\n", opt.out_dir.c_str());
     return kExitFailure;
@@ -73,11 +75,17 @@ void RegisterCampaignCommand(CLI::App& app, int* exit_code) {
                   "Parameter screening on the image-derived centres (Tables 5-1/5-2, chain/screening.txt): "
                   "parameters kept; 0 = by held-out error; -1 = skip")
       ->capture_default_str();
+  sub->add_option("--scan-min-depth", opt->o.scan_min_depth_mm,
+                  "Nearest depth the scan searches, mm (ramtk scan --min-depth; the simulated scene lies 600-900 mm away)")
+      ->capture_default_str();
+  sub->add_option("--scan-max-depth", opt->o.scan_max_depth_mm,
+                  "Farthest depth the scan searches, mm (ramtk scan --max-depth)")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
   sub->add_flag("--report", opt->o.html_report,
                 "Also write report.html: the budget, calibration errors and the monitoring "
                 "figure on one self-contained page");
-  sub->callback([opt, exit_code]() { *exit_code = RunCampaign(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunCampaign(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

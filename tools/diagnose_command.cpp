@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
 #include "ramtk/core/error.h"
@@ -18,7 +19,8 @@
 namespace ramtk::tools {
 namespace {
 
-int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_override, bool html, bool force) {
+int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_override, bool html, bool force,
+                Provenance provenance) {
   ThrowIfInvalid(given.Validate(), "DiagnoseOptions");
   if (html && given.output_folder.empty())
     throw InputError({"", 0, "--report"}, "needs --out (the folder the report goes into)");
@@ -32,6 +34,7 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
     for (const std::string& w : given.with)
       if (w.find('=') == std::string::npos) inputs.push_back(w);
     CheckOutputAgainstInputs(given.output_folder, inputs, "--out");
+    for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);  // a model name is no file
     // As before staging: missing parent folders are created.
     const std::filesystem::path parent = std::filesystem::path(given.output_folder).lexically_normal().parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
@@ -56,8 +59,8 @@ int RunDiagnose(const diagnose::DiagnoseOptions& given, const std::string& kind_
       break;
   }
   if (staged) {
-    diagnose::WriteDiagnosis(result, options.output_folder);
-    if (html) diagnose::WriteDiagnosisHtml(result, options.output_folder);
+    diagnose::WriteDiagnosis(result, options.output_folder, provenance);
+    if (html) diagnose::WriteDiagnosisHtml(result, options.output_folder, provenance);
     staged->Commit();
   }
   std::cout << diagnose::OneLine(result) << '\n';
@@ -97,9 +100,9 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--alpha", options->alpha, "Significance level of the structure tests")->capture_default_str();
   sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
   sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
-  sub->callback([options, kind, html, force, exit_code]() {
+  sub->callback([options, kind, html, force, exit_code, sub]() {
     options->progress = ProgressPrinter("steps");
-    *exit_code = RunDiagnose(*options, *kind, *html, *force);
+    *exit_code = RunDiagnose(*options, *kind, *html, *force, CommandProvenance(sub));
   });
 }
 

@@ -7,11 +7,13 @@
 #include <new>
 #include <opencv2/core.hpp>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "huge_pages.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/core/provenance.h"
 
 namespace {
 
@@ -38,9 +40,11 @@ int main(int argc, char** argv) {
   ramtk::tools::UseHugePagesForTheHeap(argc, argv);
   // Before any other thread exists: SIGINT/SIGTERM remove unfinished outputs, then exit 128+n.
   ramtk::InstallInterruptCleanup("ramtk");
+  // Every output records the command line that made it (command_provenance.h).
+  ramtk::tools::RecordCommandLine(argc, argv);
   CLI::App app{"ramtk — robot accuracy maintenance toolkit"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "ramtk 0.1.0");
+  app.set_version_flag("--version", "ramtk " + ramtk::RamtkVersion());
   app.add_flag_callback(
       "-v,--verbose", [] { ramtk::SetLogThreshold(ramtk::LogLevel::kDebug); }, "Log debug messages");
   // Before the subcommand runs (CLI11 calls an option's callback as it parses it).

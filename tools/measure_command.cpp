@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/campaign/controller_log.h"
 #include "ramtk/campaign/measure.h"
@@ -19,7 +20,7 @@ struct MeasureCommandOptions {
   bool by_time = false;           // match by time even if the log names the sets
 };
 
-int RunMeasure(const MeasureCommandOptions& opt) {
+int RunMeasure(const MeasureCommandOptions& opt, Provenance provenance) {
   campaign::MeasureOptions options;
   options.time_tolerance_s = opt.time_tolerance;
   options.by_time = opt.by_time;
@@ -32,11 +33,13 @@ int RunMeasure(const MeasureCommandOptions& opt) {
   const kinematics::RobotMeasurementSet set = campaign::JoinCentresWithLog(captures, log, options, &summary);
   if (set.rows.empty()) throw InputError({opt.scans, 0, "status"}, "no capture has a sphere centre: nothing to write");
   kinematics::WriteRobotMeasurements(set, opt.out);
+  for (const std::string& f : {opt.scans, opt.log}) AddProvenanceFile(&provenance, f);
+  const std::string sidecar = WriteProvenanceSidecar(opt.out, provenance);
   for (const campaign::LeftOut& l : summary.left_out) {
     std::printf("left out: %s (cycle %d, pose %d): %s\n", l.set.c_str(), l.cycle, l.pose, l.reason.c_str());
   }
   for (const std::string& w : summary.warnings) std::printf("warning: %s\n", w.c_str());
-  std::printf("%s\nwrote %s\n", summary.BriefReport().c_str(), opt.out.c_str());
+  std::printf("%s\nwrote %s (provenance in %s)\n", summary.BriefReport().c_str(), opt.out.c_str(), sidecar.c_str());
   return kExitOk;
 }
 
@@ -57,7 +60,7 @@ void RegisterMeasureCommand(CLI::App& app, int* exit_code) {
                   "Largest |capture time - log time| (s) when matching by time (manifest capture_time_s)")
       ->capture_default_str();
   sub->add_flag("--by-time", opt->by_time, "Match captures to log rows by time even when the log has a set column");
-  sub->callback([opt, exit_code]() { *exit_code = RunMeasure(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunMeasure(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

@@ -5,6 +5,7 @@
 #include <memory>
 #include <sstream>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/calib/pose_planning.h"
 #include "ramtk/core/error.h"
@@ -42,7 +43,7 @@ std::vector<double> ParseLimits(const std::string& text) {
   return out;
 }
 
-int RunPlanPoses(const PlanPosesCommandOptions& opt) {
+int RunPlanPoses(const PlanPosesCommandOptions& opt, Provenance provenance) {
   std::vector<std::string> inputs = {opt.robot_path};
   if (!opt.candidates_path.empty()) inputs.push_back(opt.candidates_path);
   if (!opt.format_path.empty()) inputs.push_back(opt.format_path);
@@ -86,7 +87,10 @@ int RunPlanPoses(const PlanPosesCommandOptions& opt) {
   std::vector<Eigen::VectorXd> joints;
   for (int i : chosen) joints.push_back(candidates[i]);
   const std::string comment = "poses planned by ramtk plan poses (D-optimal) for " + nominal.name + " from " + origin;
-  WriteFileAtomically(opt.out, calib::FormatJointCsv(joints, comment));
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
+  std::vector<std::pair<std::string, std::string>> files = {{opt.out, calib::FormatJointCsv(joints, comment)}};
+  StampOutputs(&files, provenance);  // and chosen.provenance.json beside it
+  WriteFilesAtomically(files);
 
   std::printf("%d candidates, %s, %d identifiable unknowns; %d eliminated:\n", summary.num_candidates,
               opt.plan.six_d ? "6-D poses" : (std::to_string(opt.plan.num_targets) + " target(s)").c_str(),
@@ -129,11 +133,11 @@ void RegisterPlanCommands(CLI::App& app, int* exit_code) {
   sub->add_option("--random-draws", opt->plan.random_draws, "Random sets for the comparison")->capture_default_str();
   sub->add_option("--seed", opt->plan.seed, "Seed of the sampling and the random sets")->capture_default_str();
   sub->add_option("--out", opt->out, "Chosen joint sets: CSV pose,q1..qN (deg)")->required();
-  sub->callback([opt, exit_code, candidates, sample]() {
+  sub->callback([opt, exit_code, candidates, sample, sub]() {
     if (candidates->count() == 0 && sample->count() == 0) {
       throw InputError({"", 0, "--candidates"}, "give --candidates FILE or --sample M");
     }
-    *exit_code = RunPlanPoses(*opt);
+    *exit_code = RunPlanPoses(*opt, CommandProvenance(sub));
   });
 }
 

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
@@ -30,14 +31,15 @@ struct CalibrateSensorOptions {
   double max_gap_mm = 5.0;
 };
 
-int RunCalibrateSensor(const CalibrateSensorOptions& o) {
+int RunCalibrateSensor(const CalibrateSensorOptions& o, Provenance provenance) {
   CheckOutputAgainstInputs(o.out, {o.points}, "--out");
   SensorFrameOptions so;
   so.max_beam_gap_mm = o.max_gap_mm;
   const SensorFrame f = CalibrateSensorFrame(
       BeamPointsFromFlangePositions(ReadSensorCalibrationPoints(o.points), o.points), so, o.points);
   const std::string json = SensorFrameToJson(f);
-  if (!o.out.empty()) WriteFileAtomically(o.out, json);
+  AddProvenanceFile(&provenance, o.points);
+  if (!o.out.empty()) WriteFileAtomically(o.out, WithProvenance(json, provenance));
   auto v = [](const Vec3& p) {
     char buf[96];
     std::snprintf(buf, sizeof(buf), "(%.4f, %.4f, %.4f)", p.x(), p.y(), p.z());
@@ -67,7 +69,7 @@ struct SolveOptions {
   double max_tilt_deg = 30.0;
 };
 
-int RunSolve(const SolveOptions& o) {
+int RunSolve(const SolveOptions& o, Provenance provenance) {
   TcfMethod m = TcfMethod::kCrossLaser;
   if (o.variant == "no-self-calibration") {
     m = TcfMethod::kCrossLaserNoSelfCalibration;
@@ -89,7 +91,8 @@ int RunSolve(const SolveOptions& o) {
   const ProgrammedMotion motion = ReadProgrammedMotion(o.motion);
   const SensorFrame sensor = ReadSensorFrame(o.sensor);
   const TcfSummary s = SolveTcf(events, motion, sensor, so, o.log);
-  if (!o.out.empty()) WriteFileAtomically(o.out, TcfSummaryToJson(s));
+  for (const std::string& f : {o.log, o.motion, o.sensor}) AddProvenanceFile(&provenance, f);
+  if (!o.out.empty()) WriteFileAtomically(o.out, WithProvenance(TcfSummaryToJson(s), provenance));
   std::cout << "variant " << o.variant << ": " << s.BriefReport() << "\n";
   const Eigen::Matrix4d t = s.solution.flange_from_tcp.matrix();
   std::cout << "flange_from_tcp (5 DOF):\n";
@@ -152,7 +155,7 @@ struct SimulateOptions {
   std::string effects;
 };
 
-int RunSimulate(const SimulateOptions& o) {
+int RunSimulate(const SimulateOptions& o, Provenance provenance) {
   TcfSimulationOptions so;
   so.seed = o.seed;
   so.repeatability_mm = o.repeatability_mm;
@@ -167,10 +170,11 @@ int RunSimulate(const SimulateOptions& o) {
   std::error_code ec;
   if (!std::filesystem::is_directory(o.out_dir, ec)) throw InputError({o.out_dir, 0, "--out-dir"}, "is not a folder");
   // The four files as one unit: none of them is replaced unless all were written.
-  WriteFilesAtomically({{d + "laser_log.csv", log},
-                        {d + "motion.json", motion},
-                        {d + "sensor.json", sensor},
-                        {d + "truth.json", truth}});
+  std::vector<std::pair<std::string, std::string>> files = {
+      {d + "laser_log.csv", log}, {d + "motion.json", motion}, {d + "sensor.json", sensor}, {d + "truth.json", truth}};
+  // The four files are data other commands read; their provenance is one sidecar beside them.
+  files.push_back(FolderProvenance(o.out_dir, {"laser_log.csv", "motion.json", "sensor.json", "truth.json"}, provenance));
+  WriteFilesAtomically(files);
   std::cout << "wrote " << sim.events.size() << " events to " << d
             << "laser_log.csv, and motion.json, sensor.json, truth.json\n";
   return kExitOk;
@@ -188,7 +192,7 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   c->add_option("--points", cal->points, "CSV label,x,y,z with A1..D4 (thesis Table 5-3 format)")->required();
   c->add_option("--out", cal->out, "Write the sensor frame JSON here");
   c->add_option("--max-gap", cal->max_gap_mm, "Largest accepted distance between the beam lines (mm)");
-  c->callback([cal, exit_code]() { *exit_code = RunCalibrateSensor(*cal); });
+  c->callback([cal, exit_code, c]() { *exit_code = RunCalibrateSensor(*cal, CommandProvenance(c)); });
 
   auto sol = std::make_shared<SolveOptions>();
   CLI::App* s = tcf->add_subcommand("solve", "Tool frame from the laser device log and the programmed motion");
@@ -203,7 +207,7 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   s->add_option("--timing-sigma-ms", sol->timing_sigma_ms, "1-sigma event timing noise for the uncertainty (ms)");
   s->add_option("--repeatability", sol->repeatability_mm, "Robot repeatability, 1-sigma per axis (mm)");
   s->add_option("--max-tilt", sol->max_tilt_deg, "Device range: largest tool-axis tilt (deg)");
-  s->callback([sol, exit_code]() { *exit_code = RunSolve(*sol); });
+  s->callback([sol, exit_code, s]() { *exit_code = RunSolve(*sol, CommandProvenance(s)); });
 
   auto cmp = std::make_shared<CompareOptions>();
   CLI::App* k =
@@ -229,7 +233,7 @@ void RegisterTcfCommand(CLI::App& app, int* exit_code) {
   st->add_option("--repeatability", so->repeatability_mm, "Robot repeatability, 1-sigma per axis (mm)");
   st->add_option("--jitter-ms", so->jitter_ms, "Receiver timing jitter, 1-sigma (ms)");
   st->add_option("--effects", so->effects, "Comma-separated laser-device effects to switch on (or 'all')");
-  st->callback([so, exit_code]() { *exit_code = RunSimulate(*so); });
+  st->callback([so, exit_code, st]() { *exit_code = RunSimulate(*so, CommandProvenance(st)); });
 }
 
 }  // namespace ramtk::tools

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -36,7 +37,7 @@ struct SimulateThermalOptions {
   bool force = false;  // replace an existing output folder
 };
 
-int RunSimulateThermal(const SimulateThermalOptions& opt) {
+int RunSimulateThermal(const SimulateThermalOptions& opt, Provenance provenance) {
   if (opt.preset != "thesis") throw InputError({"", 0, "--preset"}, "unknown preset '" + opt.preset + "' (thesis)");
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   ThermalSimOptions o = ThesisPreset(opt.seed);
@@ -46,7 +47,8 @@ int RunSimulateThermal(const SimulateThermalOptions& opt) {
   if (!(opt.repeatability_mm < 0.0)) o.repeatability_mm = opt.repeatability_mm;
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const ThermalSimResult r = SimulateThermal(model, o);
-  WriteThermalSimulation(r, o, opt.preset, opt.out_dir, opt.force);
+  AddProvenanceFile(&provenance, opt.robot_path);
+  WriteThermalSimulation(r, o, opt.preset, opt.out_dir, opt.force, provenance);
   const double max_drift = LargestBallDriftMm(r);
   std::cout << "simulated " << o.cycles << " cycles (" << o.ball_poses << " ball poses, " << o.monitoring_points
             << " monitoring points) into " << opt.out_dir << "\n"
@@ -82,8 +84,10 @@ nlohmann::json GuardJson(const IdentifiabilitySummary& g) {
   return j;
 }
 
-int RunIdentify(const IdentifyOptions& opt) {
+int RunIdentify(const IdentifyOptions& opt, Provenance provenance) {
   CheckOutputs(opt.in, {{"--out", opt.out_path}, {"--json", opt.json_path}});
+  for (const std::string& f : {opt.in.robot_path, opt.in.setup_path, opt.in.ball_path, opt.in.monitoring_path})
+    AddProvenanceFile(&provenance, f);
   const LoadedExperiment e = Load(opt.in);
   const DriftModel dm(e.model, e.setup, e.ball.taught);
   IdentificationOptions id = MakeIdOptions(opt.in, e, dm, ParseParamList(opt.in.params, e.model, "--params"));
@@ -148,6 +152,7 @@ int RunIdentify(const IdentifyOptions& opt) {
   std::vector<std::pair<std::string, std::string>> files;
   if (!opt.out_path.empty()) files.emplace_back(opt.out_path, csv);
   if (!opt.json_path.empty()) files.emplace_back(opt.json_path, j.dump(2) + "\n");
+  StampOutputs(&files, provenance);
   WriteFilesAtomically(files);
   for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
@@ -172,7 +177,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
         ->check(CLI::NonNegativeNumber);
     sub->add_option("--out", opt->out_dir, "Output folder")->required();
     sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
-    sub->callback([opt, exit_code]() { *exit_code = RunSimulateThermal(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateThermal(*opt, CommandProvenance(sub)); });
   }
   CLI::App* thermal =
       GetOrAddSubcommand(app, "thermal", "Thermal drift: identify, screen parameters, compensate, predict");
@@ -186,7 +191,7 @@ void RegisterThermalCommands(CLI::App& app, int* exit_code) {
     sub->add_option("--out", opt->out_path, "ΔX per cycle CSV (mm, deg), each parameter followed by its sigma");
     sub->add_option("--json", opt->json_path, "ΔX and sigma per cycle, the guard and the covariance scaling (JSON)");
     AddGuardOptions(sub, &opt->in);
-    sub->callback([opt, exit_code]() { *exit_code = RunIdentify(*opt); });
+    sub->callback([opt, exit_code, sub]() { *exit_code = RunIdentify(*opt, CommandProvenance(sub)); });
   }
   RegisterThermalScreen(thermal, exit_code);
   RegisterThermalCompensate(thermal, exit_code);

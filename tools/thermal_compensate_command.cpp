@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -30,8 +31,10 @@ struct CompensateOptions {
   std::string out_report;  // report.html
 };
 
-int RunCompensate(const CompensateOptions& opt) {
+int RunCompensate(const CompensateOptions& opt, Provenance provenance) {
   CheckOutputs(opt.in, {{"--out", opt.out_path}, {"--report", opt.out_report}});
+  for (const std::string& f : {opt.in.robot_path, opt.in.setup_path, opt.in.ball_path, opt.in.monitoring_path})
+    AddProvenanceFile(&provenance, f);
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   const DriftModel dm(e.model, e.setup, e.ball.taught);
@@ -116,8 +119,11 @@ int RunCompensate(const CompensateOptions& opt) {
     in.drift_model = &dm;
     in.identification_options = id;
     in.identification = is;
-    files.emplace_back(opt.out_report, CompensationReport(in).Page());
+    report::HtmlReport page = CompensationReport(in);
+    page.AddProvenance(provenance);
+    files.emplace_back(opt.out_report, page.Page());
   }
+  StampOutputs(&files, provenance);
   WriteFilesAtomically(files);
   for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
@@ -139,7 +145,7 @@ void RegisterThermalCompensate(CLI::App* thermal, int* exit_code) {
   sub->add_option("--report", opt->out_report,
                   "Write one self-contained HTML page: monitoring error per cycle, identified drift, corrected joints");
   AddGuardOptions(sub, &opt->in);
-  sub->callback([opt, exit_code]() { *exit_code = RunCompensate(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunCompensate(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

@@ -6,6 +6,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -60,8 +61,10 @@ int ParseKeep(const std::string& text) {
   return static_cast<int>(v);
 }
 
-int RunScreen(const ScreenOptions& opt) {
+int RunScreen(const ScreenOptions& opt, Provenance provenance) {
   CheckOutputs(opt.in, {{"--json", opt.out_json}, {"--series", opt.out_series}, {"--report", opt.out_report}});
+  for (const std::string& f : {opt.in.robot_path, opt.in.setup_path, opt.in.ball_path, opt.in.monitoring_path})
+    AddProvenanceFile(&provenance, f);
   const LoadedExperiment e = Load(opt.in);
   const ThermalExperiment ex = MakeExperiment(e.model, e.setup, e.ball, e.monitoring);
   ScreeningOptions so;
@@ -187,8 +190,11 @@ int RunScreen(const ScreenOptions& opt) {
   }
   if (!opt.out_json.empty()) files.emplace_back(opt.out_json, j.dump(2) + "\n");
   if (!opt.out_report.empty()) {
-    files.emplace_back(opt.out_report, ScreeningReport(ex, s, rows, last_budget_rows, opt.threshold_mm).Page());
+    report::HtmlReport page = ScreeningReport(ex, s, rows, last_budget_rows, opt.threshold_mm);
+    page.AddProvenance(provenance);
+    files.emplace_back(opt.out_report, page.Page());
   }
+  StampOutputs(&files, provenance);
   WriteFilesAtomically(files);
   for (const auto& f : files) std::cout << "wrote " << f.first << "\n";
   return kExitOk;
@@ -218,7 +224,7 @@ void RegisterThermalScreen(CLI::App* thermal, int* exit_code) {
   sub->add_option("--report", opt->out_report,
                   "Write one self-contained HTML page: the tables, the elimination and the selected drift");
   AddGuardOptions(sub, &opt->in);
-  sub->callback([opt, exit_code]() { *exit_code = RunScreen(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunScreen(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

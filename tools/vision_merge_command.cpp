@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -19,7 +20,7 @@ struct MergeCommandOptions {
   bool allow_errors = false;  // merge rows whose status is error or cancelled
 };
 
-int RunMerge(const MergeCommandOptions& opt) {
+int RunMerge(const MergeCommandOptions& opt, Provenance provenance) {
   const std::vector<std::string> sets = vision::ReadScanBatchList(opt.batch);
   const std::vector<std::string> shards = vision::FindShardResults(opt.out);
   const std::string target = opt.out + "/results.csv";
@@ -32,6 +33,8 @@ int RunMerge(const MergeCommandOptions& opt) {
   if (std::filesystem::exists(target, ec) && !opt.force)
     throw InputError({target, 0, "--out"}, "exists (pass --force to replace it)");
   WriteFileAtomically(target, vision::MergeScanShards(sets, shards, opt.allow_errors));
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
+  WriteProvenanceSidecar(target, provenance);
   std::cout << "merged " << shards.size() << " shards, " << sets.size() << " sets, into " << target << "\n";
   return kExitOk;
 }
@@ -48,7 +51,7 @@ void RegisterMergeCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--allow-errors", opt->allow_errors,
                 "Merge rows whose status is error or cancelled too (by default they are refused: re-run their shard "
                 "with `scan --resume`)");
-  sub->callback([opt, exit_code]() { *exit_code = RunMerge(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunMerge(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

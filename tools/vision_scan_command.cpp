@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
 #include "ramtk/core/error.h"
@@ -79,7 +80,7 @@ void RefuseToReplaceEarlierResults(const std::string& results, const std::vector
   }
 }
 
-int RunScan(const ScanCommandOptions& opt) {
+int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   using namespace vision;
   if (opt.set.empty() == opt.batch.empty())
     throw InputError({"", 0, "SET/--batch"}, "give either one fringe set or --batch LIST");
@@ -123,6 +124,8 @@ int RunScan(const ScanCommandOptions& opt) {
       }
     }
     CheckOutputAgainstInputs(opt.out, inputs, "--out");
+    // The batch's own provenance names the list and the calibration; each set's folder adds its files.
+    for (const std::string& f : {opt.batch, opt.calib, opt.truth}) AddProvenanceFile(&provenance, f);
     ProgressCallback progress;
     if (!opt.quiet) progress = ProgressPrinter("sets");
     // A shard scans every N-th set into the same folders a single run would, and writes its rows
@@ -144,6 +147,7 @@ int RunScan(const ScanCommandOptions& opt) {
     reuse.overwrite = opt.force;
     reuse.resume = opt.resume;
     reuse.settings = ResultSettings(opt);
+    reuse.provenance = [&provenance](const std::string&, const std::string&) { return provenance; };
     const auto started = std::chrono::steady_clock::now();
     const std::vector<ScanBatchRow> rows =
         RunScanBatch(ReadScanBatchEntries(opt.batch), options, opt.out, opt.jobs, reuse, progress, positions);
@@ -151,12 +155,15 @@ int RunScan(const ScanCommandOptions& opt) {
         SummariseScanBatch(rows, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     const std::string csv = ScanBatchCsv(rows);
     WriteFileAtomically(results, csv);
+    WriteProvenanceSidecar(results, provenance);  // results.provenance.json
     if (!opt.quiet) std::cout << csv;  // a campaign's 1800 rows are in results.csv
     if (opt.report) {
       const std::string page = results_name.substr(0, results_name.size() - 4) == "results"
                                    ? std::string("report.html")
                                    : "report" + results_name.substr(7, results_name.size() - 11) + ".html";
-      ScanBatchReport(rows, opt.out).Write(opt.out + "/" + page);
+      report::HtmlReport html = ScanBatchReport(rows, opt.out);
+      html.AddProvenance(provenance);
+      html.Write(opt.out + "/" + page);
       std::cout << "wrote " << opt.out << "/" << page << "\n";
     }
     std::cout << totals.BriefReport() << "; wrote " << opt.out << "/" << results_name << "\n";
@@ -165,9 +172,11 @@ int RunScan(const ScanCommandOptions& opt) {
 
   add_set(opt.set);
   CheckOutputAgainstInputs(opt.out, inputs, "--out");
+  for (const std::string& f : inputs) AddProvenanceFile(&provenance, f);
   const std::vector<Sphere> truth = opt.truth.empty() ? std::vector<Sphere>{} : ReadTruthSpheres(opt.truth);
   // cloud.ply and depth.png are written beside the sphere fit; the folder is checked before the scan.
   ScanOutputWriter writer(opt.out, opt.force, opt.set);
+  writer.SetProvenance(provenance);
   options.on_cloud = writer.OnCloud();
   const ScanResult result = ScanFringeSet(opt.set, options);
   writer.Finish(result, opt.report);
@@ -273,7 +282,7 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)")
       ->needs(batch);
-  sub->callback([opt, exit_code]() { *exit_code = RunScan(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunScan(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

@@ -27,6 +27,24 @@ namespace ramtk::campaign {
 namespace fs = std::filesystem;
 namespace {
 
+// What a campaign's set folder chain/scan/NNN_*/ records: the `ramtk scan` command that
+// reproduces it when run in the campaign's folder (`set` and `folder` relative to it), its options
+// (the others at `ramtk scan`'s defaults), and the campaign's version and run.
+Provenance ScanProvenance(const Provenance& campaign, const CampaignOptions& options, const std::string& out_dir,
+                          const std::string& set, const std::string& folder) {
+  Provenance p = campaign;
+  const std::string min_depth = nlohmann::json(options.scan_min_depth_mm).dump();
+  const std::string max_depth = nlohmann::json(options.scan_max_depth_mm).dump();
+  p.command = {"ramtk", "scan", set, "--min-depth", min_depth, "--max-depth", max_depth, "--out", folder};
+  p.options = {{"set", set},
+               {"out", folder},
+               {"min-depth", options.scan_min_depth_mm},
+               {"max-depth", options.scan_max_depth_mm}};
+  p.inputs.clear();
+  p.working_directory = out_dir;
+  return p;
+}
+
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -138,7 +156,7 @@ std::string CampaignSummary::BriefReport() const {
 }
 
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
-                                       const std::string& out_dir, bool overwrite) {
+                                       const std::string& out_dir, bool overwrite, const Provenance& provenance) {
   ThrowIfInvalid(options.Validate(), "CampaignOptions");
   CampaignSummary s;
   s.out_dir = out_dir;
@@ -156,14 +174,22 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
 
   // 1. Scan every set (as `ramtk scan --batch`), 2. join with the controller log (`ramtk measure`).
   auto t0 = std::chrono::steady_clock::now();
-  const std::vector<std::string> sets = vision::ReadScanBatchList((dir / "batch.txt").string());
+  // The scan is `ramtk scan` with its defaults but for the depth range (options.scan_*_depth_mm);
+  // each set folder records the command (ScanProvenance) and paths relative to out_dir.
+  const std::vector<vision::ScanBatchEntry> sets = vision::ReadScanBatchEntries((dir / "batch.txt").string());
   vision::ScanOptions so;
-  so.match.min_depth_mm = 400.0;
-  so.match.max_depth_mm = 1000.0;
+  so.match.min_depth_mm = options.scan_min_depth_mm;
+  so.match.max_depth_mm = options.scan_max_depth_mm;
   ProgressCallback scan_progress;
   if (options.progress) scan_progress = [&](const Progress& p) { return options.progress({"scan", p.done, p.total}); };
+  vision::ScanBatchReuse reuse;
+  reuse.paths_relative_to = dir.string();
+  const std::string target = fs::path(out_dir).lexically_normal().string();
+  reuse.provenance = [&](const std::string& set, const std::string& folder) {
+    return ScanProvenance(provenance, options, target, set, folder);
+  };
   const auto rows =
-      vision::RunScanBatch(sets, so, (dir / "chain" / "scan").string(), options.jobs, false, scan_progress);
+      vision::RunScanBatch(sets, so, (dir / "chain" / "scan").string(), options.jobs, reuse, scan_progress);
   for (const vision::ScanBatchRow& r : rows) {
     if (r.status == "cancelled") {
       s.cancelled = true;
@@ -230,8 +256,9 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                             s.screening_elimination + img.screening.BriefReport() +
                             "\n\nParameter sets compared (form of thesis Table 5-2):\n" + s.screening_comparison);
   }
-  calib::WriteSensorRobotResult((dir / "chain" / "calibration.json").string(), img.calibration, img.calibration_summary,
-                                img.cold);
+  WriteFileAtomically((dir / "chain" / "calibration.json").string(),
+                      WithProvenance(calib::SensorRobotResultJson(img.calibration, img.calibration_summary, img.cold),
+                                     provenance));
   // The calibrated set-up in the thermal commands' format (the tool sensor's mounting from truth).
   thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
   s.chain_s = Seconds(t0);
@@ -307,13 +334,17 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
                          ? "vision (image-derived centres)"
                          : "robot repeatability, tool sensor and drift model (not the vision stage)";
 
-  WriteFileAtomically((dir / "budget.json").string(), BudgetJson(s));
-  WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s));
+  WriteFileAtomically((dir / "budget.json").string(), WithProvenance(BudgetJson(s), provenance));
+  WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s) + "\n" + ProvenanceMarkdown(provenance));
   if (s.cycle_time_s.size() >= 1) {
     std::vector<diagnose::Picture> pictures;
     diagnose::AddFigure(MonitoringFigure(s), dir.string(), &pictures);
   }
-  if (options.html_report) CampaignReport(s).Write((dir / "report.html").string());
+  if (options.html_report) {
+    report::HtmlReport page = CampaignReport(s);
+    page.AddProvenance(provenance);
+    page.Write((dir / "report.html").string());
+  }
   staged.Commit();
   return s;
 }

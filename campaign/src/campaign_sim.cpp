@@ -33,6 +33,8 @@ std::string CampaignOptions::Validate() const {
     if (std::string bad = CheckNoise(field, value, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
   }
   if (jobs < 1) return "jobs must be >= 1";
+  if (!(scan_min_depth_mm > 0.0 && scan_max_depth_mm > scan_min_depth_mm))
+    return "scan depth range: expected 0 < scan_min_depth_mm < scan_max_depth_mm";
   if (screen_keep < -1 || screen_keep > 30) return "screen_keep must be -1 (skip), 0 (held-out) or a count up to 30";
   return "";
 }

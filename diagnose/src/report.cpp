@@ -214,15 +214,18 @@ report::HtmlReport DiagnosisHtml(const Diagnosis& d, const std::string& folder) 
   return html;
 }
 
-void WriteDiagnosisHtml(const Diagnosis& diagnosis, const std::string& folder) {
-  DiagnosisHtml(diagnosis, folder).Write((std::filesystem::path(folder) / "report.html").string());
+void WriteDiagnosisHtml(const Diagnosis& diagnosis, const std::string& folder, const Provenance& provenance) {
+  report::HtmlReport page = DiagnosisHtml(diagnosis, folder);
+  page.AddProvenance(provenance);
+  page.Write((std::filesystem::path(folder) / "report.html").string());
 }
 
-void WriteDiagnosis(const Diagnosis& diagnosis, const std::string& folder) {
+void WriteDiagnosis(const Diagnosis& diagnosis, const std::string& folder, const Provenance& provenance) {
   std::filesystem::create_directories(folder);
   const std::filesystem::path dir(folder);
-  WriteFileAtomically((dir / "diagnosis.json").string(), DiagnosisJson(diagnosis));
-  WriteFileAtomically((dir / "report.md").string(), DiagnosisMarkdown(diagnosis));
+  WriteFileAtomically((dir / "diagnosis.json").string(), WithProvenance(DiagnosisJson(diagnosis), provenance));
+  WriteFileAtomically((dir / "report.md").string(),
+                      DiagnosisMarkdown(diagnosis) + "\n" + ProvenanceMarkdown(provenance));
 }
 
 }  // namespace ramtk::diagnose

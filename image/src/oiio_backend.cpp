@@ -116,6 +116,9 @@ bool Write(const std::string& path, const cv::Mat& image, std::string* error) {
   }
   OIIO::ImageSpec spec(img.cols, img.rows, img.channels(), type);
   if (type == OIIO::TypeDesc::FLOAT) spec.attribute("compression", "zip");
+  // No write time in the file (OpenImageIO's TIFF writer stamps the clock otherwise): the same
+  // inputs give the same bytes; the run's time is in the provenance block beside it.
+  spec.attribute("DateTime", "");
   if (!out->open(path, spec) || !out->write_image(type, img.data)) {
     *error = "cannot write image: " + out->geterror();
     out->close();

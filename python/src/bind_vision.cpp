@@ -1,13 +1,17 @@
-// Fringe decoding, the scan pipeline, sphere fitting, stereo calibration files and the fringe
-// simulator. Images come back as numpy arrays that share the C++ buffers (no copy); options are
-// keyword arguments with the C++ defaults; long calls release the GIL.
+// Fringe decoding, the scan pipeline, sphere fitting and the fringe simulator for the Python
+// package (python/ramtk/_vision.py checks the arguments and builds the typed results). Frames
+// come in as numpy arrays viewed without a copy; images and clouds go out the same way (the
+// arrays keep the C++ buffers alive). Options arrive as a dict keyed by the command line's names.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 
 #include "numpy_convert.h"
+#include "progress_bridge.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -16,9 +20,9 @@
 #include "ramtk/vision/manifest.h"
 #include "ramtk/vision/scan.h"
 #include "ramtk/vision/sphere_fit.h"
+#include "scan_options.h"
 
 namespace ramtk::python {
-namespace {
 
 py::list SpheresToPython(const vision::SphereFitSummary& s) {
   py::list out;
@@ -37,6 +41,8 @@ py::list SpheresToPython(const vision::SphereFitSummary& s) {
   return out;
 }
 
+namespace {
+
 py::dict DecodedToPython(const vision::DecodedCamera& d) {
   py::dict out;
   out["coordinate"] = MatToArray(d.coordinate);
@@ -50,205 +56,342 @@ py::dict DecodedToPython(const vision::DecodedCamera& d) {
   return out;
 }
 
-}  // namespace
+// Frames as cv::Mat headers over the arrays' buffers (the Python layer checked them: 2-D,
+// C-contiguous, uint8 / uint16 / float32). The list keeps the arrays alive during the call.
+std::vector<cv::Mat> FramesOf(const py::list& frames) {
+  std::vector<cv::Mat> out;
+  for (const py::handle& h : frames) {
+    const py::array a = py::reinterpret_borrow<py::array>(h);
+    const int type = a.dtype().is(py::dtype::of<std::uint8_t>())    ? CV_8UC1
+                     : a.dtype().is(py::dtype::of<std::uint16_t>()) ? CV_16UC1
+                                                                    : CV_32FC1;
+    out.emplace_back(static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)), type, const_cast<void*>(a.data()),
+                     static_cast<std::size_t>(a.strides(0)));
+  }
+  return out;
+}
 
-void BindVision(py::module_& m) {
-  m.def(
-      "read_image",
-      [](const std::string& path) {
-        // Any single-channel image OpenCV reads as stored: 8/16-bit camera frames, the float TIFF
-        // / EXR maps of `ramtk decode` and of the simulator's truth.
-        RequireRegularFile(path);  // a FIFO or a device would block or never end
-        cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
-        if (img.empty()) throw InputError({path, 0, ""}, "cannot read the image");
-        if (img.channels() != 1) throw InputError({path, 0, ""}, "expected a single-channel image");
-        return MatToArray(img);
-      },
-      py::arg("path"), "A single-channel image as stored (uint8, uint16 or float32 array)");
+// The decode options the command line exposes, from the dict of the Python layer.
+void ApplyDecodeOptions(const py::dict& o, vision::DecodeOptions* d) {
+  if (o.contains("min_modulation")) d->min_modulation_fraction = o["min_modulation"].cast<double>();
+  if (o.contains("sigma_intensity")) d->intensity_sigma_dn = o["sigma_intensity"].cast<double>();
+  if (o.contains("no_nonlinearity")) d->correct_nonlinearity = !o["no_nonlinearity"].cast<bool>();
+  if (o.contains("phase_filter")) d->coordinate_filter.radius_px = o["phase_filter"].cast<int>();
+  if (o.contains("whole_residual_sigma")) d->noise_from_neighbours = !o["whole_residual_sigma"].cast<bool>();
+  if (o.contains("reference_decode")) d->reference_path = o["reference_decode"].cast<bool>();
+}
 
-  m.def(
-      "read_manifest",
-      [](const std::string& path) {
-        const vision::FringeManifest mf = vision::ReadFringeManifest(path);
-        py::dict d = JsonToPython(vision::FringeManifestToJson(mf));
-        py::dict resolved;
-        for (const auto& [camera, files] : mf.cameras) {
-          std::vector<std::string> paths;
-          for (const std::string& f : files) paths.push_back(mf.Resolve(f));
-          resolved[py::str(camera)] = paths;
-        }
-        d["resolved_images"] = resolved;
-        return d;
-      },
-      py::arg("path"), "A fringe-set manifest as a dict (validated), plus each camera's image paths resolved");
+using ScanHandle = std::shared_ptr<vision::ScanResult>;
 
-  m.def(
-      "decode",
-      [](const std::string& manifest, const std::string& camera, double min_modulation_fraction,
-         double intensity_sigma_dn, bool correct_nonlinearity, bool noise_from_neighbours) {
-        vision::DecodeOptions o;
-        o.min_modulation_fraction = min_modulation_fraction;
-        o.intensity_sigma_dn = intensity_sigma_dn;
-        o.correct_nonlinearity = correct_nonlinearity;
-        o.noise_from_neighbours = noise_from_neighbours;
-        ThrowIfInvalid(o.Validate(), "DecodeOptions");
-        vision::DecodedCamera d;
-        {
-          py::gil_scoped_release release;
-          d = vision::DecodeCamera(vision::ReadFringeManifest(manifest), camera, o);
-        }
-        return DecodedToPython(d);
-      },
-      py::arg("manifest"), py::arg("camera") = "left",
-      py::arg("min_modulation_fraction") = vision::DecodeOptions{}.min_modulation_fraction,
-      py::arg("intensity_sigma_dn") = vision::DecodeOptions{}.intensity_sigma_dn,
-      py::arg("correct_nonlinearity") = vision::DecodeOptions{}.correct_nonlinearity,
-      py::arg("noise_from_neighbours") = vision::DecodeOptions{}.noise_from_neighbours,
-      "Decodes one camera of a fringe set: dict of numpy arrays (coordinate in projector px, NaN invalid; wrapped, "
-      "background, modulation in DN; mask 0/255; sigma_phase rad; sigma_coordinate px) and 'summary'");
+// Runs `scan` without the GIL, with the Python progress callable; re-raises its error.
+template <typename Scan>
+ScanHandle RunScan(const py::dict& options, const py::object& progress, Scan scan) {
+  vision::ScanOptions o = ScanOptionsOf(options);
+  ProgressBridge bridge(progress);
+  o.progress = bridge.Callback();
+  auto r = std::make_shared<vision::ScanResult>();
+  {
+    py::gil_scoped_release release;
+    *r = scan(o);
+  }
+  bridge.Rethrow();
+  return r;
+}
 
-  m.def(
-      "scan",
-      [](const std::string& manifest, const std::string& calibration_path, double radius_mm, bool fix_radius,
-         int max_spheres, double min_depth_mm, double max_depth_mm, const std::string& roi, double roi_margin_mm) {
-        vision::ScanOptions o;
-        o.roi = vision::ParseScanRoi(roi);
-        o.roi.margin_mm = roi_margin_mm;
-        o.calibration_path = calibration_path;
-        o.sphere.radius_mm = radius_mm;
-        o.sphere.fix_radius = fix_radius;
-        o.sphere.max_spheres = max_spheres;
-        o.match.min_depth_mm = min_depth_mm;
-        o.match.max_depth_mm = max_depth_mm;
-        ThrowIfInvalid(o.Validate(), "ScanOptions");
-        vision::ScanResult r;
-        {
-          py::gil_scoped_release release;
-          r = vision::ScanFringeSet(manifest, o);
-        }
-        const vision::PointCloud& c = r.cloud;
-        py::array_t<double> points({static_cast<py::ssize_t>(c.size()), py::ssize_t{5}});
-        auto p = points.mutable_unchecked<2>();
-        for (std::size_t i = 0; i < c.size(); ++i) {
-          for (int k = 0; k < 3; ++k) p(i, k) = c.points_in_left[i][k];
-          p(i, 3) = c.sigma_mm.empty() ? std::nan("") : c.sigma_mm[i];
-          p(i, 4) = c.quality.empty() ? std::nan("") : c.quality[i];
-        }
-        py::dict out;
-        out["points"] = points;
-        out["depth"] = MatToArray(r.depth);
-        out["spheres"] = SpheresToPython(r.summary.spheres);
-        out["summary"] = JsonToPython(vision::ScanSummaryToJson(r.summary));
-        return out;
-      },
-      py::arg("manifest"), py::arg("calibration_path") = vision::ScanOptions{}.calibration_path,
-      py::arg("radius_mm") = vision::ScanOptions{}.sphere.radius_mm,
-      py::arg("fix_radius") = vision::ScanOptions{}.sphere.fix_radius,
-      py::arg("max_spheres") = vision::ScanOptions{}.sphere.max_spheres,
-      py::arg("min_depth_mm") = vision::ScanOptions{}.match.min_depth_mm,
-      py::arg("max_depth_mm") = vision::ScanOptions{}.match.max_depth_mm, py::arg("roi") = "full",
-      py::arg("roi_margin_mm") = vision::ScanRoiOptions{}.margin_mm,
-      "Scans a stereo fringe set: 'points' N×5 (x, y, z mm in the left-camera frame, sigma mm, quality), 'depth' "
-      "(z per left pixel, NaN none), 'spheres' (centre, radius, centre covariance), 'summary'. roi: 'full', "
-      "'auto' (a coarse pass finds the ball, then only windows around it are decoded and matched) or 'X,Y,Z' (a "
-      "predicted ball_in_left_camera, mm); summary['roi'] gives the windows");
+// A float32 view of `count` × `cols` values at `data`, kept alive by `owner`.
+py::array View(const py::object& owner, const float* data, std::size_t count, py::ssize_t cols) {
+  if (cols == 1) return py::array_t<float>({static_cast<py::ssize_t>(count)}, {sizeof(float)}, data, owner);
+  return py::array_t<float>({static_cast<py::ssize_t>(count), cols},
+                            {static_cast<py::ssize_t>(cols * sizeof(float)), static_cast<py::ssize_t>(sizeof(float))},
+                            data, owner);
+}
 
-  m.def(
-      "fit_sphere",
-      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, py::object sigma,
-         double radius_mm, bool fix_radius, int max_spheres, std::uint64_t seed, int min_points) {
-        if (points.ndim() != 2 || points.shape(1) != 3) throw InputError({"", 0, "points"}, "expected an N×3 array");
-        std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
-        auto p = points.unchecked<2>();
-        for (py::ssize_t i = 0; i < points.shape(0); ++i) pts[i] = Eigen::Vector3f(p(i, 0), p(i, 1), p(i, 2));
-        std::vector<float> sig;
-        if (!sigma.is_none()) {
-          const auto s = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(sigma);
-          if (!s || s.ndim() != 1 || s.shape(0) != points.shape(0))
-            throw InputError({"", 0, "sigma"}, "expected one sigma per point");
-          for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
-        }
-        vision::SphereFitOptions o;
-        o.radius_mm = radius_mm;
-        o.fix_radius = fix_radius;
-        o.max_spheres = max_spheres;
-        o.seed = seed;
-        o.min_points = min_points;
-        ThrowIfInvalid(o.Validate(), "SphereFitOptions");
-        vision::SphereFitSummary s;
-        {
-          py::gil_scoped_release release;
-          s = vision::FindSpheres(pts, sig, o);
-        }
-        return SpheresToPython(s);
-      },
-      py::arg("points"), py::arg("sigma") = py::none(), py::arg("radius_mm") = vision::SphereFitOptions{}.radius_mm,
-      py::arg("fix_radius") = vision::SphereFitOptions{}.fix_radius,
-      py::arg("max_spheres") = vision::SphereFitOptions{}.max_spheres,
-      py::arg("seed") = vision::SphereFitOptions{}.seed, py::arg("min_points") = vision::SphereFitOptions{}.min_points,
-      "Finds up to `max_spheres` spheres in an N×3 cloud (mm): list of dicts with centre_mm, radius_mm, "
-      "centre_covariance_mm2, rms_mm, num_points");
-
-  py::class_<camera::StereoCalibration>(m, "StereoCalibration",
-                                        "A stereo calibration (the file of `ramtk calib cameras`, OpenCV YAML / JSON)")
+void BindStereoCalibration(py::module_& m) {
+  using camera::CameraIntrinsics;
+  using camera::StereoCalibration;
+  auto intrinsics = [](const py::array_t<double, py::array::c_style | py::array::forcecast>& k,
+                       const std::vector<double>& dist, int width, int height, const char* side) {
+    const std::string f = std::string(side) + "_K";
+    if (k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3) throw InputError({"", 0, f}, "expected a 3x3 matrix");
+    if (k.at(0, 1) != 0 || k.at(1, 0) != 0 || k.at(2, 0) != 0 || k.at(2, 1) != 0 || k.at(2, 2) != 1 ||
+        !(k.at(0, 0) > 0) || !(k.at(1, 1) > 0) || !std::isfinite(k.at(0, 2)) || !std::isfinite(k.at(1, 2)) ||
+        !std::isfinite(k.at(0, 0)) || !std::isfinite(k.at(1, 1)))
+      throw InputError({"", 0, f}, "not a pinhole matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0");
+    for (double v : dist)
+      if (!std::isfinite(v)) throw InputError({"", 0, std::string(side) + "_distortion"}, "not finite");
+    if (dist.size() != 5)
+      throw InputError({"", 0, std::string(side) + "_distortion"}, "expected 5 coefficients k1 k2 p1 p2 k3");
+    CameraIntrinsics c;
+    c.fx = k.at(0, 0), c.fy = k.at(1, 1), c.cx = k.at(0, 2), c.cy = k.at(1, 2);
+    c.distortion = {dist[0], dist[1], dist[2], dist[3], dist[4]};
+    c.width = width, c.height = height;
+    return c;
+  };
+  auto distortion = [](const CameraIntrinsics& c) {
+    return std::vector<double>{c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2, c.distortion.k3};
+  };
+  // A changed copy is accepted only if the file reader accepts it (pinhole K, 5 distortion
+  // coefficients, a rotation, positive sizes); InputError names the field otherwise.
+  auto checked = [](const StereoCalibration& c) {
+    return camera::ParseStereoCalibration(camera::StereoCalibrationText(c, true), "StereoCalibration");
+  };
+  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  auto set_intrinsics = [intrinsics, checked](StereoCalibration& c, bool left, const Array* k,
+                                              const std::vector<double>* dist) {
+    StereoCalibration copy = c;
+    CameraIntrinsics& cam = left ? copy.left : copy.right;
+    const Array current = ToArray(cam.K());
+    cam = intrinsics(k ? *k : current,
+                     dist ? *dist
+                          : std::vector<double>{cam.distortion.k1, cam.distortion.k2, cam.distortion.p1,
+                                                cam.distortion.p2, cam.distortion.k3},
+                     cam.width, cam.height, left ? "left" : "right");
+    c = checked(copy);
+  };
+  py::class_<StereoCalibration>(m, "StereoCalibration")
+      .def(py::init([intrinsics, checked](const Array& left_K, const std::vector<double>& left_distortion,
+                                          const Array& right_K, const std::vector<double>& right_distortion,
+                                          const Array& right_from_left, std::pair<int, int> image_size) {
+             StereoCalibration c;
+             c.left = intrinsics(left_K, left_distortion, image_size.first, image_size.second, "left");
+             c.right = intrinsics(right_K, right_distortion, image_size.first, image_size.second, "right");
+             if (right_from_left.ndim() != 2 || right_from_left.shape(0) != 4 || right_from_left.shape(1) != 4)
+               throw InputError({"", 0, "right_from_left"}, "expected a 4x4 matrix");
+             for (int i = 0; i < 4; ++i)
+               for (int j = 0; j < 4; ++j) c.right_from_left.matrix()(i, j) = right_from_left.at(i, j);
+             return checked(c);
+           }),
+           py::arg("left_K"), py::arg("left_distortion"), py::arg("right_K"), py::arg("right_distortion"),
+           py::arg("right_from_left"), py::arg("image_size"))
       .def_static("read", &camera::ReadStereoCalibration, py::arg("path"))
       .def(
+          "write", [](const StereoCalibration& c, const std::string& path) { camera::WriteStereoCalibration(path, c); },
+          py::arg("path"))
+      .def_property(
+          "left_K", [](const StereoCalibration& c) { return ToArray(c.left.K()); },
+          [set_intrinsics](StereoCalibration& c, const Array& k) { set_intrinsics(c, true, &k, nullptr); })
+      .def_property(
+          "right_K", [](const StereoCalibration& c) { return ToArray(c.right.K()); },
+          [set_intrinsics](StereoCalibration& c, const Array& k) { set_intrinsics(c, false, &k, nullptr); })
+      .def_property(
+          "left_distortion", [distortion](const StereoCalibration& c) { return distortion(c.left); },
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) {
+            set_intrinsics(c, true, nullptr, &d);
+          })
+      .def_property(
+          "right_distortion", [distortion](const StereoCalibration& c) { return distortion(c.right); },
+          [set_intrinsics](StereoCalibration& c, const std::vector<double>& d) {
+            set_intrinsics(c, false, nullptr, &d);
+          })
+      .def_property(
+          "image_size", [](const StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); },
+          [checked](StereoCalibration& c, std::pair<int, int> size) {
+            StereoCalibration copy = c;
+            copy.left.width = copy.right.width = size.first;
+            copy.left.height = copy.right.height = size.second;
+            c = checked(copy);
+          })
+      .def_property(
+          "right_from_left", [](const StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
+          [checked](StereoCalibration& c, const Array& t) {
+            if (t.ndim() != 2 || t.shape(0) != 4 || t.shape(1) != 4)
+              throw InputError({"", 0, "right_from_left"}, "expected a 4x4 matrix");
+            StereoCalibration copy = c;
+            for (int i = 0; i < 4; ++i)
+              for (int j = 0; j < 4; ++j) copy.right_from_left.matrix()(i, j) = t.at(i, j);
+            c = checked(copy);
+          })
+      .def_readonly("rms_px", &StereoCalibration::rms_px)
+      .def_readonly("parameter_std", &StereoCalibration::parameter_std)
+      .def("__repr__", [](const StereoCalibration& c) {
+        return "<ramtk.StereoCalibration " + std::to_string(c.left.width) + "x" + std::to_string(c.left.height) +
+               ", baseline " + std::to_string(c.right_from_left.translation().norm()) + " mm>";
+      });
+}
+
+void BindScanData(py::module_& m) {
+  py::class_<vision::ScanResult, ScanHandle>(m, "ScanData")
+      .def_property_readonly("points",
+                             [](const py::object& self) {
+                               const auto& c = self.cast<const vision::ScanResult&>().cloud;
+                               return View(self, c.points_in_left.empty() ? nullptr : c.points_in_left[0].data(),
+                                           c.size(), 3);
+                             })
+      .def_property_readonly("sigma_mm",
+                             [](const py::object& self) {
+                               const auto& c = self.cast<const vision::ScanResult&>().cloud;
+                               return View(self, c.sigma_mm.data(), c.sigma_mm.size(), 1);
+                             })
+      .def_property_readonly("quality",
+                             [](const py::object& self) {
+                               const auto& c = self.cast<const vision::ScanResult&>().cloud;
+                               return View(self, c.quality.data(), c.quality.size(), 1);
+                             })
+      .def_property_readonly("depth", [](const vision::ScanResult& r) { return MatToArray(r.depth); })
+      .def_property_readonly("spheres", [](const vision::ScanResult& r) { return SpheresToPython(r.summary.spheres); })
+      .def_property_readonly(
+          "summary", [](const vision::ScanResult& r) { return JsonToPython(vision::ScanSummaryToJson(r.summary)); })
+      .def_property_readonly(
+          "termination",
+          [](const vision::ScanResult& r) { return std::string(TerminationName(r.summary.termination)); })
+      .def_property_readonly("report", [](const vision::ScanResult& r) { return r.summary.BriefReport(); })
+      .def(
           "write",
-          [](const camera::StereoCalibration& c, const std::string& path) { camera::WriteStereoCalibration(path, c); },
-          py::arg("path"), "Writes YAML, or JSON when the path ends in .json (atomically)")
-      .def_property_readonly("left_K", [](const camera::StereoCalibration& c) { return ToArray(c.left.K()); })
-      .def_property_readonly("right_K", [](const camera::StereoCalibration& c) { return ToArray(c.right.K()); })
-      .def_property_readonly(
-          "image_size", [](const camera::StereoCalibration& c) { return std::make_pair(c.left.width, c.left.height); })
-      .def_property_readonly(
-          "right_from_left", [](const camera::StereoCalibration& c) { return ToArray(c.right_from_left.matrix()); },
-          "4×4, translation in mm")
-      .def_readonly("rms_px", &camera::StereoCalibration::rms_px)
-      .def_readonly("parameter_std", &camera::StereoCalibration::parameter_std);
+          [](const vision::ScanResult& r, const std::string& out_dir, const std::string& set, bool force,
+             bool html_report) {
+            py::gil_scoped_release release;
+            vision::ScanOutputWriter writer(out_dir, force, set);
+            writer.Finish(r, html_report);
+          },
+          py::arg("out_dir"), py::arg("set"), py::arg("force"), py::arg("html_report"));
+}
 
-  m.def(
-      "simulate_fringe",
-      [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise, int supersampling,
-         bool force, const std::string& frame_format) {
-        vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
-        config.seed = seed;
-        config.sensor.noise = noise;
-        config.supersampling = supersampling;
-        config.frame_format = frame_format;
-        vision::FringeSimulationSummary s;
-        {
-          py::gil_scoped_release release;
-          s = vision::SimulateFringeSet(config, out, force, {});
-        }
-        py::dict d;
-        d["out_dir"] = s.out_dir;
-        d["frames"] = s.frames;
-        d["width"] = s.width;
-        d["height"] = s.height;
-        d["manifest"] = out + "/manifest.json";
-        d["truth"] = out + "/truth/truth.json";
-        return d;
-      },
-      py::arg("out"), py::arg("preset") = "small", py::arg("seed") = 1, py::arg("noise") = true,
-      py::arg("supersampling") = 4, py::arg("force") = false,
-      py::arg("frame_format") = vision::FringeSimulationConfig{}.frame_format,
-      "Renders a stereo fringe set of the ball (ramtk simulate fringe) into `out`; frame_format png or bmp "
-      "(8-bit uncompressed, read by rows under scan's roi)");
+}  // namespace
 
-  m.def(
-      "read_truth_spheres",
-      [](const std::string& path) {
-        py::list out;
-        for (const vision::Sphere& s : vision::ReadTruthSpheres(path)) {
+// ScanOptions as `ramtk scan` builds them from its options (tools/vision_scan_command.cpp).
+vision::ScanOptions ScanOptionsOf(const py::dict& o) {
+  vision::ScanOptions s;
+  if (o.contains("calibration")) s.calibration_path = o["calibration"].cast<std::string>();
+  s.sphere.radius_mm = o["radius"].cast<double>();
+  s.sphere.fix_radius = o["fix_radius"].cast<bool>();
+  s.sphere.max_spheres = o["spheres"].cast<int>();
+  s.match.min_depth_mm = o["min_depth"].cast<double>();
+  s.match.max_depth_mm = o["max_depth"].cast<double>();
+  ApplyDecodeOptions(o, &s.decode);
+  s.match.full_search = o["full_search"].cast<bool>();
+  s.match.rectified_back_pass = !o["curve_back_pass"].cast<bool>();
+  s.match.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
+  s.roi = vision::ParseScanRoi(o["roi"].cast<std::string>());
+  s.roi.margin_mm = o["roi_margin"].cast<double>();
+  s.roi.coarse_stride = o["roi_stride"].cast<int>();
+  s.read_rows_on_demand = !o["load_whole_frames"].cast<bool>();
+  ThrowIfInvalid(s.Validate(), "ScanOptions");
+  return s;
+}
+
+void BindVision(py::module_& m) {
+  BindStereoCalibration(m);
+  BindScanData(m);
+  m.def("read_image", [](const std::string& path) {
+    // Any single-channel image OpenCV reads as stored: 8/16-bit camera frames, the float TIFF /
+    // EXR maps of `ramtk decode` and of the simulator's truth.
+    RequireRegularFile(path);  // a FIFO or a device would block or never end
+    cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
+    if (img.empty()) throw InputError({path, 0, ""}, "cannot read the image");
+    if (img.channels() != 1) throw InputError({path, 0, ""}, "expected a single-channel image");
+    return MatToArray(img);
+  });
+  m.def("read_manifest", [](const std::string& path) {
+    const vision::FringeManifest mf = vision::ReadFringeManifest(path);
+    py::dict d = JsonToPython(vision::FringeManifestToJson(mf));
+    py::dict resolved;
+    for (const auto& [camera, files] : mf.cameras) {
+      std::vector<std::string> paths;
+      for (const std::string& f : files) paths.push_back(mf.Resolve(f));
+      resolved[py::str(camera)] = paths;
+    }
+    d["resolved_images"] = resolved;
+    return d;
+  });
+  m.def("decode", [](const std::string& manifest, const std::string& camera, const py::dict& options) {
+    vision::DecodeOptions o;
+    ApplyDecodeOptions(options, &o);
+    ThrowIfInvalid(o.Validate(), "DecodeOptions");
+    vision::DecodedCamera d;
+    {
+      py::gil_scoped_release release;
+      d = vision::DecodeCamera(vision::ReadFringeManifest(manifest), camera, o);
+    }
+    return DecodedToPython(d);
+  });
+  // `sequence_text`: the manifest's JSON (its image paths are not read); `sequence_path` names it.
+  m.def("decode_frames", [](const py::list& frames, const std::string& sequence_text, const std::string& sequence_path,
+                            double full_scale, const std::string& camera, const py::dict& options) {
+    vision::DecodeOptions o;
+    ApplyDecodeOptions(options, &o);
+    ThrowIfInvalid(o.Validate(), "DecodeOptions");
+    const vision::FringeManifest mf = vision::ParseFringeManifest(sequence_text, sequence_path);
+    const std::vector<cv::Mat> mats = FramesOf(frames);
+    vision::DecodedCamera d;
+    {
+      py::gil_scoped_release release;
+      d = vision::DecodeFrames(mf, mats, full_scale, o, camera);
+    }
+    return DecodedToPython(d);
+  });
+  m.def("scan", [](const std::string& manifest, const py::dict& options, const py::object& progress) {
+    return RunScan(options, progress, [&](const vision::ScanOptions& o) { return vision::ScanFringeSet(manifest, o); });
+  });
+  m.def("scan_frames",
+        [](const py::list& left, const py::list& right, const camera::StereoCalibration& calibration,
+           const std::string& calibration_path, const std::string& sequence_text, const std::string& sequence_path,
+           double full_scale, const py::dict& options, const py::object& progress) {
+          const vision::FringeManifest mf = vision::ParseFringeManifest(sequence_text, sequence_path);
+          const std::vector<cv::Mat> l = FramesOf(left), r = FramesOf(right);
+          return RunScan(options, progress, [&](const vision::ScanOptions& o) {
+            return vision::ScanFrames(mf, calibration, l, r, full_scale, o, calibration_path);
+          });
+        });
+  m.def("fit_sphere",
+        [](const py::array_t<double, py::array::c_style | py::array::forcecast>& points, const py::object& sigma,
+           double radius, bool fix_radius, int spheres, std::uint64_t seed, int min_points) {
+          std::vector<Eigen::Vector3f> pts(static_cast<std::size_t>(points.shape(0)));
+          auto p = points.unchecked<2>();
+          for (py::ssize_t i = 0; i < points.shape(0); ++i) pts[i] = Eigen::Vector3f(p(i, 0), p(i, 1), p(i, 2));
+          std::vector<float> sig;
+          if (!sigma.is_none()) {
+            const auto s = sigma.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+            for (py::ssize_t i = 0; i < s.shape(0); ++i) sig.push_back(static_cast<float>(s.at(i)));
+          }
+          vision::SphereFitOptions o;
+          o.radius_mm = radius;
+          o.fix_radius = fix_radius;
+          o.max_spheres = spheres;
+          o.seed = seed;
+          o.min_points = min_points;
+          ThrowIfInvalid(o.Validate(), "SphereFitOptions");
+          vision::SphereFitSummary s;
+          {
+            py::gil_scoped_release release;
+            s = vision::FindSpheres(pts, sig, o);
+          }
+          return SpheresToPython(s);
+        });
+  m.def("simulate_fringe",
+        [](const std::string& out, const std::string& preset, std::uint64_t seed, bool noise, int supersampling,
+           bool force, const std::string& frame_format, const py::object& progress) {
+          vision::FringeSimulationConfig config = vision::MakeFringePreset(preset);
+          config.seed = seed;
+          config.sensor.noise = noise;
+          config.supersampling = supersampling;
+          config.frame_format = frame_format;
+          ProgressBridge bridge(progress);
+          vision::FringeSimulationSummary s;
+          {
+            py::gil_scoped_release release;
+            s = vision::SimulateFringeSet(config, out, force, bridge.Callback());
+          }
+          bridge.Rethrow();
           py::dict d;
-          d["name"] = s.name;
-          d["centre_mm"] = ToArray(s.centre_in_left).attr("ravel")();
-          d["radius_mm"] = s.radius;
-          out.append(d);
-        }
-        return out;
-      },
-      py::arg("path"), "The true spheres of a simulated set (truth/truth.json)");
+          d["out_dir"] = s.out_dir;
+          d["frames"] = s.frames;
+          d["width"] = s.width;
+          d["height"] = s.height;
+          d["manifest"] = out + "/manifest.json";
+          d["truth"] = out + "/truth/truth.json";
+          return d;
+        });
+  m.def("read_truth_spheres", [](const std::string& path) {
+    py::list out;
+    for (const vision::Sphere& s : vision::ReadTruthSpheres(path)) {
+      py::dict d;
+      d["name"] = s.name;
+      d["centre_mm"] = ToArray(s.centre_in_left).attr("ravel")();
+      d["radius_mm"] = s.radius;
+      out.append(d);
+    }
+    return out;
+  });
 }
 
 }  // namespace ramtk::python

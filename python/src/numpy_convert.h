@@ -7,6 +7,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "ramtk/kinematics/measurements_io.h"
+
 namespace ramtk::python {
 
 namespace py = pybind11;
@@ -19,16 +21,26 @@ inline py::array MatToArray(const cv::Mat& mat) {
   if (mat.channels() != 1) throw std::invalid_argument("MatToArray: single-channel matrices only");
   py::dtype dtype;
   switch (mat.depth()) {
-    case CV_8U: dtype = py::dtype::of<std::uint8_t>(); break;
-    case CV_16U: dtype = py::dtype::of<std::uint16_t>(); break;
-    case CV_32F: dtype = py::dtype::of<float>(); break;
-    case CV_64F: dtype = py::dtype::of<double>(); break;
-    default: throw std::invalid_argument("MatToArray: unsupported depth");
+    case CV_8U:
+      dtype = py::dtype::of<std::uint8_t>();
+      break;
+    case CV_16U:
+      dtype = py::dtype::of<std::uint16_t>();
+      break;
+    case CV_32F:
+      dtype = py::dtype::of<float>();
+      break;
+    case CV_64F:
+      dtype = py::dtype::of<double>();
+      break;
+    default:
+      throw std::invalid_argument("MatToArray: unsupported depth");
   }
   auto* owner = new cv::Mat(mat);  // shares the buffer
   py::capsule free_when_done(owner, [](void* p) { delete static_cast<cv::Mat*>(p); });
-  return py::array(dtype, {mat.rows, mat.cols}, {static_cast<py::ssize_t>(mat.step[0]), static_cast<py::ssize_t>(mat.elemSize())},
-                   owner->data, free_when_done);
+  return py::array(dtype, {mat.rows, mat.cols},
+                   {static_cast<py::ssize_t>(mat.step[0]), static_cast<py::ssize_t>(mat.elemSize())}, owner->data,
+                   free_when_done);
 }
 
 // Parses JSON text into Python objects (dict, list, float, ...).
@@ -42,6 +54,12 @@ py::array_t<double> ToArray(const Eigen::MatrixBase<Derived>& m) {
   for (Eigen::Index i = 0; i < m.rows(); ++i)
     for (Eigen::Index j = 0; j < m.cols(); ++j) r(i, j) = m(i, j);
   return out;
+}
+
+// A robot measurement table: the file `source`, or (text not empty) the CSV text the Python layer
+// made from arrays or columns, parsed with the file reader's checks; errors name `source`.
+inline kinematics::RobotMeasurementSet MeasurementsOf(const std::string& source, const std::string& text) {
+  return text.empty() ? kinematics::ReadRobotMeasurements(source) : kinematics::ParseRobotMeasurements(text, source);
 }
 
 }  // namespace ramtk::python

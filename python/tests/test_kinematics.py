@@ -39,8 +39,8 @@ def test_ik_returns_to_the_pose(datasets):
     q = [20, -80, 100, 10, 40, -30]
     target = ramtk.fk(model, q)
     r = ramtk.ik(model, target, [15, -85, 95, 5, 35, -25])
-    assert r["converged"], r["report"]
-    np.testing.assert_allclose(ramtk.fk(model, r["q_deg"]), target, atol=1e-6)
+    assert r.converged, r.report
+    np.testing.assert_allclose(ramtk.fk(model, r.q_deg), target, atol=1e-6)
 
 
 def test_bad_input_raises_input_error_naming_the_file(scratch):

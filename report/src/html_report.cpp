@@ -114,6 +114,17 @@ void HtmlReport::KeyValues(const std::vector<std::pair<std::string, std::string>
   body_ += "</table>\n";
 }
 
+void HtmlReport::AddProvenance(const Provenance& p) {
+  Section("Provenance");
+  std::vector<std::pair<std::string, std::string>> rows = {{"ramtk", p.version + " (commit " + p.git_commit + ")"},
+                                                           {"command", ShellCommandLine(p.command)}};
+  for (const ProvenanceInput& i : p.inputs)
+    rows.push_back({"input " + i.path, std::to_string(i.bytes) + " bytes, SHA-256 " + i.sha256});
+  rows.push_back({"run", "started " + p.started_utc + " on " + p.host + " in " + p.working_directory});
+  KeyValues(rows);
+  body_ += "<pre class=\"provenance-options\">" + EscapeHtml(p.options.dump(2)) + "</pre>\n";
+}
+
 void HtmlReport::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
   body_ += "<table>\n<tr>";
   for (const std::string& h : header) body_ += "<th>" + EscapeHtml(h) + "</th>";

@@ -10,7 +10,7 @@
 namespace ramtk::thermal {
 
 void WriteThermalSimulation(const ThermalSimResult& r, const ThermalSimOptions& o, const std::string& preset,
-                            const std::string& out_dir, bool overwrite) {
+                            const std::string& out_dir, bool overwrite, const Provenance& provenance) {
   // Every file into a staged folder, moved into place when complete (core/outputs.h).
   StagedFolder staged(out_dir, overwrite, "--out");
   const std::string dir = staged.path().string() + "/";
@@ -29,6 +29,9 @@ void WriteThermalSimulation(const ThermalSimResult& r, const ThermalSimOptions& 
   j["repeatability_mm"] = o.repeatability_mm;
   for (const Vec3& p : r.monitoring_points_in_base) j["monitoring_points_in_base_mm"].push_back({p.x(), p.y(), p.z()});
   WriteFileAtomically(dir + "truth.json", j.dump(2) + "\n");
+  const auto [path, text] = FolderProvenance(
+      dir, {"ball.csv", "monitoring.csv", "setup.json", "truth_params.csv", "truth.json"}, provenance);
+  WriteFileAtomically(path, text);
   staged.Commit();
 }
 

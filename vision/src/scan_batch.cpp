@@ -18,6 +18,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/parse.h"
+#include "ramtk/vision/manifest.h"
 
 namespace ramtk::vision {
 namespace fs = std::filesystem;
@@ -143,11 +144,21 @@ std::vector<std::string> RowCells(const ScanBatchRow& r, const std::function<std
   return row;
 }
 
-std::string Unchanged(const std::string& p) { return p; }
+// `path` relative to `base` when it lies below it (text prefix "base/"), else as it is.
+std::string RecordedPath(const std::string& path, const std::string& base) {
+  if (base.empty()) return path;
+  std::string prefix = base;
+  while (prefix.size() > 1 && prefix.back() == '/') prefix.pop_back();
+  prefix += '/';
+  return path.compare(0, prefix.size(), prefix) == 0 ? path.substr(prefix.size()) : path;
+}
 
-// row.csv of a set folder: the batch row and the settings it was scanned with.
-void WriteSetRow(const std::string& dir, const ScanBatchRow& row, const std::string& settings) {
-  std::vector<std::string> header = CsvHeader(), cells = RowCells(row, Unchanged);
+// row.csv of a set folder: the batch row and the settings it was scanned with (paths as
+// RecordedPath against `base`).
+void WriteSetRow(const std::string& dir, const ScanBatchRow& row, const std::string& settings,
+                 const std::string& base) {
+  std::vector<std::string> header = CsvHeader(),
+                           cells = RowCells(row, [&base](const std::string& p) { return RecordedPath(p, base); });
   header.push_back("settings");
   cells.push_back(settings);
   WriteFileAtomically(dir + "/row.csv", FormatCsv(header, {cells}));
@@ -156,6 +167,14 @@ void WriteSetRow(const std::string& dir, const ScanBatchRow& row, const std::str
 bool SamePath(const std::string& a, const std::string& b) {
   std::error_code ec;
   return fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal();
+}
+
+// The provenance of a set's folder: reuse.provenance's, with the set's input files hashed.
+Provenance SetProvenance(const std::string& set, const std::string& dir, const ScanBatchReuse& reuse) {
+  const std::string& base = reuse.paths_relative_to;
+  Provenance p = reuse.provenance ? reuse.provenance(RecordedPath(set, base), RecordedPath(dir, base)) : Provenance{};
+  for (const std::string& f : ReadFringeManifest(set).InputFiles()) AddProvenanceInput(&p, f, RecordedPath(f, base));
+  return p;
 }
 
 // One set of a batch scanned into `dir` (or kept, with reuse.resume), its row filled.
@@ -173,13 +192,16 @@ void ScanBatchSet(const std::string& set, const std::optional<Vec3>& predicted, 
     ScanOptions o = options;
     o.progress = {};
     // With --resume, a folder without a finished row of these settings is no result of this batch.
-    ScanOutputWriter writer(dir, reuse.overwrite || reuse.resume, set);
+    ScanOutputWriter writer(dir, reuse.overwrite || reuse.resume, RecordedPath(set, reuse.paths_relative_to));
+    writer.SetProvenance(SetProvenance(set, dir, reuse));
     o.on_cloud = writer.OnCloud();  // cloud.ply and depth.png beside the sphere fit
     if (predicted) {
       o.roi.mode = ScanRoiOptions::Mode::kPredicted;
       o.roi.predicted_centres_in_left_mm = {*predicted};
     }
-    const ScanResult r = ScanFringeSet(set, o);
+    ScanResult r = ScanFringeSet(set, o);
+    r.summary.set = RecordedPath(r.summary.set, reuse.paths_relative_to);
+    r.summary.calibration = RecordedPath(r.summary.calibration, reuse.paths_relative_to);
     writer.Finish(r);
     row->out_dir = dir;
     row->points = r.summary.triangulation.points;
@@ -191,7 +213,7 @@ void ScanBatchSet(const std::string& set, const std::optional<Vec3>& predicted, 
       row->sphere.inlier_indices.clear();
     }
     row->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    WriteSetRow(dir, *row, reuse.settings);
+    WriteSetRow(dir, *row, reuse.settings, reuse.paths_relative_to);
   } catch (const InputError& e) {
     row->status = "error";
     row->message = e.what();

@@ -80,6 +80,7 @@ struct ScanOutputWriter::Impl {
   StagedFolder staged;
   std::string comment;
   long cloud_points = -1;  // the points of the cloud.ply WriteCloud wrote (-1: none)
+  Provenance provenance;   // recorded in spheres.json, summary.json and the report
   Impl(const std::string& out_dir, bool overwrite) : staged(out_dir, overwrite, "--out") {}
 };
 
@@ -89,6 +90,8 @@ ScanOutputWriter::ScanOutputWriter(const std::string& out_dir, bool overwrite, c
 }
 
 ScanOutputWriter::~ScanOutputWriter() = default;
+
+void ScanOutputWriter::SetProvenance(const Provenance& provenance) { impl_->provenance = provenance; }
 
 std::function<void(const PointCloud&, const cv::Mat&)> ScanOutputWriter::OnCloud() {
   return [this](const PointCloud& cloud, const cv::Mat& depth) { WriteCloud(cloud, depth); };
@@ -121,20 +124,27 @@ void ScanOutputWriter::Finish(const ScanResult& result, bool html_report) {
                           w.size() != result.depth.size();
     WriteCloud(result.cloud, windowed ? result.depth(w) : result.depth);
   }
+  const Provenance& provenance = impl_->provenance;
+  // spheres.json is the folder's science payload, the same bytes however the set was scanned (one
+  // run, a batch, a shard); the folder's provenance is in summary.json beside it.
   WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-  WriteFileAtomically((tmp / "summary.json").string(), ScanSummaryToJson(result.summary));
+  WriteFileAtomically((tmp / "summary.json").string(), WithProvenance(ScanSummaryToJson(result.summary), provenance));
   if (html_report) {
     for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {
       const report::Figure f = SphereResidualFigure(result, static_cast<int>(k));
       if (!report::FindGnuplot().empty()) report::WritePng(f, (tmp / (f.id + ".png")).string());
     }
-    ScanReport(result, result.depth.empty() ? "" : (tmp / "depth.png").string()).Write((tmp / "report.html").string());
+    report::HtmlReport page = ScanReport(result, result.depth.empty() ? "" : (tmp / "depth.png").string());
+    page.AddProvenance(provenance);
+    page.Write((tmp / "report.html").string());
   }
   impl_->staged.Commit();
 }
 
-void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite, bool html_report) {
+void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite, bool html_report,
+                      const Provenance& provenance) {
   ScanOutputWriter writer(out_dir, overwrite, result.summary.set);
+  writer.SetProvenance(provenance);
   writer.Finish(result, html_report);
 }
 

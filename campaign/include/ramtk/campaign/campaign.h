@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/provenance.h"
 #include "ramtk/kinematics/robot_model.h"
 #include "ramtk/report/html_report.h"
 #include "ramtk/thermal/screening.h"
@@ -40,6 +41,10 @@ struct CampaignOptions {
   // Parameter screening (thesis §3.2, Tables 5-1/5-2) on the image-derived centres, as
   // `ramtk thermal screen`: the count kept (thesis: 8); 0 = chosen by held-out error; -1 = skip.
   int screen_keep = 8;
+  // The depth range the scan searches, mm (`ramtk scan --min-depth/--max-depth`; its defaults
+  // are 100 and 10000). The simulated scene lies 600–900 mm from the left camera.
+  double scan_min_depth_mm = 400.0;
+  double scan_max_depth_mm = 1000.0;
   bool html_report = false;       // also write report.html (CampaignReport) into the folder
   ProgressCallback progress;      // "render" and "scan" stages, per set
   std::string Validate() const;
@@ -107,8 +112,11 @@ struct CampaignSummary {
 // complete; an existing non-empty out_dir needs `overwrite` and is replaced only then. The paths
 // recorded inside (batch.txt, chain/scan/results.csv) are relative, so the folder can be moved.
 // InputError on bad options or a bad out_dir.
+// budget.json, budget.md and report.html carry `provenance` (docs/formats.md#provenance); each
+// chain/scan/NNN_*/ folder records the `ramtk scan` command that reproduces it, run in out_dir.
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
-                                       const std::string& out_dir, bool overwrite = false);
+                                       const std::string& out_dir, bool overwrite = false,
+                                       const Provenance& provenance = {});
 
 // The monitoring error per cycle (the PNG monitoring_error.png and the report's figure).
 report::Figure MonitoringFigure(const CampaignSummary& summary);

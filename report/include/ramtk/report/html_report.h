@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "ramtk/core/provenance.h"
 #include "ramtk/report/figure.h"
 #include "ramtk/report/plotly.h"
 
@@ -30,6 +31,9 @@ class HtmlReport {
   void AddCloud(const std::string& id, const Cloud3d& cloud, const std::string& caption);
   // A PNG inlined as a data URI in an <img> with the given id. Throws when the file cannot be read.
   void AddImage(const std::string& id, const std::string& png_path, const std::string& caption);
+  // A "Provenance" section: version, commit, command line, inputs with their SHA-256, the run
+  // (start, host, folder) and the effective options as preformatted JSON (docs/formats.md).
+  void AddProvenance(const Provenance& provenance);
   // Links to data files (paths relative to the report).
   void Links(const std::vector<std::pair<std::string, std::string>>& label_and_path);
 

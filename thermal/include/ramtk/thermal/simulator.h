@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/core/provenance.h"
 #include "ramtk/kinematics/measurements_io.h"
 #include "ramtk/thermal/setup.h"
 
@@ -107,9 +108,12 @@ Vec3 ToolSensorReading(const kinematics::RobotModel& warm_model, const ThermalSe
 
 // Writes the simulation as `ramtk simulate thermal` does: ball.csv, monitoring.csv, setup.json,
 // truth_params.csv and truth.json into the folder `out_dir`, as a unit (core/outputs.h
-// StagedFolder; an existing non-empty folder is replaced only with `overwrite`).
+// StagedFolder; an existing non-empty folder is replaced only with `overwrite`), with
+// provenance.json describing them (the files are data other commands read: they stay as they
+// are; docs/formats.md#provenance).
 void WriteThermalSimulation(const ThermalSimResult& result, const ThermalSimOptions& options,
-                            const std::string& preset, const std::string& out_dir, bool overwrite);
+                            const std::string& preset, const std::string& out_dir, bool overwrite,
+                            const Provenance& provenance = {});
 // The largest distance of a ball centre from its cold-cycle position (mm).
 double LargestBallDriftMm(const ThermalSimResult& result);
 

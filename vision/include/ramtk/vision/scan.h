@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/core/provenance.h"
 #include "ramtk/core/termination.h"
 #include "ramtk/vision/camera.h"
 #include "ramtk/vision/decode.h"
@@ -150,8 +151,9 @@ std::string ScanSummaryToJson(const ScanSummary& summary);
 // temporary sibling folder first, then renamed into place, so a failure leaves nothing. An
 // existing non-empty `out_dir` is an InputError unless `overwrite`. With `html_report`, also
 // report.html (scan_report.h) and sphere<k>_residual.png (when gnuplot is installed).
+// summary.json and report.html carry `provenance` (docs/formats.md#provenance).
 void WriteScanOutputs(const std::string& out_dir, const ScanResult& result, bool overwrite = false,
-                      bool html_report = false);
+                      bool html_report = false, const Provenance& provenance = {});
 
 // The same folder, written while the scan runs: pass OnCloud() as ScanOptions::on_cloud, and
 // cloud.ply and depth.png are written beside the sphere fit; Finish writes spheres.json and
@@ -166,6 +168,9 @@ class ScanOutputWriter {
   ScanOutputWriter(const ScanOutputWriter&) = delete;
   ScanOutputWriter& operator=(const ScanOutputWriter&) = delete;
 
+  // The provenance block Finish writes into summary.json and the report (default:
+  // the version and commit only).
+  void SetProvenance(const Provenance& provenance);
   // For ScanOptions::on_cloud (it refers to this writer, which must outlive the scan).
   std::function<void(const PointCloud&, const cv::Mat&)> OnCloud();
   // cloud.ply and the depth picture of `depth` (the scanned window) into the temporary folder.

@@ -2,6 +2,7 @@
 // Many scans at once (`ramtk scan --batch LIST`): the sets run in parallel (TBB), each writes its
 // own output folder, and each gives one result row (CSV).
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,15 @@ struct ScanBatchReuse {
   bool resume = false;
   // The options that change a set's results, as text; recorded in each set's row.csv.
   std::string settings;
+  // What each set's folder records about how it was made (not about reuse): the provenance
+  // block of its summary.json, given the set's manifest and folder as recorded
+  // (see paths_relative_to); the set's input files are added with their hashes. Empty: the
+  // version and commit only.
+  std::function<Provenance(const std::string& set, const std::string& folder)> provenance;
+  // When not empty, the paths a set's folder records (summary.json `set` and `calibration`,
+  // cloud.ply's comment, the provenance inputs) are written relative to this folder when they
+  // lie below it (a campaign's output folder, written in a staging folder first).
+  std::string paths_relative_to;
 };
 
 // One line of a batch list: a manifest and, optionally, the ball's predicted centre.
