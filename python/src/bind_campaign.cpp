@@ -11,6 +11,7 @@
 
 #include "numpy_convert.h"
 #include "progress_bridge.h"
+#include "provenance_bridge.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/robot_calibration.h"
 #include "ramtk/calib/robot_calibration_io.h"
@@ -173,12 +174,13 @@ py::dict Campaign(const kinematics::RobotModel& model, const std::string& out, c
   c.html_report = o["report"].cast<bool>();
   const std::string bad = c.Validate();
   if (!bad.empty()) throw InputError({"", 0, "campaign options"}, bad);
+  const Provenance provenance = PythonProvenance("simulate_campaign", o);
   ProgressBridge bridge(progress);
   c.progress = bridge.Callback();
   campaign::CampaignSummary s;
   {
     py::gil_scoped_release release;
-    s = campaign::SimulateAndRunCampaign(model, c, out, force);
+    s = campaign::SimulateAndRunCampaign(model, c, out, force, provenance);
   }
   bridge.Rethrow();
   py::dict d;
@@ -237,7 +239,10 @@ py::dict CalibrateRobot(const std::string& robot, const std::string& data_path, 
   const std::string json = calib::RobotCalibrationJson(result, summary);
   if (staged) {
     kinematics::WriteRobotChain(out_chain, (staged->path() / "robot.yaml").string());
-    WriteFileAtomically((staged->path() / "calibration.json").string(), json);
+    Provenance provenance = PythonProvenance("calibrate_robot", o);
+    for (const std::string& f : {robot, data_path, format_path})
+      if (!f.empty()) AddProvenanceInput(&provenance, f);
+    WriteFileAtomically((staged->path() / "calibration.json").string(), WithProvenance(json, provenance));
     WriteFileAtomically((staged->path() / "residuals.csv").string(),
                         calib::RobotCalibrationResidualsCsv(data, summary));
     staged->Commit();

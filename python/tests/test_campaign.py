@@ -24,8 +24,10 @@ def rows(text, drop=("seconds", "out_dir")):
 def test_campaign_budget_is_written_and_returned(campaign):
     out, r = campaign
     assert not r.cancelled and r.left_out == []
-    assert r.budget == json.loads((out / "budget.json").read_text())
-    assert (out / "budget.md").read_text() == r.budget_md
+    written = json.loads((out / "budget.json").read_text())
+    assert written.pop("provenance")["command"] == ["python", "ramtk.simulate_campaign"]
+    assert r.budget == written
+    assert (out / "budget.md").read_text().startswith(r.budget_md + "\n## Provenance")
 
 
 def test_sharded_batch_and_merge_give_the_commands_results(campaign, cli, scratch):
@@ -75,7 +77,9 @@ def test_robot_calibration_matches_the_command(cli, scratch):
     r = ramtk.calibrate_robot(robot, data, out=scratch / "calib_py", force=True,
                               progress=lambda stage, done, total: steps.append(stage))
     expected = json.loads((scratch / "calib_cli" / "calibration.json").read_text())
-    assert r.calibration == expected
+    written = json.loads((scratch / "calib_py" / "calibration.json").read_text())
+    assert written.pop("provenance")["inputs"][1]["sha256"] == expected.pop("provenance")["inputs"][1]["sha256"]
+    assert r.calibration == expected == written
     assert (scratch / "calib_py" / "robot.yaml").read_text().split("\n", 3)[3] == \
         (scratch / "calib_cli" / "robot.yaml").read_text().split("\n", 3)[3]
     assert r.rms_after_mm < r.rms_before_mm and r.termination in ("success", "partial")
