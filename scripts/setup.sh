@@ -33,6 +33,8 @@ PACKAGES=(
   python3-venv python3-pip python3-setuptools python3-wheel  # the wheel (pyproject.toml) and its venv test
   mypy python3-opencv      # stubs checked (mypy --strict, stubtest); cv2-loaded frames in tests and examples
   parallel                 # GNU parallel: the sharded-batch one-liner of docs/cluster.md and its ctest
+  slurm-wlm munge          # a single-node Slurm for the job-array recipe of docs/cluster.md (ctest -L slurm)
+  libspdlog-dev            # logging (core/log.h): levels, timestamps, the --log-file sink
   opencv-doc               # its real stereo chessboard images: ctest RealBoard.* (calib on real boards)
   gnuplot-nox              # PNG figures (report/gnuplot.h)
   python3-plotly uglifyjs  # Plotly.js, minified at build time and inlined into HTML reports

@@ -29,6 +29,7 @@ std::string OneLine(std::string s) {
 int Fail(const std::string& message, int code) {
   ramtk::RemoveRegisteredTemporaries();
   std::cerr << "ramtk: error: " << OneLine(message) << '\n';
+  ramtk::LogToFile(ramtk::LogLevel::kError, OneLine(message));
   return code;
 }
 
@@ -46,6 +47,13 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "ramtk " + ramtk::RamtkVersion());
   app.add_flag_callback(
       "-v,--verbose", [] { ramtk::SetLogThreshold(ramtk::LogLevel::kDebug); }, "Log debug messages");
+  // Before the subcommand runs (CLI11 calls an option's callback as it parses it).
+  app.add_option_function<std::string>(
+         "--log-file", [](const std::string& path) { ramtk::SetLogFile(path); },
+         "Also write every message (debug and above) into FILE, appended, one time-stamped line each "
+         "(2026-11-29T09:41:07.125Z warning: ...), with the progress lines; stderr is unchanged")
+      ->type_name("FILE")
+      ->trigger_on_parse();
   ramtk::SetLogSink([](ramtk::LogLevel level, const std::string& message) {
     std::cerr << "ramtk: " << ramtk::LogLevelName(level) << ": " << message << '\n';
   });

@@ -4,8 +4,9 @@
 
 #include <chrono>
 #include <cstdio>
-#include <ctime>
 #include <memory>
+
+#include "ramtk/core/log.h"
 
 namespace ramtk::tools {
 namespace {
@@ -19,15 +20,6 @@ std::string Duration(double s) {
   } else {
     std::snprintf(text, sizeof text, "%d h %02d min", static_cast<int>(s) / 3600, (static_cast<int>(s) % 3600) / 60);
   }
-  return text;
-}
-
-std::string Stamp() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return text;
 }
 
@@ -64,7 +56,7 @@ std::string ProgressLine(const Progress& p, const std::string& unit, bool termin
 ProgressCallback ProgressPrinter(const std::string& unit) {
   struct State {
     std::string stage;
-    std::chrono::steady_clock::time_point start, last_line;
+    std::chrono::steady_clock::time_point start, last_line, last_file_line;
   };
   auto state = std::make_shared<State>();
   const bool terminal = isatty(STDERR_FILENO) == 1;
@@ -74,6 +66,7 @@ ProgressCallback ProgressPrinter(const std::string& unit) {
       state->stage = p.stage;
       state->start = now;
       state->last_line = now - std::chrono::hours(1);
+      state->last_file_line = state->last_line;
     }
     const double elapsed = std::chrono::duration<double>(now - state->start).count();
     const double since = std::chrono::duration<double>(now - state->last_line).count();
@@ -82,10 +75,17 @@ ProgressCallback ProgressPrinter(const std::string& unit) {
       if (terminal) {
         std::fputs(line.c_str(), stderr);
       } else {
-        std::fprintf(stderr, "%s %s", Stamp().c_str(), line.c_str());
+        std::fprintf(stderr, "%s %s", LogTimeStamp().c_str(), line.c_str());
       }
       std::fflush(stderr);
       state->last_line = now;
+    }
+    // The log file (--log-file) gets the lines a pipe would get, stamped as its other lines.
+    const double since_file = std::chrono::duration<double>(now - state->last_file_line).count();
+    const std::string plain = ProgressLine(p, unit, false, elapsed, since_file);
+    if (!plain.empty()) {
+      LogToFile(LogLevel::kInfo, "progress: " + plain.substr(0, plain.size() - 1));
+      state->last_file_line = now;
     }
     return true;
   };

@@ -2,7 +2,8 @@
 // The one progress display of the `ramtk` command (library code reports through a callback and
 // never draws). On a terminal: one line redrawn in place with the rate and the time left. Into a
 // pipe or a cluster log file: plain lines with a time stamp, at most one per stage every 10 s
-// (and the stage's first and last), never a carriage return.
+// (and the stage's first and last), never a carriage return. The same plain lines go into the
+// --log-file (ramtk/core/log.h), whose time stamps they share (LogTimeStamp).
 
 #include <string>
 

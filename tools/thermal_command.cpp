@@ -42,8 +42,9 @@ int RunSimulateThermal(const SimulateThermalOptions& opt, Provenance provenance)
   const kinematics::RobotModel model = kinematics::ReadRobotModel(opt.robot_path);
   ThermalSimOptions o = ThesisPreset(opt.seed);
   if (opt.cycles > 0) o.cycles = opt.cycles;
-  if (opt.sensor_noise_mm >= 0.0) o.sensor_noise_mm = o.tool_sensor_noise_mm = opt.sensor_noise_mm;
-  if (opt.repeatability_mm >= 0.0) o.repeatability_mm = opt.repeatability_mm;
+  // Given unless negative (the "preset" default): NaN is handed on, for Validate to refuse.
+  if (!(opt.sensor_noise_mm < 0.0)) o.sensor_noise_mm = o.tool_sensor_noise_mm = opt.sensor_noise_mm;
+  if (!(opt.repeatability_mm < 0.0)) o.repeatability_mm = opt.repeatability_mm;
   CheckOutputAgainstInputs(opt.out_dir, {opt.robot_path}, "--out");
   const ThermalSimResult r = SimulateThermal(model, o);
   AddProvenanceFile(&provenance, opt.robot_path);

@@ -82,7 +82,7 @@ LoadedExperiment Load(const ExperimentInputs& in) {
 }
 
 std::vector<std::vector<Mat3>> Weights(const ExperimentInputs& in, const LoadedExperiment& e) {
-  if (!(in.robot_noise_mm >= 0.0)) throw InputError({"", 0, "--robot-noise"}, "must be >= 0 mm");
+  ThrowIfInvalid(CheckNoise("--robot-noise", in.robot_noise_mm, kMaxNoiseMm, "mm"), "--robot-noise");
   return in.unweighted ? std::vector<std::vector<Mat3>>{} : e.ball.DifferenceCovariances(in.robot_noise_mm);
 }
 
@@ -100,6 +100,8 @@ IdentificationOptions MakeIdOptions(const ExperimentInputs& in, const LoadedExpe
       }
       id.poses.push_back(k);
     }
+  } else if (in.pose_budget < 0) {
+    throw InputError({"", 0, "--pose-budget"}, "must be a number of poses >= 1 (0 or absent: every pose)");
   } else if (in.pose_budget > 0) {
     id.poses = SelectPoses(dm, params, in.pose_budget);
   }

@@ -59,7 +59,7 @@ int RunPredict(const PredictOptions& opt) {
   }
   DriftPredictionSummary ps;
   DriftPrediction pred = PredictDrift(x, temps, times, params, po, offline.get(), &ps);
-  if (opt.kalman_ratio >= 0.0) {
+  if (!(opt.kalman_ratio < 0.0)) {  // given (NaN too, for Validate to refuse)
     // Window covariance from the identification residual (σ per coordinate, dof-corrected).
     IdentificationSummary is;
     dm.Solve(e.ball.DifferencesFromReference(id.poses), id, &is);

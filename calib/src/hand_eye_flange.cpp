@@ -135,6 +135,7 @@ std::vector<FlangeCameraObservation> SimulateFlangeCameraPoses(const std::vector
                                                                const Isometry3& flange_from_camera,
                                                                const Isometry3& base_from_board, double sigma_deg,
                                                                double sigma_mm, unsigned seed) {
+  internal::RequirePoseNoise(sigma_deg, sigma_mm);
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<FlangeCameraObservation> obs;

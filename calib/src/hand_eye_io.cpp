@@ -1,4 +1,5 @@
 // Hand-eye pose files (joints or flange poses), result JSON and the board-pose simulator.
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -9,8 +10,11 @@
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
 #include "ramtk/core/json.h"
+#include "ramtk/core/parse.h"
+#include "ramtk/core/rotation.h"
 #include "ramtk/core/units.h"
 #include "ramtk/kinematics/forward.h"
+#include "ramtk/kinematics/measurements_io.h"
 
 namespace ramtk::calib {
 
@@ -23,8 +27,13 @@ struct BoardColumns {
       : x(t.Column("x")), y(t.Column("y")), z(t.Column("z")), a(t.Column("a")), b(t.Column("b")), c(t.Column("c")) {}
   Isometry3 Pose(const CsvTable& t, std::size_t r) const {
     Isometry3 pose = Isometry3::Identity();
-    pose.translation() = Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
-    pose.linear() = RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+    const auto mm = [&](int col) { return t.Bounded(r, col, kinematics::kMaxAbsPositionMm, "kMaxAbsPositionMm"); };
+    const auto deg = [&](int col) { return DegToRad(t.Bounded(r, col, kMaxAbsPoseAngleDeg, "kMaxAbsPoseAngleDeg")); };
+    // One statement per cell: the first bad cell in column order is the one named.
+    const double px = mm(x), py = mm(y), pz = mm(z);
+    const double pa = deg(a), pb = deg(b), pc = deg(c);
+    pose.translation() = Vec3(px, py, pz);
+    pose.linear() = RotationFromKukaAbc({pa, pb, pc});
     return pose;
   }
 };
@@ -37,7 +46,8 @@ std::vector<BoardPoseObservation> BoardPosesFromTable(const CsvTable& t) {
   std::vector<BoardPoseObservation> obs;
   for (std::size_t r = 0; r < t.size(); ++r) {
     BoardPoseObservation o;
-    for (int i = 0; i < kinematics::kNumJoints; ++i) o.q_controller[i] = DegToRad(t.Number(r, q[i]));
+    for (int i = 0; i < kinematics::kNumJoints; ++i)
+      o.q_controller[i] = DegToRad(t.Bounded(r, q[i], kinematics::kMaxAbsJointDeg, "kMaxAbsJointDeg"));
     o.camera_from_board = board.Pose(t, r);
     obs.push_back(o);
   }
@@ -72,53 +82,110 @@ double FlangeUnitScale(const std::string& path, const std::string& units) {
   throw InputError({path, 0, "flange_units"}, "expected 'mm' or 'm', got '" + units + "'");
 }
 
-// Columns of the flange pose, in whichever form the header holds.
+// A flange translation cell in mm, within kMaxAbsPositionMm of the base (a value beyond it in a
+// file of metres is millimetres given the wrong unit).
+double FlangeMm(const CsvTable& t, std::size_t r, int col, double scale) {
+  const double mm = scale * t.Number(r, col);
+  if (!(std::abs(mm) <= kinematics::kMaxAbsPositionMm)) {
+    throw InputError({t.path, t.line_numbers[r], t.header[col]},
+                     "value " + t.Text(r, col) + (scale == 1.0 ? " mm" : " m") +
+                         " is beyond the plausible range +-100 m (kMaxAbsPositionMm)" +
+                         (scale != 1.0 && std::abs(mm) / scale <= kinematics::kMaxAbsPositionMm
+                              ? ": are the flange translations in millimetres? (--flange-units mm)"
+                              : ""));
+  }
+  return mm;
+}
+
+// The nearest rotation to a printed 3x3 matrix, checked against its printed precision: a
+// rotation rounded to d decimals is off by up to 0.5e-d per entry, so |R^T R - I| may reach
+// about 2*sqrt(3) times that. The tolerance is 4 times the coarsest entry's rounding, at least
+// 1e-6 and at most 2e-3 (a rotation printed with fewer than 3 decimals is refused).
+Mat3 PrintedRotation(const CsvTable& t, std::size_t r, const int (&cols)[9], const char* field) {
+  Mat3 rot;
+  double rounding = 0;
+  for (int i = 0; i < 9; ++i) {
+    rot(i / 3, i % 3) = t.Number(r, cols[i]);
+    rounding = std::max(rounding, PrintedRoundingBound(t.Text(r, cols[i])));
+  }
+  const double tolerance = std::max(1e-6, 4 * rounding);
+  const double orth = (rot.transpose() * rot - Mat3::Identity()).cwiseAbs().maxCoeff();
+  if (!(orth <= std::min(tolerance, 2e-3)) || rot.determinant() < 0) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "the rotation part is not a rotation (max |R^T R - I| = %.3g; tolerance %.3g from the printed "
+                  "decimals, at most 2e-3)",
+                  orth, std::min(tolerance, 2e-3));
+    throw InputError({t.path, t.line_numbers[r], field}, text);
+  }
+  return NearestRotation(rot);
+}
+
+// Columns of the flange pose: every form the header holds (matrix, quaternion, KUKA A,B,C). A row
+// giving two forms must give one pose.
 struct FlangeColumns {
-  FlangePoseForm form = FlangePoseForm::kKukaAbc;
+  bool matrix = false, quaternion = false, abc = false;
   int m[12] = {0};
   int x = -1, y = -1, z = -1, a = -1, b = -1, c = -1, qw = -1, qx = -1, qy = -1, qz = -1;
 
   explicit FlangeColumns(const CsvTable& t) {
-    if (t.Column("flange_m00", false) >= 0) {
-      form = FlangePoseForm::kMatrix;
+    matrix = t.Column("flange_m00", false) >= 0;
+    quaternion = t.Column("flange_qw", false) >= 0;
+    abc = t.Column("flange_a", false) >= 0 || (!matrix && !quaternion);
+    if (matrix) {
       for (int i = 0; i < 12; ++i) m[i] = t.Column("flange_m" + std::to_string(i / 4) + std::to_string(i % 4));
-      return;
     }
-    x = t.Column("flange_x"), y = t.Column("flange_y"), z = t.Column("flange_z");
-    if (t.Column("flange_qw", false) >= 0) {
-      form = FlangePoseForm::kQuaternion;
+    if (quaternion || abc) x = t.Column("flange_x"), y = t.Column("flange_y"), z = t.Column("flange_z");
+    if (quaternion) {
       qw = t.Column("flange_qw"), qx = t.Column("flange_qx"), qy = t.Column("flange_qy"), qz = t.Column("flange_qz");
-    } else {
-      a = t.Column("flange_a"), b = t.Column("flange_b"), c = t.Column("flange_c");
     }
+    if (abc) a = t.Column("flange_a"), b = t.Column("flange_b"), c = t.Column("flange_c");
   }
 
   Isometry3 Pose(const CsvTable& t, std::size_t r, double scale) const {
-    Isometry3 pose = Isometry3::Identity();
-    if (form == FlangePoseForm::kMatrix) {
-      Mat3 rot;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) rot(i, j) = t.Number(r, m[i * 4 + j]);
-      const double orth = (rot.transpose() * rot - Mat3::Identity()).cwiseAbs().maxCoeff();
-      if (orth > 1e-6 || rot.determinant() < 0)
-        throw InputError({t.path, t.line_numbers[r], "flange_m00..flange_m22"},
-                         "the rotation part is not a rotation (max |R^T R - I| = " + std::to_string(orth) + ")");
-      pose.linear() = rot;
-      pose.translation() = scale * Vec3(t.Number(r, m[3]), t.Number(r, m[7]), t.Number(r, m[11]));
-      return pose;
+    std::vector<std::pair<const char*, Isometry3>> forms;
+    if (matrix) {
+      Isometry3 pose = Isometry3::Identity();
+      const int rot[9] = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+      pose.linear() = PrintedRotation(t, r, rot, "flange_m00..flange_m22");
+      const double px = FlangeMm(t, r, m[3], scale), py = FlangeMm(t, r, m[7], scale),
+                   pz = FlangeMm(t, r, m[11], scale);
+      pose.translation() = Vec3(px, py, pz);
+      forms.emplace_back("flange_m00..flange_m23", pose);
     }
-    pose.translation() = scale * Vec3(t.Number(r, x), t.Number(r, y), t.Number(r, z));
-    if (form == FlangePoseForm::kQuaternion) {
+    Isometry3 pose = Isometry3::Identity();
+    if (quaternion || abc) {
+      const double px = FlangeMm(t, r, x, scale), py = FlangeMm(t, r, y, scale), pz = FlangeMm(t, r, z, scale);
+      pose.translation() = Vec3(px, py, pz);
+    }
+    if (quaternion) {
       const Eigen::Quaterniond q(t.Number(r, qw), t.Number(r, qx), t.Number(r, qy), t.Number(r, qz));
-      if (std::abs(q.norm() - 1.0) > 1e-3)
+      if (!(std::abs(q.norm() - 1.0) <= 1e-3))
         throw InputError({t.path, t.line_numbers[r], "flange_qw..flange_qz"},
                          "the quaternion's norm is " + std::to_string(q.norm()) + ", expected 1 (within 1e-3)");
       pose.linear() = q.normalized().toRotationMatrix();
-    } else {
-      pose.linear() =
-          RotationFromKukaAbc({DegToRad(t.Number(r, a)), DegToRad(t.Number(r, b)), DegToRad(t.Number(r, c))});
+      forms.emplace_back("flange_x..flange_z, flange_qw..flange_qz", pose);
     }
-    return pose;
+    if (abc) {
+      const auto deg = [&](int col) { return DegToRad(t.Bounded(r, col, kMaxAbsPoseAngleDeg, "kMaxAbsPoseAngleDeg")); };
+      const double pa = deg(a), pb = deg(b), pc = deg(c);
+      pose.linear() = RotationFromKukaAbc({pa, pb, pc});
+      forms.emplace_back("flange_x..flange_z, flange_a..flange_c", pose);
+    }
+    for (std::size_t k = 1; k < forms.size(); ++k) {
+      const double angle_deg =
+          RadToDeg(Eigen::AngleAxisd(forms[0].second.linear().transpose() * forms[k].second.linear()).angle());
+      const double shift_mm = (forms[0].second.translation() - forms[k].second.translation()).norm();
+      if (angle_deg > kFlangeFormsAgreeDeg || shift_mm > kFlangeFormsAgreeMm) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "disagrees with %s in the same row by %.4g deg and %.4g mm (more than %g deg or %g mm): "
+                      "which flange pose is meant?",
+                      forms[0].first, angle_deg, shift_mm, kFlangeFormsAgreeDeg, kFlangeFormsAgreeMm);
+        throw InputError({t.path, t.line_numbers[r], forms[k].first}, text);
+      }
+    }
+    return forms[0].second;
   }
 };
 
@@ -141,11 +208,23 @@ std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string&
   }
   const FlangeColumns flange(t);
   const BoardColumns board(t);
+  double farthest_mm = 0;
   for (std::size_t r = 0; r < t.size(); ++r) {
     FlangePoseObservation o;
     o.camera_from_board = board.Pose(t, r);
     o.base_from_flange = flange.Pose(t, r, scale);
+    farthest_mm = std::max(farthest_mm, o.base_from_flange.translation().norm());
     obs.push_back(o);
+  }
+  // A robot's flange is never within a few centimetres of its base origin at every pose: metres
+  // read as millimetres (the residuals would then be ~1000 times the noise, the fit still "done").
+  if (!obs.empty() && farthest_mm < kMinFlangeReachMm) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "every flange position is within %.3g mm of the robot base (kMinFlangeReachMm = %g mm): are "
+                  "the translations in metres? (--flange-units m)",
+                  farthest_mm, kMinFlangeReachMm);
+    throw InputError({path, 0, "flange_units"}, text);
   }
   return obs;
 }
@@ -224,6 +303,7 @@ std::vector<BoardPoseObservation> SimulateBoardPoses(const kinematics::RobotMode
                                                      const Isometry3& camera_from_base,
                                                      const Isometry3& flange_from_board, double sigma_deg,
                                                      double sigma_mm, unsigned seed) {
+  internal::RequirePoseNoise(sigma_deg, sigma_mm);
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<BoardPoseObservation> obs;

@@ -5,10 +5,18 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "ramtk/core/error.h"
 #include "ramtk/core/rotation.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::calib::internal {
+
+// InputError unless both noise levels are usable σ (core/error.h CheckNoise): the hand-eye
+// simulators' one check.
+inline void RequirePoseNoise(double sigma_deg, double sigma_mm) {
+  ThrowIfInvalid(CheckNoise("sigma_deg", sigma_deg, kMaxNoiseDeg, "deg"), "pose noise");
+  ThrowIfInvalid(CheckNoise("sigma_mm", sigma_mm, kMaxNoiseMm, "mm"), "pose noise");
+}
 
 inline Isometry3 PerturbPose(const Isometry3& pose, double sigma_deg, double sigma_mm, std::mt19937& rng,
                              std::normal_distribution<double>& unit_normal) {

@@ -11,9 +11,12 @@ namespace ramtk::calib {
 std::string RobotCalibrationSimOptions::Validate() const {
   if (num_poses < 1 || num_poses > 1000000) return "num_poses: expected 1..1e6";
   if (!(joint_range_deg > 0.0 && joint_range_deg <= 360.0)) return "joint_range_deg: expected (0, 360]";
-  if (!(length_error_mm >= 0.0) || !(angle_error_deg >= 0.0)) return "length_error_mm: expected >= 0";
+  if (std::string bad = CheckNoise("length_error_mm", length_error_mm, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  if (std::string bad = CheckNoise("angle_error_deg", angle_error_deg, kMaxNoiseDeg, "deg"); !bad.empty()) return bad;
   if (targets_in_flange.empty()) return "targets_in_flange: expected at least one target";
-  if (!(position_noise_mm >= 0.0) || !(rotation_noise_deg >= 0.0)) return "position_noise_mm: expected >= 0";
+  if (std::string bad = CheckNoise("position_noise_mm", position_noise_mm, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  if (std::string bad = CheckNoise("rotation_noise_deg", rotation_noise_deg, kMaxNoiseDeg, "deg"); !bad.empty())
+    return bad;
   return "";
 }
 

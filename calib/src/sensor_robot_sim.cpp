@@ -22,7 +22,8 @@ std::string SensorRobotSimOptions::Validate() const {
   if (OrthonormalityError(sensor_from_base.linear()) > 1e-9) return "sensor_from_base is not a rigid transform";
   if (!(volume_half_size_mm >= 0.0)) return "volume_half_size_mm must be >= 0";
   if (!(max_tilt_deg >= 0.0 && max_tilt_deg <= 90.0)) return "max_tilt_deg must be in 0..90";
-  if (!(center_noise_mm >= 0.0) || !(repeatability_mm >= 0.0)) return "noise levels must be >= 0";
+  if (std::string bad = CheckNoise("center_noise_mm", center_noise_mm, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  if (std::string bad = CheckNoise("repeatability_mm", repeatability_mm, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
   return "";
 }
 

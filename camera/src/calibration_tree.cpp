@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "ramtk/core/error.h"
+#include "ramtk/core/json.h"
+#include "ramtk/core/yaml.h"
 
 namespace ramtk::camera::internal {
 namespace {
@@ -131,13 +133,7 @@ CalibrationNode ParseCalibrationTree(const std::string& text, const std::string&
   if (lead == '<')
     throw InputError({path, 0, ""}, "looks like XML; calibration files are read as YAML or JSON (save it as .yml)");
   if (lead == '{') {
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(text.begin() + static_cast<std::ptrdiff_t>(first), text.end());
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError({path, 0, ""}, std::string("cannot parse as JSON: ") + e.what());
-    }
-    return FromJson(j, path, 0);
+    return FromJson(ParseJsonText(text.substr(first), path), path, 0);
   }
   // OpenCV's YAML starts with "%YAML:1.0", which is not a YAML directive: drop that line but
   // keep its newline so that line numbers stay those of the file.
@@ -147,7 +143,7 @@ CalibrationNode ParseCalibrationTree(const std::string& text, const std::string&
     yaml.erase(0, eol == std::string::npos ? yaml.size() : eol);
   }
   try {
-    return FromYaml(YAML::Load(yaml), path, 0);
+    return FromYaml(LoadYamlText(yaml, path), path, 0);
   } catch (const YAML::Exception& e) {
     throw InputError({path, e.mark.is_null() ? 0 : e.mark.line + 1, ""}, "cannot parse as YAML: " + e.msg);
   }

@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "campaign_internal.h"
 #include "ramtk/campaign/controller_log.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/thermal/simulator.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
 
@@ -26,7 +28,10 @@ std::string CampaignOptions::Validate() const {
   if (!(cycle_period_s > 0.0)) return "cycle_period_s must be > 0";
   if (!(image_scale > 0.05 && image_scale <= 1.0)) return "image_scale must be in (0.05, 1]";
   if (supersampling < 1 || supersampling > 8) return "supersampling must be in 1..8";
-  if (!(repeatability_mm >= 0.0) || !(tool_sensor_noise_mm >= 0.0)) return "noise levels must be >= 0";
+  for (const auto& [field, value] : {std::pair<const char*, double>{"repeatability_mm", repeatability_mm},
+                                     {"tool_sensor_noise_mm", tool_sensor_noise_mm}}) {
+    if (std::string bad = CheckNoise(field, value, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  }
   if (jobs < 1) return "jobs must be >= 1";
   if (!(scan_min_depth_mm > 0.0 && scan_max_depth_mm > scan_min_depth_mm))
     return "scan depth range: expected 0 < scan_min_depth_mm < scan_max_depth_mm";
@@ -106,7 +111,7 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
       vision::SimulateFringeSet(config, dir, false);
       // The capture time on the controller's clock, for matching by time.
       const std::string manifest = dir + "/manifest.json";
-      nlohmann::json j = nlohmann::json::parse(ReadTextFile(manifest));
+      nlohmann::json j = ParseJsonText(ReadTextFile(manifest), manifest);
       j["capture_time_s"] = row.time_s;
       WriteFileAtomically(manifest, j.dump(2) + "\n");
       std::lock_guard<std::mutex> lock(mutex);

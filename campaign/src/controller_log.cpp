@@ -8,6 +8,7 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
+#include "ramtk/kinematics/measurements_io.h"
 
 namespace ramtk::campaign {
 ControllerLog ReadControllerLog(const std::string& path) {
@@ -44,10 +45,18 @@ ControllerLog ReadControllerLog(const std::string& path) {
         throw InputError({path, row.line, "set"}, "capture '" + row.set + "' is listed twice");
       }
     }
-    row.time_s = t.Number(r, time_col);
+    row.time_s = t.Bounded(r, time_col, kinematics::kMaxAbsTimeS, "kMaxAbsTimeS");
+    // Captures are matched to rows by time: a clock that steps back would match the wrong pose.
+    if (!log.rows.empty() && row.time_s < log.rows.back().time_s) {
+      throw InputError({path, row.line, "time_s"}, "the time goes backwards: " + FormatFixed(row.time_s, 3) +
+                                                       " s after " + FormatFixed(log.rows.back().time_s, 3) +
+                                                       " s on line " + std::to_string(log.rows.back().line) +
+                                                       " (the controller's rows must be in time order)");
+    }
     row.cycle = static_cast<int>(t.Integer(r, cycle_col));
     row.pose = static_cast<int>(t.Integer(r, pose_col));
-    for (int i = 0; i < kinematics::kNumJoints; ++i) row.q_controller[i] = DegToRad(t.Number(r, q_col[i]));
+    for (int i = 0; i < kinematics::kNumJoints; ++i)
+      row.q_controller[i] = DegToRad(t.Bounded(r, q_col[i], kinematics::kMaxAbsJointDeg, "kMaxAbsJointDeg"));
     for (int c : extra_cols) row.extra[t.header[c]] = t.Number(r, c);
     if (!seen.insert({row.cycle, row.pose}).second) {
       throw InputError({path, row.line, "cycle,pose"},

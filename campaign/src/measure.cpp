@@ -15,6 +15,7 @@
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/parse.h"
 
@@ -45,12 +46,7 @@ std::string SetId(const std::string& manifest) { return fs::path(manifest).paren
 bool CovarianceFromSpheresJson(const std::string& path, Mat3* cov) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return false;
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(ReadTextFile(path));
-  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
-    throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
-  }
+  nlohmann::json j = ParseJsonText(ReadTextFile(path), path);
   const nlohmann::json* c = nullptr;
   if (j.contains("spheres") && j["spheres"].is_array() && !j["spheres"].empty()) {
     c = &j["spheres"][0];
@@ -75,12 +71,7 @@ bool CovarianceFromSpheresJson(const std::string& path, Mat3* cov) {
 }  // namespace
 
 bool ReadCaptureTime(const std::string& manifest_path, double* time_s) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(ReadTextFile(manifest_path));
-  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
-    throw InputError({manifest_path, 0, ""}, std::string("not valid JSON: ") + e.what());
-  }
+  nlohmann::json j = ParseJsonText(ReadTextFile(manifest_path), manifest_path);
   if (!j.is_object() || !j.contains("capture_time_s")) return false;
   if (!j["capture_time_s"].is_number() || !std::isfinite(j["capture_time_s"].get<double>())) {
     throw InputError({manifest_path, 0, "capture_time_s"}, "expected a number of seconds");

@@ -1,6 +1,7 @@
 #include "ramtk/core/csv.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -44,6 +45,16 @@ const std::string& CsvTable::Text(std::size_t row, int column) const { return ro
 
 double CsvTable::Number(std::size_t row, int column) const {
   return ParseDouble(Text(row, column), {path, line_numbers.at(row), header.at(column)});
+}
+
+double CsvTable::Bounded(std::size_t row, int column, double limit, const char* limit_name) const {
+  const double v = Number(row, column);
+  if (!(std::abs(v) <= limit)) {
+    throw InputError({path, line_numbers.at(row), header.at(column)},
+                     "value " + Text(row, column) + " is beyond the plausible range +-" + FormatFixed(limit, 0) + " (" +
+                         limit_name + ")");
+  }
+  return v;
 }
 
 long long CsvTable::Integer(std::size_t row, int column) const {

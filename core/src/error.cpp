@@ -1,5 +1,7 @@
 #include "ramtk/core/error.h"
 
+#include <cstdio>
+
 namespace ramtk {
 
 std::string FormatLocation(const InputLocation& where) {
@@ -15,6 +17,13 @@ std::string FormatLocation(const InputLocation& where) {
 static std::string Compose(const InputLocation& where, const std::string& message) {
   const std::string loc = FormatLocation(where);
   return loc.empty() ? message : loc + ": " + message;
+}
+
+std::string CheckNoise(const std::string& field, double value, double max, const char* unit) {
+  if (value >= 0.0 && value <= max) return "";
+  char text[160];
+  std::snprintf(text, sizeof text, ": expected a noise sigma in [0, %g] %s, got %g", max, unit, value);
+  return field + text;
 }
 
 OptionsProblem SplitOptionsProblem(const std::string& problem) {

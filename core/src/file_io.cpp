@@ -1,14 +1,25 @@
 #include "ramtk/core/file_io.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <mutex>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
@@ -34,14 +45,85 @@ void RequireRegularFile(const std::string& path) {
                    std::string(what) + ", not a regular file: refusing to read it (it could block or never end)");
 }
 
+namespace {
+std::atomic<double> g_read_deadline_s{0.0};    // <= 0: from the environment or the default
+constexpr double kLongestReadDeadlineS = 1e7;  // beyond this a steady_clock deadline could overflow
+}  // namespace
+
+double ReadDeadlineSeconds() {
+  const double set = g_read_deadline_s.load();
+  if (set > 0) return set;
+  if (const char* env = std::getenv("RAMTK_READ_DEADLINE_S")) {
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    if (end != env && *end == '\0' && std::isfinite(v) && v > 0) return std::min(v, kLongestReadDeadlineS);
+  }
+  return kDefaultReadDeadlineS;
+}
+
+void SetReadDeadline(double seconds) {
+  g_read_deadline_s = seconds > 0 && std::isfinite(seconds) ? std::min(seconds, kLongestReadDeadlineS) : 0.0;
+}
+
+std::string ReadToEndWithDeadline(int fd, const std::string& path, double deadline_s) {
+  struct Shared {
+    std::mutex mutex;
+    std::condition_variable finished;
+    std::string data;
+    bool done = false;
+    int error = 0;
+    std::atomic<bool> cancel{false};
+  };
+  auto shared = std::make_shared<Shared>();
+  std::thread reader([shared, fd] {
+    std::string data;
+    std::vector<char> chunk(1 << 20);
+    int error = 0;
+    while (!shared->cancel.load()) {
+      const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+      if (n > 0) {
+        data.append(chunk.data(), static_cast<std::size_t>(n));
+      } else if (n == 0) {
+        break;
+      } else if (errno != EINTR) {
+        error = errno;
+        break;
+      }
+    }
+    ::close(fd);
+    std::lock_guard<std::mutex> lock(shared->mutex);
+    shared->data = std::move(data);
+    shared->error = error;
+    shared->done = true;
+    shared->finished.notify_all();
+  });
+  std::unique_lock<std::mutex> lock(shared->mutex);
+  const bool done =
+      shared->finished.wait_for(lock, std::chrono::duration<double>(deadline_s), [&] { return shared->done; });
+  if (!done) {
+    shared->cancel = true;
+    lock.unlock();
+    reader.detach();  // owns `shared` and `fd`; ends at its next chunk
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", deadline_s);
+    throw InputError({path, 0, ""}, std::string("reading did not finish within ") + limit +
+                                        " s (a stalled network file system, or a file that never ends?); "
+                                        "RAMTK_READ_DEADLINE_S sets this limit");
+  }
+  lock.unlock();
+  reader.join();
+  if (shared->error != 0) throw InputError({path, 0, ""}, std::string("read failed: ") + std::strerror(shared->error));
+  return std::move(shared->data);
+}
+
 std::string ReadTextFile(const std::string& path) {
   RequireRegularFile(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, 0, ""}, "cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError({path, 0, ""}, "read failed");
-  return ss.str();
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int err = errno;
+    throw InputError({path, 0, ""}, std::string("cannot open file: ") + std::strerror(err));
+  }
+  return ReadToEndWithDeadline(fd, path, ReadDeadlineSeconds());
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& contents) {

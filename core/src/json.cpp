@@ -1,14 +1,31 @@
 #include "ramtk/core/json.h"
 
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include "ramtk/core/units.h"
 
 namespace ramtk {
 
 nlohmann::json ParseJsonText(const std::string& text, const std::string& path) {
+  // nlohmann keeps the last of two equal keys; a file that says a value twice is refused instead.
+  std::vector<std::set<std::string>> keys;  // the keys seen in each object being parsed
+  const nlohmann::json::parser_callback_t once = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (event == Event::object_start) {
+      keys.emplace_back();
+    } else if (event == Event::object_end) {
+      if (!keys.empty()) keys.pop_back();
+    } else if (event == Event::key && !keys.empty()) {
+      const std::string key = parsed.get<std::string>();
+      if (!keys.back().insert(key).second)
+        throw InputError({path, 0, key}, "duplicate key: an object gives it twice (which value is meant?)");
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    return nlohmann::json::parse(text, once);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range for 1e999
     throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
   }

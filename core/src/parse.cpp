@@ -7,6 +7,15 @@
 
 namespace ramtk {
 
+double PrintedRoundingBound(const std::string& text) {
+  const std::size_t e = text.find_first_of("eE");
+  const std::string mantissa = text.substr(0, e);
+  const int exponent = e == std::string::npos ? 0 : std::atoi(text.c_str() + e + 1);
+  const std::size_t dot = mantissa.find('.');
+  const int decimals = dot == std::string::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
+  return 0.5 * std::pow(10.0, exponent - decimals);
+}
+
 double ParseDouble(const std::string& text, const InputLocation& where) {
   const char* begin = text.c_str();
   while (*begin == ' ' || *begin == '\t') ++begin;

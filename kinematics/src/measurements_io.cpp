@@ -49,14 +49,8 @@ RobotMeasurementSet ParseRobotMeasurements(const std::string& text, const std::s
   set.rows.reserve(t.size());
   // Plausibility limits (measurements_io.h): a value beyond them is a corrupt file, and would
   // otherwise reach the solvers (which abort on non-finite steps) as if it were a measurement.
-  auto bounded = [&](std::size_t r, int col, double limit, const char* limit_name) {
-    const double v = t.Number(r, col);
-    if (!(std::abs(v) <= limit)) {
-      throw InputError({path, t.line_numbers[r], t.header[col]},
-                       "value " + t.rows[r][col] + " is beyond the plausible range +-" + FormatFixed(limit, 0) + " (" +
-                           limit_name + ")");
-    }
-    return v;
+  auto bounded = [&t](std::size_t r, int col, double limit, const char* limit_name) {
+    return t.Bounded(r, col, limit, limit_name);
   };
   for (std::size_t r = 0; r < t.size(); ++r) {
     RobotMeasurement m;

@@ -8,6 +8,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/units.h"
+#include "ramtk/core/yaml.h"
 
 namespace ramtk::kinematics {
 namespace {
@@ -94,12 +95,7 @@ void ReadGravityData(const std::string& path, const YAML::Node& root, const YAML
 }  // namespace
 
 RobotChain ParseRobotChain(const std::string& yaml_text, const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError({path, e.mark.line + 1, ""}, "YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = LoadYamlText(yaml_text, path);
   if (!root.IsMap()) throw InputError({path, 1, ""}, "expected a YAML mapping at the top level");
 
   RobotChain chain;
@@ -192,8 +188,8 @@ RobotChain ReadRobotChain(const std::string& path) {
   std::string text;
   try {
     text = ReadTextFile(path);
-  } catch (const InputError&) {
-    throw InputError({path, 0, ""}, "cannot open robot model file");
+  } catch (const InputError& e) {
+    throw InputError({path, 0, ""}, "cannot open robot model file: " + e.message());
   }
   return ParseRobotChain(text, path);
 }
@@ -202,8 +198,8 @@ RobotModel ReadRobotModel(const std::string& path) {
   std::string text;
   try {
     text = ReadTextFile(path);
-  } catch (const InputError&) {
-    throw InputError({path, 0, ""}, "cannot open robot model file");
+  } catch (const InputError& e) {
+    throw InputError({path, 0, ""}, "cannot open robot model file: " + e.message());
   }
   return ParseRobotModel(text, path);
 }

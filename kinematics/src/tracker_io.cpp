@@ -16,6 +16,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/log.h"
 #include "ramtk/core/units.h"
+#include "ramtk/core/yaml.h"
 
 namespace ramtk::kinematics {
 namespace {
@@ -705,12 +706,7 @@ char YamlChar(const std::string& path, const YAML::Node& node, const std::string
 }  // namespace
 
 TrackerFormat ParseTrackerFormat(const std::string& yaml_text, const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError({path, e.mark.line + 1, ""}, "YAML syntax error: " + e.msg);
-  }
+  const YAML::Node root = LoadYamlText(yaml_text, path);
   TrackerFormat f;
   if (root.IsNull()) return f;
   if (!root.IsMap()) throw InputError({path, 1, ""}, "expected a YAML mapping at the top level");

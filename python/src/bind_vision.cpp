@@ -14,6 +14,7 @@
 #include "progress_bridge.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/vision/decode/decode.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
 #include "ramtk/vision/fringe/manifest.h"
@@ -271,6 +272,7 @@ void BindVision(py::module_& m) {
   m.def("read_image", [](const std::string& path) {
     // Any single-channel image OpenCV reads as stored: 8/16-bit camera frames, the float TIFF /
     // EXR maps of `ramtk decode` and of the simulator's truth.
+    RequireRegularFile(path);  // a FIFO or a device would block or never end
     cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH);
     if (img.empty()) throw InputError({path, 0, ""}, "cannot read the image");
     if (img.channels() != 1) throw InputError({path, 0, ""}, "expected a single-channel image");

@@ -1,6 +1,7 @@
 """Decode, scan and sphere fitting against the ramtk command on the same set, the simulator's
 truth and closed forms; numpy arrays share the C++ buffers."""
 import json
+import os
 import pathlib
 
 import numpy as np
@@ -176,3 +177,19 @@ def test_simulated_phase_origin_and_truth_maps(ramtk_binary, scratch):
     e = d.coordinate[ok] - truth[ok]
     assert np.sqrt(np.mean(e.astype(np.float64) ** 2)) < 0.01
     assert abs(float(np.mean(e))) < 0.001
+
+
+def test_read_image_refuses_fifos_and_devices(scratch):
+    """A FIFO would block imread forever and /dev/zero never ends: refused before opening."""
+    folder = scratch / "special_images"
+    folder.mkdir(exist_ok=True)
+    fifo = folder / "frame.png"
+    if not fifo.exists():
+        os.mkfifo(fifo)
+    zero = folder / "zero.png"
+    if not zero.exists():
+        zero.symlink_to("/dev/zero")
+    for path, what in ((fifo, "FIFO"), (zero, "character device")):
+        with pytest.raises(ramtk.InputError) as e:
+            ramtk.read_image(str(path))
+        assert what in str(e.value) and e.value.file == str(path)

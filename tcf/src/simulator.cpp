@@ -85,8 +85,8 @@ Isometry3 TcfSimulationOptions::DefaultBaseFromLaserSensor() {
 }
 
 std::string TcfSimulationOptions::Validate() const {
-  if (!(repeatability_mm >= 0.0)) return "repeatability_mm must be >= 0";
-  if (!(timing_jitter_s >= 0.0)) return "timing_jitter_s must be >= 0";
+  if (std::string bad = CheckNoise("repeatability_mm", repeatability_mm, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  if (std::string bad = CheckNoise("timing_jitter_s", timing_jitter_s, kMaxNoiseS, "s"); !bad.empty()) return bad;
   if (!(tool_radius_mm > 0.0)) return "tool_radius_mm must be > 0";
   if (!(circle_radius_mm > tool_radius_mm)) return "circle_radius_mm must exceed tool_radius_mm";
   if (!(angular_speed_deg_s > 0.0)) return "angular_speed_deg_s must be > 0";

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -208,6 +209,37 @@ TEST(HandEyeFlange, BadPoseFilesNameTheLine) {
   const std::string joints =
       WriteTemp("joints.csv", "pose,q1,q2,q3,q4,q5,q6,x,y,z,a,b,c\n1,10,-80,95,20,35,-40,0,0,800,0,0,0\n");
   EXPECT_NE(message(joints).find("robot model"), std::string::npos) << message(joints);
+}
+
+// A rotation matrix printed with six decimals is off orthonormality by up to ~3.5e-6, beyond the
+// 1e-6 a 17-digit file needs: the tolerance follows the printed decimals and the matrix read is
+// the nearest rotation. Three decimals pass too; a wrong matrix does not, however it is printed.
+TEST(HandEyeFlange, RotationToleranceFollowsThePrintedDecimals) {
+  const Mat3 truth = (Eigen::AngleAxisd(0.7, Vec3(0.3, -0.5, 0.8).normalized())).toRotationMatrix();
+  auto file = [&](int decimals, const Mat3& rot) {
+    std::ostringstream text;
+    text << "flange_m00,flange_m01,flange_m02,flange_m03,flange_m10,flange_m11,flange_m12,flange_m13,"
+            "flange_m20,flange_m21,flange_m22,flange_m23,x,y,z,a,b,c\n";
+    text << std::fixed;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) text << std::setprecision(decimals) << rot(i, j) << ",";
+      text << std::setprecision(3) << 1000.0 + 100 * i << ",";
+    }
+    text << "0,0,800,0,0,0\n";
+    return WriteTemp("printed_" + std::to_string(decimals) + ".csv", text.str());
+  };
+  for (int decimals : {3, 6, 9, 15}) {
+    const auto obs = ReadFlangePoseObservations(file(decimals, truth), "mm");
+    const Mat3 r = obs.at(0).base_from_flange.linear();
+    EXPECT_LT((r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff(), 1e-12) << decimals;
+    EXPECT_LT((r - truth).cwiseAbs().maxCoeff(), 2 * std::pow(10.0, -decimals)) << decimals;
+  }
+  Mat3 sheared = truth;
+  sheared(0, 1) += 2e-5;  // 20 times a six-decimal rounding
+  EXPECT_THROW(ReadFlangePoseObservations(file(6, sheared), "mm"), InputError);
+  EXPECT_NO_THROW(ReadFlangePoseObservations(file(3, sheared), "mm"));  // within three decimals' rounding
+  sheared(0, 1) += 0.01;
+  EXPECT_THROW(ReadFlangePoseObservations(file(3, sheared), "mm"), InputError);
 }
 
 // Observed RMS per component (sum of squares over `draws`) against the mean predicted σ: within

@@ -119,7 +119,7 @@ TEST_F(MeasureTest, JoinsByNearestTimeWithinTheTolerance) {
 
 TEST_F(MeasureTest, ErrorsNameFileLineAndField) {
   try {
-    ReadControllerLog(Log(true, "c9,30,0,1,1,2,3,4,5,6,20\n"));  // cycle 0 pose 1 twice
+    ReadControllerLog(Log(true, "c9,700,0,1,1,2,3,4,5,6,20\n"));  // cycle 0 pose 1 twice
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().line, 5);
@@ -131,6 +131,28 @@ TEST_F(MeasureTest, ErrorsNameFileLineAndField) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().line, 5);
     EXPECT_EQ(e.where().field, "time_s");
+  }
+  // The clock stepping back (30 s after 610 s on line 4) would match captures to the wrong rows.
+  try {
+    ReadControllerLog(Log(true, "c9,30,2,1,1,2,3,4,5,6,20\n"));
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 5);
+    EXPECT_EQ(e.where().field, "time_s");
+    EXPECT_NE(std::string(e.what()).find("the time goes backwards: 30.000 s after 610.000 s on line 4"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(ReadControllerLog(Log(true, "c9,610,2,1,1,2,3,4,5,6,20\n")));  // equal times: fine
+  // Beyond the plausible ranges of the measurement files (kMaxAbsTimeS, kMaxAbsJointDeg).
+  for (const char* row : {"c9,1e308,2,1,1,2,3,4,5,6,20\n", "c9,700,2,1,1e308,2,3,4,5,6,20\n"}) {
+    try {
+      ReadControllerLog(Log(true, row));
+      FAIL() << row;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().line, 5);
+      EXPECT_NE(std::string(e.what()).find("beyond the plausible range"), std::string::npos) << e.what();
+    }
   }
   // A capture with a centre that the log does not name is an error, never dropped silently.
   Write(dir_ / "short.csv", "set,time_s,cycle,pose,q1,q2,q3,q4,q5,q6\nc0p1,10,0,1,0,0,0,0,0,0\n");

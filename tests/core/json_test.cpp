@@ -49,6 +49,22 @@ TEST(Json, TheThreeFormsOfOnePoseAgree) {
   EXPECT_LT((JsonPose(both, "p.json", "pose").matrix() - t.matrix()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// A key given twice in one object is refused at any depth; the same key in two objects is fine.
+TEST(Json, AKeyTwiceInOneObjectIsRefused) {
+  EXPECT_EQ(Message([] {
+              ParseJsonText(R"({"a": 1, "b": 2, "a": 3})", "x.json");
+            }).rfind("x.json: field 'a': duplicate key", 0),
+            0u);
+  EXPECT_EQ(Message([] {
+              ParseJsonText(R"({"s": [{"r": 1}, {"r": 2, "q": 0, "r": 5}]})", "x.json");
+            }).rfind("x.json: field 'r': duplicate key", 0),
+            0u);
+  const nlohmann::json ok =
+      ParseJsonText(R"({"r": 1, "s": {"r": 2, "t": {"r": 3}}, "u": [{"r": 4}, {"r": 5}]})", "x.json");
+  EXPECT_EQ(ok["s"]["t"]["r"], 3);
+  EXPECT_EQ(ok["u"][1]["r"], 5);
+}
+
 TEST(Json, ErrorsNameTheFileAndTheField) {
   EXPECT_EQ(Message([] { ParseJsonText("{\"a\": 1e999}", "x.json"); }).rfind("x.json: not valid JSON", 0), 0u);
   const nlohmann::json j = nlohmann::json::parse(R"({"setup": {"pose": [[1, 0, 0, 0], [0, 2, 0, 0], [0, 0, 1, 0]]},

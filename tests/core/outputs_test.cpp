@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -85,6 +86,45 @@ TEST(OutputSafety, FifosAndDevicesAreRefusedBeforeReading) {
   Touch(d / "plain.txt", "text");
   fs::create_symlink(d / "plain.txt", d / "link.txt");
   EXPECT_EQ(ReadTextFile((d / "link.txt").string()), "text");
+}
+
+// A pipe whose writer never closes stands for a stalled network file system: the read ends with
+// an InputError naming the file and the limit instead of blocking.
+TEST(OutputSafety, AReadThatDoesNotEndStopsAtTheDeadline) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  ASSERT_EQ(::write(fds[1], "partial", 7), 7);
+  try {
+    ReadToEndWithDeadline(fds[0], "/mnt/nfs/slow.csv", 0.2);
+    FAIL() << "no deadline";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().file, "/mnt/nfs/slow.csv");
+    EXPECT_NE(std::string(e.what()).find("did not finish within 0.2 s"), std::string::npos) << e.what();
+  }
+  ::close(fds[1]);  // the helper thread then reaches the end, closes its side and ends
+  // A pipe that ends is read whole.
+  ASSERT_EQ(::pipe(fds), 0);
+  ASSERT_EQ(::write(fds[1], "whole", 5), 5);
+  ::close(fds[1]);
+  EXPECT_EQ(ReadToEndWithDeadline(fds[0], "pipe", 10.0), "whole");
+}
+
+TEST(OutputSafety, ReadDeadlineFromTheEnvironmentOrSet) {
+  ::unsetenv("RAMTK_READ_DEADLINE_S");
+  EXPECT_EQ(ReadDeadlineSeconds(), kDefaultReadDeadlineS);
+  ::setenv("RAMTK_READ_DEADLINE_S", "5", 1);
+  EXPECT_EQ(ReadDeadlineSeconds(), 5.0);
+  for (const char* bad : {"abc", "-3", "nan", "0", "5s"}) {
+    ::setenv("RAMTK_READ_DEADLINE_S", bad, 1);
+    EXPECT_EQ(ReadDeadlineSeconds(), kDefaultReadDeadlineS) << bad;
+  }
+  SetReadDeadline(2.5);
+  EXPECT_EQ(ReadDeadlineSeconds(), 2.5);
+  SetReadDeadline(1e308);
+  EXPECT_EQ(ReadDeadlineSeconds(), 1e7);
+  SetReadDeadline(0);
+  ::unsetenv("RAMTK_READ_DEADLINE_S");
+  EXPECT_EQ(ReadDeadlineSeconds(), kDefaultReadDeadlineS);
 }
 
 TEST(OutputSafety, TwoOutputsMayNotShareAPath) {

@@ -35,3 +35,19 @@ TEST(Parse, LocationFormatting) {
 
 }  // namespace
 }  // namespace ramtk
+
+namespace ramtk {
+namespace {
+
+// Half a unit of the last printed digit, read from the text alone.
+TEST(Parse, PrintedRoundingBound) {
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("0.707107"), 5e-7);
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("-0.5"), 0.05);
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("12"), 0.5);
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("1.5e-3"), 5e-5);
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("7.07107E-01"), 5e-7);
+  EXPECT_DOUBLE_EQ(PrintedRoundingBound("3e2"), 50.0);
+}
+
+}  // namespace
+}  // namespace ramtk

@@ -129,7 +129,8 @@ TEST(RobotIo, MissingFile) {
     ReadRobotModel("/nonexistent/robot.yaml");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "/nonexistent/robot.yaml: cannot open robot model file");
+    EXPECT_EQ(std::string(e.what()),
+              "/nonexistent/robot.yaml: cannot open robot model file: cannot open file: No such file or directory");
   }
 }
 

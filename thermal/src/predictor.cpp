@@ -186,7 +186,8 @@ DriftPrediction PredictDrift(const Eigen::MatrixXd& identified, const Eigen::Mat
 
 std::string KalmanDriftOptions::Validate() const {
   if (window_every < 1) return "window_every must be >= 1";
-  if (!(process_ratio_per_hour >= 0.0)) return "process_ratio_per_hour must be >= 0";
+  if (!(process_ratio_per_hour >= 0.0 && std::isfinite(process_ratio_per_hour)))
+    return "process_ratio_per_hour must be >= 0 and finite";
   return "";
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "ramtk/core/csv.h"
 #include "ramtk/core/error.h"
@@ -41,8 +42,13 @@ std::string ThermalSimOptions::Validate() const {
     if (d.per_kelvin.size() != kNumJoints) return "drift per_kelvin needs 6 values";
   }
   if (ball_poses < 1 || monitoring_points < 1) return "ball_poses and monitoring_points must be >= 1";
-  if (!(sensor_noise_mm >= 0 && tool_sensor_noise_mm >= 0 && repeatability_mm >= 0 && temperature_noise_k >= 0)) {
-    return "noise levels must be >= 0";
+  for (const auto& [field, value] : {std::pair<const char*, double>{"sensor_noise_mm", sensor_noise_mm},
+                                     {"tool_sensor_noise_mm", tool_sensor_noise_mm},
+                                     {"repeatability_mm", repeatability_mm}}) {
+    if (std::string bad = CheckNoise(field, value, kMaxNoiseMm, "mm"); !bad.empty()) return bad;
+  }
+  if (std::string bad = CheckNoise("temperature_noise_k", temperature_noise_k, kMaxNoiseK, "K"); !bad.empty()) {
+    return bad;
   }
   if (!setup.has_tool_sensor) return "setup needs flange_from_tool_sensor for the monitoring points";
   return "";

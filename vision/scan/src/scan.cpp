@@ -14,6 +14,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/json.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/decode/detail/test_hooks.h"
 #include "ramtk/vision/stereo/cloud_noise.h"
@@ -620,12 +621,7 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
 }
 
 std::vector<Sphere> ReadTruthSpheres(const std::string& path) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(ReadTextFile(path));
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError({path, 0, ""}, std::string("not valid JSON: ") + e.what());
-  }
+  nlohmann::json j = ParseJsonText(ReadTextFile(path), path);
   if (!j.contains("spheres") || !j["spheres"].is_array())
     throw InputError({path, 0, "spheres"}, "missing (expected the truth.json of ramtk simulate fringe)");
   std::vector<Sphere> out;

@@ -102,7 +102,16 @@ std::string FormatBoardPoseObservations(const std::vector<BoardPoseObservation>&
 //   flange_m00 ... flange_m23     (the top 3 rows of the 4x4 base_from_flange, row-major)
 // A flange translation is in `flange_units` ("mm" or "m"). InputError names the file, line and
 // column: a missing column, a non-number, a quaternion far from unit norm, a matrix whose rotation
-// part is not a rotation (|R^T R - I| > 1e-6 or det < 0), joints without a robot model.
+// part is not a rotation (|R^T R - I| beyond 4 times the rounding of its printed decimals, at
+// least 1e-6, at most 2e-3; or det < 0), joints without a robot model; a position beyond
+// kMaxAbsPositionMm, an angle beyond kMaxAbsPoseAngleDeg, a joint beyond kMaxAbsJointDeg; a row
+// whose two flange forms (say matrix and A,B,C) differ by more than kFlangeFormsAgreeDeg or
+// kFlangeFormsAgreeMm; and a file whose flange positions all lie within kMinFlangeReachMm of the
+// base (metres given as millimetres). A matrix's rotation is replaced by the nearest rotation.
+inline constexpr double kMaxAbsPoseAngleDeg = 360.0;  // KUKA A, B, C of a pose
+inline constexpr double kFlangeFormsAgreeDeg = 0.01;  // two forms of one row's flange pose
+inline constexpr double kFlangeFormsAgreeMm = 0.01;
+inline constexpr double kMinFlangeReachMm = 20.0;  // some flange position is at least this far from the base
 std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path,
                                                               const std::string& flange_units = "mm",
                                                               const kinematics::RobotModel* model = nullptr);

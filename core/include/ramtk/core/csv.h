@@ -20,6 +20,9 @@ class CsvTable {
   // Cell as a finite double / an integer / text; InputError names file:line and the column.
   double Number(std::size_t row, int column) const;
   long long Integer(std::size_t row, int column) const;
+  // Number() within +-limit, else InputError naming the cell, the limit and its constant's name
+  // (a value beyond it is a corrupt file, not a measurement).
+  double Bounded(std::size_t row, int column, double limit, const char* limit_name) const;
   const std::string& Text(std::size_t row, int column) const;
   std::size_t size() const { return rows.size(); }
 };

@@ -40,6 +40,15 @@ OptionsProblem SplitOptionsProblem(const std::string& problem);
 // when the problem names none.
 void ThrowIfInvalid(const std::string& problem, const std::string& options_name);
 
+// The one check of a noise level (a σ) in an Options' Validate: "" when 0 <= value <= max (NaN and
+// infinity fail), else "field: expected a noise sigma in [0, max] unit, got value". The limits are
+// far beyond any instrument's noise: a larger value is a typing error (1e308, a unit slip).
+inline constexpr double kMaxNoiseMm = 100.0;  // σ of a position, a length or a repeatability
+inline constexpr double kMaxNoiseDeg = 10.0;  // σ of an angle
+inline constexpr double kMaxNoiseS = 1.0;     // σ of a time
+inline constexpr double kMaxNoiseK = 100.0;   // σ of a temperature
+std::string CheckNoise(const std::string& field, double value, double max, const char* unit);
+
 // Formats a location as "file:line: field 'name'" (parts that are empty are left out).
 std::string FormatLocation(const InputLocation& where);
 

@@ -16,8 +16,20 @@ namespace ramtk {
 // input files calls it first.
 void RequireRegularFile(const std::string& path);
 // Reads a whole file; InputError naming the file if it cannot be read or is not a regular file
-// (RequireRegularFile).
+// (RequireRegularFile), or if reading it takes longer than ReadDeadlineSeconds() (a stalled
+// network file system, a file that never ends).
 std::string ReadTextFile(const std::string& path);
+
+// The time one ReadTextFile may take, in seconds: the environment variable RAMTK_READ_DEADLINE_S
+// when it holds a positive number, else kDefaultReadDeadlineS; SetReadDeadline overrides both
+// (a value <= 0 restores them). At most 10^7 s.
+constexpr double kDefaultReadDeadlineS = 60.0;
+double ReadDeadlineSeconds();
+void SetReadDeadline(double seconds);
+// Reads `fd` (which it takes over and closes) to its end on a helper thread; InputError naming
+// `path` when the end is not reached within `deadline_s` seconds. The helper then stops at its
+// next chunk (a read blocked in the kernel ends when the kernel lets it).
+std::string ReadToEndWithDeadline(int fd, const std::string& path, double deadline_s);
 // Writes `contents` to `path` atomically (temporary file + rename); InputError on failure.
 void WriteFileAtomically(const std::string& path, const std::string& contents);
 // The same with the contents streamed by `write` (large outputs need no copy in memory); an
