@@ -1,6 +1,7 @@
 // ramtk decode: absolute projector coordinate, modulation, mask and phase noise from a fringe set.
 #include <iostream>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
@@ -22,7 +23,7 @@ struct DecodeCommandOptions {
   bool force = false;            // replace an existing output folder
 };
 
-int RunDecode(const DecodeCommandOptions& opt) {
+int RunDecode(const DecodeCommandOptions& opt, Provenance provenance) {
   using namespace vision;
   if (!(opt.min_modulation >= 0 && opt.min_modulation <= 1))
     throw InputError({"", 0, "--min-modulation"}, "expected a fraction of full scale in [0, 1]");
@@ -51,6 +52,9 @@ int RunDecode(const DecodeCommandOptions& opt) {
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     WriteDecodedCamera(staged.path().string(), cameras[i], decoded[i], opt.format);
   }
+  AddProvenanceFile(&provenance, opt.manifest);
+  for (const std::string& f : m.InputFiles()) AddProvenanceFile(&provenance, f);
+  WriteFolderProvenance(staged.path().string(), provenance);
   staged.Commit();
   for (const DecodedCamera& d : decoded) std::cout << d.summary.BriefReport() << "\n";
   std::cout << "wrote " << opt.out << "\n";
@@ -77,7 +81,7 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
                   "carried into the sigma maps")
       ->check(CLI::Range(0, 6));
   sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new one is complete)");
-  sub->callback([opt, exit_code]() { *exit_code = RunDecode(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunDecode(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/parse.h"
@@ -26,7 +27,7 @@ struct PatternsCommandOptions {
   bool force = false;                              // replace an existing output folder
 };
 
-int RunPatterns(const PatternsCommandOptions& opt) {
+int RunPatterns(const PatternsCommandOptions& opt, const Provenance& provenance) {
   using namespace vision;
   FringeManifest m;
   m.projector_width = opt.width;
@@ -71,7 +72,7 @@ int RunPatterns(const PatternsCommandOptions& opt) {
   m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
   m.cameras["projector"].resize(m.ImageCount());
   m.Check();
-  WritePatternSet(opt.out, m, opt.bits, opt.force);
+  WritePatternSet(opt.out, m, opt.bits, opt.force, &provenance);
   std::cout << "wrote " << m.ImageCount() << " " << opt.bits << "-bit patterns and manifest.json to " << opt.out
             << "\n";
   return kExitOk;
@@ -97,7 +98,7 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new set is complete)");
-  sub->callback([opt, exit_code]() { *exit_code = RunPatterns(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunPatterns(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

@@ -5,6 +5,7 @@
 #include <memory>
 #include <sstream>
 
+#include "command_provenance.h"
 #include "commands.h"
 #include "progress_printer.h"
 #include "ramtk/camera/stereo_calibration.h"
@@ -73,7 +74,7 @@ std::vector<vision::SequenceBlock> ParseSequence(const std::string& spec) {
   return blocks;
 }
 
-int RunSimulateFringe(const SimulateFringeOptions& opt) {
+int RunSimulateFringe(const SimulateFringeOptions& opt, Provenance provenance) {
   Vec3 ball(0.0, 0.0, 700.0);
   if (!opt.ball.empty()) {
     const std::vector<double> b = ParseDoubleList(opt.ball, {"", 0, "--ball"}, 3);
@@ -116,7 +117,9 @@ int RunSimulateFringe(const SimulateFringeOptions& opt) {
   if (!opt.quiet) {
     progress = ProgressPrinter("rows");
   }
-  const vision::FringeSimulationSummary summary = vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress);
+  AddProvenanceFile(&provenance, opt.calibration);
+  const vision::FringeSimulationSummary summary =
+      vision::SimulateFringeSet(config, opt.out_dir, opt.force, progress, &provenance);
   std::cout << summary.BriefReport() << '\n';
   return kExitOk;
 }
@@ -164,7 +167,7 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--no-noise", opt->no_noise, "Render without shot and read noise");
   sub->add_flag("--force", opt->force, "Replace an existing output folder");
   sub->add_flag("-q,--quiet", opt->quiet, "No progress on stderr");
-  sub->callback([opt, exit_code]() { *exit_code = RunSimulateFringe(*opt); });
+  sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateFringe(*opt, CommandProvenance(sub)); });
 }
 
 }  // namespace ramtk::tools

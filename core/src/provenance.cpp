@@ -3,6 +3,7 @@
 #include <openssl/evp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <ctime>
@@ -158,6 +159,18 @@ std::pair<std::string, std::string> FolderProvenance(const std::string& folder, 
   j["version"] = 1;
   j["describes"] = names;
   return {(std::filesystem::path(folder) / "provenance.json").string(), WithProvenance(j.dump(2) + "\n", provenance)};
+}
+
+void WriteFolderProvenance(const std::string& folder, const Provenance& provenance) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(folder)) {
+    if (!e.is_regular_file()) continue;
+    const std::string name = std::filesystem::relative(e.path(), folder).generic_string();
+    if (name != "provenance.json") names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  const auto [path, text] = FolderProvenance(folder, names, provenance);
+  WriteFileAtomically(path, text);
 }
 
 std::string ProvenanceMarkdown(const Provenance& p) {

@@ -8,6 +8,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/core/provenance.h"
 #include "ramtk/vision/fringe/image_io.h"
 
 namespace ramtk::vision {
@@ -70,7 +71,8 @@ std::vector<cv::Mat> QuantisePatterns(const std::vector<cv::Mat>& patterns, int 
   return out;
 }
 
-void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite) {
+void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite,
+                     const Provenance* provenance) {
   manifest.cameras.clear();
   std::vector<std::string> names;
   for (int i = 0; i < manifest.ImageCount(); ++i) {
@@ -85,6 +87,7 @@ void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bi
   StagedFolder staged(out_dir, overwrite, "--out");
   for (std::size_t i = 0; i < images.size(); ++i) WriteImage((staged.path() / names[i]).string(), images[i]);
   WriteFringeManifest((staged.path() / "manifest.json").string(), manifest);
+  if (provenance) WriteFolderProvenance(staged.path().string(), *provenance);
   staged.Commit();
 }
 

@@ -14,6 +14,7 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/core/provenance.h"
 #include "ramtk/core/units.h"
 #include "ramtk/vision/fringe/image_io.h"
 
@@ -331,7 +332,8 @@ std::string FringeSimulationSummary::BriefReport() const {
 }
 
 FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, const std::string& out_dir,
-                                          bool overwrite, const ProgressCallback& progress) {
+                                          bool overwrite, const ProgressCallback& progress,
+                                          const Provenance* provenance) {
   const auto start = std::chrono::steady_clock::now();
   ThrowIfInvalid(config.Validate(), "FringeSimulationConfig");
   // Written into a sibling temporary folder, moved into place when complete (core/outputs.h).
@@ -462,6 +464,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
          "(NaN where the projector does not light it), depth = z in that camera's frame (mm, NaN: no surface), "
          "lit_fraction = share of the pixel's rays lit on the same object, object_id"}};
     WriteFileAtomically((tmp / "truth" / "truth.json").string(), truth.dump(2) + "\n");
+    if (provenance) WriteFolderProvenance(tmp.string(), *provenance);
 
     staged.Commit();
   } catch (const fs::filesystem_error& e) {

@@ -76,6 +76,10 @@ std::pair<std::string, std::string> ProvenanceSidecar(const std::string& output_
 // outputs): `folder`/provenance.json, "describes" listing `names`.
 std::pair<std::string, std::string> FolderProvenance(const std::string& folder, const std::vector<std::string>& names,
                                                      const Provenance& provenance);
+// Writes FolderProvenance for every regular file under `folder` (paths relative to it, sorted,
+// "provenance.json" itself left out), atomically; for a folder written as a unit, call it before
+// the folder is committed.
+void WriteFolderProvenance(const std::string& folder, const Provenance& provenance);
 
 // The block as Markdown: a "## Provenance" section (version, commit, command line, inputs, run)
 // with the options as a JSON code block.

@@ -9,6 +9,10 @@
 #include "ramtk/vision/fringe/gray_code.h"
 #include "ramtk/vision/fringe/manifest.h"
 
+namespace ramtk {
+struct Provenance;  // ramtk/core/provenance.h
+}  // namespace ramtk
+
 namespace ramtk::vision {
 
 // Ideal projector intensity in [0, 1] for every pattern of the manifest's sequence, in order
@@ -26,6 +30,8 @@ double PatternPhase(double u, double cycles, int extent, double phase_at_origin_
 // the folder `out_dir`, as a unit (core/outputs.h StagedFolder): an existing non-empty folder is
 // replaced only with `overwrite`, and only once the new set is complete. Nothing is written if
 // generation fails.
-void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite = false);
+// With `provenance`, the folder also gets provenance.json (core/provenance.h WriteFolderProvenance).
+void WritePatternSet(const std::string& out_dir, FringeManifest manifest, int bits, bool overwrite = false,
+                     const Provenance* provenance = nullptr);
 
 }  // namespace ramtk::vision

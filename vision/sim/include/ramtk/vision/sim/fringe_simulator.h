@@ -14,6 +14,10 @@
 #include "ramtk/vision/sim/fringe_renderer.h"
 #include "ramtk/vision/sim/scene.h"
 
+namespace ramtk {
+struct Provenance;  // ramtk/core/provenance.h
+}  // namespace ramtk
+
 namespace ramtk::vision {
 
 // Magnitudes of the fringe-image effects (DESIGN.md effect catalogue). Each field's default is
@@ -118,8 +122,10 @@ struct FringeSimulationSummary {
 // to 16-bit full scale; NN.bmp with frame_format "bmp"), and truth/ (per camera
 // float TIFFs projector_x, projector_y, depth, lit_fraction and object_id, plus truth.json).
 // Everything is written into a temporary sibling folder renamed into place at the end, so a
-// failure leaves no partial output.
+// failure leaves no partial output. With `provenance`, the folder also gets provenance.json
+// (core/provenance.h WriteFolderProvenance).
 FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, const std::string& out_dir,
-                                          bool overwrite = false, const ProgressCallback& progress = {});
+                                          bool overwrite = false, const ProgressCallback& progress = {},
+                                          const Provenance* provenance = nullptr);
 
 }  // namespace ramtk::vision
