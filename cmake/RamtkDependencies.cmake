@@ -9,7 +9,8 @@ find_package(CLI11 REQUIRED)
 # spdlog: the logging behind core/log.h (levels, time stamps, the --log-file sink).
 find_package(spdlog REQUIRED)
 find_package(TBB REQUIRED)
-find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)  # SHA-256 of input files (provenance)
+# xxHash (header only, XXH_INLINE_ALL): the XXH3-128 of input files in every output's provenance.
+find_path(RAMTK_XXHASH_INCLUDE_DIR xxhash.h REQUIRED)
 find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs calib3d features2d
              structured_light phase_unwrapping aruco)
 find_package(OpenImageIO REQUIRED)

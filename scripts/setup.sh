@@ -16,7 +16,8 @@ PACKAGES=(
   nlohmann-json3-dev       # manifests and results
   libcli11-dev             # the ramtk command line
   libtbb-dev               # parallel loops
-  libssl-dev               # SHA-256 of input files in every output's provenance (libcrypto)
+  libxxhash-dev            # XXH3-128 of input files in every output's provenance (header-only use)
+  xxhash                   # xxhsum: the peer the provenance hash is tested against
   libopencv-dev libopencv-contrib-dev  # calibration, image ops, structured_light peer
   libopenimageio-dev       # image and EXR I/O
   libpng-dev libdeflate-dev  # PNG frames: libpng, and one-call inflate of grey camera frames

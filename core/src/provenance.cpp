@@ -1,6 +1,5 @@
 #include "ramtk/core/provenance.h"
 
-#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,35 +13,36 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace ramtk {
 namespace {
 
-// Incremental SHA-256 through OpenSSL's EVP interface.
-class Sha256 {
+// Incremental XXH3-128 (xxHash, header-only: XXH_INLINE_ALL), printed as xxhsum -H2 prints it
+// (the canonical big-endian form in lower-case hex).
+class Xxh3 {
  public:
-  Sha256() : ctx_(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
-    if (!ctx_ || EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr) != 1)
-      throw std::runtime_error("OpenSSL: cannot start SHA-256");
+  Xxh3() : state_(XXH3_createState(), XXH3_freeState) {
+    if (!state_ || XXH3_128bits_reset(state_.get()) != XXH_OK) throw std::runtime_error("xxHash: cannot start XXH3");
   }
   void Add(const char* data, std::size_t n) {
-    if (EVP_DigestUpdate(ctx_.get(), data, n) != 1) throw std::runtime_error("OpenSSL: SHA-256 update failed");
+    if (XXH3_128bits_update(state_.get(), data, n) != XXH_OK) throw std::runtime_error("xxHash: update failed");
   }
   std::string Hex() {
-    std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
-    unsigned int length = 0;
-    if (EVP_DigestFinal_ex(ctx_.get(), digest.data(), &length) != 1)
-      throw std::runtime_error("OpenSSL: SHA-256 final failed");
+    XXH128_canonical_t c;
+    XXH128_canonicalFromHash(&c, XXH3_128bits_digest(state_.get()));
     static const char* kHex = "0123456789abcdef";
     std::string out;
-    for (unsigned int i = 0; i < length; ++i) {
-      out.push_back(kHex[digest[i] >> 4]);
-      out.push_back(kHex[digest[i] & 15]);
+    for (unsigned char b : c.digest) {
+      out.push_back(kHex[b >> 4]);
+      out.push_back(kHex[b & 15]);
     }
     return out;
   }
 
  private:
-  std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> ctx_;
+  std::unique_ptr<XXH3_state_t, XXH_errorcode (*)(XXH3_state_t*)> state_;
 };
 
 std::string UtcNow() {
@@ -74,17 +74,17 @@ Provenance StartProvenance(std::vector<std::string> command, nlohmann::json opti
   return p;
 }
 
-std::string Sha256Of(const std::string& bytes) {
-  Sha256 h;
+std::string Xxh3Of(const std::string& bytes) {
+  Xxh3 h;
   h.Add(bytes.data(), bytes.size());
   return h.Hex();
 }
 
-std::string Sha256OfFile(const std::string& path) {
+std::string Xxh3OfFile(const std::string& path) {
   RequireRegularFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open for hashing");
-  Sha256 h;
+  Xxh3 h;
   std::vector<char> block(1 << 20);
   while (in) {
     in.read(block.data(), static_cast<std::streamsize>(block.size()));
@@ -101,7 +101,7 @@ void AddProvenanceInput(Provenance* provenance, const std::string& path, const s
     if (i.path == shown) return;
   ProvenanceInput input;
   input.path = shown;
-  input.sha256 = Sha256OfFile(path);
+  input.xxh3_128 = Xxh3OfFile(path);
   std::error_code ec;
   input.bytes = std::filesystem::file_size(path, ec);
   provenance->inputs.push_back(input);
@@ -114,7 +114,7 @@ nlohmann::ordered_json ProvenanceToJson(const Provenance& p) {
   j["command"] = p.command;
   j["options"] = p.options;
   nlohmann::ordered_json inputs = nlohmann::ordered_json::array();
-  for (const ProvenanceInput& i : p.inputs) inputs.push_back({{"path", i.path}, {"sha256", i.sha256}, {"bytes", i.bytes}});
+  for (const ProvenanceInput& i : p.inputs) inputs.push_back({{"path", i.path}, {"xxh3_128", i.xxh3_128}, {"bytes", i.bytes}});
   j["inputs"] = inputs;
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - p.started).count();
   j["run"] = {{"started_utc", p.started_utc},
@@ -178,7 +178,7 @@ std::string ProvenanceMarkdown(const Provenance& p) {
   md += "- ramtk " + p.version + ", commit " + p.git_commit + "\n";
   md += "- command: `" + ShellCommandLine(p.command) + "`\n";
   for (const ProvenanceInput& i : p.inputs)
-    md += "- input `" + i.path + "`: " + std::to_string(i.bytes) + " bytes, SHA-256 " + i.sha256 + "\n";
+    md += "- input `" + i.path + "`: " + std::to_string(i.bytes) + " bytes, XXH3-128 " + i.xxh3_128 + "\n";
   md += "- run: started " + p.started_utc + " on " + p.host + " in " + p.working_directory + "\n\n";
   md += "Effective options:\n\n```json\n" + p.options.dump(2) + "\n```\n";
   return md;

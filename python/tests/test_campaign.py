@@ -78,7 +78,7 @@ def test_robot_calibration_matches_the_command(cli, scratch):
                               progress=lambda stage, done, total: steps.append(stage))
     expected = json.loads((scratch / "calib_cli" / "calibration.json").read_text())
     written = json.loads((scratch / "calib_py" / "calibration.json").read_text())
-    assert written.pop("provenance")["inputs"][1]["sha256"] == expected.pop("provenance")["inputs"][1]["sha256"]
+    assert written.pop("provenance")["inputs"][1]["xxh3_128"] == expected.pop("provenance")["inputs"][1]["xxh3_128"]
     assert r.calibration == expected == written
     assert (scratch / "calib_py" / "robot.yaml").read_text().split("\n", 3)[3] == \
         (scratch / "calib_cli" / "robot.yaml").read_text().split("\n", 3)[3]

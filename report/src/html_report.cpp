@@ -119,7 +119,7 @@ void HtmlReport::AddProvenance(const Provenance& p) {
   std::vector<std::pair<std::string, std::string>> rows = {{"ramtk", p.version + " (commit " + p.git_commit + ")"},
                                                            {"command", ShellCommandLine(p.command)}};
   for (const ProvenanceInput& i : p.inputs)
-    rows.push_back({"input " + i.path, std::to_string(i.bytes) + " bytes, SHA-256 " + i.sha256});
+    rows.push_back({"input " + i.path, std::to_string(i.bytes) + " bytes, XXH3-128 " + i.xxh3_128});
   rows.push_back({"run", "started " + p.started_utc + " on " + p.host + " in " + p.working_directory});
   KeyValues(rows);
   body_ += "<pre class=\"provenance-options\">" + EscapeHtml(p.options.dump(2)) + "</pre>\n";

@@ -1,4 +1,4 @@
-// The provenance block: SHA-256 against the FIPS 180-2 examples, the block appended to a JSON
+// The provenance block: XXH3-128 against xxhsum's digests, the block appended to a JSON
 // text without touching what is there, the run group apart, shell quoting.
 #include "ramtk/core/provenance.h"
 
@@ -12,16 +12,15 @@
 namespace ramtk {
 namespace {
 
-TEST(Provenance, Sha256MatchesTheStandardExamples) {
-  // FIPS 180-2, appendix B.1 and B.2; the empty message.
-  EXPECT_EQ(Sha256Of("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_EQ(Sha256Of("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
-            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(Sha256Of(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+// The digests below are what xxHash's own command line prints (`xxhsum -H2`, xxHash 0.8.1).
+TEST(Provenance, Xxh3MatchesXxhsum) {
+  EXPECT_EQ(Xxh3Of(""), "99aa06d3014798d86001c324468d497f");
+  EXPECT_EQ(Xxh3Of("abc"), "06b05ab6733a618578af5f94892f3950");
+  EXPECT_EQ(Xxh3Of("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"), "3d62d22a5169b016c0d894fd4828a1a7");
 }
 
 TEST(Provenance, FileHashReadsEveryBlock) {
-  // One million 'a' (FIPS 180-2 B.3) spans the reader's 1 MiB block boundary.
+  // One million 'a' and 1 MiB of 'b' span the reader's 1 MiB block boundary.
   const std::string path = (std::filesystem::temp_directory_path() / "ramtk_provenance_a.bin").string();
   std::ofstream(path, std::ios::binary) << std::string(1000000, 'a') << std::string(1 << 20, 'b');
   Provenance p;
@@ -30,11 +29,12 @@ TEST(Provenance, FileHashReadsEveryBlock) {
   ASSERT_EQ(p.inputs.size(), 1u);
   EXPECT_EQ(p.inputs[0].path, "data/a.bin");
   EXPECT_EQ(p.inputs[0].bytes, 1000000u + (1u << 20));
-  EXPECT_EQ(p.inputs[0].sha256, Sha256Of(std::string(1000000, 'a') + std::string(1 << 20, 'b')));
+  EXPECT_EQ(p.inputs[0].xxh3_128, "621197f7197349bac2789462314fd0b4");
+  EXPECT_EQ(p.inputs[0].xxh3_128, Xxh3Of(std::string(1000000, 'a') + std::string(1 << 20, 'b')));
   std::ofstream(path, std::ios::binary) << std::string(1000000, 'a');
-  EXPECT_EQ(Sha256OfFile(path), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  EXPECT_EQ(Xxh3OfFile(path), "a545df8e384a9579b1fd6fae5285c4eb");
   std::filesystem::remove(path);
-  EXPECT_THROW(Sha256OfFile(path), InputError);
+  EXPECT_THROW(Xxh3OfFile(path), InputError);
 }
 
 TEST(Provenance, BlockIsAppendedAsTheLastMember) {

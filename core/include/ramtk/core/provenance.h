@@ -1,6 +1,6 @@
 #pragma once
 // How an output was made: the ramtk version and git commit, the command line, the effective
-// options, the input files with their SHA-256, and the run's circumstances (start time, host,
+// options, the input files with their hashes (XXH3-128), and the run's circumstances (start time, host,
 // working folder, elapsed time). Every summary/result JSON and report ramtk writes carries this
 // block as its member "provenance" (docs/formats.md#provenance). The command line and options are
 // filled by the program (tools/); a library writer receives a Provenance value and never reads
@@ -25,7 +25,7 @@ std::string RamtkGitCommit();
 
 struct ProvenanceInput {
   std::string path;       // as given (relative paths against the run's working folder)
-  std::string sha256;     // lower-case hex of the file's SHA-256
+  std::string xxh3_128;   // lower-case hex of the file's XXH3-128 (as `xxhsum -H2` prints it)
   std::uintmax_t bytes = 0;
 };
 
@@ -46,19 +46,20 @@ struct Provenance {
 // filled, with `command` and `options` as given.
 Provenance StartProvenance(std::vector<std::string> command, nlohmann::json options);
 
-// Adds `path` with its SHA-256 and size. A path already listed is not added again. InputError
+// Adds `path` with its XXH3-128 and size. A path already listed is not added again. InputError
 // naming the file when it cannot be read (RequireRegularFile).
 // `recorded_as` (when not empty) is the path written instead of `path` (a path relative to an
 // output folder, for a file read through another path).
 void AddProvenanceInput(Provenance* provenance, const std::string& path, const std::string& recorded_as = "");
 
-// SHA-256 of a file's bytes as lower-case hex (OpenSSL's libcrypto, read in 1 MiB blocks);
-// InputError naming the file when it cannot be read.
-std::string Sha256OfFile(const std::string& path);
-// SHA-256 of bytes as lower-case hex.
-std::string Sha256Of(const std::string& bytes);
+// XXH3-128 of a file's bytes (xxHash; read in 1 MiB blocks) as lower-case hex, the digest
+// `xxhsum -H2` prints; InputError naming the file when it cannot be read. A fast non-cryptographic
+// hash (tens of GB/s): it tells whether an input changed, it does not authenticate it.
+std::string Xxh3OfFile(const std::string& path);
+// XXH3-128 of bytes as lower-case hex.
+std::string Xxh3Of(const std::string& bytes);
 
-// The block: {"ramtk_version", "git_commit", "command", "options", "inputs": [{"path", "sha256",
+// The block: {"ramtk_version", "git_commit", "command", "options", "inputs": [{"path", "xxh3_128",
 // "bytes"}], "run": {"started_utc", "host", "working_directory", "elapsed_s"}}; elapsed_s is the
 // time since `started` when this is called.
 nlohmann::ordered_json ProvenanceToJson(const Provenance& provenance);

@@ -31,7 +31,7 @@ class HtmlReport {
   void AddCloud(const std::string& id, const Cloud3d& cloud, const std::string& caption);
   // A PNG inlined as a data URI in an <img> with the given id. Throws when the file cannot be read.
   void AddImage(const std::string& id, const std::string& png_path, const std::string& caption);
-  // A "Provenance" section: version, commit, command line, inputs with their SHA-256, the run
+  // A "Provenance" section: version, commit, command line, inputs with their XXH3-128, the run
   // (start, host, folder) and the effective options as preformatted JSON (docs/formats.md).
   void AddProvenance(const Provenance& provenance);
   // Links to data files (paths relative to the report).
