@@ -50,19 +50,27 @@ struct ScanCommandOptions {
   bool load_whole_frames = false;                          // --roi: load frames whole, not by rows
 };
 
-// The options that change a set's results, recorded in each batch set's row.csv: --resume keeps
-// only sets scanned with the same. --jobs, --quiet, --report and --load-whole-frames do not
-// change results.
-std::string ResultSettings(const ScanCommandOptions& o) {
-  std::ostringstream s;
-  s.precision(12);  // finer than any option is given on a command line
-  s << "calib=" << o.calib << ";radius=" << o.radius << ";fix_radius=" << o.fix_radius << ";spheres=" << o.spheres
-    << ";depth=" << o.min_depth << ".." << o.max_depth << ";reference_decode=" << o.hooks.reference_decode
-    << ";full_search=" << o.hooks.full_search << ";curve_back_pass=" << o.hooks.curve_back_pass
-    << ";no_nonlinearity=" << o.no_nonlinearity << ";whole_residual_sigma=" << o.whole_residual_sigma
-    << ";phase_filter=" << o.phase_filter << ";lr_sigma_factor=" << o.lr_sigma_factor << ";roi=" << o.roi
-    << ";roi_margin=" << o.roi_margin << ";roi_stride=" << o.roi_stride;
-  return s.str();
+// The options that change a set's results (row.csv of each batch set; --resume compares them).
+// --jobs, --quiet, --report and --load-whole-frames do not change results.
+vision::ScanResultSettings ResultSettings(const ScanCommandOptions& o) {
+  vision::ScanResultSettings s;
+  s.calib = o.calib;
+  s.radius = o.radius;
+  s.fix_radius = o.fix_radius;
+  s.spheres = o.spheres;
+  s.min_depth = o.min_depth;
+  s.max_depth = o.max_depth;
+  s.reference_decode = o.hooks.reference_decode;
+  s.full_search = o.hooks.full_search;
+  s.curve_back_pass = o.hooks.curve_back_pass;
+  s.no_nonlinearity = o.no_nonlinearity;
+  s.whole_residual_sigma = o.whole_residual_sigma;
+  s.phase_filter = o.phase_filter;
+  s.lr_sigma_factor = o.lr_sigma_factor;
+  s.roi = o.roi;
+  s.roi_margin = o.roi_margin;
+  s.roi_stride = o.roi_stride;
+  return s;
 }
 
 // Without --force or --resume a batch changes nothing that an earlier run wrote: it refuses up
@@ -142,7 +150,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
     ScanBatchReuse reuse;
     reuse.overwrite = opt.force;
     reuse.resume = opt.resume;
-    reuse.settings = ResultSettings(opt);
+    reuse.settings = ResultSettings(opt).ToString();
     reuse.provenance = [&provenance](const std::string&, const std::string&) { return provenance; };
     const auto started = std::chrono::steady_clock::now();
     const std::vector<ScanBatchRow> rows =

@@ -29,22 +29,25 @@
 namespace ramtk::python {
 namespace {
 
-// The options that change a set's results, in the form `ramtk scan --batch` records them in each
-// set's row.csv (tools/vision_scan_command.cpp, ResultSettings): resume keeps a set only when
-// they are equal, so a batch resumed from Python keeps the sets the command finished and back.
-std::string ResultSettings(const py::dict& o) {
-  std::ostringstream s;
-  s.precision(12);
-  auto b = [&](const char* k) { return o[k].cast<bool>(); };
-  auto d = [&](const char* k) { return o[k].cast<double>(); };
-  s << "calib=" << o["calibration"].cast<std::string>() << ";radius=" << d("radius")
-    << ";fix_radius=" << b("fix_radius") << ";spheres=" << o["spheres"].cast<int>() << ";depth=" << d("min_depth")
-    << ".." << d("max_depth") << ";reference_decode=0;full_search=0;curve_back_pass=0"  // test hooks, never set from Python
-    << ";no_nonlinearity=" << b("no_nonlinearity")
-    << ";whole_residual_sigma=" << b("whole_residual_sigma") << ";phase_filter=" << o["phase_filter"].cast<int>()
-    << ";lr_sigma_factor=" << d("lr_sigma_factor") << ";roi=" << o["roi"].cast<std::string>()
-    << ";roi_margin=" << d("roi_margin") << ";roi_stride=" << o["roi_stride"].cast<int>();
-  return s.str();
+// The options that change a set's results, as `ramtk scan --batch` records them in each set's
+// row.csv: resume keeps a set only when they are equal, so a batch resumed from Python keeps the
+// sets the command finished and back. The test hooks are never set from Python.
+vision::ScanResultSettings ResultSettings(const py::dict& o) {
+  vision::ScanResultSettings s;
+  s.calib = o["calibration"].cast<std::string>();
+  s.radius = o["radius"].cast<double>();
+  s.fix_radius = o["fix_radius"].cast<bool>();
+  s.spheres = o["spheres"].cast<int>();
+  s.min_depth = o["min_depth"].cast<double>();
+  s.max_depth = o["max_depth"].cast<double>();
+  s.no_nonlinearity = o["no_nonlinearity"].cast<bool>();
+  s.whole_residual_sigma = o["whole_residual_sigma"].cast<bool>();
+  s.phase_filter = o["phase_filter"].cast<int>();
+  s.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
+  s.roi = o["roi"].cast<std::string>();
+  s.roi_margin = o["roi_margin"].cast<double>();
+  s.roi_stride = o["roi_stride"].cast<int>();
+  return s;
 }
 
 py::dict ScanBatch(const std::string& batch, const std::string& out, const py::dict& options, int jobs,
@@ -84,7 +87,7 @@ py::dict ScanBatch(const std::string& batch, const std::string& out, const py::d
   vision::ScanBatchReuse reuse;
   reuse.overwrite = force;
   reuse.resume = resume;
-  reuse.settings = ResultSettings(options);
+  reuse.settings = ResultSettings(options).ToString();
   ProgressBridge bridge(progress);
   std::vector<vision::ScanBatchRow> rows;
   vision::ScanBatchSummary totals;

@@ -21,6 +21,18 @@
 #include "ramtk/vision/fringe/manifest.h"
 
 namespace ramtk::vision {
+
+std::string ScanResultSettings::ToString() const {
+  std::ostringstream s;
+  s.precision(12);  // finer than any option is given on a command line
+  s << "calib=" << calib << ";radius=" << radius << ";fix_radius=" << fix_radius << ";spheres=" << spheres
+    << ";depth=" << min_depth << ".." << max_depth << ";reference_decode=" << reference_decode
+    << ";full_search=" << full_search << ";curve_back_pass=" << curve_back_pass
+    << ";no_nonlinearity=" << no_nonlinearity << ";whole_residual_sigma=" << whole_residual_sigma
+    << ";phase_filter=" << phase_filter << ";lr_sigma_factor=" << lr_sigma_factor << ";roi=" << roi
+    << ";roi_margin=" << roi_margin << ";roi_stride=" << roi_stride;
+  return s.str();
+}
 namespace fs = std::filesystem;
 std::vector<ScanBatchEntry> ReadScanBatchEntries(const std::string& path) {
   std::istringstream in(ReadTextFile(path));

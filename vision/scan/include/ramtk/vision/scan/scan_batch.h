@@ -26,6 +26,26 @@ struct ScanBatchRow {
   std::vector<std::string> kept_cells;
 };
 
+// The options that change a set's results, as the command line names them; ToString() is the
+// text recorded in each batch set's row.csv (ScanBatchReuse::settings), so a batch resumed by
+// `ramtk scan --batch --resume` or from Python keeps a set only when they are equal.
+struct ScanResultSettings {
+  std::string calib;  // --calib as given ("" when the manifests name their own)
+  double radius = 0.0;
+  bool fix_radius = false;
+  int spheres = 1;
+  double min_depth = 0.0, max_depth = 0.0;
+  bool reference_decode = false, full_search = false, curve_back_pass = false;  // test hooks
+  bool no_nonlinearity = false;
+  bool whole_residual_sigma = false;
+  int phase_filter = 0;
+  double lr_sigma_factor = 0.0;
+  std::string roi;
+  double roi_margin = 0.0;
+  int roi_stride = 0;
+  std::string ToString() const;
+};
+
 // How a batch treats the results of earlier runs in its folder.
 struct ScanBatchReuse {
   bool overwrite = false;  // rescan every set, replacing its folder (--force)
