@@ -18,6 +18,7 @@
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/scan/scan.h"
 #include "ramtk/vision/scan/scan_batch.h"
+#include "ramtk/vision/scan/scan_output_formats.h"
 #include "ramtk/vision/scan/scan_report.h"
 
 namespace ramtk::tools {
@@ -205,8 +206,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
           1000 * (r.radius_mm - t.radius));
     }
   }
-  std::cout << "wrote " << opt.out << " (cloud.ply, spheres.json, depth.png, summary.json"
-            << (opt.report ? ", report.html" : "") << ")\n";
+  std::cout << "wrote " << opt.out << " (" << vision::ScanOutputFileList(opt.report) << ")\n";
   return result.summary.spheres.spheres.empty() ? kExitNoSolution : kExitOk;
 }
 
@@ -252,9 +252,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
       ->capture_default_str();
+  const vision::ScanOutputFormat& report_row = vision::ScanOutputFormatNamed("report");
   sub->add_flag("--report", opt->report,
-                "Also write report.html: one self-contained page (summary, sphere table, 3D view of the points "
-                "around the sphere with its fit, residual and depth pictures). With --batch: one page for the batch");
+                "Also write " + report_row.file + ": " + report_row.help + ". With --batch: one page for the batch");
   sub->add_option("--roi", opt->roi,
                   "Decode and match only windows around the ball: full (every pixel), auto (a coarse pass over "
                   "every few pixels finds the ball first; the full frame if it finds none), or X,Y,Z = a predicted "

@@ -198,7 +198,9 @@ StereoCalibration ParseStereoCalibration(const std::string& text, const std::str
   // The keys are looked up by name: a top level that is a list or a scalar has none.
   if (root.kind != Kind::kMap)
     throw InputError({path, root.line, ""}, "the top level is not a map of keys (K1, D1, R, T, ...)");
-  return ReadCalibrationKeys(root, path);
+  StereoCalibration calibration = ReadCalibrationKeys(root, path);
+  calibration.source_path = path;
+  return calibration;
 }
 
 namespace {

@@ -325,8 +325,10 @@ void BindVision(py::module_& m) {
            double full_scale, const py::dict& options, const py::object& progress) {
           const vision::FringeManifest mf = vision::ParseFringeManifest(sequence_text, sequence_path);
           const std::vector<cv::Mat> l = FramesOf(left), r = FramesOf(right);
+          camera::StereoCalibration named = calibration;
+          named.source_path = calibration_path;
           return RunScan(options, progress, [&](const vision::ScanOptions& o) {
-            return vision::ScanFrames(mf, calibration, l, r, full_scale, o, calibration_path);
+            return vision::ScanFrames(mf, named, l, r, full_scale, o);
           });
         });
   m.def("fit_sphere",

@@ -89,8 +89,9 @@ TEST(ScanPipeline, CalibrationOfAnotherImageSizeIsRejectedNamingTheField) {
   const auto s = SimulateAndDecode(c);
   StereoCalibration wrong = WrittenCalibration(c);
   wrong.right.width = 1280;
+  wrong.source_path = "calib.yml";  // the errors name the calibration's file
   try {
-    ScanDecoded(wrong, s.left, s.right, s.period, ScanOptions{}, "calib.yml");
+    ScanDecoded(wrong, s.left, s.right, s.period, ScanOptions{});
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "calib.yml");

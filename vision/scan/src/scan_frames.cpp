@@ -3,12 +3,20 @@
 
 #include <tbb/parallel_for.h>
 
+#include <chrono>
+
 #include "ramtk/vision/scan/scan_roi.h"
 
 namespace ramtk::vision::detail {
 
 std::vector<cv::Mat> SetFrames::Read(int camera, const cv::Rect& window, int stride) const {
   const auto& files = files_[camera];
+  if (load_ && !load_done_[camera]) {
+    const auto t0 = std::chrono::steady_clock::now();
+    loaded_[camera] = load_(camera, &full_scale_);
+    load_done_[camera] = true;
+    load_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
   if (files.empty()) {
     const std::vector<cv::Mat>& f = loaded_[camera];
     const bool whole = !f.empty() && window == cv::Rect(0, 0, f[0].cols, f[0].rows);

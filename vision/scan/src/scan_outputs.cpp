@@ -1,8 +1,7 @@
-// A scan's output folder (scan.h): cloud.ply, depth.png, spheres.json, summary.json and the
-// report, staged in a temporary folder and moved into place as a unit; the depth picture.
+// A scan's output folder (scan.h): the rows of the output table (scan_output_formats.h) written
+// into a temporary folder and moved into place as a unit; the depth picture.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <filesystem>
 #include <limits>
@@ -12,13 +11,10 @@
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/image/image_file.h"
-#include "ramtk/report/gnuplot.h"
 #include "ramtk/vision/scan/scan.h"
-#include "ramtk/vision/scan/scan_report.h"
+#include "ramtk/vision/scan/scan_output_formats.h"
 
 namespace ramtk::vision {
-
-namespace fs = std::filesystem;
 
 DepthPicture DepthPictureOf(const cv::Mat& depth) {
   CV_Assert(depth.type() == CV_32F);
@@ -98,24 +94,22 @@ std::function<void(const PointCloud&, const cv::Mat&)> ScanOutputWriter::OnCloud
 }
 
 void ScanOutputWriter::WriteCloud(const PointCloud& cloud, const cv::Mat& depth) {
-  const fs::path& tmp = impl_->staged.path();
   impl_->cloud_points = -1;
-  // cloud.ply (on a thesis frame 128 MB for the kernel to copy, ~0.2 s) and the depth picture
-  // are independent files: written side by side.
-  tbb::parallel_invoke([&] { WritePly((tmp / "cloud.ply").string(), cloud, impl_->comment); },
-                       [&] {
-                         if (depth.empty()) return;
-                         const std::vector<unsigned char> png = DepthPreviewPng(depth);
-                         WriteFileAtomically((tmp / "depth.png").string(), [&](std::ostream& out) {
-                           out.write(reinterpret_cast<const char*>(png.data()),
-                                     static_cast<std::streamsize>(png.size()));
-                         });
-                       });
+  ScanOutputContext c;
+  c.folder = impl_->staged.path().string();
+  c.cloud = &cloud;
+  c.depth = &depth;
+  c.comment = impl_->comment;
+  // The cloud's files side by side (cloud.ply is, on a thesis frame, 128 MB for the kernel to
+  // copy, ~0.2 s; the depth picture is independent of it).
+  std::vector<const ScanOutputFormat*> rows;
+  for (const ScanOutputFormat& f : ScanOutputFormats())
+    if (f.stage == ScanOutputStage::kCloud) rows.push_back(&f);
+  tbb::parallel_for(std::size_t{0}, rows.size(), [&](std::size_t i) { rows[i]->write(c); });
   impl_->cloud_points = static_cast<long>(cloud.size());
 }
 
 void ScanOutputWriter::Finish(const ScanResult& result, bool html_report) {
-  const fs::path& tmp = impl_->staged.path();
   if (impl_->cloud_points != static_cast<long>(result.cloud.size())) {
     // With windows (--roi) the picture shows the left window only: the rest holds no point.
     const cv::Rect w = result.summary.windows.left;
@@ -124,20 +118,15 @@ void ScanOutputWriter::Finish(const ScanResult& result, bool html_report) {
                           w.size() != result.depth.size();
     WriteCloud(result.cloud, windowed ? result.depth(w) : result.depth);
   }
-  const Provenance& provenance = impl_->provenance;
-  // spheres.json is the folder's science payload, the same bytes however the set was scanned (one
-  // run, a batch, a shard); the folder's provenance is in summary.json beside it.
-  WriteSphereFitJson((tmp / "spheres.json").string(), result.summary.spheres, kScanFrame);
-  WriteFileAtomically((tmp / "summary.json").string(), WithProvenance(ScanSummaryToJson(result.summary), provenance));
-  if (html_report) {
-    for (size_t k = 0; k < result.summary.spheres.spheres.size(); ++k) {
-      const report::Figure f = SphereResidualFigure(result, static_cast<int>(k));
-      if (!report::FindGnuplot().empty()) report::WritePng(f, (tmp / (f.id + ".png")).string());
-    }
-    report::HtmlReport page = ScanReport(result, result.depth.empty() ? "" : (tmp / "depth.png").string());
-    page.AddProvenance(provenance);
-    page.Write((tmp / "report.html").string());
-  }
+  ScanOutputContext c;
+  c.folder = impl_->staged.path().string();
+  c.cloud = &result.cloud;
+  c.depth = &result.depth;
+  c.result = &result;
+  c.provenance = &impl_->provenance;
+  c.comment = impl_->comment;
+  for (const ScanOutputFormat& f : ScanOutputFormats())
+    if (f.stage == ScanOutputStage::kResult && (html_report || !f.report_only)) f.write(c);
   impl_->staged.Commit();
 }
 

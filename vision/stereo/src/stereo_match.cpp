@@ -140,11 +140,11 @@ void SetStereoMatchTestHooks(const StereoMatchTestHooks& hooks) {
 }  // namespace detail
 
 StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
-                        double period, const StereoMatchOptions& options, const std::string& calibration_path) {
+                        double period, const StereoMatchOptions& options) {
   ThrowIfInvalid(options.Validate(), "StereoMatchOptions");
   const detail::StereoMatchTestHooks hooks = detail::CurrentStereoMatchTestHooks();
-  CheckSize(calibration.left, left, "left", calibration_path);
-  CheckSize(calibration.right, right, "right", calibration_path);
+  CheckSize(calibration.left, left, "left", calibration.source_path);
+  CheckSize(calibration.right, right, "right", calibration.source_path);
   if (!(period > 0)) throw InputError({"", 0, "period"}, "the fringe period must be > 0");
   const detail::RectifiedPair rectified =
       hooks.rectified_back_pass ? detail::MakeRectifiedPair(calibration) : detail::RectifiedPair{};

@@ -1,5 +1,5 @@
 // The match's walk on four lanes (stereo_walk_lanes.h). Each step names the scalar function whose
-// expressions it repeats (stereo_match.cpp, Matcher); the products and sums keep their order.
+// expressions it repeats (stereo_matcher.h and the headers beside it, Matcher); the products and sums keep their order.
 #include "ramtk/vision/stereo/detail/stereo_walk_lanes.h"
 
 #include <immintrin.h>
@@ -70,7 +70,7 @@ RAMTK_AVX2_INLINE __m128i Lanes32(int mask) {
 }
 
 // The offsets v0 * stride + u0 of four cells (whole u0, v0; lanes off the mask: 0, a cell every
-// map has). LanesWalk (stereo_match.cpp) keeps the maps within int offsets.
+// map has). LanesWalk (stereo_walk.cpp) keeps the maps within int offsets.
 RAMTK_AVX2_INLINE __m128i Offsets(__m256d u0, __m256d v0, int stride, int mask) {
   const __m128i off =
       _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(v0), _mm_set1_epi32(stride)), _mm256_cvttpd_epi32(u0));

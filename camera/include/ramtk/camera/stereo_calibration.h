@@ -40,6 +40,9 @@ struct StereoCalibration {
   std::vector<double> per_view_errors_px;                    // RMS per calibration view, pixels
   std::vector<double> parameter_std;                         // std devs of the estimated parameters
                                                              // (from `ramtk calib cameras`: kCalibParameterStdOrder)
+  // The file it was read from (ReadStereoCalibration, ParseStereoCalibration's `path`): errors
+  // about it name this file. Empty when built in memory.
+  std::string source_path;
 };
 
 // The order of parameter_std when it comes from a `ramtk calib cameras` file (its std_intrinsics1,

@@ -121,12 +121,12 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
 // `manifest` gives the pattern sequence; its paths are not read.
 ScanResult ScanFrames(const FringeManifest& manifest, const StereoCalibration& calibration,
                       const std::vector<cv::Mat>& left_frames, const std::vector<cv::Mat>& right_frames,
-                      double full_scale, const ScanOptions& options, const std::string& calibration_path = "");
+                      double full_scale, const ScanOptions& options);
 
 // The stages after decoding, on cameras already decoded (tests, benchmarks). `period` is the
 // finest fringe period in projector px.
 ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
-                       double period, const ScanOptions& options, const std::string& calibration_path = "");
+                       double period, const ScanOptions& options);
 
 // The depth picture as palette indices: z over the points' range on 255 levels of the turbo
 // colour ramp, near = index 255 (red end), far = index 1 (blue end); index 0 = no point (black).

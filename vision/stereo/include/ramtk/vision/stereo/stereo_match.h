@@ -113,8 +113,8 @@ struct StereoMatch {
 };
 
 // Matches the decoded left camera into the decoded right camera. InputError (file = the
-// calibration's path if given) if an image size differs from the calibration's.
+// calibration's source_path) if an image size differs from the calibration's.
 StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
-                        double period, const StereoMatchOptions& options, const std::string& calibration_path = "");
+                        double period, const StereoMatchOptions& options);
 
 }  // namespace ramtk::vision

@@ -1,5 +1,5 @@
 #pragma once
-// The back-match reach (stereo_match.cpp, BackReach) of eight cells at once on CPUs with AVX2:
+// The back-match reach (stereo_back_reach.cpp, BackReach) of eight cells at once on CPUs with AVX2:
 // the common cell (four finite back matches close together) and its box of source pixels, as
 // the scalar loop computes them (tests/vision/stereo_back_reach_test.cpp compares the reach maps
 // with the lanes on and off).

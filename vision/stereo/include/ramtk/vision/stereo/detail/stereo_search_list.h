@@ -1,5 +1,5 @@
 #pragma once
-// The pixels of a source row the stereo match searches (stereo_match.cpp, RunPass): valid (mask
+// The pixels of a source row the stereo match searches (stereo_walk.cpp, RunPass): valid (mask
 // set, finite coordinate), not noisy (coordinate sigma within the pass's limit) and, with the
 // left-right check's reach map, reachable by some back match. Listed once per row before the
 // walk, eight pixels at a time on CPUs with AVX2; the walk then goes from entry to entry.

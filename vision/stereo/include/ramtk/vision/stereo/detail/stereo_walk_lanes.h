@@ -19,7 +19,7 @@
 namespace ramtk::vision::detail {
 
 // What the walk reads of a pass (fixed for the pass): the destination camera, its maps, the
-// depth range and the left-right check's back matches (Pass in stereo_match.cpp).
+// depth range and the left-right check's back matches (Pass in stereo_pass.h).
 struct WalkMaps {
   double t[3] = {0, 0, 0};  // dst_from_src translation, mm
   double fx = 1, fy = 1, cx = 0, cy = 0;
@@ -66,7 +66,7 @@ struct WalkLanes {
   // The settled pixels' outputs as RunPass writes them: the right pixel, the match sigma (px)
   // and, with WalkMaps::points, the depth, x, y and point sigma (mm).
   float out_u[4], out_v[4], out_sigma[4], out_depth[4], out_x[4], out_y[4], out_point_sigma[4];
-  // The same before rounding to float (the tests compare them with stereo_match.cpp's Outputs).
+  // The same before rounding to float (the tests compare them with stereo_walk.cpp's Outputs).
   double out_sigma_d[4], out_x_d[4], out_y_d[4], out_point_sigma_d[4];
 };
 

@@ -20,7 +20,7 @@ struct StereoMatchTestHooks {
   // a whole frame); it finds the same crossings as the pruned search (ctest StereoFullSearch.*).
   bool exhaustive_search = false;
   // With the left-right check: a left pixel that no right pixel's own match can accept (none
-  // lands within the check's tolerance of it, BackReach in stereo_match.cpp) is not searched and
+  // lands within the check's tolerance of it, BackReach in stereo_back_reach.cpp) is not searched and
   // is counted in rejected_no_back_match: any crossing would fail the check. The matches are the
   // same either way (ctest StereoBackReach.*). false: search them.
   bool skip_without_back_match = true;
