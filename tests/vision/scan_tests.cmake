@@ -18,10 +18,12 @@ ramtk_add_gtest(vision_scan_tests
   stereo_search_list_test.cpp
   scan_shard_test.cpp
   scan_roi_test.cpp
-  scan_depth_picture_test.cpp)
+  scan_depth_picture_test.cpp
+  scan_output_formats_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
 target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
-target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
+target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output"
+  RAMTK_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 
 # `ramtk scan` as a user runs it: the bundled default set with its truth, and bad input that
 # must fail naming the file and field with nothing written.
