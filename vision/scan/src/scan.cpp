@@ -328,7 +328,7 @@ ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration&
   whole.options = &options;
   auto t0 = std::chrono::steady_clock::now();
   RoiWindows w = FindWindows(whole);
-  const double roi_s = Seconds(t0);
+  const double roi_s = roi.mode == ScanRoiOptions::Mode::kFull ? 0.0 : Seconds(t0);  // no windows to find
   const ScanOptions windowed_options = detail::WindowedPassOptions(options, calibration, w.around);
   if (!w.fallback_why.empty() && !roi.fall_back_to_full) return NoWindow(w, frames, roi_s, calibration);
   const bool windowed = !(w.windows.left == whole.windows.left && w.windows.right == whole.windows.right);

@@ -113,6 +113,148 @@ double RobustScale(const std::vector<Eigen::Vector3f>& points, const PointValues
   return 1.4826 * Median(std::move(z));
 }
 
+// The finite points' indices in order, with their sigma in *sigma_out (1 unweighted); InputError
+// naming the first point whose sigma is not finite and > 0.
+std::vector<int> ActivePoints(const std::vector<Eigen::Vector3f>& points, const std::vector<float>& sigma_mm,
+                              bool weighted, PointValues* sigma_out) {
+  PointValues& sigma = *sigma_out;
+  const int n = static_cast<int>(points.size());
+  std::vector<int> active;
+  active.reserve(points.size());
+  // The finite points in order, in parallel chunks joined in order; a bad sigma is reported at
+  // its first index, as one pass would.
+  constexpr int kChunk = 1 << 16;
+  const int chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<int>> chunk_active(chunks);
+  std::vector<int> first_bad(chunks, -1);
+  tbb::parallel_for(0, chunks, [&](int c) {
+    const int end = std::min(n, (c + 1) * kChunk);
+    chunk_active[c].reserve(static_cast<std::size_t>(end - c * kChunk));
+    for (int i = c * kChunk; i < end; ++i) {
+      if (!points[i].allFinite()) continue;
+      if (weighted) {
+        if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0)) {
+          first_bad[c] = i;
+          return;
+        }
+        sigma[i] = sigma_mm[i];
+      } else {
+        sigma[i] = 1.0;
+      }
+      chunk_active[c].push_back(i);
+    }
+  });
+  for (int c = 0; c < chunks; ++c) {
+    if (first_bad[c] >= 0) {
+      const int i = first_bad[c];
+      throw InputError({"", 0, "sigma_mm[" + std::to_string(i) + "]"},
+                       "must be finite and > 0, got " + std::to_string(sigma_mm[i]));
+    }
+    active.insert(active.end(), chunk_active[c].begin(), chunk_active[c].end());
+  }
+  std::vector<std::vector<int>>().swap(chunk_active);
+  return active;
+}
+
+// The active points' median sigma (0 unweighted).
+double MedianSigma(const std::vector<float>& sigma_mm, const std::vector<int>& active, bool weighted) {
+  // The element nth_element would put in the middle, from a parallel histogram of the float
+  // sigmas (rank_select.h): of all of them when every point is active (a scan's cloud), else of
+  // the active points' copy.
+  double median_sigma = 0;
+  if (weighted && !active.empty()) {
+    std::vector<float> subset;
+    if (active.size() != sigma_mm.size())
+      for (int i : active) subset.push_back(sigma_mm[i]);
+    const std::vector<float>& s = subset.empty() ? sigma_mm : subset;
+    median_sigma = detail::ValuesAtRanks(s, {s.size() / 2})[0];
+  }
+  return median_sigma;
+}
+
+// The active points near `candidate`, in order: those within `band` of it (*in_band) and those
+// within 5 band (*near).
+void PointsNear(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& active, const Candidate& candidate,
+                double band, std::vector<int>* in_band_out, std::vector<int>* near_out) {
+  constexpr int kChunk = 1 << 16;
+  std::vector<int>& in_band = *in_band_out;
+  std::vector<int>& near = *near_out;
+  // The RANSAC band and a wider shell the robust fit sorts out, in parallel chunks of the active
+  // list, joined in order.
+  const int count = static_cast<int>(active.size());
+  const int parts = (count + kChunk - 1) / kChunk;
+  std::vector<std::vector<int>> part_near(parts), part_band(parts);
+  tbb::parallel_for(0, parts, [&](int c) {
+    const int end = std::min(count, (c + 1) * kChunk);
+    sphere_internal::SplitByDistance(points, active.data() + c * kChunk, end - c * kChunk, candidate.centre,
+                                     candidate.radius, 5 * band, band, &part_near[c], &part_band[c]);
+  });
+  for (int c = 0; c < parts; ++c) {
+    near.insert(near.end(), part_near[c].begin(), part_near[c].end());
+    in_band.insert(in_band.end(), part_band[c].begin(), part_band[c].end());
+  }
+}
+
+// The inliers seen within max_view_angle_deg of the sphere's normal from the viewpoint, in order
+// (along_ray: the normal where the point's ray meets the sphere).
+std::vector<int> SeenInliers(const std::vector<Eigen::Vector3f>& points, const std::vector<int>& inliers,
+                             const GeometricFit& rough, const SphereFitOptions& options, bool along_ray) {
+  const double min_cos = std::cos(options.max_view_angle_deg * M_PI / 180.0);
+  std::vector<int> kept = KeepInOrder(inliers, [&](int i) {
+    const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
+    Eigen::Vector3d normal = (points[i].cast<double>() - rough.centre).normalized();
+    if (along_ray) {
+      // The angle where the point's ray meets the sphere: it depends on the ray only, not on
+      // how far along it the noise put the point. A cut on the noisy point's own normal keeps
+      // points by the sign of their noise near the limit, which biased the fit (+17 um radius
+      // in SphereFitAlongRay.*).
+      const Eigen::Vector3d w = rough.centre - options.viewpoint_mm;
+      const double b = sight.dot(w);
+      const double disc = b * b - w.squaredNorm() + rough.radius * rough.radius;
+      if (disc <= 0) return false;  // the ray misses the sphere: grazing
+      normal = (options.viewpoint_mm + (b - std::sqrt(disc)) * sight - rough.centre).normalized();
+    }
+    return -sight.dot(normal) >= min_cos;
+  });
+  return kept;
+}
+
+// The fit's figures at its solution: RMS, worst residual, variance factor, covariance.
+void SetFitFigures(const std::vector<Eigen::Vector3f>& points, const PointValues& sigma, const PointValues& sigma_n,
+                   const std::vector<int>& inliers, const GeometricFit& fit, const SphereFitOptions& options,
+                   bool weighted, bool along_ray, SphereResult* result_out) {
+  SphereResult& result = *result_out;
+  const int num_params = options.fix_radius ? 3 : 4;
+  // Normal matrix J^T W J at the solution; residual derivative wrt (c, R) is -(u, 1) / sigma.
+  Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
+  double chi2 = 0, sum_r2 = 0, worst = 0;
+  for (int i : inliers) {
+    const Eigen::Vector3d d = points[i].cast<double>() - fit.centre;
+    const double dist = d.norm();
+    const double r = dist - fit.radius;
+    Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
+    double z = r / sigma_n[i];
+    if (along_ray)
+      z = sphere_internal::AlongRayResidual(points[i].cast<double>(), sigma[i], options.viewpoint_mm, fit.centre,
+                                            fit.radius, &g);
+    normal.noalias() += g * g.transpose();
+    chi2 += z * z;
+    sum_r2 += r * r;
+    worst = std::max(worst, std::abs(r));
+  }
+  result.rms_mm = std::sqrt(sum_r2 / static_cast<double>(inliers.size()));
+  result.worst_mm = worst;
+  result.variance_factor = chi2 / static_cast<double>(inliers.size() - num_params);
+  const double factor = (options.scale_covariance || !weighted) ? result.variance_factor : 1.0;
+  if (options.fix_radius) {
+    result.centre_covariance_mm2 = normal.topLeftCorner<3, 3>().inverse() * factor;
+  } else {
+    const Eigen::Matrix4d cov = normal.inverse() * factor;
+    result.centre_covariance_mm2 = cov.topLeftCorner<3, 3>();
+    result.radius_sigma_mm = std::sqrt(std::max(0.0, cov(3, 3)));
+  }
+}
+
 }  // namespace
 
 std::string SphereFitOptions::Validate() const {
@@ -156,45 +298,11 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
                                               std::to_string(points_mm.size()) + " points");
   SphereFitSummary summary;
   summary.input_points = static_cast<int>(points_mm.size());
-  const int n = static_cast<int>(points_mm.size());
   // The points are read as given (float; each use casts to double, exactly): a double copy of
   // a thesis frame's 6.4 M points was 150 MB.
   const std::vector<Eigen::Vector3f>& points = points_mm;
   PointValues sigma(points_mm.size());  // set at the active points below
-  std::vector<int> active;
-  active.reserve(points_mm.size());
-  // The finite points in order, in parallel chunks joined in order; a bad sigma is reported at
-  // its first index, as one pass would.
-  constexpr int kChunk = 1 << 16;
-  const int chunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::vector<int>> chunk_active(chunks);
-  std::vector<int> first_bad(chunks, -1);
-  tbb::parallel_for(0, chunks, [&](int c) {
-    const int end = std::min(n, (c + 1) * kChunk);
-    chunk_active[c].reserve(static_cast<std::size_t>(end - c * kChunk));
-    for (int i = c * kChunk; i < end; ++i) {
-      if (!points[i].allFinite()) continue;
-      if (weighted) {
-        if (!(std::isfinite(sigma_mm[i]) && sigma_mm[i] > 0)) {
-          first_bad[c] = i;
-          return;
-        }
-        sigma[i] = sigma_mm[i];
-      } else {
-        sigma[i] = 1.0;
-      }
-      chunk_active[c].push_back(i);
-    }
-  });
-  for (int c = 0; c < chunks; ++c) {
-    if (first_bad[c] >= 0) {
-      const int i = first_bad[c];
-      throw InputError({"", 0, "sigma_mm[" + std::to_string(i) + "]"},
-                       "must be finite and > 0, got " + std::to_string(sigma_mm[i]));
-    }
-    active.insert(active.end(), chunk_active[c].begin(), chunk_active[c].end());
-  }
-  std::vector<std::vector<int>>().swap(chunk_active);
+  std::vector<int> active = ActivePoints(points, sigma_mm, weighted, &sigma);
 
   double radius_lo = options.min_radius_mm, radius_hi = options.max_radius_mm;
   if (options.radius_mm > 0) {
@@ -202,17 +310,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     radius_hi = options.radius_mm + options.radius_tolerance_mm;
   }
   // The points' median sigma (once: a thesis frame has 6.4 M points).
-  // The element nth_element would put in the middle, from a parallel histogram of the float
-  // sigmas (rank_select.h): of all of them when every point is active (a scan's cloud), else of
-  // the active points' copy.
-  double median_sigma = 0;
-  if (weighted && !active.empty()) {
-    std::vector<float> subset;
-    if (active.size() != sigma_mm.size())
-      for (int i : active) subset.push_back(sigma_mm[i]);
-    const std::vector<float>& s = subset.empty() ? sigma_mm : subset;
-    median_sigma = detail::ValuesAtRanks(s, {s.size() / 2})[0];
-  }
+  const double median_sigma = MedianSigma(sigma_mm, active, weighted);
   double band = options.inlier_threshold_mm;
   if (band <= 0) {
     band = weighted ? 5.0 * median_sigma : 0.1;
@@ -227,7 +325,6 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
                                  weighted && options.noise_model != PointNoiseModel::kIsotropic};
   PointValues sigma_n(points.size());  // set at the points near each candidate (Evaluate)
   std::mt19937_64 rng(options.seed);
-  const int num_params = options.fix_radius ? 3 : 4;
 
   while (static_cast<int>(summary.spheres.size()) < options.max_spheres) {
     const Candidate candidate =
@@ -242,23 +339,8 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
                                  " mm, fewer than min_points " + std::to_string(options.min_points);
       break;
     }
-    // Points near the candidate: the RANSAC band and a wider shell the robust fit sorts out
-    // (in parallel chunks of the active list, joined in order).
     std::vector<int> in_band, near;
-    {
-      const int count = static_cast<int>(active.size());
-      const int parts = (count + kChunk - 1) / kChunk;
-      std::vector<std::vector<int>> part_near(parts), part_band(parts);
-      tbb::parallel_for(0, parts, [&](int c) {
-        const int end = std::min(count, (c + 1) * kChunk);
-        sphere_internal::SplitByDistance(points, active.data() + c * kChunk, end - c * kChunk, candidate.centre,
-                                         candidate.radius, 5 * band, band, &part_near[c], &part_band[c]);
-      });
-      for (int c = 0; c < parts; ++c) {
-        near.insert(near.end(), part_near[c].begin(), part_near[c].end());
-        in_band.insert(in_band.end(), part_band[c].begin(), part_band[c].end());
-      }
-    }
+    PointsNear(points, active, candidate, band, &in_band, &near);
     double radius0 = options.fix_radius ? options.radius_mm : candidate.radius;
     normal_sigma.Evaluate(near, candidate.centre, &sigma_n);
     double scale = std::max(RobustScale(points, sigma_n, in_band, candidate.centre, candidate.radius), min_scale);
@@ -291,23 +373,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     const std::vector<int> classified = inliers;
     int grazing = 0;
     if (options.max_view_angle_deg > 0) {
-      const double min_cos = std::cos(options.max_view_angle_deg * M_PI / 180.0);
-      std::vector<int> kept = KeepInOrder(inliers, [&](int i) {
-        const Eigen::Vector3d sight = (points[i].cast<double>() - options.viewpoint_mm).normalized();
-        Eigen::Vector3d normal = (points[i].cast<double>() - rough.centre).normalized();
-        if (along_ray) {
-          // The angle where the point's ray meets the sphere: it depends on the ray only, not on
-          // how far along it the noise put the point. A cut on the noisy point's own normal keeps
-          // points by the sign of their noise near the limit, which biased the fit (+17 um radius
-          // in SphereFitAlongRay.*).
-          const Eigen::Vector3d w = rough.centre - options.viewpoint_mm;
-          const double b = sight.dot(w);
-          const double disc = b * b - w.squaredNorm() + rough.radius * rough.radius;
-          if (disc <= 0) return false;  // the ray misses the sphere: grazing
-          normal = (options.viewpoint_mm + (b - std::sqrt(disc)) * sight - rough.centre).normalized();
-        }
-        return -sight.dot(normal) >= min_cos;
-      });
+      std::vector<int> kept = SeenInliers(points, inliers, rough, options, along_ray);
       grazing = static_cast<int>(inliers.size() - kept.size());
       if (static_cast<int>(kept.size()) < options.min_points) {
         summary.no_sphere_reason = "only " + std::to_string(kept.size()) + " of the sphere's points are seen within " +
@@ -339,34 +405,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     result.solver_iterations = fit.iterations;
     result.initial_cost = fit.initial_cost;
     result.final_cost = fit.final_cost;
-    // Normal matrix J^T W J at the solution; residual derivative wrt (c, R) is -(u, 1) / sigma.
-    Eigen::Matrix4d normal = Eigen::Matrix4d::Zero();
-    double chi2 = 0, sum_r2 = 0, worst = 0;
-    for (int i : inliers) {
-      const Eigen::Vector3d d = points[i].cast<double>() - fit.centre;
-      const double dist = d.norm();
-      const double r = dist - fit.radius;
-      Eigen::Vector4d g = Eigen::Vector4d(d.x() / dist, d.y() / dist, d.z() / dist, 1.0) / sigma_n[i];
-      double z = r / sigma_n[i];
-      if (along_ray)
-        z = sphere_internal::AlongRayResidual(points[i].cast<double>(), sigma[i], options.viewpoint_mm, fit.centre,
-                                              fit.radius, &g);
-      normal.noalias() += g * g.transpose();
-      chi2 += z * z;
-      sum_r2 += r * r;
-      worst = std::max(worst, std::abs(r));
-    }
-    result.rms_mm = std::sqrt(sum_r2 / static_cast<double>(inliers.size()));
-    result.worst_mm = worst;
-    result.variance_factor = chi2 / static_cast<double>(inliers.size() - num_params);
-    const double factor = (options.scale_covariance || !weighted) ? result.variance_factor : 1.0;
-    if (options.fix_radius) {
-      result.centre_covariance_mm2 = normal.topLeftCorner<3, 3>().inverse() * factor;
-    } else {
-      const Eigen::Matrix4d cov = normal.inverse() * factor;
-      result.centre_covariance_mm2 = cov.topLeftCorner<3, 3>();
-      result.radius_sigma_mm = std::sqrt(std::max(0.0, cov(3, 3)));
-    }
+    SetFitFigures(points, sigma, sigma_n, inliers, fit, options, weighted, along_ray, &result);
     result.inlier_indices = inliers;
     // Remove this sphere's inliers and look for the next.
     std::vector<char> used(points.size(), 0);
