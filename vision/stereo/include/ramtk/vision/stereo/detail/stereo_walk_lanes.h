@@ -1,5 +1,5 @@
 #pragma once
-// The match's walk (stereo_match.cpp, RunPass: a search from the left neighbour's inverse depth,
+// The match's walk (stereo_walk.cpp, RunPass: a search from the left neighbour's inverse depth,
 // then Matcher::Accept) for four source pixels at once, one per lane, on CPUs with AVX2. Both
 // searches: along the epipolar curves (Matcher::LocalSearch, the left-to-right pass) and along
 // the rectified rows (Matcher::RectLocalSearch and RectRoot, the back pass).
