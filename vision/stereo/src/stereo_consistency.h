@@ -10,6 +10,7 @@
 #include "stereo_matcher.h"
 
 namespace ramtk::vision::detail {
+namespace {  // internal to stereo_walk.cpp, the one file that includes it
 
 // Same surface point: the modulations agree (a matte surface sends the same radiance to both
 // cameras), and the destination position's own match back in the source image lands on the
@@ -59,4 +60,5 @@ inline bool Matcher::Consistent(const Vec2& dst_pix, double su, double sv) const
   return Sq(bu[k] - su) + Sq(bv[k] - sv) <= Sq(tolerance + 1.0);
 }
 
+}  // namespace
 }  // namespace ramtk::vision::detail

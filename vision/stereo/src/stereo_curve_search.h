@@ -11,6 +11,7 @@
 #include "stereo_matcher.h"
 
 namespace ramtk::vision::detail {
+namespace {  // internal to stereo_walk.cpp, the one file that includes it
 
 // Whether two sign bounds (TileSign's values) allow no pair of opposite sign between them.
 inline bool CompatibleSigns(int s1, int s2) { return s1 == s2 || s1 == 2 || s2 == 2; }
@@ -273,4 +274,5 @@ inline void Matcher::FullSearch(std::vector<Root>* roots) const {
   }
 }
 
+}  // namespace
 }  // namespace ramtk::vision::detail

@@ -10,6 +10,7 @@
 #include "stereo_matcher.h"
 
 namespace ramtk::vision::detail {
+namespace {  // internal to stereo_walk.cpp, the one file that includes it
 
 // The crossing of the bilinear surface along the line pix + vel * s (s in units of w) nearest
 // to s = 0 on the side where |f| falls, at most max_px pixels away. Within one cell the
@@ -121,4 +122,5 @@ inline bool Matcher::LocalSearch(double w0, Root* root) const {
   return true;
 }
 
+}  // namespace
 }  // namespace ramtk::vision::detail

@@ -14,6 +14,7 @@
 #include "stereo_pass.h"
 
 namespace ramtk::vision::detail {
+namespace {  // internal to stereo_walk.cpp, the one file that includes it
 
 struct Matcher {
   const Pass& p;
@@ -274,4 +275,5 @@ inline void Matcher::NextSample(double w, const Sample& sk, Sample* prev, double
   *w_prev = w;
 }
 
+}  // namespace
 }  // namespace ramtk::vision::detail

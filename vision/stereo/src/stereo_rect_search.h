@@ -10,6 +10,7 @@
 #include "stereo_matcher.h"
 
 namespace ramtk::vision::detail {
+namespace {  // internal to stereo_walk.cpp, the one file that includes it
 
 // The source ray r = rect_from_src (ideal, 1) in the rectified frame, given as f r_x / r_z,
 // f r_y / r_z and r_z (UndistortChains); false if it points behind the rectified cameras.
@@ -131,4 +132,5 @@ inline void Matcher::RectFullSearch(std::vector<Root>* roots) const {
   }
 }
 
+}  // namespace
 }  // namespace ramtk::vision::detail

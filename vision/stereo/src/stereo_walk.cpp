@@ -23,6 +23,7 @@
 #include "stereo_rect_search.h"
 
 namespace ramtk::vision::detail {
+namespace {
 
 // One source row's walk in RunPass: its cursor, seeds, counts and output rows.
 struct RowWalk {
@@ -404,6 +405,8 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
     out->sigma_parts.push_back(std::move(sigmas));
   }
 }
+
+}  // namespace
 
 // Runs one pass over `rows`; returns false if cancelled.
 bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, const std::string& stage) {
