@@ -450,7 +450,7 @@ bool RunPass(const Pass& p, PassResult* out, const StereoMatchOptions& options, 
       for (std::vector<double>& w : w_buf) w.resize(W);
       std::vector<float> sigma_buf[4];  // the rows' sigmas without a map (Pass::sigma_map)
       if (!p.sigma_map)
-        for (std::vector<float>& b : sigma_buf) b.resize(W);
+        for (std::vector<float>& buf : sigma_buf) buf.resize(W);
       detail::FillNaN(w_buf[0].data(), W);  // the row above the block's first (the others: RowWalk::Start)
       const int yb = r0 + b * kBlock, ye = std::min(r1, yb + kBlock);
       // The block's source rays first: the pixels each row will search (valid, not noisy,
