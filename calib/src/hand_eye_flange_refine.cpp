@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <utility>
@@ -22,7 +24,9 @@ struct PoseResidual {
   Vec3 t_flange;
   Eigen::Quaterniond q_meas;  // camera_from_board, measured
   Vec3 t_meas;
-  double inv_sigma_rot, inv_sigma_t;
+  // Whitening of the raw residual [rotation (rad); translation (mm)]: L⁻¹ of its covariance L·Lᵀ
+  // (diagonal 1/σ_rot, 1/σ_t for one noise level for all poses).
+  Eigen::Matrix<double, 6, 6> whiten;
   // false: camera on the flange, parameters (X = flange_from_camera, Z = base_from_board) and
   // camera_from_board = X⁻¹ F⁻¹ Z. true: camera on a stand, parameters (C = camera_from_base,
   // B = flange_from_board) and camera_from_board = C F B.
@@ -51,9 +55,12 @@ struct PoseResidual {
       for (T& v : wxyz) v = -v;
     T aa[3];
     ceres::QuaternionToAngleAxis(wxyz, aa);
-    for (int k = 0; k < 3; ++k) r[k] = aa[k] * T(inv_sigma_rot);
     const V dt = t_meas.cast<T>() - t_pred;
-    for (int k = 0; k < 3; ++k) r[3 + k] = dt[k] * T(inv_sigma_t);
+    const T raw[6] = {aa[0], aa[1], aa[2], dt[0], dt[1], dt[2]};
+    for (int i = 0; i < 6; ++i) {
+      r[i] = T(0);
+      for (int k = 0; k < 6; ++k) r[i] += T(whiten(i, k)) * raw[k];
+    }
     return true;
   }
 };
@@ -63,23 +70,44 @@ struct Solved {
   Vec3 tx, tz;
   ceres::Solver::Summary summary;
   double rot_ss = 0, trans_ss = 0;  // unwhitened residual sums of squares (rad², mm²)
+  double chi2 = 0;                  // whitened sum of squares
   Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
   bool cov_ok = false;
 };
 
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+Mat6 IsotropicWhitening(double sigma_rot_rad, double sigma_mm) {
+  Mat6 w = Mat6::Zero();
+  for (int k = 0; k < 3; ++k) w(k, k) = 1.0 / sigma_rot_rad, w(3 + k, 3 + k) = 1.0 / sigma_mm;
+  return w;
+}
+
+// L⁻¹ of each pose's covariance L·Lᵀ; empty unless every pose has a positive definite one.
+std::vector<Mat6> PoseWhitening(const std::vector<FlangeCameraObservation>& obs) {
+  std::vector<Mat6> w;
+  for (const FlangeCameraObservation& o : obs) {
+    const Eigen::LLT<Mat6> llt(o.camera_from_board_covariance);
+    if (o.camera_from_board_covariance.isZero(0) || llt.info() != Eigen::Success) return {};
+    w.push_back(Mat6(llt.matrixL()).inverse());
+  }
+  return w;
+}
+
 Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x0, const Isometry3& z0,
-             double sigma_rot_rad, double sigma_mm, int max_iterations, bool covariance, bool stand) {
+             const std::vector<Mat6>& whiten, int max_iterations, bool covariance, bool stand) {
   Solved s;
   s.qx = Eigen::Quaterniond(x0.linear()).normalized();
   s.qz = Eigen::Quaterniond(z0.linear()).normalized();
   s.tx = x0.translation();
   s.tz = z0.translation();
   ceres::Problem problem;
-  for (const FlangeCameraObservation& o : obs) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const FlangeCameraObservation& o = obs[i];
     auto* cost = new ceres::AutoDiffCostFunction<PoseResidual, 6, 4, 3, 4, 3>(
         new PoseResidual{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
                          Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                         o.camera_from_board.translation(), 1.0 / sigma_rot_rad, 1.0 / sigma_mm, stand});
+                         o.camera_from_board.translation(), whiten[i], stand});
     problem.AddResidualBlock(cost, nullptr, s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data());
   }
   problem.SetManifold(s.qx.coeffs().data(), new ceres::EigenQuaternionManifold);
@@ -87,17 +115,19 @@ Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x
   ceres::Solve(DenseSolverOptions({max_iterations, 1e-14, 1e-14, 1e-16}), &problem, &s.summary);
   s.qx.normalize();
   s.qz.normalize();
-  for (const FlangeCameraObservation& o : obs) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const FlangeCameraObservation& o = obs[i];
     double r[6];
-    const PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(),
-                          o.base_from_flange.translation(),
-                          Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                          o.camera_from_board.translation(),
-                          1.0,
-                          1.0,
-                          stand};
+    PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(),
+                    o.base_from_flange.translation(),
+                    Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
+                    o.camera_from_board.translation(),
+                    Mat6::Identity(),
+                    stand};
     pr(s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data(), r);
     for (int k = 0; k < 3; ++k) s.rot_ss += r[k] * r[k], s.trans_ss += r[3 + k] * r[3 + k];
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> raw(r);
+    s.chi2 += (whiten[i] * raw).squaredNorm();
   }
   if (covariance && s.summary.IsSolutionUsable()) {
     ceres::Covariance::Options co;
@@ -129,6 +159,10 @@ std::string EyeInHandRefineOptions::Validate() const {
 
 namespace {
 
+std::pair<Isometry3, Isometry3> FinishRefinement(const Solved& s, const std::vector<FlangeCameraObservation>& obs,
+                                                 const Isometry3& x_init, const Isometry3& z_init, double sigma_rot,
+                                                 double sigma_t, bool pose_covariance, EyeInHandRefinement* out);
+
 // The shared refinement: the two unknowns (x, z) as in PoseResidual, their initial values, the
 // initial residual RMS for the first weights. Fills *out and returns the refined (x, z).
 std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x_init,
@@ -145,12 +179,20 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
   *out = EyeInHandRefinement();
   double sigma_rot = DegToRad(options.sigma_deg), sigma_t = options.sigma_mm;
   Isometry3 x0 = x_init, z0 = z_init;
+  const std::vector<Mat6> pose_whitening =
+      options.use_pose_covariance && sigma_rot <= 0 ? PoseWhitening(obs) : std::vector<Mat6>();
+  if (!pose_whitening.empty()) {
+    // Each pose weighed by its own covariance; the closed form is first refined with them.
+    const Solved s = Solve(obs, x0, z0, pose_whitening, options.max_iterations, true, stand);
+    return FinishRefinement(s, obs, x_init, z_init, 0, 0, true, out);
+  }
   if (sigma_rot <= 0) {
     // First fit with the initial residuals' RMS as weights, then each noise from its own
     // residuals (3n − 6 degrees of freedom apiece: 12 parameters over 6n equations).
     sigma_rot = std::max(DegToRad(rms_rotation_deg) / std::sqrt(3.0), 1e-9);
     sigma_t = std::max(rms_translation_mm / std::sqrt(3.0), 1e-9);
-    const Solved first = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, false, stand);
+    const Solved first = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(sigma_rot, sigma_t)),
+                               options.max_iterations, false, stand);
     const double dof = std::max(1, 3 * n - 6);
     sigma_rot = std::max(std::sqrt(first.rot_ss / dof), 1e-12);
     sigma_t = std::max(std::sqrt(first.trans_ss / dof), 1e-12);
@@ -158,18 +200,32 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
     z0.linear() = first.qz.toRotationMatrix(), z0.translation() = first.tz;
     out->noise_estimated = true;
   }
-  const Solved s = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, true, stand);
+  const Solved s = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(sigma_rot, sigma_t)),
+                         options.max_iterations, true, stand);
+  return FinishRefinement(s, obs, x_init, z_init, sigma_rot, sigma_t, false, out);
+}
+
+// Fills *out from the final solve and returns the refined (x, z). With per-pose covariances the
+// covariance is scaled by the variance factor χ²/(6n − 12) when it exceeds 1: residuals beyond
+// the poses' own noise (the robot's pose error) widen it; it is never narrowed.
+std::pair<Isometry3, Isometry3> FinishRefinement(const Solved& s, const std::vector<FlangeCameraObservation>& obs,
+                                                 const Isometry3& x_init, const Isometry3& z_init, double sigma_rot,
+                                                 double sigma_t, bool pose_covariance, EyeInHandRefinement* out) {
   out->converged = s.summary.termination_type == ceres::CONVERGENCE;
   out->iterations = CeresIterations(s.summary);
   out->initial_cost = s.summary.initial_cost;
   out->final_cost = s.summary.final_cost;
-  out->sigma_deg = RadToDeg(sigma_rot);
-  out->sigma_mm = sigma_t;
+  const int dof = std::max<int>(1, 6 * static_cast<int>(obs.size()) - 12);
+  out->pose_covariance = pose_covariance;
+  out->variance_factor = s.chi2 / dof;
+  const double scale = pose_covariance ? std::max(1.0, out->variance_factor) : 1.0;
+  out->sigma_deg = pose_covariance ? RadToDeg(std::sqrt(s.rot_ss / (3.0 * obs.size()))) : RadToDeg(sigma_rot);
+  out->sigma_mm = pose_covariance ? std::sqrt(s.trans_ss / (3.0 * obs.size())) : sigma_t;
   if (s.cov_ok) {
-    out->flange_from_camera_covariance = s.cov;
+    out->flange_from_camera_covariance = scale * s.cov;
     for (int k = 0; k < 3; ++k) {
-      out->rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, s.cov(k, k))));
-      out->translation_sigma_mm[k] = std::sqrt(std::max(0.0, s.cov(3 + k, 3 + k)));
+      out->rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, scale * s.cov(k, k))));
+      out->translation_sigma_mm[k] = std::sqrt(std::max(0.0, scale * s.cov(3 + k, 3 + k)));
     }
   }
   if (!s.summary.IsSolutionUsable()) return {x_init, z_init};
@@ -211,7 +267,7 @@ HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, 
   std::vector<FlangeCameraObservation> f;
   double sr = 0, st = 0;
   for (const StandCameraObservation& o : obs) {
-    f.push_back({o.base_from_flange, o.camera_from_board});
+    f.push_back(o);
     const Isometry3 pred = initial.camera_from_base * o.base_from_flange * initial.flange_from_board;
     sr += std::pow(RadToDeg(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle()), 2);
     st += (o.camera_from_board.translation() - pred.translation()).squaredNorm();
@@ -250,6 +306,8 @@ nlohmann::json RefinementJson(const EyeInHandRefinement& f, const std::string& p
       {"noise_sigma_deg", f.sigma_deg},
       {"noise_sigma_mm", f.sigma_mm},
       {"noise_estimated_from_residuals", f.noise_estimated},
+      {"weights", f.pose_covariance ? "each pose's covariance (from its image)" : "one noise level for all poses"},
+      {"variance_factor", f.variance_factor},
       {pose + "_rotation_sigma_deg", {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
       {pose + "_translation_sigma_mm",
        {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},
