@@ -1,5 +1,6 @@
 // ramtk calib cameras: single or stereo camera calibration from board images (ramtk::calib).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "ramtk/calib/camera_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/natural_sort.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/image/image_file.h"
 
@@ -31,10 +33,15 @@ struct CamerasCommandOptions {
 };
 
 // The board-pose file of --poses-out: the (left) camera's used views, named by file.
+// `pose` is the image's number in the folder's natural order (1, 2, 10): the flange pose it pairs with.
 std::string BoardPosesCsv(const calib::CameraCalibrationResult& r, const std::vector<calib::ViewPoints>& views,
-                          const calib::CameraCalibrationOptions& co) {
+                          const calib::CameraCalibrationOptions& co, std::vector<std::string> files) {
+  SortNaturally(&files);
   std::vector<calib::BoardPoseEstimate> poses = calib::BoardPosesFromCalibration(r, views, co);
-  for (calib::BoardPoseEstimate& p : poses) p.name = std::filesystem::path(p.name).filename().string();
+  for (calib::BoardPoseEstimate& p : poses) {
+    p.pose = static_cast<int>(std::find(files.begin(), files.end(), p.name) - files.begin()) + 1;
+    p.name = std::filesystem::path(p.name).filename().string();
+  }
   return calib::FormatBoardPoseEstimates(
       poses, "camera_from_board per used view (x,y,z mm; KUKA a,b,c deg) with its covariance cov_ij in\n"
              "[rotation vector (deg, applied on the left, camera frame); translation (mm)] from the calibration's "
@@ -77,7 +84,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
                 : calib::CalibrateCamera(left, size, co, &summary);
     yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr);
     picture = calib::DrawCoverage(r, kept(left, left_sector));
-    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(r, kept(left, left_sector), co);
+    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(r, kept(left, left_sector), co, left_files);
   } else {
     const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
     if (right_files.size() != left_files.size()) {
@@ -92,7 +99,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
                                                          &summary, &corners)
                 : calib::CalibrateStereo(left, right, size, co, &summary);
     yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr);
-    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(st.left, kept(left, left_sector), co);
+    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(st.left, kept(left, left_sector), co, left_files);
     cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
                 calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
   }

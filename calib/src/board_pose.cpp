@@ -246,7 +246,7 @@ std::string FormatBoardPoseEstimates(const std::vector<BoardPoseEstimate>& poses
   std::vector<std::vector<std::string>> rows;
   for (std::size_t p = 0; p < poses.size(); ++p) {
     const BoardPoseEstimate& e = poses[p];
-    std::vector<std::string> row = {std::to_string(p + 1), e.name};
+    std::vector<std::string> row = {std::to_string(e.pose > 0 ? e.pose : static_cast<int>(p) + 1), e.name};
     for (int k = 0; k < 3; ++k) row.push_back(FormatFixed(e.camera_from_board.translation()[k], 6));
     const KukaAbc abc = KukaAbcFromRotation(e.camera_from_board.linear());
     for (double v : {abc.a, abc.b, abc.c}) row.push_back(FormatFixed(RadToDeg(v), 9));

@@ -369,13 +369,23 @@ std::vector<FlangePoseObservation> ReadCameraPosesWithFlange(const std::string& 
   const CsvTable t = ReadCsv(path);
   const BoardColumns board(t);
   const CovarianceColumns covariance(t);
-  if (t.size() != base_from_flange.size())
+  const int pose = t.Column("pose", false);
+  if (pose < 0 && t.size() != base_from_flange.size())
     throw InputError({path, 0, "poses"}, std::to_string(t.size()) + " camera poses, but " +
                                              std::to_string(base_from_flange.size()) + " flange poses");
   std::vector<FlangePoseObservation> obs;
   for (std::size_t r = 0; r < t.size(); ++r) {
     FlangePoseObservation o;
-    o.base_from_flange = base_from_flange[r];
+    std::size_t index = r;
+    if (pose >= 0) {
+      const long long number = t.Integer(r, pose);
+      if (number < 1 || number > static_cast<long long>(base_from_flange.size()))
+        throw InputError({path, t.line_numbers[r], "pose"}, "pose " + std::to_string(number) + " is not one of the " +
+                                                                std::to_string(base_from_flange.size()) +
+                                                                " flange poses");
+      index = static_cast<std::size_t>(number - 1);
+    }
+    o.base_from_flange = base_from_flange[index];
     o.camera_from_board = board.Pose(t, r);
     o.camera_from_board_covariance = covariance.Covariance(t, r);
     obs.push_back(o);

@@ -22,6 +22,7 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 struct BoardPoseEstimate {
   std::string name;                                     // image file or view label
+  int pose = 0;  // 1-based number of the robot pose (image) it belongs to; 0: its place in the list
   Isometry3 camera_from_board = Isometry3::Identity();  // mm
   Mat6 covariance = Mat6::Zero();                       // [ω (rad, left, camera frame); t (mm)]
   int points = 0;                                       // features used
@@ -70,7 +71,7 @@ std::vector<BoardPoseEstimate> BoardPosesFromCalibration(const CameraCalibration
                                                          const std::vector<ViewPoints>& views,
                                                          const CameraCalibrationOptions& options);
 
-// Board-pose file (CSV with a header): pose, image, x, y, z (mm), a, b, c (KUKA A,B,C deg), points,
+// Board-pose file (CSV with a header): pose (BoardPoseEstimate::pose, or the row number), image, x, y, z (mm), a, b, c (KUKA A,B,C deg), points,
 // rms_px, then the 21 upper-triangle entries cov_ij (0 ≤ i ≤ j ≤ 5) of the covariance in
 // [ω (deg); t (mm)]. The camera columns are those of the hand-eye pose files, which take the
 // covariance columns as per-view weights (ReadFlangePoseObservations).

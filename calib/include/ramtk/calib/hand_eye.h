@@ -129,8 +129,9 @@ std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string&
 std::vector<Isometry3> ReadFlangePoses(const std::string& path, const std::string& flange_units = "mm",
                                        const kinematics::RobotModel* model = nullptr);
 // Camera poses alone (x,y,z,a,b,c and the optional covariance columns), e.g. a board-pose file of
-// `calib cameras --poses-out`, paired row by row with `base_from_flange`. InputError (field
-// "poses") when the counts differ.
+// `calib cameras --poses-out`, paired with `base_from_flange`: by its `pose` column (1-based
+// flange pose number) when it has one, else row by row. InputError (field "poses") for a pose
+// number beyond the flange poses, or (row by row) when the counts differ.
 std::vector<FlangePoseObservation> ReadCameraPosesWithFlange(const std::string& path,
                                                              const std::vector<Isometry3>& base_from_flange);
 
