@@ -10,6 +10,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <map>
 #include <opencv2/calib3d.hpp>
 
@@ -18,6 +21,7 @@
 #include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/calib/hand_eye_images.h"
+#include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 
 namespace ramtk::calib {
@@ -281,6 +285,41 @@ TEST(BoardPose, JacobianMatchesFiniteDifferences) {
       EXPECT_NEAR(j(2 * i + 1, k), (a[i].y - b[i].y) / (2 * h), 1e-4 * scale) << k << " " << i;
     }
   }
+}
+
+
+// Flange poses one matrix per line: 4×4 with tabs, 3×4 with commas, a comment; metres → mm.
+TEST(FlangePoseFile, MatrixPerLineReadsInEitherShape) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ramtk_flange_matrix_test";
+  std::filesystem::create_directories(dir);
+  const Isometry3 a = Pose(Vec3(1205.0, -808.0, 524.0), Vec3(0.3, -0.2, 1.0), 40.0);
+  const Isometry3 b = Pose(Vec3(900.0, 100.0, 700.0), Vec3(1.0, 0.5, 0.0), 75.0);
+  auto row = [](const Isometry3& p, int rows, const char* sep) {
+    std::ostringstream s;
+    s.precision(12);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < 4; ++j)
+        s << (i < 3 && j == 3 ? p(i, j) / 1000.0 : p(i, j)) << (i == rows - 1 && j == 3 ? "\n" : sep);
+    return s.str();
+  };
+  const std::string good = (dir / "poses.txt").string();
+  std::ofstream(good) << "# base_from_flange, metres\n" << row(a, 4, "\t") << "\n" << row(b, 3, ", ");
+  const std::vector<Isometry3> poses = ReadFlangePoses(good, "m");
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_LT((poses[0].matrix() - a.matrix()).cwiseAbs().maxCoeff(), 1e-8);
+  EXPECT_LT((poses[1].matrix() - b.matrix()).cwiseAbs().maxCoeff(), 1e-8);
+  // Metres read as millimetres: every flange within 20 mm of the base.
+  EXPECT_THROW(ReadFlangePoses(good, "mm"), InputError);
+  const std::string bad = (dir / "bad.txt").string();
+  std::ofstream(bad) << row(a, 4, " ") << "1 0 0 1 0 1 0 2 0 0 1 3 0 0 0\n";
+  try {
+    ReadFlangePoses(bad, "m");
+    ADD_FAILURE() << "15 numbers accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, 2);
+    EXPECT_NE(std::string(e.what()).find("16 (4x4) or 12 (3x4)"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
