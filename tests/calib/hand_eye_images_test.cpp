@@ -21,6 +21,7 @@
 #include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/calib/hand_eye_images.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 
@@ -175,7 +176,7 @@ void CheckWithinSigma(const std::vector<Eigen::Matrix<double, 6, 1>>& errors,
   EXPECT_LT(scatter.TransRms(), 1.25) << what;
 }
 
-TEST(HandEyeImages, CameraOnFlangeWithinThreeSigmaOfTruth) {
+void CheckCameraOnFlange() {
   std::vector<Eigen::Matrix<double, 6, 1>> errors;
   std::vector<Eigen::Matrix<double, 6, 6>> covariances;
   std::map<std::string, MethodErrors> table;
@@ -199,7 +200,7 @@ TEST(HandEyeImages, CameraOnFlangeWithinThreeSigmaOfTruth) {
   CheckWithinSigma(errors, covariances, "flange_from_camera");
 }
 
-TEST(HandEyeImages, CameraOnStandWithinThreeSigmaOfTruth) {
+void CheckCameraOnStand() {
   std::vector<Eigen::Matrix<double, 6, 1>> errors;
   std::vector<Eigen::Matrix<double, 6, 6>> covariances;
   std::map<std::string, MethodErrors> table;
@@ -227,7 +228,7 @@ TEST(HandEyeImages, CameraOnStandWithinThreeSigmaOfTruth) {
 
 // Each view's board pose: PnP with the true intrinsics, and the calibration's own (intrinsics
 // estimated from the same views, their uncertainty included), against the truth.
-TEST(HandEyeImages, BoardPoseCovarianceMatchesTheScatter) {
+void CheckBoardPoses() {
   Scatter pnp, calibrated;
   for (int seed = 0; seed < kSeeds; ++seed) {
     const std::vector<ViewPoints>& views = Sessions()[seed].views;
@@ -250,6 +251,22 @@ TEST(HandEyeImages, BoardPoseCovarianceMatchesTheScatter) {
     EXPECT_LT(s->RotRms(), 1.25);
     EXPECT_GT(s->TransRms(), 0.8);
     EXPECT_LT(s->TransRms(), 1.25);
+  }
+}
+
+// One test for the three checks: the 240 renders and detections are its cost (~25 s CPU), paid once.
+TEST(HandEyeImages, BothSetUpsAndTheBoardPosesWithinTheirSigma) {
+  {
+    SCOPED_TRACE("camera on the flange");
+    CheckCameraOnFlange();
+  }
+  {
+    SCOPED_TRACE("camera on a stand");
+    CheckCameraOnStand();
+  }
+  {
+    SCOPED_TRACE("board poses");
+    CheckBoardPoses();
   }
 }
 
@@ -319,6 +336,33 @@ TEST(FlangePoseFile, MatrixPerLineReadsInEitherShape) {
     EXPECT_EQ(e.where().line, 2);
     EXPECT_NE(std::string(e.what()).find("16 (4x4) or 12 (3x4)"), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(dir);
+}
+
+// One camera from a file: the `calib cameras` single-camera text and OpenCV's sample keys.
+TEST(CameraFile, ReadsOneCameraFromEitherLayout) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ramtk_camera_file_test";
+  std::filesystem::create_directories(dir);
+  const camera::CameraIntrinsics truth = t::TruthCamera();
+  const std::string ramtk_file = (dir / "camera.yml").string();
+  std::ofstream(ramtk_file) << camera::CameraCalibrationText(truth, 0.1, {}, {});
+  const std::string opencv_file = (dir / "out_camera_data.yml").string();
+  std::ofstream(opencv_file) << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                                "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                                "   data: [ 750., 0., 328., 0., 752., 236., 0., 0., 1. ]\n"
+                                "distortion_coefficients: !!opencv-matrix\n   rows: 5\n   cols: 1\n   dt: d\n"
+                                "   data: [ -0.12, 0.08, 0.0005, -0.0003, 0. ]\n";
+  for (const std::string& f : {ramtk_file, opencv_file}) {
+    const camera::CameraIntrinsics c = camera::ReadCameraCalibration(f);
+    EXPECT_EQ(c.width, 640) << f;
+    EXPECT_EQ(c.height, 480) << f;
+    EXPECT_DOUBLE_EQ(c.fx, truth.fx) << f;
+    EXPECT_DOUBLE_EQ(c.cy, truth.cy) << f;
+    EXPECT_DOUBLE_EQ(c.distortion.k1, truth.distortion.k1) << f;
+    EXPECT_DOUBLE_EQ(c.distortion.p2, truth.distortion.p2) << f;
+  }
+  std::ofstream(dir / "no_k.yml") << "%YAML:1.0\n---\nimage_size: [640, 480]\n";
+  EXPECT_THROW(camera::ReadCameraCalibration((dir / "no_k.yml").string()), InputError);
   std::filesystem::remove_all(dir);
 }
 
