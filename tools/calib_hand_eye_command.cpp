@@ -160,7 +160,10 @@ int RunHandEye(const HandEyeCommandOptions& opt, Provenance provenance) {
         ref.pose_covariance ? "per-image covariance; residual RMS"
                             : (ref.noise_estimated ? "estimated" : "given"),
         ref.sigma_deg, ref.sigma_mm);
-    if (ref.pose_covariance) std::printf("variance factor %.3f (chi2 / dof of the weighted residuals)\n", ref.variance_factor);
+    if (ref.pose_covariance)
+      std::printf("variance factor %.3f (chi2 / dof of the weighted residuals); noise beyond the images' %.4f deg, "
+                  "%.4f mm per axis\n",
+                  ref.variance_factor, ref.extra_noise_deg, ref.extra_noise_mm);
   }
   std::printf("wrote %s\n", opt.output_path.c_str());
   return kExitOk;

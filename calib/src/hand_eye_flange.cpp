@@ -187,7 +187,10 @@ std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod 
         f.sigma_deg, f.sigma_mm);
     out += buf;
     if (f.pose_covariance) {
-      std::snprintf(buf, sizeof buf, "\nvariance factor %.3f (chi2 / dof of the weighted residuals)", f.variance_factor);
+      std::snprintf(buf, sizeof buf,
+                    "\nvariance factor %.3f (chi2 / dof of the weighted residuals); noise beyond the images' "
+                    "%.4f deg, %.4f mm per axis",
+                    f.variance_factor, f.extra_noise_deg, f.extra_noise_mm);
       out += buf;
     }
   }

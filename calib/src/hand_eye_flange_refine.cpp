@@ -83,13 +83,23 @@ Mat6 IsotropicWhitening(double sigma_rot_rad, double sigma_mm) {
   return w;
 }
 
-// L⁻¹ of each pose's covariance L·Lᵀ; empty unless every pose has a positive definite one.
-std::vector<Mat6> PoseWhitening(const std::vector<FlangeCameraObservation>& obs) {
+// True when every pose has a positive definite covariance.
+bool AllPosesHaveCovariance(const std::vector<FlangeCameraObservation>& obs) {
+  for (const FlangeCameraObservation& o : obs)
+    if (o.camera_from_board_covariance.isZero(0) ||
+        Eigen::LLT<Mat6>(o.camera_from_board_covariance).info() != Eigen::Success)
+      return false;
+  return !obs.empty();
+}
+
+// L⁻¹ of each pose's covariance plus an isotropic extra noise (rad², mm² per axis), L·Lᵀ.
+std::vector<Mat6> PoseWhitening(const std::vector<FlangeCameraObservation>& obs, double extra_rot2,
+                                double extra_t2) {
   std::vector<Mat6> w;
   for (const FlangeCameraObservation& o : obs) {
-    const Eigen::LLT<Mat6> llt(o.camera_from_board_covariance);
-    if (o.camera_from_board_covariance.isZero(0) || llt.info() != Eigen::Success) return {};
-    w.push_back(Mat6(llt.matrixL()).inverse());
+    Mat6 c = o.camera_from_board_covariance;
+    for (int k = 0; k < 3; ++k) c(k, k) += extra_rot2, c(3 + k, 3 + k) += extra_t2;
+    w.push_back(Mat6(Eigen::LLT<Mat6>(c).matrixL()).inverse());
   }
   return w;
 }
@@ -179,12 +189,51 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
   *out = EyeInHandRefinement();
   double sigma_rot = DegToRad(options.sigma_deg), sigma_t = options.sigma_mm;
   Isometry3 x0 = x_init, z0 = z_init;
-  const std::vector<Mat6> pose_whitening =
-      options.use_pose_covariance && sigma_rot <= 0 ? PoseWhitening(obs) : std::vector<Mat6>();
-  if (!pose_whitening.empty()) {
-    // Each pose weighed by its own covariance; the closed form is first refined with them.
-    const Solved s = Solve(obs, x0, z0, pose_whitening, options.max_iterations, true, stand);
-    return FinishRefinement(s, obs, x_init, z_init, 0, 0, true, out);
+  if (options.use_pose_covariance && sigma_rot <= 0 && AllPosesHaveCovariance(obs)) {
+    // Each pose weighed by its own covariance plus the noise the images do not see (the robot's
+    // pose error), added to every pose isotropically in rotation and in translation. A first fit
+    // with one weight for all gives the residual noise per axis.
+    const double r0 = std::max(DegToRad(rms_rotation_deg) / std::sqrt(3.0), 1e-9);
+    const double t0 = std::max(rms_translation_mm / std::sqrt(3.0), 1e-9);
+    const Solved first = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(r0, t0)),
+                               options.max_iterations, false, stand);
+    const double dof = std::max(1, 3 * n - 6);
+    double own_rot2 = 0, own_t2 = 0;
+    for (const FlangeCameraObservation& o : obs) {
+      own_rot2 += o.camera_from_board_covariance.topLeftCorner<3, 3>().trace() / (3.0 * n);
+      own_t2 += o.camera_from_board_covariance.bottomRightCorner<3, 3>().trace() / (3.0 * n);
+    }
+    // The extra noise's shape: the excess per block (or the poses' own mean variance when neither
+    // block shows one). Its size: the smallest multiple k for which the weighted residuals'
+    // χ²/(6n − 12) is at most 1 (k = 0 when the images' noise explains them), by bisection.
+    double shape_rot2 = std::max(0.0, first.rot_ss / dof - own_rot2);
+    double shape_t2 = std::max(0.0, first.trans_ss / dof - own_t2);
+    if (shape_rot2 <= 0 && shape_t2 <= 0) shape_rot2 = own_rot2, shape_t2 = own_t2;
+    x0.linear() = first.qx.toRotationMatrix(), x0.translation() = first.tx;
+    z0.linear() = first.qz.toRotationMatrix(), z0.translation() = first.tz;
+    const double dof6 = std::max(1, 6 * n - 12);
+    auto factor = [&](double k) {
+      return Solve(obs, x0, z0, PoseWhitening(obs, k * shape_rot2, k * shape_t2), options.max_iterations, false, stand)
+                 .chi2 /
+             dof6;
+    };
+    double k = 0;
+    if (factor(0) > 1) {
+      double lo = 0, hi = 1;
+      for (int i = 0; i < 20 && factor(hi) > 1; ++i) lo = hi, hi *= 4;
+      for (int i = 0; i < 30; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (factor(mid) > 1 ? lo : hi) = mid;
+      }
+      k = hi;
+    }
+    const double extra_rot2 = k * shape_rot2, extra_t2 = k * shape_t2;
+    const Solved s =
+        Solve(obs, x0, z0, PoseWhitening(obs, extra_rot2, extra_t2), options.max_iterations, true, stand);
+    const auto xz = FinishRefinement(s, obs, x_init, z_init, 0, 0, true, out);
+    out->extra_noise_deg = RadToDeg(std::sqrt(extra_rot2));
+    out->extra_noise_mm = std::sqrt(extra_t2);
+    return xz;
   }
   if (sigma_rot <= 0) {
     // First fit with the initial residuals' RMS as weights, then each noise from its own
@@ -308,6 +357,8 @@ nlohmann::json RefinementJson(const EyeInHandRefinement& f, const std::string& p
       {"noise_estimated_from_residuals", f.noise_estimated},
       {"weights", f.pose_covariance ? "each pose's covariance (from its image)" : "one noise level for all poses"},
       {"variance_factor", f.variance_factor},
+      {"extra_noise_sigma_deg", f.extra_noise_deg},
+      {"extra_noise_sigma_mm", f.extra_noise_mm},
       {pose + "_rotation_sigma_deg", {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
       {pose + "_translation_sigma_mm",
        {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},

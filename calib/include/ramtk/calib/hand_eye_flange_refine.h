@@ -40,6 +40,10 @@ struct EyeInHandRefinement {
   // axis, and the covariance below is scaled by max(1, variance_factor).
   bool pose_covariance = false;
   double variance_factor = 1.0;  // χ² / (6n − 12) of the whitened residuals (≈ 1 when the weights are right)
+  // Noise per axis added to every pose's own covariance: what the residuals of a first, equally
+  // weighted fit show beyond the poses' mean own variance (the robot's pose error; 0 when the
+  // images explain the residuals).
+  double extra_noise_deg = 0.0, extra_noise_mm = 0.0;
   // Covariance of flange_from_camera (stand case: camera_from_base): [rotation vector (rad, applied
   // on the left); translation (mm)].
   Eigen::Matrix<double, 6, 6> flange_from_camera_covariance = Eigen::Matrix<double, 6, 6>::Zero();
