@@ -1,5 +1,6 @@
 // ramtk calib cameras: single or stereo camera calibration from board images (ramtk::calib).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -7,9 +8,11 @@
 
 #include "command_provenance.h"
 #include "commands.h"
+#include "ramtk/calib/board_pose.h"
 #include "ramtk/calib/camera_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
+#include "ramtk/core/natural_sort.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/image/image_file.h"
 
@@ -26,7 +29,24 @@ struct CamerasCommandOptions {
   double outlier_min_px = 0.25;
   bool free_k3 = false;
   std::string corners = "subpix";  // chessboards: subpix, sector or auto
+  std::string poses_out;           // board poses with covariance (CSV); empty: none
 };
+
+// The board-pose file of --poses-out: the (left) camera's used views, named by file.
+// `pose` is the image's number in the folder's natural order (1, 2, 10): the flange pose it pairs with.
+std::string BoardPosesCsv(const calib::CameraCalibrationResult& r, const std::vector<calib::ViewPoints>& views,
+                          const calib::CameraCalibrationOptions& co, std::vector<std::string> files) {
+  SortNaturally(&files);
+  std::vector<calib::BoardPoseEstimate> poses = calib::BoardPosesFromCalibration(r, views, co);
+  for (calib::BoardPoseEstimate& p : poses) {
+    p.pose = static_cast<int>(std::find(files.begin(), files.end(), p.name) - files.begin()) + 1;
+    p.name = std::filesystem::path(p.name).filename().string();
+  }
+  return calib::FormatBoardPoseEstimates(
+      poses, "camera_from_board per used view (x,y,z mm; KUKA a,b,c deg) with its covariance cov_ij in\n"
+             "[rotation vector (deg, applied on the left, camera frame); translation (mm)] from the calibration's "
+             "Jacobian");
+}
 
 std::string ShortName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
@@ -53,7 +73,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
                             : std::filesystem::path(opt.output).replace_extension("").string() + "_coverage.png";
   calib::CameraCalibrationSummary summary;
   calib::CornerComparison corners;
-  std::string yaml;
+  std::string yaml, poses_csv;
   cv::Mat picture;
   auto kept = [&](const std::vector<calib::ViewPoints>& subpix, const std::vector<calib::ViewPoints>& sector) {
     return compare && corners.chosen == calib::CornerRefinement::kSectorBased ? sector : subpix;
@@ -64,6 +84,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
                 : calib::CalibrateCamera(left, size, co, &summary);
     yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr);
     picture = calib::DrawCoverage(r, kept(left, left_sector));
+    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(r, kept(left, left_sector), co, left_files);
   } else {
     const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
     if (right_files.size() != left_files.size()) {
@@ -78,6 +99,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
                                                          &summary, &corners)
                 : calib::CalibrateStereo(left, right, size, co, &summary);
     yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr);
+    if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(st.left, kept(left, left_sector), co, left_files);
     cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
                 calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
   }
@@ -85,6 +107,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
   WriteFileAtomically(opt.output, yaml);
   WriteProvenanceSidecar(opt.output, provenance);  // the YAML is OpenCV's FileStorage: the block goes beside it
   WriteFileAtomically(coverage_path, std::string(png.begin(), png.end()));
+  if (!opt.poses_out.empty()) WriteFileAtomically(opt.poses_out, poses_csv);
   std::printf("%s\n", summary.BriefReport().c_str());
   if (compare) std::printf("%s\n", corners.BriefReport().c_str());
   for (const calib::RejectedView& r : not_found)
@@ -93,6 +116,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
     std::printf("rejected %s: %s\n", r.name.c_str(), r.reason.c_str());
   }
   std::printf("wrote %s and %s\n", opt.output.c_str(), coverage_path.c_str());
+  if (!opt.poses_out.empty()) std::printf("wrote %s (board poses with covariance)\n", opt.poses_out.c_str());
   return kExitOk;
 }
 
@@ -120,6 +144,10 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
                     "reported either way")
         ->check(CLI::IsMember({"subpix", "sector", "auto"}))
         ->capture_default_str();
+    sub->add_option("--poses-out", opt->poses_out,
+                    "Board poses CSV: each used view's camera_from_board (of the left camera) with its 6x6 "
+                    "covariance, the camera columns of the hand-eye pose files (calib hand-eye --poses with "
+                    "--flange-poses)");
     sub->callback([opt, exit_code, sub]() { *exit_code = RunCameras(*opt, CommandProvenance(sub)); });
   }
 }

@@ -6,12 +6,16 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "command_provenance.h"
 #include "commands.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
+#include "ramtk/calib/hand_eye_images.h"
+#include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/core/natural_sort.h"
 #include "ramtk/calib/sensor_robot_sim.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
@@ -26,6 +30,10 @@ namespace {
 struct HandEyeCommandOptions {
   std::string robot_path;   // robot model, needed when the poses are joints
   std::string poses_path;   // pose CSV (joints or flange poses + camera_from_board)
+  std::string images_dir;   // board images, one per flange pose (natural order)
+  std::string board;        // board description or file, with --images
+  std::string camera_path;  // camera calibration file, with --images
+  std::string flange_poses_path;  // flange poses alone (CSV or one matrix per line)
   std::string output_path;  // result JSON
   std::string flange_units = "mm";
   std::string method;
@@ -33,11 +41,70 @@ struct HandEyeCommandOptions {
   double sigma_deg = 0, sigma_mm = 0;  // measurement noise for the refinement (0: estimated)
 };
 
-std::vector<calib::FlangePoseObservation> ReadPoses(const HandEyeCommandOptions& opt) {
+// The views of an --images run: the images used and those skipped, with the PnP figures.
+struct ImageViews {
+  std::vector<std::string> files;  // every image, natural order
+  calib::HandEyeViews views;
+};
+
+std::string FileName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+// The observations from --poses (camera and flange poses in one file), --poses with
+// --flange-poses, or --images with --board, --camera and --flange-poses.
+std::vector<calib::FlangePoseObservation> ReadPoses(const HandEyeCommandOptions& opt, ImageViews* images) {
   std::unique_ptr<kinematics::RobotModel> model;
   if (!opt.robot_path.empty())
     model = std::make_unique<kinematics::RobotModel>(kinematics::ReadRobotModel(opt.robot_path));
+  if (opt.images_dir.empty() == opt.poses_path.empty())
+    throw InputError({"", 0, "--poses/--images"}, "give either --poses (camera_from_board per pose) or --images");
+  if (!opt.images_dir.empty()) {
+    if (opt.board.empty() || opt.camera_path.empty() || opt.flange_poses_path.empty())
+      throw InputError({"", 0, "--images"}, "--images needs --board, --camera and --flange-poses");
+    const calib::BoardSpec board = calib::ReadBoardSpecArgument(opt.board);
+    const camera::CameraIntrinsics camera = camera::ReadCameraCalibration(opt.camera_path);
+    const std::vector<Isometry3> flange = calib::ReadFlangePoses(opt.flange_poses_path, opt.flange_units, model.get());
+    images->files = calib::ListBoardImages(opt.images_dir);
+    SortNaturally(&images->files);
+    if (images->files.size() != flange.size())
+      throw InputError({opt.flange_poses_path, 0, "--flange-poses"},
+                       std::to_string(flange.size()) + " flange poses, but " + std::to_string(images->files.size()) +
+                           " images in " + opt.images_dir);
+    images->views = calib::HandEyeViewsFromImages(images->files, board, camera, flange);
+    return images->views.observations;
+  }
+  if (!opt.flange_poses_path.empty())
+    return calib::ReadCameraPosesWithFlange(opt.poses_path,
+                                            calib::ReadFlangePoses(opt.flange_poses_path, opt.flange_units, model.get()));
   return calib::ReadFlangePoseObservations(opt.poses_path, opt.flange_units, model.get());
+}
+
+// The inputs of a run for provenance: the pose files, the robot, the camera and the images.
+std::vector<std::string> InputFiles(const HandEyeCommandOptions& opt, const ImageViews& images) {
+  std::vector<std::string> files = {opt.poses_path, opt.robot_path, opt.flange_poses_path, opt.camera_path};
+  files.insert(files.end(), images.files.begin(), images.files.end());
+  return files;
+}
+
+// The result JSON with the images used and skipped (an --images run).
+std::string WithImages(const std::string& json, const ImageViews& images) {
+  if (images.files.empty()) return json;
+  nlohmann::json j = nlohmann::json::parse(json);
+  nlohmann::json used = nlohmann::json::array(), skipped = nlohmann::json::array();
+  for (const std::string& n : images.views.names) used.push_back(FileName(n));
+  for (const calib::RejectedView& r : images.views.poses.skipped)
+    skipped.push_back({{"image", FileName(r.name)}, {"reason", r.reason}});
+  j["images"] = {{"used", used},
+                 {"skipped", skipped},
+                 {"pnp_rms_px", images.views.poses.rms_px},
+                 {"corner_sigma_px", images.views.poses.sigma_px}};
+  return j.dump(2) + "\n";
+}
+
+void PrintImages(const ImageViews& images) {
+  if (images.files.empty()) return;
+  std::printf("%s\n", images.views.poses.BriefReport().c_str());
+  for (const calib::RejectedView& r : images.views.poses.skipped)
+    std::printf("skipped %s: %s\n", FileName(r.name).c_str(), r.reason.c_str());
 }
 
 calib::EyeInHandRefineOptions RefineOptions(const HandEyeCommandOptions& opt) {
@@ -59,8 +126,11 @@ auto NamingThePoseFile(const std::string& poses_path, F&& solve) {
 }
 
 int RunHandEye(const HandEyeCommandOptions& opt, Provenance provenance) {
-  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
-  const std::vector<calib::StandCameraObservation> obs = ReadPoses(opt);
+  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path, opt.flange_poses_path, opt.camera_path},
+                           "--output");
+  ImageViews images;
+  const std::vector<calib::StandCameraObservation> obs = ReadPoses(opt, &images);
+  PrintImages(images);
   calib::HandEyeOptions o;
   o.method = opt.method == "li" ? calib::HandEyeMethod::kLi : calib::HandEyeMethod::kShah;
   o.refine = false;
@@ -71,9 +141,11 @@ int RunHandEye(const HandEyeCommandOptions& opt, Provenance provenance) {
     return opt.no_refine ? calib::CalibrateStandCamera(obs, o, &summary)
                          : calib::CalibrateStandCameraWithCovariance(obs, o, ro, &summary, &ref);
   });
-  for (const std::string& f : {opt.poses_path, opt.robot_path}) AddProvenanceFile(&provenance, f);
+  for (const std::string& f : InputFiles(opt, images)) AddProvenanceFile(&provenance, f);
   WriteFileAtomically(opt.output_path,
-                      WithProvenance(calib::HandEyeResultJson(r, summary, opt.no_refine ? nullptr : &ref), provenance));
+                      WithProvenance(WithImages(calib::HandEyeResultJson(r, summary, opt.no_refine ? nullptr : &ref),
+                                                images),
+                                     provenance));
   const KukaAbc abc = KukaAbcFromRotation(r.camera_from_base.linear());
   std::printf("%s\n", summary.BriefReport().c_str());
   std::printf("camera_from_base  t (mm) %12.4f %12.4f %12.4f   A,B,C (deg) %10.5f %10.5f %10.5f\n",
@@ -85,16 +157,25 @@ int RunHandEye(const HandEyeCommandOptions& opt, Provenance provenance) {
         "%.4f mm per axis\n",
         ref.translation_sigma_mm.x(), ref.translation_sigma_mm.y(), ref.translation_sigma_mm.z(),
         ref.rotation_sigma_deg.x(), ref.rotation_sigma_deg.y(), ref.rotation_sigma_deg.z(),
-        ref.noise_estimated ? "estimated" : "given", ref.sigma_deg, ref.sigma_mm);
+        ref.pose_covariance ? "per-image covariance; residual RMS"
+                            : (ref.noise_estimated ? "estimated" : "given"),
+        ref.sigma_deg, ref.sigma_mm);
+    if (ref.pose_covariance)
+      std::printf("variance factor %.3f (chi2 / dof of the weighted residuals); noise beyond the images' %.4f deg, "
+                  "%.4f mm per axis\n",
+                  ref.variance_factor, ref.extra_noise_deg, ref.extra_noise_mm);
   }
   std::printf("wrote %s\n", opt.output_path.c_str());
   return kExitOk;
 }
 
 int RunHandEyeFlange(const HandEyeCommandOptions& opt, Provenance provenance) {
-  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path}, "--output");
+  CheckOutputAgainstInputs(opt.output_path, {opt.robot_path, opt.poses_path, opt.flange_poses_path, opt.camera_path},
+                           "--output");
   const calib::EyeInHandMethod method = calib::ParseEyeInHandMethod(opt.method, {"", 0, "--method"});
-  const std::vector<calib::FlangeCameraObservation> obs = ReadPoses(opt);
+  ImageViews images;
+  const std::vector<calib::FlangeCameraObservation> obs = ReadPoses(opt, &images);
+  PrintImages(images);
   const calib::EyeInHandRefineOptions ro = RefineOptions(opt);
   calib::EyeInHandResult r =
       NamingThePoseFile(opt.poses_path, [&] { return calib::CalibrateCameraOnFlange(obs, method); });
@@ -109,8 +190,8 @@ int RunHandEyeFlange(const HandEyeCommandOptions& opt, Provenance provenance) {
     json = calib::EyeInHandResultJson(r, method, &ref);
     brief = calib::EyeInHandBriefReport(r, method, &ref);
   }
-  for (const std::string& f : {opt.poses_path, opt.robot_path}) AddProvenanceFile(&provenance, f);
-  WriteFileAtomically(opt.output_path, WithProvenance(json, provenance));
+  for (const std::string& f : InputFiles(opt, images)) AddProvenanceFile(&provenance, f);
+  WriteFileAtomically(opt.output_path, WithProvenance(WithImages(json, images), provenance));
   std::printf("%s\nwrote %s\n", brief.c_str(), opt.output_path.c_str());
   return kExitOk;
 }
@@ -199,8 +280,15 @@ void AddPoseFileOptions(CLI::App* sub, HandEyeCommandOptions* opt) {
   sub->add_option("--poses", opt->poses_path,
                   "Pose CSV: x,y,z,a,b,c (camera_from_board, mm, KUKA deg) and the flange pose as q1..q6 (joints, "
                   "deg; needs --robot), flange_x..flange_c (KUKA deg), flange_x..z + flange_qw..qz, or "
-                  "flange_m00..flange_m23")
-      ->required();
+                  "flange_m00..flange_m23; with --flange-poses only the camera columns (and cov_ij) are read");
+  sub->add_option("--images", opt->images_dir,
+                  "Folder of board images, one per flange pose in natural order (1, 2, 10): detection, PnP with each "
+                  "view's covariance, then hand-eye; needs --board, --camera, --flange-poses");
+  sub->add_option("--board", opt->board, "Board of --images: chessboard:9x6:25 | ... (as calib cameras), or a file");
+  sub->add_option("--camera", opt->camera_path, "Camera calibration file of --images (K1 D1 image_size, YAML/JSON)");
+  sub->add_option("--flange-poses", opt->flange_poses_path,
+                  "Flange poses base_from_flange, one per image / --poses row: CSV with flange columns (or q1..q6 "
+                  "with --robot), or one row-major 4x4 or 3x4 matrix per line (units: --flange-units)");
   sub->add_option("--robot", opt->robot_path, "Robot model file (YAML); needed when the poses are joints");
   sub->add_option("--flange-units", opt->flange_units, "Units of the flange translation: mm or m")
       ->check(CLI::IsMember({"mm", "m"}))

@@ -37,5 +37,6 @@ void RegisterMergeCommand(CLI::App& app, int* exit_code);  // merge --batch LIST
 void RegisterMeasureCommand(CLI::App& app, int* exit_code);  // measure --scans --log
 void RegisterCampaignCommand(CLI::App& app, int* exit_code);  // simulate campaign
 void RegisterPlanCommands(CLI::App& app, int* exit_code);     // plan poses
+void RegisterManifestCommand(CLI::App& app, int* exit_code);  // manifest DIR --sequence SPEC
 
 }  // namespace ramtk::tools

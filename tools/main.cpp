@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   ramtk::tools::RegisterMeasureCommand(app, &exit_code);
   ramtk::tools::RegisterCampaignCommand(app, &exit_code);
   ramtk::tools::RegisterPlanCommands(app, &exit_code);
+  ramtk::tools::RegisterManifestCommand(app, &exit_code);
   using ramtk::tools::kExitBadInput;
   using ramtk::tools::kExitFailure;
   try {

@@ -182,9 +182,17 @@ std::string EyeInHandBriefReport(const EyeInHandResult& result, EyeInHandMethod 
         "\nrefined (Ceres, SE(3)): sigma t (mm) %.4f %.4f %.4f, rotation (deg) %.5f %.5f %.5f; noise %s %.4f deg, "
         "%.4f mm per axis",
         f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z(), f.rotation_sigma_deg.x(),
-        f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z(), f.noise_estimated ? "estimated" : "given", f.sigma_deg,
-        f.sigma_mm);
+        f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z(),
+        f.pose_covariance ? "per-image covariance; residual RMS" : (f.noise_estimated ? "estimated" : "given"),
+        f.sigma_deg, f.sigma_mm);
     out += buf;
+    if (f.pose_covariance) {
+      std::snprintf(buf, sizeof buf,
+                    "\nvariance factor %.3f (chi2 / dof of the weighted residuals); noise beyond the images' "
+                    "%.4f deg, %.4f mm per axis",
+                    f.variance_factor, f.extra_noise_deg, f.extra_noise_mm);
+      out += buf;
+    }
   }
   return out;
 }

@@ -3,6 +3,8 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <utility>
@@ -22,7 +24,9 @@ struct PoseResidual {
   Vec3 t_flange;
   Eigen::Quaterniond q_meas;  // camera_from_board, measured
   Vec3 t_meas;
-  double inv_sigma_rot, inv_sigma_t;
+  // Whitening of the raw residual [rotation (rad); translation (mm)]: L⁻¹ of its covariance L·Lᵀ
+  // (diagonal 1/σ_rot, 1/σ_t for one noise level for all poses).
+  Eigen::Matrix<double, 6, 6> whiten;
   // false: camera on the flange, parameters (X = flange_from_camera, Z = base_from_board) and
   // camera_from_board = X⁻¹ F⁻¹ Z. true: camera on a stand, parameters (C = camera_from_base,
   // B = flange_from_board) and camera_from_board = C F B.
@@ -51,9 +55,12 @@ struct PoseResidual {
       for (T& v : wxyz) v = -v;
     T aa[3];
     ceres::QuaternionToAngleAxis(wxyz, aa);
-    for (int k = 0; k < 3; ++k) r[k] = aa[k] * T(inv_sigma_rot);
     const V dt = t_meas.cast<T>() - t_pred;
-    for (int k = 0; k < 3; ++k) r[3 + k] = dt[k] * T(inv_sigma_t);
+    const T raw[6] = {aa[0], aa[1], aa[2], dt[0], dt[1], dt[2]};
+    for (int i = 0; i < 6; ++i) {
+      r[i] = T(0);
+      for (int k = 0; k < 6; ++k) r[i] += T(whiten(i, k)) * raw[k];
+    }
     return true;
   }
 };
@@ -63,23 +70,54 @@ struct Solved {
   Vec3 tx, tz;
   ceres::Solver::Summary summary;
   double rot_ss = 0, trans_ss = 0;  // unwhitened residual sums of squares (rad², mm²)
+  double chi2 = 0;                  // whitened sum of squares
   Eigen::Matrix<double, 6, 6> cov = Eigen::Matrix<double, 6, 6>::Zero();
   bool cov_ok = false;
 };
 
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+Mat6 IsotropicWhitening(double sigma_rot_rad, double sigma_mm) {
+  Mat6 w = Mat6::Zero();
+  for (int k = 0; k < 3; ++k) w(k, k) = 1.0 / sigma_rot_rad, w(3 + k, 3 + k) = 1.0 / sigma_mm;
+  return w;
+}
+
+// True when every pose has a positive definite covariance.
+bool AllPosesHaveCovariance(const std::vector<FlangeCameraObservation>& obs) {
+  for (const FlangeCameraObservation& o : obs)
+    if (o.camera_from_board_covariance.isZero(0) ||
+        Eigen::LLT<Mat6>(o.camera_from_board_covariance).info() != Eigen::Success)
+      return false;
+  return !obs.empty();
+}
+
+// L⁻¹ of each pose's covariance plus an isotropic extra noise (rad², mm² per axis), L·Lᵀ.
+std::vector<Mat6> PoseWhitening(const std::vector<FlangeCameraObservation>& obs, double extra_rot2,
+                                double extra_t2) {
+  std::vector<Mat6> w;
+  for (const FlangeCameraObservation& o : obs) {
+    Mat6 c = o.camera_from_board_covariance;
+    for (int k = 0; k < 3; ++k) c(k, k) += extra_rot2, c(3 + k, 3 + k) += extra_t2;
+    w.push_back(Mat6(Eigen::LLT<Mat6>(c).matrixL()).inverse());
+  }
+  return w;
+}
+
 Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x0, const Isometry3& z0,
-             double sigma_rot_rad, double sigma_mm, int max_iterations, bool covariance, bool stand) {
+             const std::vector<Mat6>& whiten, int max_iterations, bool covariance, bool stand) {
   Solved s;
   s.qx = Eigen::Quaterniond(x0.linear()).normalized();
   s.qz = Eigen::Quaterniond(z0.linear()).normalized();
   s.tx = x0.translation();
   s.tz = z0.translation();
   ceres::Problem problem;
-  for (const FlangeCameraObservation& o : obs) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const FlangeCameraObservation& o = obs[i];
     auto* cost = new ceres::AutoDiffCostFunction<PoseResidual, 6, 4, 3, 4, 3>(
         new PoseResidual{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(), o.base_from_flange.translation(),
                          Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                         o.camera_from_board.translation(), 1.0 / sigma_rot_rad, 1.0 / sigma_mm, stand});
+                         o.camera_from_board.translation(), whiten[i], stand});
     problem.AddResidualBlock(cost, nullptr, s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data());
   }
   problem.SetManifold(s.qx.coeffs().data(), new ceres::EigenQuaternionManifold);
@@ -87,17 +125,19 @@ Solved Solve(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x
   ceres::Solve(DenseSolverOptions({max_iterations, 1e-14, 1e-14, 1e-16}), &problem, &s.summary);
   s.qx.normalize();
   s.qz.normalize();
-  for (const FlangeCameraObservation& o : obs) {
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const FlangeCameraObservation& o = obs[i];
     double r[6];
-    const PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(),
-                          o.base_from_flange.translation(),
-                          Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
-                          o.camera_from_board.translation(),
-                          1.0,
-                          1.0,
-                          stand};
+    PoseResidual pr{Eigen::Quaterniond(o.base_from_flange.linear()).normalized(),
+                    o.base_from_flange.translation(),
+                    Eigen::Quaterniond(o.camera_from_board.linear()).normalized(),
+                    o.camera_from_board.translation(),
+                    Mat6::Identity(),
+                    stand};
     pr(s.qx.coeffs().data(), s.tx.data(), s.qz.coeffs().data(), s.tz.data(), r);
     for (int k = 0; k < 3; ++k) s.rot_ss += r[k] * r[k], s.trans_ss += r[3 + k] * r[3 + k];
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> raw(r);
+    s.chi2 += (whiten[i] * raw).squaredNorm();
   }
   if (covariance && s.summary.IsSolutionUsable()) {
     ceres::Covariance::Options co;
@@ -129,6 +169,10 @@ std::string EyeInHandRefineOptions::Validate() const {
 
 namespace {
 
+std::pair<Isometry3, Isometry3> FinishRefinement(const Solved& s, const std::vector<FlangeCameraObservation>& obs,
+                                                 const Isometry3& x_init, const Isometry3& z_init, double sigma_rot,
+                                                 double sigma_t, bool pose_covariance, EyeInHandRefinement* out);
+
 // The shared refinement: the two unknowns (x, z) as in PoseResidual, their initial values, the
 // initial residual RMS for the first weights. Fills *out and returns the refined (x, z).
 std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObservation>& obs, const Isometry3& x_init,
@@ -145,12 +189,59 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
   *out = EyeInHandRefinement();
   double sigma_rot = DegToRad(options.sigma_deg), sigma_t = options.sigma_mm;
   Isometry3 x0 = x_init, z0 = z_init;
+  if (options.use_pose_covariance && sigma_rot <= 0 && AllPosesHaveCovariance(obs)) {
+    // Each pose weighed by its own covariance plus the noise the images do not see (the robot's
+    // pose error), added to every pose isotropically in rotation and in translation. A first fit
+    // with one weight for all gives the residual noise per axis.
+    const double r0 = std::max(DegToRad(rms_rotation_deg) / std::sqrt(3.0), 1e-9);
+    const double t0 = std::max(rms_translation_mm / std::sqrt(3.0), 1e-9);
+    const Solved first = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(r0, t0)),
+                               options.max_iterations, false, stand);
+    const double dof = std::max(1, 3 * n - 6);
+    double own_rot2 = 0, own_t2 = 0;
+    for (const FlangeCameraObservation& o : obs) {
+      own_rot2 += o.camera_from_board_covariance.topLeftCorner<3, 3>().trace() / (3.0 * n);
+      own_t2 += o.camera_from_board_covariance.bottomRightCorner<3, 3>().trace() / (3.0 * n);
+    }
+    // The extra noise's shape: the excess per block (or the poses' own mean variance when neither
+    // block shows one). Its size: the smallest multiple k for which the weighted residuals'
+    // χ²/(6n − 12) is at most 1 (k = 0 when the images' noise explains them), by bisection.
+    double shape_rot2 = std::max(0.0, first.rot_ss / dof - own_rot2);
+    double shape_t2 = std::max(0.0, first.trans_ss / dof - own_t2);
+    if (shape_rot2 <= 0 && shape_t2 <= 0) shape_rot2 = own_rot2, shape_t2 = own_t2;
+    x0.linear() = first.qx.toRotationMatrix(), x0.translation() = first.tx;
+    z0.linear() = first.qz.toRotationMatrix(), z0.translation() = first.tz;
+    const double dof6 = std::max(1, 6 * n - 12);
+    auto factor = [&](double k) {
+      return Solve(obs, x0, z0, PoseWhitening(obs, k * shape_rot2, k * shape_t2), options.max_iterations, false, stand)
+                 .chi2 /
+             dof6;
+    };
+    double k = 0;
+    if (factor(0) > 1) {
+      double lo = 0, hi = 1;
+      for (int i = 0; i < 20 && factor(hi) > 1; ++i) lo = hi, hi *= 4;
+      for (int i = 0; i < 30; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (factor(mid) > 1 ? lo : hi) = mid;
+      }
+      k = hi;
+    }
+    const double extra_rot2 = k * shape_rot2, extra_t2 = k * shape_t2;
+    const Solved s =
+        Solve(obs, x0, z0, PoseWhitening(obs, extra_rot2, extra_t2), options.max_iterations, true, stand);
+    const auto xz = FinishRefinement(s, obs, x_init, z_init, 0, 0, true, out);
+    out->extra_noise_deg = RadToDeg(std::sqrt(extra_rot2));
+    out->extra_noise_mm = std::sqrt(extra_t2);
+    return xz;
+  }
   if (sigma_rot <= 0) {
     // First fit with the initial residuals' RMS as weights, then each noise from its own
     // residuals (3n − 6 degrees of freedom apiece: 12 parameters over 6n equations).
     sigma_rot = std::max(DegToRad(rms_rotation_deg) / std::sqrt(3.0), 1e-9);
     sigma_t = std::max(rms_translation_mm / std::sqrt(3.0), 1e-9);
-    const Solved first = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, false, stand);
+    const Solved first = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(sigma_rot, sigma_t)),
+                               options.max_iterations, false, stand);
     const double dof = std::max(1, 3 * n - 6);
     sigma_rot = std::max(std::sqrt(first.rot_ss / dof), 1e-12);
     sigma_t = std::max(std::sqrt(first.trans_ss / dof), 1e-12);
@@ -158,18 +249,32 @@ std::pair<Isometry3, Isometry3> RefineCore(const std::vector<FlangeCameraObserva
     z0.linear() = first.qz.toRotationMatrix(), z0.translation() = first.tz;
     out->noise_estimated = true;
   }
-  const Solved s = Solve(obs, x0, z0, sigma_rot, sigma_t, options.max_iterations, true, stand);
+  const Solved s = Solve(obs, x0, z0, std::vector<Mat6>(obs.size(), IsotropicWhitening(sigma_rot, sigma_t)),
+                         options.max_iterations, true, stand);
+  return FinishRefinement(s, obs, x_init, z_init, sigma_rot, sigma_t, false, out);
+}
+
+// Fills *out from the final solve and returns the refined (x, z). With per-pose covariances the
+// covariance is scaled by the variance factor χ²/(6n − 12) when it exceeds 1: residuals beyond
+// the poses' own noise (the robot's pose error) widen it; it is never narrowed.
+std::pair<Isometry3, Isometry3> FinishRefinement(const Solved& s, const std::vector<FlangeCameraObservation>& obs,
+                                                 const Isometry3& x_init, const Isometry3& z_init, double sigma_rot,
+                                                 double sigma_t, bool pose_covariance, EyeInHandRefinement* out) {
   out->converged = s.summary.termination_type == ceres::CONVERGENCE;
   out->iterations = CeresIterations(s.summary);
   out->initial_cost = s.summary.initial_cost;
   out->final_cost = s.summary.final_cost;
-  out->sigma_deg = RadToDeg(sigma_rot);
-  out->sigma_mm = sigma_t;
+  const int dof = std::max<int>(1, 6 * static_cast<int>(obs.size()) - 12);
+  out->pose_covariance = pose_covariance;
+  out->variance_factor = s.chi2 / dof;
+  const double scale = pose_covariance ? std::max(1.0, out->variance_factor) : 1.0;
+  out->sigma_deg = pose_covariance ? RadToDeg(std::sqrt(s.rot_ss / (3.0 * obs.size()))) : RadToDeg(sigma_rot);
+  out->sigma_mm = pose_covariance ? std::sqrt(s.trans_ss / (3.0 * obs.size())) : sigma_t;
   if (s.cov_ok) {
-    out->flange_from_camera_covariance = s.cov;
+    out->flange_from_camera_covariance = scale * s.cov;
     for (int k = 0; k < 3; ++k) {
-      out->rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, s.cov(k, k))));
-      out->translation_sigma_mm[k] = std::sqrt(std::max(0.0, s.cov(3 + k, 3 + k)));
+      out->rotation_sigma_deg[k] = RadToDeg(std::sqrt(std::max(0.0, scale * s.cov(k, k))));
+      out->translation_sigma_mm[k] = std::sqrt(std::max(0.0, scale * s.cov(3 + k, 3 + k)));
     }
   }
   if (!s.summary.IsSolutionUsable()) return {x_init, z_init};
@@ -211,7 +316,7 @@ HandEyeResult RefineStandCamera(const std::vector<StandCameraObservation>& obs, 
   std::vector<FlangeCameraObservation> f;
   double sr = 0, st = 0;
   for (const StandCameraObservation& o : obs) {
-    f.push_back({o.base_from_flange, o.camera_from_board});
+    f.push_back(o);
     const Isometry3 pred = initial.camera_from_base * o.base_from_flange * initial.flange_from_board;
     sr += std::pow(RadToDeg(Eigen::AngleAxisd(o.camera_from_board.linear() * pred.linear().transpose()).angle()), 2);
     st += (o.camera_from_board.translation() - pred.translation()).squaredNorm();
@@ -250,6 +355,10 @@ nlohmann::json RefinementJson(const EyeInHandRefinement& f, const std::string& p
       {"noise_sigma_deg", f.sigma_deg},
       {"noise_sigma_mm", f.sigma_mm},
       {"noise_estimated_from_residuals", f.noise_estimated},
+      {"weights", f.pose_covariance ? "each pose's covariance (from its image)" : "one noise level for all poses"},
+      {"variance_factor", f.variance_factor},
+      {"extra_noise_sigma_deg", f.extra_noise_deg},
+      {"extra_noise_sigma_mm", f.extra_noise_mm},
       {pose + "_rotation_sigma_deg", {f.rotation_sigma_deg.x(), f.rotation_sigma_deg.y(), f.rotation_sigma_deg.z()}},
       {pose + "_translation_sigma_mm",
        {f.translation_sigma_mm.x(), f.translation_sigma_mm.y(), f.translation_sigma_mm.z()}},

@@ -3,12 +3,15 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
+#include <Eigen/Cholesky>
 
 #include "hand_eye_json.h"
 #include "pose_noise.h"
 #include "ramtk/calib/hand_eye.h"
 #include "ramtk/calib/hand_eye_flange_refine.h"
 #include "ramtk/core/csv.h"
+#include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/rotation.h"
@@ -35,6 +38,29 @@ struct BoardColumns {
     pose.translation() = Vec3(px, py, pz);
     pose.linear() = RotationFromKukaAbc({pa, pb, pc});
     return pose;
+  }
+};
+
+// The optional covariance columns cov_ij (0 <= i <= j <= 5) in [ω (deg); t (mm)]: all or none.
+struct CovarianceColumns {
+  int col[6][6];
+  bool present = false;
+  explicit CovarianceColumns(const CsvTable& t) {
+    present = t.Column("cov_00", false) >= 0;
+    for (int i = 0; i < 6; ++i)
+      for (int k = i; k < 6; ++k) col[i][k] = present ? t.Column("cov_" + std::to_string(i) + std::to_string(k)) : -1;
+  }
+  // In [ω (rad); t (mm)]; InputError for a matrix that is not positive definite.
+  Eigen::Matrix<double, 6, 6> Covariance(const CsvTable& t, std::size_t r) const {
+    Eigen::Matrix<double, 6, 6> c = Eigen::Matrix<double, 6, 6>::Zero();
+    if (!present) return c;
+    for (int i = 0; i < 6; ++i)
+      for (int k = i; k < 6; ++k) c(i, k) = c(k, i) = t.Number(r, col[i][k]);
+    if (Eigen::LLT<Eigen::Matrix<double, 6, 6>>(c).info() != Eigen::Success)
+      throw InputError({t.path, t.line_numbers[r], "cov_00..cov_55"}, "the covariance is not positive definite");
+    Eigen::Matrix<double, 6, 6> to_rad = Eigen::Matrix<double, 6, 6>::Identity();
+    to_rad.topLeftCorner<3, 3>() *= DegToRad(1.0);
+    return to_rad * c * to_rad;
   }
 };
 
@@ -189,6 +215,91 @@ struct FlangeColumns {
   }
 };
 
+// A robot's flange is never within a few centimetres of its base origin at every pose: metres
+// read as millimetres (the residuals would then be ~1000 times the noise, the fit still "done").
+void RequireFlangeReach(const std::string& path, const std::vector<Isometry3>& flanges) {
+  double farthest_mm = 0;
+  for (const Isometry3& f : flanges) farthest_mm = std::max(farthest_mm, f.translation().norm());
+  if (!flanges.empty() && farthest_mm < kMinFlangeReachMm) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "every flange position is within %.3g mm of the robot base (kMinFlangeReachMm = %g mm): are "
+                  "the translations in metres? (--flange-units m)",
+                  farthest_mm, kMinFlangeReachMm);
+    throw InputError({path, 0, "flange_units"}, text);
+  }
+}
+
+// The cells of a matrix-per-line row: separated by spaces, tabs or commas.
+std::vector<std::string> SplitNumberCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  for (char ch : line) {
+    if (ch == ' ' || ch == '\t' || ch == ',' || ch == '\r') {
+      if (!cell.empty()) cells.push_back(cell), cell.clear();
+    } else {
+      cell += ch;
+    }
+  }
+  if (!cell.empty()) cells.push_back(cell);
+  return cells;
+}
+
+bool IsDataLine(const std::string& line) {
+  const std::size_t first = line.find_first_not_of(" \t\r");
+  return first != std::string::npos && line[first] != '#';
+}
+
+// True when the first line that is neither blank nor a comment holds only numbers.
+bool FirstDataLineIsNumbers(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!IsDataLine(line)) continue;
+    for (const std::string& c : SplitNumberCells(line)) {
+      char* end = nullptr;
+      std::strtod(c.c_str(), &end);
+      if (end == c.c_str() || *end != '\0') return false;
+    }
+    return true;
+  }
+  return false;
+}
+
+// One row-major 4x4 (16 numbers, last row 0 0 0 1) or 3x4 (12 numbers) base_from_flange per line.
+std::vector<Isometry3> MatrixPerLinePoses(const std::string& text, const std::string& path, double scale) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<Isometry3> poses;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!IsDataLine(line)) continue;
+    const std::vector<std::string> cells = SplitNumberCells(line);
+    if (cells.size() != 16 && cells.size() != 12)
+      throw InputError({path, number, "matrix"}, "expected 16 (4x4) or 12 (3x4) numbers, row-major, got " +
+                                                     std::to_string(cells.size()));
+    CsvTable row;  // one row in the CSV checker's terms, for the rotation and range checks
+    row.path = path;
+    row.line_numbers = {number};
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      names.push_back("m" + std::to_string(i / 4) + std::to_string(i % 4));
+    row.header = names;
+    row.rows = {cells};
+    if (cells.size() == 16) {
+      const double last[4] = {row.Number(0, 12), row.Number(0, 13), row.Number(0, 14), row.Number(0, 15)};
+      if (std::abs(last[0]) > 1e-9 || std::abs(last[1]) > 1e-9 || std::abs(last[2]) > 1e-9 ||
+          std::abs(last[3] - 1.0) > 1e-9)
+        throw InputError({path, number, "m30..m33"}, "the last row of a 4x4 pose must be 0 0 0 1");
+    }
+    const int rot[9] = {0, 1, 2, 4, 5, 6, 8, 9, 10};
+    Isometry3 pose = Isometry3::Identity();
+    pose.linear() = PrintedRotation(row, 0, rot, "m00..m22");
+    pose.translation() = Vec3(FlangeMm(row, 0, 3, scale), FlangeMm(row, 0, 7, scale), FlangeMm(row, 0, 11, scale));
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
 }  // namespace
 
 std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path, const std::string& flange_units,
@@ -208,23 +319,76 @@ std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string&
   }
   const FlangeColumns flange(t);
   const BoardColumns board(t);
-  double farthest_mm = 0;
+  const CovarianceColumns covariance(t);
+  std::vector<Isometry3> flanges;
   for (std::size_t r = 0; r < t.size(); ++r) {
     FlangePoseObservation o;
     o.camera_from_board = board.Pose(t, r);
+    o.camera_from_board_covariance = covariance.Covariance(t, r);
     o.base_from_flange = flange.Pose(t, r, scale);
-    farthest_mm = std::max(farthest_mm, o.base_from_flange.translation().norm());
+    flanges.push_back(o.base_from_flange);
     obs.push_back(o);
   }
-  // A robot's flange is never within a few centimetres of its base origin at every pose: metres
-  // read as millimetres (the residuals would then be ~1000 times the noise, the fit still "done").
-  if (!obs.empty() && farthest_mm < kMinFlangeReachMm) {
-    char text[200];
-    std::snprintf(text, sizeof text,
-                  "every flange position is within %.3g mm of the robot base (kMinFlangeReachMm = %g mm): are "
-                  "the translations in metres? (--flange-units m)",
-                  farthest_mm, kMinFlangeReachMm);
-    throw InputError({path, 0, "flange_units"}, text);
+  RequireFlangeReach(path, flanges);
+  return obs;
+}
+
+std::vector<Isometry3> ReadFlangePoses(const std::string& path, const std::string& flange_units,
+                                       const kinematics::RobotModel* model) {
+  const double scale = FlangeUnitScale(path, flange_units);
+  const std::string text = ReadTextFile(path);
+  if (!FirstDataLineIsNumbers(text)) {
+    const CsvTable t = ParseCsv(text, path);
+    std::vector<Isometry3> poses;
+    if (t.Column("q1", false) >= 0) {
+      if (!model)
+        throw InputError({path, 1, "q1"},
+                         "the flange poses are given as joints (q1..q6): a robot model is needed to turn them into "
+                         "flange poses");
+      for (std::size_t r = 0; r < t.size(); ++r) {
+        kinematics::JointVector q;
+        for (int i = 0; i < kinematics::kNumJoints; ++i)
+          q[i] = DegToRad(t.Bounded(r, t.Column("q" + std::to_string(i + 1)), kinematics::kMaxAbsJointDeg,
+                                    "kMaxAbsJointDeg"));
+        poses.push_back(kinematics::BaseFromFlange(*model, q));
+      }
+      return poses;
+    }
+    const FlangeColumns flange(t);
+    for (std::size_t r = 0; r < t.size(); ++r) poses.push_back(flange.Pose(t, r, scale));
+    RequireFlangeReach(path, poses);
+    return poses;
+  }
+  const std::vector<Isometry3> poses = MatrixPerLinePoses(text, path, scale);
+  RequireFlangeReach(path, poses);
+  return poses;
+}
+
+std::vector<FlangePoseObservation> ReadCameraPosesWithFlange(const std::string& path,
+                                                             const std::vector<Isometry3>& base_from_flange) {
+  const CsvTable t = ReadCsv(path);
+  const BoardColumns board(t);
+  const CovarianceColumns covariance(t);
+  const int pose = t.Column("pose", false);
+  if (pose < 0 && t.size() != base_from_flange.size())
+    throw InputError({path, 0, "poses"}, std::to_string(t.size()) + " camera poses, but " +
+                                             std::to_string(base_from_flange.size()) + " flange poses");
+  std::vector<FlangePoseObservation> obs;
+  for (std::size_t r = 0; r < t.size(); ++r) {
+    FlangePoseObservation o;
+    std::size_t index = r;
+    if (pose >= 0) {
+      const long long number = t.Integer(r, pose);
+      if (number < 1 || number > static_cast<long long>(base_from_flange.size()))
+        throw InputError({path, t.line_numbers[r], "pose"}, "pose " + std::to_string(number) + " is not one of the " +
+                                                                std::to_string(base_from_flange.size()) +
+                                                                " flange poses");
+      index = static_cast<std::size_t>(number - 1);
+    }
+    o.base_from_flange = base_from_flange[index];
+    o.camera_from_board = board.Pose(t, r);
+    o.camera_from_board_covariance = covariance.Covariance(t, r);
+    obs.push_back(o);
   }
   return obs;
 }

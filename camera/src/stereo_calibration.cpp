@@ -337,3 +337,20 @@ void WriteStereoCalibration(const std::string& path, const StereoCalibration& ca
 }
 
 }  // namespace ramtk::camera
+
+namespace ramtk::camera {
+
+CameraIntrinsics ReadCameraCalibration(const std::string& path) {
+  RequireRegularFile(path);
+  const CalibrationNode root = internal::ParseCalibrationTree(ReadTextFile(path), path);
+  if (root.kind != Kind::kMap)
+    throw InputError({path, root.line, ""}, "the top level is not a map of keys (K1, D1, image_size, ...)");
+  const bool opencv_sample = root.Find("K1") == nullptr && root.Find("M1") == nullptr &&
+                             root.Find("camera_matrix") != nullptr;
+  CameraIntrinsics camera = opencv_sample ? ReadCamera(root, path, "camera_matrix", "K", "distortion_coefficients")
+                                          : ReadCamera(root, path, "K1", "M1", "D1");
+  ReadImageSize(root, path, {"image_size", "S", "imageSize"}, &camera.width, &camera.height);
+  return camera;
+}
+
+}  // namespace ramtk::camera

@@ -8,6 +8,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
+#include "ramtk/vision/fringe/manifest_builder.h"
 
 namespace ramtk::vision {
 namespace {
@@ -251,7 +252,16 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
     std::vector<std::string> list;
     for (std::size_t i = 0; i < files.size(); ++i) {
       if (!files[i].is_string()) Fail(path, "cameras." + name + "[" + std::to_string(i) + "]", "expected a file name");
-      list.push_back(files[i].get<std::string>());
+      const std::string file = files[i].get<std::string>();
+      if (!IsImageGlob(file)) {
+        list.push_back(file);
+        continue;
+      }
+      // A glob: its files in natural order (1, 2, 10), relative to the manifest's folder.
+      const std::vector<std::string> matched =
+          ExpandImageGlob(file, std::filesystem::path(path).parent_path().string());
+      if (matched.empty()) Fail(path, "cameras." + name + "[" + std::to_string(i) + "]", "no file matches " + file);
+      list.insert(list.end(), matched.begin(), matched.end());
     }
     m.cameras[name] = list;
   }

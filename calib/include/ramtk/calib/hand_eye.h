@@ -70,6 +70,10 @@ bool CameraFromBoard(const BoardDetection& detection, const cv::Matx33d& camera_
 struct FlangePoseObservation {
   Isometry3 base_from_flange = Isometry3::Identity();   // mm, from the controller (or FK of its joints)
   Isometry3 camera_from_board = Isometry3::Identity();  // mm, e.g. cv::solvePnP on a detected board
+  // Covariance of camera_from_board in [ω (rad, applied on the left, camera frame); t (mm)]
+  // (board_pose.h); zero when unknown. When every pose has one, the SE(3) refinement weighs each
+  // pose by it instead of one noise level for all.
+  Eigen::Matrix<double, 6, 6> camera_from_board_covariance = Eigen::Matrix<double, 6, 6>::Zero();
 };
 // The same from flange poses given directly (the controller's base_from_flange, no robot model).
 using StandCameraObservation = FlangePoseObservation;
@@ -115,6 +119,22 @@ inline constexpr double kMinFlangeReachMm = 20.0;  // some flange position is at
 std::vector<FlangePoseObservation> ReadFlangePoseObservations(const std::string& path,
                                                               const std::string& flange_units = "mm",
                                                               const kinematics::RobotModel* model = nullptr);
+// Optional per-row covariance of camera_from_board: the 21 columns cov_ij (0 <= i <= j <= 5) of
+// FormatBoardPoseEstimates (board_pose.h), in [ω (deg); t (mm)]; all or none.
+
+// Flange poses alone, one base_from_flange per pose in file order: either a CSV with a header and
+// the flange columns above (or q1..q6 with `model`), or plain text with one matrix per line, 16
+// (4x4) or 12 (3x4) numbers, row-major, separated by spaces, tabs or commas ('#' comments and
+// blank lines skipped). Translations in `flange_units`; the same checks as above.
+std::vector<Isometry3> ReadFlangePoses(const std::string& path, const std::string& flange_units = "mm",
+                                       const kinematics::RobotModel* model = nullptr);
+// Camera poses alone (x,y,z,a,b,c and the optional covariance columns), e.g. a board-pose file of
+// `calib cameras --poses-out`, paired with `base_from_flange`: by its `pose` column (1-based
+// flange pose number) when it has one, else row by row. InputError (field "poses") for a pose
+// number beyond the flange poses, or (row by row) when the counts differ.
+std::vector<FlangePoseObservation> ReadCameraPosesWithFlange(const std::string& path,
+                                                             const std::vector<Isometry3>& base_from_flange);
+
 // The forms above that carry the flange pose itself.
 enum class FlangePoseForm { kKukaAbc, kQuaternion, kMatrix };
 // Writes `obs` with a `pose` column, the flange pose in `form` and its translation in

@@ -23,6 +23,9 @@ struct EyeInHandRefineOptions {
   double sigma_deg = 0.0;
   double sigma_mm = 0.0;
   int max_iterations = 100;
+  // With no noise given and every pose carrying camera_from_board_covariance (poses from images),
+  // each pose is weighed by its own covariance; false: one noise level for all.
+  bool use_pose_covariance = true;
   // Returns "" or what is wrong.
   std::string Validate() const;
 };
@@ -33,6 +36,14 @@ struct EyeInHandRefinement {
   double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs (0.5 Σ whitened²)
   double sigma_deg = 0.0, sigma_mm = 0.0;       // the noise used for the weights and the covariance
   bool noise_estimated = false;                 // true when it came from the residuals
+  // Each pose weighed by its own covariance. sigma_deg / sigma_mm are then the residuals' RMS per
+  // axis, and the covariance below is scaled by max(1, variance_factor).
+  bool pose_covariance = false;
+  double variance_factor = 1.0;  // χ² / (6n − 12) of the whitened residuals (≈ 1 when the weights are right)
+  // Noise per axis added to every pose's own covariance: what the residuals of a first, equally
+  // weighted fit show beyond the poses' mean own variance (the robot's pose error; 0 when the
+  // images explain the residuals).
+  double extra_noise_deg = 0.0, extra_noise_mm = 0.0;
   // Covariance of flange_from_camera (stand case: camera_from_base): [rotation vector (rad, applied
   // on the left); translation (mm)].
   Eigen::Matrix<double, 6, 6> flange_from_camera_covariance = Eigen::Matrix<double, 6, 6>::Zero();

@@ -58,6 +58,11 @@ StereoCalibration ReadStereoCalibration(const std::string& path);
 // The same from the file's text; `path` only names it in errors.
 StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path);
 
+// One camera from a calibration file: K1 (or M1) and D1, or OpenCV's sample keys camera_matrix
+// and distortion_coefficients, and the image size (image_size, S, or image_width + image_height).
+// A stereo file gives its left camera. The same checks and errors as ReadStereoCalibration.
+CameraIntrinsics ReadCameraCalibration(const std::string& path);
+
 // Writes the standard keys; JSON if `path` ends in ".json", YAML otherwise. Atomic (temporary
 // file + rename). Throws InputError if the file cannot be written.
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calibration);
