@@ -21,6 +21,8 @@ struct HiddenRobotOptions {
   int poses = 15;                 // ball poses per cycle
   double cycle_period_s = 300.0;  // 16 × 5 min: the first 80 min of the thesis's warm-up
   double none_probability = 1.0 / 3.0;
+  std::string effect;  // "": drawn (none with none_probability, else a drawn cause); else this cause
+                       // is planted (a table row that plants itself, or a registered cause)
   std::string Validate() const;  // empty if valid
 };
 
