@@ -13,7 +13,8 @@ std::vector<EffectInfo>& Catalogue() {
 #include "ramtk/diagnose/engine/fringe_causes.def"
 #define RAMTK_ROBOT_CAUSE(name, code, parameters, plausible, help) {#name, DataKind::kRobot, help, parameters, plausible},
 #include "ramtk/diagnose/engine/robot_causes.def"
-#define RAMTK_LASER_CAUSE(name, drawn, parameters, plausible, help) {#name, DataKind::kLaser, help, parameters, plausible},
+#define RAMTK_LASER_CAUSE(name, drawn, fitted, parameters, plausible, help) \
+  {#name, DataKind::kLaser, help, parameters, plausible},
 #include "ramtk/diagnose/engine/laser_causes.def"
   };
   return catalogue;

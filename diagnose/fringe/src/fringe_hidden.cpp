@@ -16,25 +16,32 @@ struct EffectRange {
   bool visible;      // the ideal intensity model can see it
 };
 
+// The drawn effects: the rows of the fringe cause table with a magnitude range (fringe_causes.def).
 // Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,
 // a few percent lamp/exposure drift over the sequence, 50–120 % over-exposure (the brightest
 // surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px camera
 // defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of
 // full scale (the scene's brightest samples reach ~70 %; a knee above ~40 % bends them by less than the per-pixel fit
 // leaves visible), ambient light 5–20 % of projector white, an extra k1 of a poorly calibrated lens.
-const EffectRange kRanges[] = {
-    {"projector_nonlinearity", 1.3, 2.2, false, true},
-    {"phase_shift_error", 1.5, 5.0, false, true},
-    {"intensity_drift", 0.03, 0.10, true, true},
-    {"saturation", 1.5, 2.2, false, true},
-    {"camera_defocus", 0.8, 2.5, false, true},
-    {"defocus", 0.5, 1.4, false, true},
-    {"soft_knee_response", 0.2, 0.35, false, true},
-    {"ambient_light", 0.05, 0.2, false, false},
-    {"lens_distortion_unmodelled", 0.02, 0.1, true, false},
-};
+std::vector<EffectRange> DrawnEffects() {
+  std::vector<EffectRange> out;
+  static const EffectRange kRows[] = {
+#define RAMTK_FRINGE_CAUSE(name, fit, lo, hi, either_sign, visible, parameters, plausible, help) \
+  {#name, lo, hi, either_sign, visible},
+#include "ramtk/diagnose/engine/fringe_causes.def"
+  };
+  for (const EffectRange& e : kRows)
+    if (e.hi > 0) out.push_back(e);
+  return out;
+}
 
 }  // namespace
+
+std::vector<std::string> DrawnFringeEffects() {
+  std::vector<std::string> out;
+  for (const EffectRange& e : DrawnEffects()) out.push_back(e.name);
+  return out;
+}
 
 HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0xF81E6Eu};
@@ -43,8 +50,9 @@ HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
   HiddenFringeDraw d;
   d.seed = seed;
   if (unit(rng) < 1.0 / 3.0) return d;
-  const int n = static_cast<int>(sizeof(kRanges) / sizeof(kRanges[0]));
-  const EffectRange& e = kRanges[std::min(n - 1, static_cast<int>(unit(rng) * n))];
+  const std::vector<EffectRange> drawn = DrawnEffects();
+  const int n = static_cast<int>(drawn.size());
+  const EffectRange& e = drawn[std::min(n - 1, static_cast<int>(unit(rng) * n))];
   d.effect = e.name;
   d.magnitude = e.lo + (e.hi - e.lo) * unit(rng);
   if (e.either_sign && unit(rng) < 0.5) d.magnitude = -d.magnitude;

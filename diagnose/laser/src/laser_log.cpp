@@ -189,13 +189,13 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   d.num_residuals = n;
 
   const std::vector<int> base = {kTx, kTy, kTz, kAx, kAy};
-  const std::vector<CandidateSpec> specs = {{kNoEffect, {}},
-                                            {"beam_non_perpendicular", {kBeta}},
-                                            {"beam_offset", {kOffset}},
-                                            {"beam_width", {kWidth}},
-                                            {"trigger_latency", {kLatency}},
-                                            {"speed_variation", {kSpeed}},
-                                            {"sensor_plane_tilt", {kTiltX, kTiltY}}};
+  // The current model, then every row of the laser cause table the log can show, in table order.
+  std::vector<CandidateSpec> specs = {{kNoEffect, {}}};
+#define RAMTK_UNPAREN(...) __VA_ARGS__
+#define RAMTK_LASER_CAUSE(name, drawn, fitted, parameters, plausible, help) \
+  if (!std::vector<int>{RAMTK_UNPAREN fitted}.empty()) specs.push_back({#name, {RAMTK_UNPAREN fitted}});
+#include "ramtk/diagnose/engine/laser_causes.def"
+#undef RAMTK_UNPAREN
   std::vector<CandidateOutcome> outcomes;
   for (size_t i = 0; i < specs.size(); ++i) {
     if (options.progress) options.progress({"candidates", i, specs.size()});

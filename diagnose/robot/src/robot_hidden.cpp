@@ -41,6 +41,13 @@ void PlantExtraCause(const RobotColumnCause& cause, robot_detail::PlantContext* 
 
 }  // namespace
 
+std::vector<std::string> DrawnRobotEffects() {
+  std::vector<std::string> out;
+  for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
+    if (c.code.plant_before != nullptr || c.code.plant_after != nullptr) out.push_back(c.name);
+  return out;
+}
+
 std::string HiddenRobotOptions::Validate() const {
   if (cycles < 4) return "cycles must be >= 4";
   if (poses < 8) return "poses must be >= 8";
@@ -58,10 +65,7 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
   plant.random.rng = &rng;
   plant.options = &options;
   plant.model = &model;
-  // The drawn causes: the table's rows that plant themselves, in table order.
-  std::vector<const robot_detail::RobotCause*> drawn;
-  for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
-    if (c.code.plant_before != nullptr || c.code.plant_after != nullptr) drawn.push_back(&c);
+  const std::vector<std::string> drawn = DrawnRobotEffects();
   HiddenRobotDraw draw;
   draw.seed = seed;
   plant.draw = &draw;
@@ -71,7 +75,9 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
       if (c.name == options.effect) cause = &c;
     if (cause == nullptr) throw InputError({"", 0, "HiddenRobotOptions.effect"}, "unknown cause '" + options.effect + "'");
   } else if (!(plant.random.U01() < options.none_probability)) {
-    cause = drawn[plant.random.Pick(static_cast<int>(drawn.size()))];
+    const std::string& name = drawn[plant.random.Pick(static_cast<int>(drawn.size()))];
+    for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
+      if (c.name == name) cause = &c;
   }
   draw.effect = cause == nullptr ? kNoEffect : cause->name;
 

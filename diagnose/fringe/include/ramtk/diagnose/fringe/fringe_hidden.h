@@ -26,8 +26,11 @@ struct HiddenFringeDraw {
                                   // well is divided by it): shot-noise variance b·I grows with it
 };
 
-// Draw for `seed`: "none" with probability 1/3, else one of the seven fringe effects uniformly.
+// Draw for `seed`: "none" with probability 1/3, else uniformly one of the fringe cause table's rows
+// that carry a magnitude range (ramtk/diagnose/engine/fringe_causes.def).
 HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed);
+// The names DrawHiddenFringeEffect draws from, in table order.
+std::vector<std::string> DrawnFringeEffects();
 
 struct HiddenFringeSet {
   HiddenFringeDraw draw;

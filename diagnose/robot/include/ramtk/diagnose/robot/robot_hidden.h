@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "ramtk/diagnose/robot/robot.h"
 
@@ -33,6 +34,10 @@ struct HiddenRobotDraw {
   std::map<std::string, double> truth;  // the hidden parameters (units in the key)
   RobotDiagnoseInput input;             // data + current (nominal) model + set-up
 };
+
+// The causes DrawHiddenRobotEffect draws from (besides none): the robot cause table's rows that
+// plant themselves, in table order.
+std::vector<std::string> DrawnRobotEffects();
 
 // `model` is the nominal robot (KR150-like: base Z up). InputError on invalid options.
 HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::uint64_t seed,
