@@ -19,7 +19,7 @@
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/simulator.h"
-#include "robot_linear.h"
+#include "ramtk/diagnose/robot/detail/robot_linear.h"
 
 namespace ramtk::diagnose {
 namespace {

@@ -1,7 +1,6 @@
 # Robot/ball diagnosis: hidden-effect draws, the thesis case, building blocks; CLI runs.
 ramtk_add_gtest(diagnose_robot_tests robot_test.cpp)
 target_link_libraries(diagnose_robot_tests PRIVATE ramtk::diagnose)
-target_include_directories(diagnose_robot_tests PRIVATE ${PROJECT_SOURCE_DIR}/diagnose/robot/src)
 target_compile_definitions(diagnose_robot_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
 
 set(_diag_thesis ${CMAKE_CURRENT_BINARY_DIR}/robot_thesis_seed1)

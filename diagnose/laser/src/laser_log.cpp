@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "laser_fit.h"
+#include "ramtk/diagnose/laser/detail/laser_fit.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/laser/laser.h"
