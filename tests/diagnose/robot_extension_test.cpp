@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/engine/catalogue.h"
@@ -77,6 +79,33 @@ TEST(RobotExtension, RegisteringANameTwiceOrAnInvalidCauseIsAnError) {
   bad.info.name = "test_without_columns";
   bad.columns = nullptr;
   EXPECT_THROW(RegisterRobotCause(bad), InputError);
+}
+
+// A robot the project does not ship: one YAML file (a KR120-class arm, the KR150's layout with other
+// dimensions) is all the diagnosis needs.
+TEST(RobotExtension, ANewRobotIsOneYamlFile) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "ramtk_test_kr120_like.yaml";
+  std::ofstream(path) << "name: test KR120-class arm\n"
+                         "convention: mdh\n"
+                         "joints:\n"
+                         "  - {d: 650,  theta0: 0,   a: 320,  alpha: -90, beta: 0, sign: -1, offset: 0}\n"
+                         "  - {d: 0,    theta0: 0,   a: 1150, alpha: 0,   beta: 0, sign: 1,  offset: 0}\n"
+                         "  - {d: 0,    theta0: -90, a: 35,   alpha: -90, beta: 0, sign: 1,  offset: 0}\n"
+                         "  - {d: 1200, theta0: 0,   a: 0,    alpha: 90,  beta: 0, sign: 1,  offset: 0}\n"
+                         "  - {d: 0,    theta0: 0,   a: 0,    alpha: -90, beta: 0, sign: 1,  offset: 0}\n"
+                         "  - {d: 215,  theta0: 0,   a: 0,    alpha: 0,   beta: 0, sign: 1,  offset: 0}\n"
+                         "structural_zeros: [beta1, d2, beta3, beta4, beta5, beta6]\n";
+  const kinematics::RobotModel robot = kinematics::ReadRobotModel(path.string());
+  HiddenRobotOptions o;
+  o.effect = "joint_offset";
+  const HiddenRobotDraw draw = DrawHiddenRobotEffect(robot, 3, o);
+  const Diagnosis d = DiagnoseRobotData(draw.input, DiagnoseOptions{});
+  SCOPED_TRACE(draw.description);
+  EXPECT_EQ(d.cause, "joint_offset");
+  const auto& [key, truth] = *draw.truth.begin();
+  ASSERT_TRUE(d.parameters.count(key)) << key;
+  EXPECT_NEAR(d.parameters.at(key), truth, 4.0 * d.sigmas.at(key));
+  std::filesystem::remove(path);
 }
 
 }  // namespace
