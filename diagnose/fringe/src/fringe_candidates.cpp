@@ -1,6 +1,7 @@
 // Candidate extensions of the ideal fringe model, each fitted on the training tiles and scored on
 // the held-out tiles: the cross-validation and the linear-extension fit the candidates share, and
-// FitCandidates, which fits every row of the fringe cause table (the fits are in causes/).
+// FitCandidates, which fits every row of the fringe cause table (the fits are in causes/), then the
+// registered causes.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -184,6 +185,7 @@ std::vector<CandidateFit> FitCandidates(const FringeFit& fit, int folds, double 
   };
   for (FitFn f : kFits)
     if (f != &NotFitted) out.push_back(f(ctx));
+  for (const FringeLinearCause& cause : RegisteredFringeCauses()) out.push_back(FitRegistered(ctx, cause));
   return out;
 }
 

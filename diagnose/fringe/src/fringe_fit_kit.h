@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fringe_internal.h"
+#include "ramtk/diagnose/fringe/extra_cause.h"
 
 namespace ramtk::diagnose::fringe {
 
@@ -47,6 +48,11 @@ std::string Numbered(const std::string& prefix, int i, const std::string& suffix
 // A row the fringe model cannot fit (its effect leaves the ideal model exact, or another part of
 // the diagnosis reports it); never called.
 CandidateFit NotFitted(const CandidateContext& ctx);
+
+// The sequence of a fitted set as registered causes see it (fringe_extra.cpp).
+FringeSequenceView SequenceViewOf(const FringeFit& fit);
+// Fits a registered cause (fringe_extra.cpp).
+CandidateFit FitRegistered(const CandidateContext& ctx, const FringeLinearCause& cause);
 
 // The fit of every table row, declared from the table.
 #define RAMTK_FRINGE_CAUSE(name, fit, lo, hi, either_sign, visible, parameters, plausible, help) \

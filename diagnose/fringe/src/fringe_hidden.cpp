@@ -3,7 +3,10 @@
 
 #include <random>
 
+#include "fringe_internal.h"
 #include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/core/error.h"
+#include "ramtk/diagnose/fringe/extra_cause.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::diagnose {
@@ -71,7 +74,10 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   config.supersampling = 2;
   config.seed = draw.seed;
   config.sensor.full_well_electrons /= draw.camera_gain;
-  if (draw.effect != "none") config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
+  const FringeLinearCause* registered = nullptr;
+  for (const FringeLinearCause& c : RegisteredFringeCauses())
+    if (draw.effect == c.info.name) registered = &c;
+  if (draw.effect != "none" && registered == nullptr) config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
   const vision::SimulatedCamera sim = vision::SimulateCamera(config, 0);
 
   HiddenFringeSet out;
@@ -90,6 +96,17 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
     cv::Mat f;
     sim.images[i].convertTo(f, CV_32F);
     out.frames.push_back(f);
+  }
+  if (registered != nullptr) {
+    if (!registered->plant)
+      throw InputError({"", 0, "HiddenFringeDraw.effect"}, "cause '" + draw.effect + "' cannot be planted");
+    FringeSequenceView seq;
+    seq.frames = static_cast<int>(out.frames.size());
+    const int steps = m.sequence[0].steps;
+    for (int k = 0; k < steps; ++k)
+      seq.phase_frame.push_back(k), seq.step_shift_rad.push_back(fringe::StepShift(k, steps));
+    for (int f = steps; f < seq.frames; ++f) seq.gray_frame.push_back(f);
+    registered->plant(seq, draw.magnitude, &out.frames);
   }
   return out;
 }

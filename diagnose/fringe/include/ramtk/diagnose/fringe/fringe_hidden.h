@@ -43,6 +43,8 @@ struct HiddenFringeSet {
 
 // Renders the draw: the simulator's "small" rig at half resolution (320×256), 8-bit, SLMaster
 // sequence (12-step phase shift, 64 periods, 7-bit complementary Gray code), supersampling 2.
+// A cause registered with RegisterFringeCause (extra_cause.h) is rendered without it and then
+// planted into the frames by its plant function.
 HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw);
 
 }  // namespace ramtk::diagnose
