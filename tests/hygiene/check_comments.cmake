@@ -1,6 +1,7 @@
 # cmake -DROOT=<checkout> -P tests/hygiene/check_comments.cmake
 # Comments in library code describe what the code does, not its history: no issue numbers, no
-# "used to" / "previously" / "formerly", no dates, no "now uses/reads/..." (docs/conventions.md).
+# "used to" / "previously" / "formerly", no dates, no "now uses/reads/..." (docs/conventions.md,
+# "Comments and internals").
 # And no stale contract: a "Throws InputError" comment right above `std::string Validate() const`,
 # which returns the problem instead. Library code: every module's src/ and include/ folders.
 # Prints every violation, then fails.
