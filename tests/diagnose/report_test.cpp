@@ -11,7 +11,11 @@
 
 #include "ramtk/diagnose/engine/catalogue.h"
 #include "ramtk/diagnose/engine/plot.h"
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
+#include "ramtk/diagnose/laser/laser_hidden.h"
 #include "ramtk/report/gnuplot.h"
+#include "ramtk/tcf/simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::diagnose {
 namespace {
@@ -50,6 +54,20 @@ TEST(Catalogue, DocsTableListsExactlyTheTableRows) {
     if (docs.compare(end + 1, 3, " | ") == 0 && IsKnownCause(name)) ++rows;
   }
   EXPECT_EQ(rows, EffectCatalogue().size());
+}
+
+// The simulators name their effects as the tables do: the fringe rows the hidden draws render are
+// exactly the vision simulator's effects, the laser rows exactly the TCF simulator's.
+TEST(Catalogue, SimulatorEffectsAreTheTablesRows) {
+  std::set<std::string> simulator;
+  for (const auto& [name, magnitude] : vision::FringeEffects{}.ByName()) simulator.insert(name);
+  const std::vector<std::string> drawn = DrawnFringeEffects();
+  EXPECT_EQ(simulator, std::set<std::string>(drawn.begin(), drawn.end()));
+  std::set<std::string> laser_rows;
+  for (const EffectInfo& e : EffectsOf(DataKind::kLaser)) laser_rows.insert(e.name);
+  const std::vector<std::string> device = tcf::DeviceEffects::Names();
+  EXPECT_EQ(std::set<std::string>(device.begin(), device.end()), laser_rows);
+  for (const std::string& name : DrawnLaserEffects()) EXPECT_TRUE(laser_rows.count(name)) << name;
 }
 
 // The help lines of each kind list its causes, one line each.
