@@ -10,6 +10,7 @@
 #include "progress_printer.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
+#include "ramtk/diagnose/engine/catalogue.h"
 #include "ramtk/diagnose/engine/diagnose.h"
 #include "ramtk/diagnose/fringe/fringe.h"
 #include "ramtk/diagnose/laser/laser.h"
@@ -100,6 +101,10 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--alpha", options->alpha, "Significance level of the structure tests")->capture_default_str();
   sub->add_option("--seed", options->seed, "Seed of anything random")->capture_default_str();
   sub->add_option("--kind", *kind, "Override the detected kind")->check(CLI::IsMember({"fringe", "robot", "laser"}));
+  sub->footer("\nCauses it can name (docs/diagnose.md, the cause catalogue):\n fringe:\n" +
+              diagnose::CatalogueHelp(diagnose::DataKind::kFringe) + " robot:\n" +
+              diagnose::CatalogueHelp(diagnose::DataKind::kRobot) + " laser:\n" +
+              diagnose::CatalogueHelp(diagnose::DataKind::kLaser));
   sub->callback([options, kind, html, force, exit_code, sub]() {
     options->progress = ProgressPrinter("steps");
     *exit_code = RunDiagnose(*options, *kind, *html, *force, CommandProvenance(sub));

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -327,77 +328,22 @@ void Coverage(const kinematics::RobotChain& nominal, const kinematics::TrackerMe
   }
 }
 
-}  // namespace
-
-RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kinematics::TrackerMeasurements& data,
-                                const RobotCalibrationOptions& options, RobotCalibrationSummary* summary_out) {
-  ThrowIfInvalid(options.Validate(), "RobotCalibrationOptions");
-  CheckInput(nominal, data);
-  RobotCalibrationSummary local;
-  RobotCalibrationSummary& summary = summary_out != nullptr ? *summary_out : local;
-  summary = RobotCalibrationSummary{};
-  const int n = nominal.NumJoints();
-  const bool rotation = options.use_rotation && data.has_rotation;
-  const int harmonics = options.try_cyclic ? options.cyclic_harmonics : 0;
-  CalibrationProblem problem;
-  problem.frame.chain = &nominal;
-  problem.frame.layout = UnknownLayout(n, static_cast<int>(data.target_names.size()), rotation, harmonics);
+// Non-geometric terms (cyclic joint errors, compliance), each kept when the held-out RMS drops by
+// min_term_gain: the problem, unknowns, stage and candidate set become the extended ones.
+void TryTerms(const kinematics::RobotChain& nominal, const std::vector<std::string>& names,
+              const RobotCalibrationOptions& options,
+              const std::function<void(const char*, std::size_t, std::size_t)>& report, CalibrationProblem* problem_io,
+              Eigen::VectorXd* x_io, Stage* stage_io, std::vector<bool>* candidate_io, double* best_io,
+              std::vector<std::vector<Vec3>>* held_io, RobotCalibrationSummary* summary_io) {
+  CalibrationProblem& problem = *problem_io;
+  Eigen::VectorXd& x = *x_io;
+  Stage& stage = *stage_io;
+  std::vector<bool>& candidate = *candidate_io;
+  double& best = *best_io;
+  std::vector<std::vector<Vec3>>& held = *held_io;
+  RobotCalibrationSummary& summary = *summary_io;
   const UnknownLayout& L = problem.frame.layout;
-  const std::vector<std::string> names = UnknownNames(L);
-  for (const kinematics::TrackerPose& p : data.poses) {
-    PoseInput in;
-    in.q = Eigen::Map<const Eigen::VectorXd>(p.q_rad.data(), n);
-    in.torque = kinematics::GravityTorques(nominal, in.q);
-    for (const auto& t : p.targets) in.measured.push_back(t.position_mm);
-    if (rotation) in.measured_rotation = *p.tracker_from_tool_rotation;
-    in.whitening = Whitening(p, L, options.position_sigma_mm, DegToRad(options.rotation_sigma_deg));
-    problem.poses.push_back(std::move(in));
-  }
-  summary.num_poses = static_cast<int>(data.poses.size());
-  summary.num_targets = L.num_targets;
-  summary.used_rotation = rotation;
-  summary.position_sigma_mm = options.position_sigma_mm;
-  summary.rotation_sigma_deg = options.rotation_sigma_deg;
-
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(L.size);
-  x.segment(L.kin, nominal.NumParams()) = nominal.Params();
-  const Eigen::VectorXd x_nominal = x;
-  auto report = [&](const char* stage, std::size_t done, std::size_t total) {
-    if (options.progress && !options.progress({stage, done, total})) throw InputError({"", 0, ""}, "cancelled");
-  };
-
-  // 1. The set-up with the nominal links: the "before" figures.
-  report("setup", 0, 1);
-  LinearSetup(&problem, &x);
-  std::vector<bool> free = SetupFree(L);
-  detail::SolveUnknowns(problem, free, {}, options, options.max_iterations, &x);
-  detail::Recentre(&problem, &x);
-  std::vector<double> rot_before;
-  const auto before = PositionResiduals(problem, x, &rot_before);
-  summary.before = detail::StatsOf(before, rot_before);
-  for (const auto& p : before) summary.residuals_before.push_back(p[0]);
-
-  // 2. The links, with identifiability first.
-  std::vector<bool> candidate = free;
-  if (options.identify_links) {
-    const std::vector<bool> links = LinkCandidates(nominal, options);
-    for (int i = 0; i < nominal.NumParams(); ++i) candidate[L.kin + i] = links[i];
-  }
-  report("links", 0, 1);
-  Stage stage = IdentifyAndSolve(&problem, candidate, names, options, &x, &summary);
-  if (options.estimate_sigmas) {
-    EstimateSigmas(&problem, x, &summary, data);
-    stage = IdentifyAndSolve(&problem, candidate, names, options, &x, &summary);
-  }
-
-  // The links alone, for the robot file (the terms below refit the links with them).
-  const Eigen::VectorXd x_links = x;
-  const CalibrationProblem problem_links = problem;
-
-  // 3. Non-geometric terms, each kept when the held-out RMS drops by min_term_gain.
-  std::vector<std::vector<Vec3>> held;
-  double best = HeldOutRms(problem, stage.free, options, x, &held);
-  summary.held_out_geometric = detail::StatsOf(held);
+  const int harmonics = options.try_cyclic ? options.cyclic_harmonics : 0;
   std::vector<std::pair<std::string, std::pair<int, int>>> groups;
   if (harmonics > 0) groups.push_back({"cyclic", {L.cyclic, L.compliance}});
   if (options.try_compliance && nominal.HasMasses()) groups.push_back({"compliance", {L.compliance, L.size}});
@@ -433,37 +379,15 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
       summary.terms_kept.push_back(group.first);
     }
   }
-  summary.held_out = detail::StatsOf(held);
-  for (const auto& p : held) summary.residuals_held_out.push_back(p[0]);
+}
 
-  // 4. The result, its covariance and the table of unknowns.
-  std::vector<double> rot_after;
-  const auto after = PositionResiduals(problem, x, &rot_after);
-  summary.after = detail::StatsOf(after, rot_after);
-  for (const auto& p : after) summary.residuals_after.push_back(p[0]);
-
-  RobotCalibration result;
-  result.chain = ChainFromUnknowns(problem.frame, x);
-  result.links_only = ChainFromUnknowns(problem_links.frame, x_links);
-  for (int j = 0; j < n; ++j) {
-    if (candidate[L.kin + ChainParamIndex(ParamKind::kBeta, j)]) {
-      for (kinematics::RobotChain* c : {&result.chain, &result.links_only}) {
-        c->structural_zero[ChainParamIndex(ParamKind::kBeta, j)] = false;
-        c->convention = kinematics::Convention::kMdh;
-      }
-    }
-  }
-  result.tracker_from_base.linear() = problem.frame.base_rotation;
-  result.tracker_from_base.translation() = x.segment<3>(L.base + 3);
-  for (int k = 0; k < L.num_targets; ++k) result.targets_in_flange.push_back(x.segment<3>(L.targets + 3 * k));
-  if (rotation) result.flange_from_tool_rotation = problem.frame.tool_rotation;
-  result.cyclic = Eigen::MatrixXd::Zero(n, 2 * harmonics);
-  result.compliance = Eigen::VectorXd::Zero(n);
-  for (int j = 0; j < n; ++j) {
-    for (int c = 0; c < 2 * harmonics; ++c) result.cyclic(j, c) = x[L.cyclic + 2 * harmonics * j + c];
-    result.compliance[j] = x[L.compliance + j];
-  }
-
+// The identified unknowns, their covariance (options.covariance) and the predicted held-out RMS.
+void Covariance(const CalibrationProblem& problem, const Eigen::VectorXd& x, const Stage& stage,
+                const RobotCalibrationOptions& options, RobotCalibration* result_io,
+                RobotCalibrationSummary* summary_io) {
+  RobotCalibration& result = *result_io;
+  RobotCalibrationSummary& summary = *summary_io;
+  const UnknownLayout& L = problem.frame.layout;
   for (int i = 0; i < L.size; ++i) {
     if (stage.free[i]) result.identified.push_back(i);
   }
@@ -508,7 +432,15 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
     const double model = summary.after.rms_per_coordinate_mm;
     summary.predicted_held_out_mm = std::sqrt(model * model * m / std::max(1, m - p) + sum / std::max(1, count));
   }
+}
 
+// Every unknown offered, with its nominal and fitted value in file units and its status.
+void TableOfUnknowns(const UnknownLayout& L, const std::vector<std::string>& names, const Eigen::VectorXd& x_nominal,
+                     const Eigen::VectorXd& x, const Stage& stage, const RobotCalibrationOptions& options,
+                     bool has_masses, RobotCalibration* result_io, RobotCalibrationSummary* summary_io) {
+  RobotCalibration& result = *result_io;
+  RobotCalibrationSummary& summary = *summary_io;
+  const int harmonics = options.try_cyclic ? options.cyclic_harmonics : 0;
   for (int i = 0; i < L.size; ++i) {
     CalibrationUnknown u;
     u.name = names[i];
@@ -532,12 +464,121 @@ RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kin
       u.status = "fixed";
     }
     const bool offered = i < L.cyclic || (i < L.compliance && harmonics > 0) ||
-                         (i >= L.compliance && options.try_compliance && nominal.HasMasses());
+                         (i >= L.compliance && options.try_compliance && has_masses);
     if (!offered) continue;
     result.unknowns.push_back(u);
     if (u.status == "not_identifiable" || u.status == "weak") ++summary.num_eliminated;
   }
-  summary.num_identified = p;
+}
+
+}  // namespace
+
+RobotCalibration CalibrateRobot(const kinematics::RobotChain& nominal, const kinematics::TrackerMeasurements& data,
+                                const RobotCalibrationOptions& options, RobotCalibrationSummary* summary_out) {
+  ThrowIfInvalid(options.Validate(), "RobotCalibrationOptions");
+  CheckInput(nominal, data);
+  RobotCalibrationSummary local;
+  RobotCalibrationSummary& summary = summary_out != nullptr ? *summary_out : local;
+  summary = RobotCalibrationSummary{};
+  const int n = nominal.NumJoints();
+  const bool rotation = options.use_rotation && data.has_rotation;
+  const int harmonics = options.try_cyclic ? options.cyclic_harmonics : 0;
+  CalibrationProblem problem;
+  problem.frame.chain = &nominal;
+  problem.frame.layout = UnknownLayout(n, static_cast<int>(data.target_names.size()), rotation, harmonics);
+  const UnknownLayout& L = problem.frame.layout;
+  const std::vector<std::string> names = UnknownNames(L);
+  for (const kinematics::TrackerPose& p : data.poses) {
+    PoseInput in;
+    in.q = Eigen::Map<const Eigen::VectorXd>(p.q_rad.data(), n);
+    in.torque = kinematics::GravityTorques(nominal, in.q);
+    for (const auto& t : p.targets) in.measured.push_back(t.position_mm);
+    if (rotation) in.measured_rotation = *p.tracker_from_tool_rotation;
+    in.whitening = Whitening(p, L, options.position_sigma_mm, DegToRad(options.rotation_sigma_deg));
+    problem.poses.push_back(std::move(in));
+  }
+  summary.num_poses = static_cast<int>(data.poses.size());
+  summary.num_targets = L.num_targets;
+  summary.used_rotation = rotation;
+  summary.position_sigma_mm = options.position_sigma_mm;
+  summary.rotation_sigma_deg = options.rotation_sigma_deg;
+
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(L.size);
+  x.segment(L.kin, nominal.NumParams()) = nominal.Params();
+  const Eigen::VectorXd x_nominal = x;
+  const std::function<void(const char*, std::size_t, std::size_t)> report = [&](const char* stage, std::size_t done,
+                                                                                 std::size_t total) {
+    if (options.progress && !options.progress({stage, done, total})) throw InputError({"", 0, ""}, "cancelled");
+  };
+
+  // 1. The set-up with the nominal links: the "before" figures.
+  report("setup", 0, 1);
+  LinearSetup(&problem, &x);
+  std::vector<bool> free = SetupFree(L);
+  detail::SolveUnknowns(problem, free, {}, options, options.max_iterations, &x);
+  detail::Recentre(&problem, &x);
+  std::vector<double> rot_before;
+  const auto before = PositionResiduals(problem, x, &rot_before);
+  summary.before = detail::StatsOf(before, rot_before);
+  for (const auto& p : before) summary.residuals_before.push_back(p[0]);
+
+  // 2. The links, with identifiability first.
+  std::vector<bool> candidate = free;
+  if (options.identify_links) {
+    const std::vector<bool> links = LinkCandidates(nominal, options);
+    for (int i = 0; i < nominal.NumParams(); ++i) candidate[L.kin + i] = links[i];
+  }
+  report("links", 0, 1);
+  Stage stage = IdentifyAndSolve(&problem, candidate, names, options, &x, &summary);
+  if (options.estimate_sigmas) {
+    EstimateSigmas(&problem, x, &summary, data);
+    stage = IdentifyAndSolve(&problem, candidate, names, options, &x, &summary);
+  }
+
+  // The links alone, for the robot file (the terms below refit the links with them).
+  const Eigen::VectorXd x_links = x;
+  const CalibrationProblem problem_links = problem;
+
+  // 3. Non-geometric terms, each kept when the held-out RMS drops by min_term_gain.
+  std::vector<std::vector<Vec3>> held;
+  double best = HeldOutRms(problem, stage.free, options, x, &held);
+  summary.held_out_geometric = detail::StatsOf(held);
+  TryTerms(nominal, names, options, report, &problem, &x, &stage, &candidate, &best, &held, &summary);
+  summary.held_out = detail::StatsOf(held);
+  for (const auto& p : held) summary.residuals_held_out.push_back(p[0]);
+
+  // 4. The result, its covariance and the table of unknowns.
+  std::vector<double> rot_after;
+  const auto after = PositionResiduals(problem, x, &rot_after);
+  summary.after = detail::StatsOf(after, rot_after);
+  for (const auto& p : after) summary.residuals_after.push_back(p[0]);
+
+  RobotCalibration result;
+  result.chain = ChainFromUnknowns(problem.frame, x);
+  result.links_only = ChainFromUnknowns(problem_links.frame, x_links);
+  for (int j = 0; j < n; ++j) {
+    if (candidate[L.kin + ChainParamIndex(ParamKind::kBeta, j)]) {
+      for (kinematics::RobotChain* c : {&result.chain, &result.links_only}) {
+        c->structural_zero[ChainParamIndex(ParamKind::kBeta, j)] = false;
+        c->convention = kinematics::Convention::kMdh;
+      }
+    }
+  }
+  result.tracker_from_base.linear() = problem.frame.base_rotation;
+  result.tracker_from_base.translation() = x.segment<3>(L.base + 3);
+  for (int k = 0; k < L.num_targets; ++k) result.targets_in_flange.push_back(x.segment<3>(L.targets + 3 * k));
+  if (rotation) result.flange_from_tool_rotation = problem.frame.tool_rotation;
+  result.cyclic = Eigen::MatrixXd::Zero(n, 2 * harmonics);
+  result.compliance = Eigen::VectorXd::Zero(n);
+  for (int j = 0; j < n; ++j) {
+    for (int c = 0; c < 2 * harmonics; ++c) result.cyclic(j, c) = x[L.cyclic + 2 * harmonics * j + c];
+    result.compliance[j] = x[L.compliance + j];
+  }
+
+  Covariance(problem, x, stage, options, &result, &summary);
+
+  TableOfUnknowns(problem.frame.layout, names, x_nominal, x, stage, options, nominal.HasMasses(), &result, &summary);
+  summary.num_identified = static_cast<int>(result.identified.size());
   summary.condition_number = stage.elimination.condition_number;
   summary.observability_index = stage.elimination.observability_index;
   summary.noise_amplification_index = stage.elimination.noise_amplification_index;

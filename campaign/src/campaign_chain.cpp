@@ -155,6 +155,115 @@ std::string CampaignSummary::BriefReport() const {
   return buf;
 }
 
+namespace {
+
+// Centre errors against the simulator's true centres, and the RMS its covariances predict.
+void CentreErrors(const thermal::ThermalSimResult& sim, const kinematics::RobotMeasurementSet& ball,
+                  const std::string& ball_path, CampaignSummary* summary) {
+  CampaignSummary& s = *summary;
+  std::map<std::pair<int, int>, Vec3> truth_centre;
+  for (const auto& row : sim.ball.rows) truth_centre[{row.cycle, row.index}] = row.position_mm;
+  double sq = 0.0, pred = 0.0;
+  for (const auto& row : ball.rows) {
+    const double e = (row.position_mm - truth_centre.at({row.cycle, row.index})).norm() * 1000.0;
+    sq += e * e;
+    s.centre_max_um = std::max(s.centre_max_um, e);
+    pred += kinematics::CentreCovariance(row, ball_path).trace() * 1e6;
+  }
+  s.centre_rms_um = std::sqrt(sq / ball.rows.size());
+  s.centre_predicted_rms_um = std::sqrt(pred / ball.rows.size());
+}
+
+// Errors of the calibrated set-up (sensor frame, ball on the flange) from image and from true
+// centres, against their predicted σ.
+void SetupBudget(const thermal::ThermalSimResult& sim, const ChainResult& img, const ChainResult& tru,
+                 CampaignSummary* summary) {
+  CampaignSummary& s = *summary;
+  auto setup_errors = [&](const ChainResult& r, double* rot, double* trans, double* ball_um) {
+    *rot = RotationAngleBetween(r.setup.sensor_from_base.linear(), sim.setup.sensor_from_base.linear()) * kArcsecPerRad;
+    *trans = (r.setup.sensor_from_base.translation() - sim.setup.sensor_from_base.translation()).norm() * 1000.0;
+    *ball_um = (r.setup.ball_in_flange - sim.setup.ball_in_flange).norm() * 1000.0;
+  };
+  setup_errors(img, &s.rotation_error_arcsec, &s.translation_error_um, &s.ball_error_um);
+  s.rotation_sigma_arcsec = img.calibration.RotationStdArcsec().norm();
+  s.translation_sigma_um = img.calibration.TranslationStdMm().norm() * 1000.0;
+  s.ball_sigma_um = img.calibration.BallStdMm().norm() * 1000.0;
+  setup_errors(tru, &s.rotation_error_truth_arcsec, &s.translation_error_truth_um, &s.ball_error_truth_um);
+  s.budget.push_back({"centres", "RMS 3-D centre error, um", s.centre_rms_um, 0.0, s.centre_predicted_rms_um});
+  s.budget.push_back({"calibration", "rotation error, arcsec", s.rotation_error_arcsec, s.rotation_error_truth_arcsec,
+                      s.rotation_sigma_arcsec});
+  s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um,
+                      s.translation_sigma_um});
+  s.budget.push_back(
+      {"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um, s.ball_sigma_um});
+}
+
+// Drift per parameter against the true drift relative to the cold cycle, warm cycles.
+void DriftBudget(const thermal::ThermalSimResult& sim, const ChainResult& img, const ChainResult& tru,
+                 CampaignSummary* summary) {
+  CampaignSummary& s = *summary;
+  const int cycles = static_cast<int>(img.delta_x.cols());
+  for (std::size_t j = 0; j < s.params.size(); ++j) {
+    const int p = s.params[j];
+    double ei = 0.0, et = 0.0, tt = 0.0, vp = 0.0;
+    for (int c = 1; c < cycles; ++c) {
+      if (!img.drift_covariance.empty())
+        vp += img.drift_covariance.at(static_cast<std::size_t>(c))(static_cast<Eigen::Index>(j),
+                                                                   static_cast<Eigen::Index>(j));
+      const double truth = thermal::ToFileUnits(p, sim.true_delta_x(p, c) - sim.true_delta_x(p, 0));
+      ei += std::pow(thermal::ToFileUnits(p, img.delta_x(p, c)) - truth, 2);
+      et += std::pow(thermal::ToFileUnits(p, tru.delta_x(p, c)) - truth, 2);
+      tt += truth * truth;
+    }
+    s.drift_rms_error.push_back(std::sqrt(ei / (cycles - 1)));
+    s.drift_rms_error_truth.push_back(std::sqrt(et / (cycles - 1)));
+    s.drift_rms_true.push_back(std::sqrt(tt / (cycles - 1)));
+    s.drift_predicted_sigma.push_back(img.drift_covariance.empty()
+                                          ? std::numeric_limits<double>::quiet_NaN()
+                                          : std::abs(thermal::ToFileUnits(p, std::sqrt(vp / (cycles - 1)))));
+    const std::string unit = kinematics::IsAngleParam(p) ? "deg" : "mm";
+    s.budget.push_back({"drift " + kinematics::ParamName(p), "RMS error over warm cycles, " + unit,
+                        s.drift_rms_error.back(), s.drift_rms_error_truth.back(), s.drift_predicted_sigma.back()});
+  }
+}
+
+// The monitoring points' residual before and after compensation, per cycle, and the stage that
+// dominates it.
+void MonitoringBudget(const thermal::CycleSeries& monitoring, const ChainResult& img, const ChainResult& tru,
+                      CampaignSummary* summary) {
+  CampaignSummary& s = *summary;
+  s.monitoring_uncompensated_mm = WarmRms(img.before);
+  s.monitoring_compensated_mm = WarmRms(img.after);
+  s.monitoring_compensated_truth_mm = WarmRms(tru.after);
+  auto rms = [](double ss, long n) { return n > 0 ? std::sqrt(ss / static_cast<double>(n)) : 0.0; };
+  s.monitoring_drift_error_mm = rms(img.monitoring_drift_error_ss, img.monitoring_drift_terms);
+  s.monitoring_drift_error_truth_mm = rms(tru.monitoring_drift_error_ss, tru.monitoring_drift_terms);
+  s.monitoring_drift_predicted_mm = img.drift_covariance.empty()
+                                        ? std::numeric_limits<double>::quiet_NaN()
+                                        : rms(img.monitoring_drift_predicted_ss, img.monitoring_drift_terms);
+  s.budget.push_back({"monitoring", "error from the identified drift J(dX - dX_true), mm", s.monitoring_drift_error_mm,
+                      s.monitoring_drift_error_truth_mm, s.monitoring_drift_predicted_mm});
+  s.budget.push_back({"monitoring", "RMS residual after compensation, mm", s.monitoring_compensated_mm,
+                      s.monitoring_compensated_truth_mm});
+  for (int c = 1; c < monitoring.NumCycles(); ++c) {
+    s.cycle_time_s.push_back(monitoring.cycles[c].time_s);
+    const auto col_rms = [](const Eigen::MatrixXd& m, int col) {
+      return std::sqrt(m.col(col).squaredNorm() / m.rows());
+    };
+    s.monitoring_before_mm.push_back(col_rms(img.before, c));
+    s.monitoring_after_mm.push_back(col_rms(img.after, c));
+    s.monitoring_after_truth_mm.push_back(col_rms(tru.after, c));
+  }
+  // What the vision stage adds to the monitoring residual, against what remains with perfect centres.
+  const double vision_part = std::sqrt(
+      std::max(0.0, std::pow(s.monitoring_compensated_mm, 2) - std::pow(s.monitoring_compensated_truth_mm, 2)));
+  s.dominant_stage = vision_part > s.monitoring_compensated_truth_mm
+                         ? "vision (image-derived centres)"
+                         : "robot repeatability, tool sensor and drift model (not the vision stage)";
+}
+
+}  // namespace
+
 CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, const CampaignOptions& options,
                                        const std::string& out_dir, bool overwrite, const Provenance& provenance) {
   ThrowIfInvalid(options.Validate(), "CampaignOptions");
@@ -220,18 +329,7 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
     for (int p : dropped) s.dropped_poses.push_back(p);
   }
 
-  // Centre errors against truth.
-  std::map<std::pair<int, int>, Vec3> truth_centre;
-  for (const auto& row : sim.ball.rows) truth_centre[{row.cycle, row.index}] = row.position_mm;
-  double sq = 0.0, pred = 0.0;
-  for (const auto& row : ball.rows) {
-    const double e = (row.position_mm - truth_centre.at({row.cycle, row.index})).norm() * 1000.0;
-    sq += e * e;
-    s.centre_max_um = std::max(s.centre_max_um, e);
-    pred += kinematics::CentreCovariance(row, ball_path).trace() * 1e6;
-  }
-  s.centre_rms_um = std::sqrt(sq / ball.rows.size());
-  s.centre_predicted_rms_um = std::sqrt(pred / ball.rows.size());
+  CentreErrors(sim, ball, ball_path, &s);
 
   // 3.–5. The chain on the image centres and on the true centres.
   const std::string mon_path = (dir / "monitoring.csv").string();
@@ -263,76 +361,10 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   thermal::WriteThermalSetup(img.setup, (dir / "chain" / "setup.json").string());
   s.chain_s = Seconds(t0);
 
-  auto setup_errors = [&](const ChainResult& r, double* rot, double* trans, double* ball_um) {
-    *rot = RotationAngleBetween(r.setup.sensor_from_base.linear(), sim.setup.sensor_from_base.linear()) * kArcsecPerRad;
-    *trans = (r.setup.sensor_from_base.translation() - sim.setup.sensor_from_base.translation()).norm() * 1000.0;
-    *ball_um = (r.setup.ball_in_flange - sim.setup.ball_in_flange).norm() * 1000.0;
-  };
-  setup_errors(img, &s.rotation_error_arcsec, &s.translation_error_um, &s.ball_error_um);
-  s.rotation_sigma_arcsec = img.calibration.RotationStdArcsec().norm();
-  s.translation_sigma_um = img.calibration.TranslationStdMm().norm() * 1000.0;
-  s.ball_sigma_um = img.calibration.BallStdMm().norm() * 1000.0;
-  setup_errors(tru, &s.rotation_error_truth_arcsec, &s.translation_error_truth_um, &s.ball_error_truth_um);
-  s.budget.push_back({"centres", "RMS 3-D centre error, um", s.centre_rms_um, 0.0, s.centre_predicted_rms_um});
-  s.budget.push_back({"calibration", "rotation error, arcsec", s.rotation_error_arcsec, s.rotation_error_truth_arcsec,
-                      s.rotation_sigma_arcsec});
-  s.budget.push_back({"calibration", "translation error, um", s.translation_error_um, s.translation_error_truth_um,
-                      s.translation_sigma_um});
-  s.budget.push_back(
-      {"calibration", "ball_in_flange error, um", s.ball_error_um, s.ball_error_truth_um, s.ball_sigma_um});
+  SetupBudget(sim, img, tru, &s);
 
-  // Drift per parameter against the true drift relative to the cold cycle, warm cycles.
-  const int cycles = static_cast<int>(img.delta_x.cols());
-  for (std::size_t j = 0; j < s.params.size(); ++j) {
-    const int p = s.params[j];
-    double ei = 0.0, et = 0.0, tt = 0.0, vp = 0.0;
-    for (int c = 1; c < cycles; ++c) {
-      if (!img.drift_covariance.empty())
-        vp += img.drift_covariance.at(static_cast<std::size_t>(c))(static_cast<Eigen::Index>(j),
-                                                                   static_cast<Eigen::Index>(j));
-      const double truth = thermal::ToFileUnits(p, sim.true_delta_x(p, c) - sim.true_delta_x(p, 0));
-      ei += std::pow(thermal::ToFileUnits(p, img.delta_x(p, c)) - truth, 2);
-      et += std::pow(thermal::ToFileUnits(p, tru.delta_x(p, c)) - truth, 2);
-      tt += truth * truth;
-    }
-    s.drift_rms_error.push_back(std::sqrt(ei / (cycles - 1)));
-    s.drift_rms_error_truth.push_back(std::sqrt(et / (cycles - 1)));
-    s.drift_rms_true.push_back(std::sqrt(tt / (cycles - 1)));
-    s.drift_predicted_sigma.push_back(img.drift_covariance.empty()
-                                          ? std::numeric_limits<double>::quiet_NaN()
-                                          : std::abs(thermal::ToFileUnits(p, std::sqrt(vp / (cycles - 1)))));
-    const std::string unit = kinematics::IsAngleParam(p) ? "deg" : "mm";
-    s.budget.push_back({"drift " + kinematics::ParamName(p), "RMS error over warm cycles, " + unit,
-                        s.drift_rms_error.back(), s.drift_rms_error_truth.back(), s.drift_predicted_sigma.back()});
-  }
-  s.monitoring_uncompensated_mm = WarmRms(img.before);
-  s.monitoring_compensated_mm = WarmRms(img.after);
-  s.monitoring_compensated_truth_mm = WarmRms(tru.after);
-  auto rms = [](double ss, long n) { return n > 0 ? std::sqrt(ss / static_cast<double>(n)) : 0.0; };
-  s.monitoring_drift_error_mm = rms(img.monitoring_drift_error_ss, img.monitoring_drift_terms);
-  s.monitoring_drift_error_truth_mm = rms(tru.monitoring_drift_error_ss, tru.monitoring_drift_terms);
-  s.monitoring_drift_predicted_mm = img.drift_covariance.empty()
-                                        ? std::numeric_limits<double>::quiet_NaN()
-                                        : rms(img.monitoring_drift_predicted_ss, img.monitoring_drift_terms);
-  s.budget.push_back({"monitoring", "error from the identified drift J(dX - dX_true), mm", s.monitoring_drift_error_mm,
-                      s.monitoring_drift_error_truth_mm, s.monitoring_drift_predicted_mm});
-  s.budget.push_back({"monitoring", "RMS residual after compensation, mm", s.monitoring_compensated_mm,
-                      s.monitoring_compensated_truth_mm});
-  for (int c = 1; c < monitoring.NumCycles(); ++c) {
-    s.cycle_time_s.push_back(monitoring.cycles[c].time_s);
-    const auto col_rms = [](const Eigen::MatrixXd& m, int col) {
-      return std::sqrt(m.col(col).squaredNorm() / m.rows());
-    };
-    s.monitoring_before_mm.push_back(col_rms(img.before, c));
-    s.monitoring_after_mm.push_back(col_rms(img.after, c));
-    s.monitoring_after_truth_mm.push_back(col_rms(tru.after, c));
-  }
-  // What the vision stage adds to the monitoring residual, against what remains with perfect centres.
-  const double vision_part = std::sqrt(
-      std::max(0.0, std::pow(s.monitoring_compensated_mm, 2) - std::pow(s.monitoring_compensated_truth_mm, 2)));
-  s.dominant_stage = vision_part > s.monitoring_compensated_truth_mm
-                         ? "vision (image-derived centres)"
-                         : "robot repeatability, tool sensor and drift model (not the vision stage)";
+  DriftBudget(sim, img, tru, &s);
+  MonitoringBudget(monitoring, img, tru, &s);
 
   WriteFileAtomically((dir / "budget.json").string(), WithProvenance(BudgetJson(s), provenance));
   WriteFileAtomically((dir / "budget.md").string(), BudgetMarkdown(s) + "\n" + ProvenanceMarkdown(provenance));

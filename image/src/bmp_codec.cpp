@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "fast_codecs.h"
+#include "ramtk/image/detail/fast_codecs.h"
 
 namespace ramtk::image::detail {
 namespace {

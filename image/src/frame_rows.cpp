@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "fast_codecs.h"
+#include "ramtk/image/detail/fast_codecs.h"
 #include "ramtk/core/error.h"
 
 namespace ramtk::image {

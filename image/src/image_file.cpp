@@ -1,5 +1,5 @@
 // Image loading and atomic writing (image_file.h). PNG and uncompressed BMP are decoded here
-// (fast_codecs.h; their header is checked against the limits first); every other format, and
+// (ramtk/image/detail/fast_codecs.h; their header is checked against the limits first); every other format, and
 // float images, go through the OpenImageIO backend module, loaded on first use (oiio_backend.h).
 #include "ramtk/image/image_file.h"
 
@@ -14,7 +14,7 @@
 #include <mutex>
 #include <opencv2/imgproc.hpp>
 
-#include "fast_codecs.h"
+#include "ramtk/image/detail/fast_codecs.h"
 #include "oiio_backend.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"

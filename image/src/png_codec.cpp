@@ -6,7 +6,7 @@
 #include <csetjmp>
 #include <cstring>
 
-#include "fast_codecs.h"
+#include "ramtk/image/detail/fast_codecs.h"
 
 namespace ramtk::image::detail {
 namespace {

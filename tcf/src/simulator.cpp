@@ -98,22 +98,19 @@ std::string TcfSimulationOptions::Validate() const {
   return "";
 }
 
-TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
-  ThrowIfInvalid(opt.Validate(), "TcfSimulationOptions");
-  const DeviceEffects& fx = opt.effects;
-  std::mt19937_64 rng(opt.seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  TcfSimulation sim;
-  TcfTruth& truth = sim.truth;
+namespace {
 
-  // Truth: tool and device.
+// The true tool and device of the simulation (with the effects switched on), and the sensor frame
+// as its calibration gives it.
+void SetTruth(const TcfSimulationOptions& opt, TcfSimulation* sim) {
+  const DeviceEffects& fx = opt.effects;
+  TcfTruth& truth = sim->truth;
   const Mat3 r5 = FiveDofRotation(DegToRad(opt.tool_psi_deg), DegToRad(opt.tool_theta_deg));
   const double spin = fx.tool_axis_rotation ? DegToRad(fx.tool_axis_rotation_deg) : 0.0;
   truth.flange_from_tcp.linear() = r5 * RotZ(spin);
   truth.flange_from_tcp.translation() = opt.tcp_in_flange;
   truth.tcp_in_flange = opt.tcp_in_flange;
   truth.axis_in_flange = r5.col(2);
-  const Tool tool{opt.tcp_in_flange, truth.axis_in_flange, opt.tool_radius_mm};
   truth.beta_rad = DegToRad(fx.beam_non_perpendicular ? fx.beta_deg : 90.0);
   truth.x_beam_z_mm = fx.beam_offset ? 0.5 * fx.beam_offset_mm : 0.0;
   truth.y_beam_z_mm = fx.beam_offset ? -0.5 * fx.beam_offset_mm : 0.0;
@@ -123,7 +120,7 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
   truth.base_from_lasersensor = cal;
   if (fx.sensor_plane_tilt) truth.base_from_lasersensor.linear() = cal.linear() * RotX(DegToRad(fx.plane_tilt_deg));
 
-  SensorFrame& s = sim.calibrated_sensor;
+  SensorFrame& s = sim->calibrated_sensor;
   s.base_from_lasersensor = cal;
   s.beta_rad = truth.beta_rad;  // the calibration measures β (Table 5-3 style)
   s.n = cal.linear().col(0);
@@ -131,44 +128,62 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
   s.p = cal.linear().col(2);
   s.m = std::cos(s.beta_rad) * s.n + std::sin(s.beta_rad) * s.o;
   s.m_in_base = cal.translation();
+}
 
-  const Isometry3& tb = truth.base_from_lasersensor;
-  const Vec3 beam_point[2] = {tb * Vec3(0, 0, truth.x_beam_z_mm), tb * Vec3(0, 0, truth.y_beam_z_mm)};
-  const Vec3 beam_dir[2] = {tb.linear() * Vec3::UnitX(),
-                            tb.linear() * Vec3(std::cos(truth.beta_rad), std::sin(truth.beta_rad), 0.0)};
-  const double half_width = 0.5 * truth.beam_width_mm;
+// Runs programmed segments on the simulated robot and device: the actual flange pose over a
+// segment's window (repeatability offset, speed error) against the true beams gives the events
+// (latency, jitter). The beams' blocked state carries over from segment to segment.
+class SegmentRunner {
+ public:
+  SegmentRunner(const TcfSimulationOptions& opt, const TcfTruth& truth, std::mt19937_64* rng,
+                std::normal_distribution<double>* normal)
+      : opt_(opt),
+        truth_(truth),
+        rng_(*rng),
+        normal_(*normal),
+        tool_{opt.tcp_in_flange, truth.axis_in_flange, opt.tool_radius_mm},
+        half_width_(0.5 * truth.beam_width_mm) {
+    const Isometry3& tb = truth.base_from_lasersensor;
+    beam_point_[0] = tb * Vec3(0, 0, truth.x_beam_z_mm);
+    beam_point_[1] = tb * Vec3(0, 0, truth.y_beam_z_mm);
+    beam_dir_[0] = tb.linear() * Vec3::UnitX();
+    beam_dir_[1] = tb.linear() * Vec3(std::cos(truth.beta_rad), std::sin(truth.beta_rad), 0.0);
+  }
 
-  bool beam_blocked[2] = {false, false};
   // Robot time warp: programmed elapsed time -> executed elapsed time.
-  auto executed = [&](double tau) {
+  double Executed(double tau) const {
+    const DeviceEffects& fx = opt_.effects;
     if (!fx.speed_variation) return tau;
     const double w = 2.0 * kPi * fx.speed_ripple_hz;
     return (1.0 + fx.speed_scale_error) * tau + fx.speed_ripple * std::sin(w * tau) / w;
-  };
-  // Simulates one segment: actual flange pose over its window -> events.
-  auto run_segment = [&](double t0, double duration, const std::function<Isometry3(double)>& programmed_at_elapsed) {
-    const Vec3 offset(opt.repeatability_mm * normal(rng), opt.repeatability_mm * normal(rng),
-                      opt.repeatability_mm * normal(rng));
+  }
+
+  // The events of one segment starting at t0: its programmed pose at elapsed time τ is `programmed`.
+  std::vector<BeamEvent> Run(double t0, double duration, const std::function<Isometry3(double)>& programmed) {
+    std::mt19937_64& rng = rng_;
+    std::normal_distribution<double>& normal = normal_;
+    const Vec3 offset(opt_.repeatability_mm * normal(rng), opt_.repeatability_mm * normal(rng),
+                      opt_.repeatability_mm * normal(rng));
     auto actual = [&](double t) {
-      Isometry3 f = programmed_at_elapsed(executed(t - t0));
+      Isometry3 f = programmed(Executed(t - t0));
       f.translation() += offset;
       return f;
     };
     const int steps = 4000;
     std::vector<BeamEvent> out;
     for (int b = 0; b < 2; ++b) {
-      auto g = [&](double t) { return Clearance(beam_point[b], beam_dir[b], half_width, tool, actual(t)); };
+      auto g = [&](double t) { return Clearance(beam_point_[b], beam_dir_[b], half_width_, tool_, actual(t)); };
       double prev_t = t0, prev_g = g(t0);
       auto emit = [&](double t_true, bool blocked) {
         BeamEvent e;
         e.beam = static_cast<Beam>(b);
         e.state = blocked ? BeamState::kBlocked : BeamState::kClear;
-        e.time_s = t_true + truth.latency_s + opt.timing_jitter_s * normal(rng);
+        e.time_s = t_true + truth_.latency_s + opt_.timing_jitter_s * normal(rng);
         out.push_back(e);
-        beam_blocked[b] = blocked;
+        beam_blocked_[b] = blocked;
       };
       // A change during the (unmodelled) transfer from the previous segment.
-      if ((prev_g < 0) != beam_blocked[b]) emit(t0 - 0.05, prev_g < 0);
+      if ((prev_g < 0) != beam_blocked_[b]) emit(t0 - 0.05, prev_g < 0);
       for (int i = 1; i <= steps; ++i) {
         const double t = t0 + duration * i / steps;
         const double gt = g(t);
@@ -185,6 +200,32 @@ TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
       }
     }
     return out;
+  }
+
+ private:
+  const TcfSimulationOptions& opt_;
+  const TcfTruth& truth_;
+  std::mt19937_64& rng_;
+  std::normal_distribution<double>& normal_;
+  const Tool tool_;
+  const double half_width_;
+  Vec3 beam_point_[2], beam_dir_[2];
+  bool beam_blocked_[2] = {false, false};
+};
+
+}  // namespace
+
+TcfSimulation SimulateTcf(const TcfSimulationOptions& opt) {
+  ThrowIfInvalid(opt.Validate(), "TcfSimulationOptions");
+  std::mt19937_64 rng(opt.seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  TcfSimulation sim;
+  SetTruth(opt, &sim);
+  const Isometry3& cal = opt.base_from_lasersensor;  // the calibrated frame
+  const SensorFrame& s = sim.calibrated_sensor;
+  SegmentRunner runner(opt, sim.truth, &rng, &normal);
+  auto run_segment = [&runner](double t0, double duration, const std::function<Isometry3(double)>& programmed) {
+    return runner.Run(t0, duration, programmed);
   };
 
   // Programme, phase 1: circles. Flange: X_e = X_s, Y_e = −Y_s, Z_e = −Z_s (thesis Fig. 4-8).

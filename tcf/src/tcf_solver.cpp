@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 
 #include "ramtk/core/error.h"
@@ -49,60 +50,39 @@ void CirclePoints(const ProgrammedMotion& motion, const std::vector<CircleObserv
   }
 }
 
-CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotion& motion, const SensorFrame& sensor,
-                     const TcfSolverOptions& opt, const std::string& log_path) {
-  CoreResult out;
-  TcfSummary& s = out.summary;
-  const std::string& mpath = motion.source;
-  if (motion.circles.size() < 2)
-    throw InputError({mpath, 0, "circles"}, "at least two circles at different heights are needed for the tool axis");
-  const Isometry3& base_from_sensor = sensor.base_from_lasersensor;
-  const Isometry3 sensor_from_base = base_from_sensor.inverse();
-
-  // 1. Circles with the calibrated β; then optionally β from the phases and again.
-  double beta_geom = sensor.beta_rad;
-  auto analyse = [&](double beta) {
-    std::vector<CircleObservation> obs;
-    for (const CircleSegment& c : motion.circles)
-      obs.push_back(AnalyseCircle(c, events, sensor, beta, opt.crossing_model, log_path));
-    return obs;
-  };
-  s.circles = analyse(beta_geom);
-  {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < s.circles.size(); ++k) {
-      const CircleSegment& c = motion.circles[k];
-      const double sense = c.u_in_base.cross(c.v_in_base).dot(base_from_sensor.linear().col(2)) >= 0 ? 1.0 : -1.0;
-      // −ν_x is at −90°, −ν_y at 90° + β (sensor frame), so β = sense·(φ_y − φ_x) − 180°.
-      sum += WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
-    }
-    s.beta_self_calibrated_rad = sum / s.circles.size();
-    // Its σ: the circles' scatter, or the noise propagated to a phase difference if larger.
-    const int kc = static_cast<int>(s.circles.size());
-    double scatter = 0.0, noise = 0.0;
-    for (int k = 0; k < kc; ++k) {
-      const CircleSegment& c = motion.circles[k];
-      const double sense = c.u_in_base.cross(c.v_in_base).dot(base_from_sensor.linear().col(2)) >= 0 ? 1.0 : -1.0;
-      const double b =
-          WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
-      scatter += (b - s.beta_self_calibrated_rad) * (b - s.beta_self_calibrated_rad);
-      // Timing noise moves each gap midpoint by ω·σ_t/√2; a circle-centre offset (repeatability)
-      // moves both crossings of a gap alike and leaves its midpoint, hence β, in place.
-      noise += std::pow(c.angular_speed_rad_s * opt.timing_sigma_s, 2);
-    }
-    const double sd = kc > 1 ? std::sqrt(scatter / (kc - 1)) : 0.0;
-    s.beta_self_calibrated_sigma_rad = std::max(sd, std::sqrt(noise / std::max(kc, 1))) / std::sqrt(std::max(kc, 1));
+// β from the circles' phases (−ν_x at −90°, −ν_y at 90° + β in the sensor frame) and its σ.
+void BetaFromPhases(const ProgrammedMotion& motion, const Isometry3& base_from_sensor, const TcfSolverOptions& opt,
+                    TcfSummary* summary) {
+  TcfSummary& s = *summary;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < s.circles.size(); ++k) {
+    const CircleSegment& c = motion.circles[k];
+    const double sense = c.u_in_base.cross(c.v_in_base).dot(base_from_sensor.linear().col(2)) >= 0 ? 1.0 : -1.0;
+    // −ν_x is at −90°, −ν_y at 90° + β (sensor frame), so β = sense·(φ_y − φ_x) − 180°.
+    sum += WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
   }
-  if (opt.self_calibrate_beta) {
-    if (!(s.beta_self_calibrated_rad > DegToRad(20) && s.beta_self_calibrated_rad < DegToRad(160)))
-      throw InputError({log_path, 0, "beta"}, "the beam angle from the circle phases is implausible; check the log");
-    beta_geom = s.beta_self_calibrated_rad;
-    s.circles = analyse(beta_geom);
+  s.beta_self_calibrated_rad = sum / s.circles.size();
+  // Its σ: the circles' scatter, or the noise propagated to a phase difference if larger.
+  const int kc = static_cast<int>(s.circles.size());
+  double scatter = 0.0, noise = 0.0;
+  for (int k = 0; k < kc; ++k) {
+    const CircleSegment& c = motion.circles[k];
+    const double sense = c.u_in_base.cross(c.v_in_base).dot(base_from_sensor.linear().col(2)) >= 0 ? 1.0 : -1.0;
+    const double b =
+        WrapTwoPi(sense * (s.circles[k].y.neg_gap_mid_angle_rad - s.circles[k].x.neg_gap_mid_angle_rad) - kPi);
+    scatter += (b - s.beta_self_calibrated_rad) * (b - s.beta_self_calibrated_rad);
+    // Timing noise moves each gap midpoint by ω·σ_t/√2; a circle-centre offset (repeatability)
+    // moves both crossings of a gap alike and leaves its midpoint, hence β, in place.
+    noise += std::pow(c.angular_speed_rad_s * opt.timing_sigma_s, 2);
   }
-  const double beta_used = opt.correct_oblique_beams ? beta_geom : 0.5 * kPi;
-  s.beta_used_rad = beta_used;
+  const double sd = kc > 1 ? std::sqrt(scatter / (kc - 1)) : 0.0;
+  s.beta_self_calibrated_sigma_rad = std::max(sd, std::sqrt(noise / std::max(kc, 1))) / std::sqrt(std::max(kc, 1));
+}
 
-  // 2. Latency from cw + ccw phases: phase_k = dir_k·ω_k·L + δ.
+// Latency from cw + ccw phases: phase_k = dir_k·ω_k·L + δ; the speed scale from the measured
+// circle periods.
+void LatencyAndSpeed(const ProgrammedMotion& motion, const TcfSolverOptions& opt, TcfSummary* summary) {
+  TcfSummary& s = *summary;
   s.latency_s = opt.assumed_latency_s;
   {
     bool has_cw = false, has_ccw = false;
@@ -132,6 +112,126 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
     }
     if (n > 0) s.speed_scale = sum / n;
   }
+}
+
+// A beam event on a straight move with the flange pose at its executed time.
+struct TipEvent {
+  int beam;
+  Isometry3 flange;
+};
+
+std::vector<TipEvent> TipEvents(const std::vector<BeamEvent>& events, const ProgrammedMotion& motion,
+                                const TcfSummary& s) {
+  std::vector<TipEvent> tip_events;
+  for (const LineSegment& l : motion.lines) {
+    for (const BeamEvent& e : events) {
+      if (e.time_s < l.start_time_s || e.time_s > l.start_time_s + l.duration_s) continue;
+      const double t_exec = l.start_time_s + s.speed_scale * (e.time_s - s.latency_s - l.start_time_s);
+      tip_events.push_back({static_cast<int>(e.beam), l.BaseFromFlange(t_exec)});
+    }
+  }
+  return tip_events;
+}
+
+// The tool axis as the line through the circles' axis points (principal direction), with the
+// points' residuals from it.
+void FitAxisLine(const std::vector<Vec3>& pts, const std::string& mpath, Vec3* point, Vec3* axis,
+                 TcfSummary* summary) {
+  Vec3& p_ref = *point;
+  Vec3& axis_f = *axis;
+  p_ref = Vec3::Zero();
+  for (const Vec3& p : pts) p_ref += p / pts.size();
+  Mat3 scatter = Mat3::Zero();
+  for (const Vec3& p : pts) scatter += (p - p_ref) * (p - p_ref).transpose();
+  Eigen::SelfAdjointEigenSolver<Mat3> eig(scatter);
+  const double spread = std::sqrt(std::max(0.0, eig.eigenvalues()(2)));
+  if (spread < 0.5)
+    throw InputError({mpath, 0, "circles"}, "the circles' axis points coincide: program circles at two heights");
+  axis_f = eig.eigenvectors().col(2).normalized();
+  // Residuals of the circles' axis points from the fitted axis (cw and ccw circles at one height
+  // must agree; with two heights only, these are zero).
+  double css = 0.0, cworst = 0.0;
+  for (const Vec3& p : pts) {
+    const Vec3 d = (p - p_ref) - (p - p_ref).dot(axis_f) * axis_f;
+    css += d.squaredNorm();
+    cworst = std::max(cworst, d.norm());
+  }
+  summary->circle_rms_mm = std::sqrt(css / pts.size());
+  summary->circle_worst_mm = cworst;
+}
+
+// RMS and worst deviation of the tip events' apex distances from their mean `lambda_apex` (n used).
+void TipScatter(const std::vector<TipEvent>& tip_events, const std::function<double(const TipEvent&)>& lambda_of,
+                double lambda_apex, int n, TcfSummary* summary) {
+  double ss = 0.0, worst = 0.0;
+  for (const TipEvent& te : tip_events) {
+    const double l = lambda_of(te);
+    if (std::isnan(l)) continue;
+    ss += (l - lambda_apex) * (l - lambda_apex);
+    worst = std::max(worst, std::abs(l - lambda_apex));
+  }
+  summary->tip_rms_mm = std::sqrt(ss / std::max(1, n));
+  summary->tip_worst_mm = worst;
+  summary->tip_events_unused = static_cast<int>(tip_events.size()) - n;
+}
+
+// InputError when the tool axis is further from the device normal than opt.max_axis_tilt_deg.
+void CheckAxisTilt(const Vec3& axis_in_sensor, const TcfSolverOptions& opt, const std::string& log_path) {
+  const double tilt = std::acos(std::clamp(-axis_in_sensor.z(), -1.0, 1.0));
+  if (tilt > DegToRad(opt.max_axis_tilt_deg)) {
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "the tool axis is %.1f deg from the device normal, beyond the range of %.1f deg",
+                  RadToDeg(tilt), opt.max_axis_tilt_deg);
+    throw InputError({log_path, 0, "tool axis"}, buf);
+  }
+}
+
+// The beam height difference at which `mismatch` (x-beam tip minus y-beam tip) vanishes: secant
+// steps from `start`.
+double BalanceBeamHeights(const std::function<double(double)>& mismatch, double start) {
+  double d0 = start, d1 = d0 + 0.1;
+  double f0 = mismatch(d0), f1 = mismatch(d1);
+  for (int i = 0; i < 6 && std::abs(f1 - f0) > 1e-12; ++i) {
+    const double d2 = d1 - f1 * (d1 - d0) / (f1 - f0);
+    d0 = d1;
+    f0 = f1;
+    d1 = d2;
+    f1 = mismatch(d1);
+  }
+  return d1;
+}
+
+CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotion& motion, const SensorFrame& sensor,
+                     const TcfSolverOptions& opt, const std::string& log_path) {
+  CoreResult out;
+  TcfSummary& s = out.summary;
+  const std::string& mpath = motion.source;
+  if (motion.circles.size() < 2)
+    throw InputError({mpath, 0, "circles"}, "at least two circles at different heights are needed for the tool axis");
+  const Isometry3& base_from_sensor = sensor.base_from_lasersensor;
+  const Isometry3 sensor_from_base = base_from_sensor.inverse();
+
+  // 1. Circles with the calibrated β; then optionally β from the phases and again.
+  double beta_geom = sensor.beta_rad;
+  auto analyse = [&](double beta) {
+    std::vector<CircleObservation> obs;
+    for (const CircleSegment& c : motion.circles)
+      obs.push_back(AnalyseCircle(c, events, sensor, beta, opt.crossing_model, log_path));
+    return obs;
+  };
+  s.circles = analyse(beta_geom);
+  BetaFromPhases(motion, base_from_sensor, opt, &s);
+  if (opt.self_calibrate_beta) {
+    if (!(s.beta_self_calibrated_rad > DegToRad(20) && s.beta_self_calibrated_rad < DegToRad(160)))
+      throw InputError({log_path, 0, "beta"}, "the beam angle from the circle phases is implausible; check the log");
+    beta_geom = s.beta_self_calibrated_rad;
+    s.circles = analyse(beta_geom);
+  }
+  const double beta_used = opt.correct_oblique_beams ? beta_geom : 0.5 * kPi;
+  s.beta_used_rad = beta_used;
+
+  // 2. Latency from cw + ccw phases, the robot's speed from the circle periods.
+  LatencyAndSpeed(motion, opt, &s);
   double in_plane_radius[2] = {0.0, 0.0};
   for (const CircleObservation& o : s.circles) {
     in_plane_radius[0] += o.x.blocking_radius_mm / s.circles.size();
@@ -149,48 +249,13 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
   for (int iter = 0; iter < opt.max_iterations; ++iter) {
     std::vector<Vec3> pts;
     CirclePoints(motion, s.circles, sensor, beta_used, z_x, z_y, axis_in_sensor, &pts);
-    p_ref = Vec3::Zero();
-    for (const Vec3& p : pts) p_ref += p / pts.size();
-    Mat3 scatter = Mat3::Zero();
-    for (const Vec3& p : pts) scatter += (p - p_ref) * (p - p_ref).transpose();
-    Eigen::SelfAdjointEigenSolver<Mat3> eig(scatter);
-    const double spread = std::sqrt(std::max(0.0, eig.eigenvalues()(2)));
-    if (spread < 0.5)
-      throw InputError({mpath, 0, "circles"}, "the circles' axis points coincide: program circles at two heights");
-    axis_f = eig.eigenvectors().col(2).normalized();
-    // Residuals of the circles' axis points from the fitted axis (cw and ccw circles at one height
-    // must agree; with two heights only, these are zero).
-    double css = 0.0, cworst = 0.0;
-    for (const Vec3& p : pts) {
-      const Vec3 d = (p - p_ref) - (p - p_ref).dot(axis_f) * axis_f;
-      css += d.squaredNorm();
-      cworst = std::max(cworst, d.norm());
-    }
-    s.circle_rms_mm = std::sqrt(css / pts.size());
-    s.circle_worst_mm = cworst;
+    FitAxisLine(pts, mpath, &p_ref, &axis_f, &s);
     if (axis_f.dot(p_ref) < 0) axis_f = -axis_f;  // towards the tip, away from the flange
     axis_in_sensor = sensor_from_base.linear() * motion.circles[0].base_from_flange_centre.linear() * axis_f;
-    const double tilt = std::acos(std::clamp(-axis_in_sensor.z(), -1.0, 1.0));
-    if (tilt > DegToRad(opt.max_axis_tilt_deg)) {
-      char buf[200];
-      std::snprintf(buf, sizeof(buf), "the tool axis is %.1f deg from the device normal, beyond the range of %.1f deg",
-                    RadToDeg(tilt), opt.max_axis_tilt_deg);
-      throw InputError({log_path, 0, "tool axis"}, buf);
-    }
+    CheckAxisTilt(axis_in_sensor, opt, log_path);
 
     // Tip events on the straight moves.
-    struct TipEvent {
-      int beam;
-      Isometry3 flange;
-    };
-    std::vector<TipEvent> tip_events;
-    for (const LineSegment& l : motion.lines) {
-      for (const BeamEvent& e : events) {
-        if (e.time_s < l.start_time_s || e.time_s > l.start_time_s + l.duration_s) continue;
-        const double t_exec = l.start_time_s + s.speed_scale * (e.time_s - s.latency_s - l.start_time_s);
-        tip_events.push_back({static_cast<int>(e.beam), l.BaseFromFlange(t_exec)});
-      }
-    }
+    const std::vector<TipEvent> tip_events = TipEvents(events, motion, s);
     if (tip_events.empty())
       throw InputError({log_path, 0, "lines"}, "no beam events during the straight moves: the tip was not found");
     const double tool_r = motion.tool_radius_mm;
@@ -245,36 +310,20 @@ CoreResult SolveCore(const std::vector<BeamEvent>& events, const ProgrammedMotio
                        "the tool never came within the blocking radius of a beam on the straight moves");
     if (opt.self_calibrate_beam_offset && nx > 0 && ny > 0) {
       // Height difference Δ = z_x − z_y (mean fixed) such that both beams give the same tip.
-      auto mismatch = [&](double delta) {
-        return mean_lambda(0, z_mean + 0.5 * delta, z_mean - 0.5 * delta, nullptr) -
-               mean_lambda(1, z_mean + 0.5 * delta, z_mean - 0.5 * delta, nullptr);
-      };
-      double d0 = z_x - z_y, d1 = d0 + 0.1;
-      double f0 = mismatch(d0), f1 = mismatch(d1);
-      for (int i = 0; i < 6 && std::abs(f1 - f0) > 1e-12; ++i) {
-        const double d2 = d1 - f1 * (d1 - d0) / (f1 - f0);
-        d0 = d1;
-        f0 = f1;
-        d1 = d2;
-        f1 = mismatch(d1);
-      }
-      z_x = z_mean + 0.5 * d1;
-      z_y = z_mean - 0.5 * d1;
+      const double delta = BalanceBeamHeights(
+          [&](double d) {
+            return mean_lambda(0, z_mean + 0.5 * d, z_mean - 0.5 * d, nullptr) -
+                   mean_lambda(1, z_mean + 0.5 * d, z_mean - 0.5 * d, nullptr);
+          },
+          z_x - z_y);
+      z_x = z_mean + 0.5 * delta;
+      z_y = z_mean - 0.5 * delta;
       s.beam_offset_estimated = true;
     }
     int n = 0;
     lambda_apex = mean_lambda(-1, z_x, z_y, &n);
     s.tip_events = n;
-    double ss = 0.0, worst = 0.0;
-    for (const TipEvent& te : tip_events) {
-      const double l = tip_lambda(te, z_x, z_y);
-      if (std::isnan(l)) continue;
-      ss += (l - lambda_apex) * (l - lambda_apex);
-      worst = std::max(worst, std::abs(l - lambda_apex));
-    }
-    s.tip_rms_mm = std::sqrt(ss / std::max(1, n));
-    s.tip_worst_mm = worst;
-    s.tip_events_unused = static_cast<int>(tip_events.size()) - n;
+    TipScatter(tip_events, [&](const TipEvent& te) { return tip_lambda(te, z_x, z_y); }, lambda_apex, n, &s);
     if (iter == 0) s.initial_tip_rms_mm = s.tip_rms_mm;
     s.iterations = iter + 1;
     // Fixed point of axis slope, beam heights and tip: stop when the TCP no longer moves.

@@ -14,3 +14,8 @@ ramtk_cli_test(diagnose_fringe_names_gamma 0 FIXTURE_REQUIRED diagnose_fringe_se
   ARGS diagnose ${_fringe_set}/manifest.json --out ${CMAKE_CURRENT_BINARY_DIR}/cli_fringe_report --force)
 ramtk_cli_test(diagnose_fringe_missing_manifest 1 STDERR "does not exist"
   ARGS diagnose ${CMAKE_CURRENT_BINARY_DIR}/output/no_such_set/manifest.json)
+
+# Adding a fringe cause from a test (docs/architecture.md "Where to add things"): its own process,
+# the registration is process-wide.
+ramtk_add_gtest(diagnose_fringe_extension_tests fringe_extension_test.cpp)
+target_link_libraries(diagnose_fringe_extension_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})

@@ -9,7 +9,7 @@
 #include <iostream>
 #include <random>
 
-#include "laser_fit.h"
+#include "ramtk/diagnose/laser/detail/laser_fit.h"
 
 namespace ramtk::diagnose::laser_detail {
 namespace {

@@ -1,8 +1,6 @@
 # Laser kind of `ramtk diagnose`: hidden-effect draws, calibration points, Table 5-3, CLI.
 ramtk_add_gtest(diagnose_laser_tests laser_test.cpp laser_fit_test.cpp)
 target_link_libraries(diagnose_laser_tests PRIVATE ramtk::diagnose)
-# laser_fit_test.cpp tests the internal fit (diagnose/laser/src/laser_fit.h).
-target_include_directories(diagnose_laser_tests PRIVATE ${PROJECT_SOURCE_DIR}/diagnose/laser/src)
 
 set(LASER_CLI ${CMAKE_CURRENT_BINARY_DIR}/laser_cli)
 file(MAKE_DIRECTORY ${LASER_CLI}/latency)

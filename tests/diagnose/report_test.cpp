@@ -2,29 +2,81 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <set>
 
 #include "ramtk/diagnose/engine/catalogue.h"
 #include "ramtk/diagnose/engine/plot.h"
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
+#include "ramtk/diagnose/laser/laser_hidden.h"
 #include "ramtk/report/gnuplot.h"
+#include "ramtk/tcf/simulator.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::diagnose {
 namespace {
 
 TEST(Catalogue, HoldsTheStableNamesOfDesignMd) {
-  // DESIGN.md: 7 + 7 + 7 names in wave 1, then fringe +3 and robot +3 (wave 2).
-  EXPECT_EQ(EffectsOf(DataKind::kFringe).size(), 10u);
-  EXPECT_EQ(EffectsOf(DataKind::kRobot).size(), 12u);
-  EXPECT_EQ(EffectsOf(DataKind::kLaser).size(), 7u);
-  EXPECT_TRUE(IsKnownCause("thermal_angle_drift"));
-  for (const char* wave2 : {"camera_defocus", "signal_dependent_noise", "soft_knee_response", "joint_cyclic_error",
-                            "backlash", "temperature_driven_drift", "ambiguous", "not_observable"})
-    EXPECT_TRUE(IsKnownCause(wave2)) << wave2;
+  // DESIGN.md's names (wave 1 and wave 2): names may be added, never renamed or removed.
+  for (const char* name :
+       {"projector_nonlinearity", "phase_shift_error", "intensity_drift", "saturation", "defocus", "ambient_light",
+        "lens_distortion_unmodelled", "camera_defocus", "signal_dependent_noise", "soft_knee_response",
+        "joint_offset", "link_length_error", "thermal_length_drift", "thermal_angle_drift", "joint_compliance",
+        "sensor_frame_drift", "tool_offset_change", "joint_cyclic_error", "backlash", "temperature_driven_drift",
+        "geometric", "axis_misalignment", "beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency",
+        "speed_variation", "sensor_plane_tilt", "tool_axis_rotation", "ambiguous", "not_observable"})
+    EXPECT_TRUE(IsKnownCause(name)) << name;
   EXPECT_TRUE(IsKnownCause(kNoEffect));
   EXPECT_FALSE(IsKnownCause("gremlins"));
+  std::set<std::string> names;
+  for (const EffectInfo& e : EffectCatalogue()) {
+    EXPECT_TRUE(names.insert(e.name).second) << "twice: " << e.name;
+    EXPECT_GT(std::string(e.description).size(), 10u) << e.name;
+  }
+}
+
+// docs/diagnose.md carries the catalogue table exactly as the tables generate it.
+TEST(Catalogue, DocsTableListsExactlyTheTableRows) {
+  std::ifstream in(std::string(RAMTK_DOCS_DIR) + "/diagnose.md");
+  ASSERT_TRUE(in.good());
+  const std::string docs((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string table = CatalogueMarkdown();
+  EXPECT_NE(docs.find(table), std::string::npos) << "docs/diagnose.md should carry this table:\n" << table;
+  // Every table row of the docs that names a cause is one of the catalogue's.
+  size_t rows = 0;
+  for (size_t at = docs.find("\n| `"); at != std::string::npos; at = docs.find("\n| `", at + 1)) {
+    const size_t end = docs.find('`', at + 4);
+    const std::string name = docs.substr(at + 4, end - at - 4);
+    if (docs.compare(end + 1, 3, " | ") == 0 && IsKnownCause(name)) ++rows;
+  }
+  EXPECT_EQ(rows, EffectCatalogue().size());
+}
+
+// The simulators name their effects as the tables do: the fringe rows the hidden draws render are
+// exactly the vision simulator's effects, the laser rows exactly the TCF simulator's.
+TEST(Catalogue, SimulatorEffectsAreTheTablesRows) {
+  std::set<std::string> simulator;
+  for (const auto& [name, magnitude] : vision::FringeEffects{}.ByName()) simulator.insert(name);
+  const std::vector<std::string> drawn = DrawnFringeEffects();
+  EXPECT_EQ(simulator, std::set<std::string>(drawn.begin(), drawn.end()));
+  std::set<std::string> laser_rows;
+  for (const EffectInfo& e : EffectsOf(DataKind::kLaser)) laser_rows.insert(e.name);
+  const std::vector<std::string> device = tcf::DeviceEffects::Names();
+  EXPECT_EQ(std::set<std::string>(device.begin(), device.end()), laser_rows);
+  for (const std::string& name : DrawnLaserEffects()) EXPECT_TRUE(laser_rows.count(name)) << name;
+}
+
+// The help lines of each kind list its causes, one line each.
+TEST(Catalogue, HelpListsEveryCauseOfTheKind) {
+  for (DataKind kind : {DataKind::kFringe, DataKind::kRobot, DataKind::kLaser}) {
+    const std::string help = CatalogueHelp(kind);
+    EXPECT_EQ(static_cast<size_t>(std::count(help.begin(), help.end(), '\n')), EffectsOf(kind).size());
+    for (const EffectInfo& e : EffectsOf(kind)) EXPECT_NE(help.find(std::string("  ") + e.name + " "), std::string::npos);
+  }
 }
 
 TEST(Report, JsonCarriesCauseGainAndCandidates) {

@@ -1,7 +1,6 @@
 # Robot/ball diagnosis: hidden-effect draws, the thesis case, building blocks; CLI runs.
 ramtk_add_gtest(diagnose_robot_tests robot_test.cpp)
 target_link_libraries(diagnose_robot_tests PRIVATE ramtk::diagnose)
-target_include_directories(diagnose_robot_tests PRIVATE ${PROJECT_SOURCE_DIR}/diagnose/robot/src)
 target_compile_definitions(diagnose_robot_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output")
 
 set(_diag_thesis ${CMAKE_CURRENT_BINARY_DIR}/robot_thesis_seed1)
@@ -26,3 +25,12 @@ ramtk_cli_test(diagnose_robot_unknown_with 1
   ARGS diagnose ${_diag_thesis}/ball.csv --with notes.txt
   STDERR "field '--with': 'notes.txt' is none of"
   FIXTURE_REQUIRED diagnose_robot_thesis)
+
+# The help lists the causes of the tables (ramtk/diagnose/engine/*_causes.def), first and last rows.
+ramtk_cli_test(diagnose_help_lists_causes 0 ARGS diagnose --help
+  STDOUT "fringe:.*  projector_nonlinearity .*  signal_dependent_noise .*robot:.*  joint_offset .*  tool_offset_change .*laser:.*  beam_non_perpendicular .*  tool_axis_rotation ")
+
+# Adding a robot cause from a test (docs/architecture.md "Where to add things"): its own process,
+# the registration is process-wide.
+ramtk_add_gtest(diagnose_robot_extension_tests robot_extension_test.cpp)
+target_link_libraries(diagnose_robot_extension_tests PRIVATE ramtk::diagnose)

@@ -20,7 +20,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/image/frame_rows.h"
 #include "ramtk/image/image_file.h"
-#include "../../image/src/fast_codecs.h"  // the one-call grey PNG decoder, tested on its own too
+#include "ramtk/image/detail/fast_codecs.h"  // the one-call grey PNG decoder, tested on its own too
 
 namespace fs = std::filesystem;
 using ramtk::image::LoadImageGrey8;

@@ -133,6 +133,91 @@ Eigen::VectorXd HeldoutPoseErrors(const ThermalExperiment& experiment, const Ide
                     options);
 }
 
+// The element of S whose removal from `current` scores best (λ, then the lower RMS), or with
+// first_improvement the first that does not lower λ.
+struct Removal {
+  int param = -1;
+  double lambda = -1.0;
+  Eigen::MatrixXd x_ball;
+};
+
+Removal BestRemoval(Scorer* scorer, const ScreeningOptions& options, const std::vector<int>& current,
+                    const std::vector<int>& trial_set, double lambda) {
+  IdentificationOptions id = options.identification;
+  double best_lambda = -1.0, best_rms = 0.0;
+  int best = -1;
+  Eigen::MatrixXd best_x;
+  for (int s : trial_set) {
+    std::vector<int> reduced;
+    for (int p : current) {
+      if (p != s) reduced.push_back(p);
+    }
+    id.params = reduced;
+    Eigen::MatrixXd x_trial;
+    double rms_i = 0.0;
+    const double lambda_i = scorer->Score(id, options.lambda, &x_trial, nullptr, &rms_i);
+    if (lambda_i > best_lambda || (lambda_i == best_lambda && rms_i < best_rms)) {
+      best_lambda = lambda_i;
+      best_rms = rms_i;
+      best = s;
+      best_x = x_trial;
+    }
+    if (options.first_improvement && lambda_i >= lambda) {
+      best_lambda = lambda_i;
+      best = s;
+      best_x = x_trial;
+      break;
+    }
+  }
+  return {best, best_lambda, best_x};
+}
+
+// Held-out error of every set on the path; the smallest set not worse than the best (index into
+// *best) beyond heldout_z standard errors of the paired per-pose differences. Fills each step's
+// held-out RMS and z.
+int ChooseFromHeldout(const Scorer& scorer, const ThermalExperiment& experiment, const ScreeningOptions& options,
+                      const std::vector<std::vector<int>>& path, ScreeningSummary* out, int* best_index) {
+  ScreeningSummary& summary = *out;
+  int& best = *best_index;
+  // Held-out error of every set on the path; keep the smallest one not worse than the best
+  // beyond heldout_z standard errors of the paired per-pose differences.
+  const Eigen::MatrixXd y_all = experiment.ball.DifferencesFromReference({});
+  std::vector<Eigen::VectorXd> errors;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    IdentificationOptions o = options.identification;
+    o.params = path[i];
+    errors.push_back(PoseErrors(scorer.drift_model, y_all, static_cast<int>(path[i].size()), o));
+    const bool finite = errors.back().allFinite() && errors.back().size() > 0 && summary.steps[i].identifiable;
+    summary.steps[i].heldout_rms_mm = finite ? std::sqrt(errors.back().mean()) : 0.0;
+    if (finite && (best < 0 || errors.back().mean() < errors[best].mean())) best = static_cast<int>(i);
+  }
+  if (best < 0) {
+    bool any_identifiable = false;
+    for (const ScreeningStep& st : summary.steps) any_identifiable = any_identifiable || st.identifiable;
+    if (!any_identifiable) {
+      throw InputError({"", 0, "poses"}, "no set on the elimination path is identifiable with these poses "
+                                         "(condition number above the guard's limit for every set)");
+    }
+    throw InputError({"", 0, "poses"}, "screening by held-out error needs enough ball poses to leave one out (" +
+                                           std::to_string(errors.empty() ? 0 : errors[0].size()) + " given)");
+  }
+  int chosen = best;
+  const Eigen::VectorXd& e_best = errors[best];
+  const double n = static_cast<double>(e_best.size());
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (!errors[i].allFinite() || !summary.steps[i].identifiable || static_cast<int>(i) == best) continue;
+    const Eigen::VectorXd d = errors[i] - e_best;
+    const double mean = d.mean();
+    const double sd = n > 1 ? std::sqrt((d.array() - mean).square().sum() / (n - 1.0)) : 0.0;
+    const double se = sd / std::sqrt(n);
+    summary.steps[i].heldout_z = se > 0.0 ? mean / se : (mean > 0.0 ? INFINITY : 0.0);
+    if (summary.steps[i].heldout_z <= options.heldout_z && path[i].size() < path[chosen].size()) {
+      chosen = static_cast<int>(i);
+    }
+  }
+  return chosen;
+}
+
 ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const ScreeningOptions& options) {
   ThrowIfInvalid(options.Validate(), "ScreeningOptions");
   Scorer scorer(experiment, options.identification.poses);
@@ -183,31 +268,10 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
       break;
     }
     // (4) try removing each element of S.
-    double best_lambda = -1.0, best_rms = 0.0;
-    int best = -1;
-    Eigen::MatrixXd best_x;
-    for (int s : trial_set) {
-      std::vector<int> reduced;
-      for (int p : current) {
-        if (p != s) reduced.push_back(p);
-      }
-      id.params = reduced;
-      Eigen::MatrixXd x_trial;
-      double rms_i = 0.0;
-      const double lambda_i = scorer.Score(id, options.lambda, &x_trial, nullptr, &rms_i);
-      if (lambda_i > best_lambda || (lambda_i == best_lambda && rms_i < best_rms)) {
-        best_lambda = lambda_i;
-        best_rms = rms_i;
-        best = s;
-        best_x = x_trial;
-      }
-      if (options.first_improvement && lambda_i >= lambda) {
-        best_lambda = lambda_i;
-        best = s;
-        best_x = x_trial;
-        break;
-      }
-    }
+    const Removal r = BestRemoval(&scorer, options, current, trial_set, lambda);
+    const int best = r.param;
+    const double best_lambda = r.lambda;
+    const Eigen::MatrixXd best_x = r.x_ball;
     current.erase(std::find(current.begin(), current.end(), best));
     lambda = best_lambda;
     x_ball = best_x;
@@ -215,43 +279,8 @@ ScreeningSummary ScreenParameters(const ThermalExperiment& experiment, const Scr
     ++summary.iterations;
   }
   if (from_heldout && summary.termination != Termination::kCancelled) {
-    // Held-out error of every set on the path; keep the smallest one not worse than the best
-    // beyond heldout_z standard errors of the paired per-pose differences.
-    const Eigen::MatrixXd y_all = experiment.ball.DifferencesFromReference({});
-    std::vector<Eigen::VectorXd> errors;
     int best = -1;
-    for (std::size_t i = 0; i < path.size(); ++i) {
-      IdentificationOptions o = options.identification;
-      o.params = path[i];
-      errors.push_back(PoseErrors(scorer.drift_model, y_all, static_cast<int>(path[i].size()), o));
-      const bool finite = errors.back().allFinite() && errors.back().size() > 0 && summary.steps[i].identifiable;
-      summary.steps[i].heldout_rms_mm = finite ? std::sqrt(errors.back().mean()) : 0.0;
-      if (finite && (best < 0 || errors.back().mean() < errors[best].mean())) best = static_cast<int>(i);
-    }
-    if (best < 0) {
-      bool any_identifiable = false;
-      for (const ScreeningStep& st : summary.steps) any_identifiable = any_identifiable || st.identifiable;
-      if (!any_identifiable) {
-        throw InputError({"", 0, "poses"}, "no set on the elimination path is identifiable with these poses "
-                                           "(condition number above the guard's limit for every set)");
-      }
-      throw InputError({"", 0, "poses"}, "screening by held-out error needs enough ball poses to leave one out (" +
-                                             std::to_string(errors.empty() ? 0 : errors[0].size()) + " given)");
-    }
-    int chosen = best;
-    const Eigen::VectorXd& e_best = errors[best];
-    const double n = static_cast<double>(e_best.size());
-    for (std::size_t i = 0; i < path.size(); ++i) {
-      if (!errors[i].allFinite() || !summary.steps[i].identifiable || static_cast<int>(i) == best) continue;
-      const Eigen::VectorXd d = errors[i] - e_best;
-      const double mean = d.mean();
-      const double sd = n > 1 ? std::sqrt((d.array() - mean).square().sum() / (n - 1.0)) : 0.0;
-      const double se = sd / std::sqrt(n);
-      summary.steps[i].heldout_z = se > 0.0 ? mean / se : (mean > 0.0 ? INFINITY : 0.0);
-      if (summary.steps[i].heldout_z <= options.heldout_z && path[i].size() < path[chosen].size()) {
-        chosen = static_cast<int>(i);
-      }
-    }
+    const int chosen = ChooseFromHeldout(scorer, experiment, options, path, &summary, &best);
     summary.best_heldout_card = static_cast<int>(path[best].size());
     summary.count_from_heldout = true;
     current = path[chosen];

@@ -77,63 +77,65 @@ void Report(const DiagnoseOptions& o, const std::string& stage, int done, int to
   if (o.progress) o.progress(Progress{stage, static_cast<size_t>(done), static_cast<size_t>(total)});
 }
 
-}  // namespace
+// σ(I) of residual sample k: from the noise-level function at its model intensity, or --noise.
+struct SampleSigma {
+  const fringe::FringeFit* fit;
+  const fringe::NoiseLevel* nlf;
+  double given;  // --noise (> 0 replaces the noise-level function)
+  double operator()(size_t k) const {
+    const int nf = fit->frames;
+    const fringe::PixelFit& p = fit->pixels[k / nf];
+    const double level = static_cast<double>(fit->images[k % nf].at<float>(p.y, p.x) - fit->residual[k]);
+    return given > 0 ? given
+                     : std::sqrt(nlf->Variance(level) * fringe::ResidualVarianceFactor(*fit, static_cast<int>(k % nf)));
+  }
+};
 
-Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& frames,
-                               double full_scale, const DiagnoseOptions& options, const std::string& label) {
-  using namespace fringe;
-  Report(options, "fit ideal model", 0, 4);
-  FringeFit fit = FitIdealModel(manifest, frames, full_scale);
-  Diagnosis d;
-  d.kind = DataKind::kFringe;
-  d.data = label;
-  d.unit = "DN";
-  d.model = "ideal fringe model I = A + B cos(phi + delta_k) per pixel";
-  const int nf = fit.frames;
+// Residual sums of the fit: their number into `used`, the RMS.
+double ResidualRms(const fringe::FringeFit& fit, long* used) {
   double ss = 0;
-  long used = 0;
+  *used = 0;
   for (float r : fit.residual)
-    if (std::isfinite(r)) ss += static_cast<double>(r) * r, ++used;
+    if (std::isfinite(r)) ss += static_cast<double>(r) * r, ++*used;
+  return std::sqrt(ss / *used);
+}
+
+// The noise floor: every sample's σ(I) from the noise-level function of the data (its RMS is the
+// floor, the samples are weighted by floor/σ), or one σ for all from --noise.
+fringe::NoiseLevel ModelNoise(fringe::FringeFit* fit, double full_scale, const DiagnoseOptions& options,
+                              Diagnosis* out) {
+  using namespace fringe;
+  Diagnosis& d = *out;
+  const int nf = fit->frames;
+  long used = 0;
+  d.residual_rms = ResidualRms(*fit, &used);
   d.num_residuals = static_cast<int>(used);
-  d.residual_rms = std::sqrt(ss / used);
-  // Noise-level function from the data: every sample's σ(I) from its model intensity I; the floor
-  // is the RMS of σ(I) over the analysed samples. --noise replaces it by one σ for all.
   long pairs = 0;
-  const double estimated = NoiseFloor(fit, &pairs);
-  const NoiseLevel nlf = EstimateNoiseLevel(fit);
+  const double estimated = NoiseFloor(*fit, &pairs);
+  const NoiseLevel nlf = EstimateNoiseLevel(*fit);
   if (options.noise <= 0) {
     // The sensor clamps noisy values at 0: near black the expected value bends.
-    ModelSensorRange(nlf, &fit);
-    ss = 0;
-    for (float r : fit.residual)
-      if (std::isfinite(r)) ss += static_cast<double>(r) * r;
-    d.residual_rms = std::sqrt(ss / used);
+    ModelSensorRange(nlf, fit);
+    d.residual_rms = ResidualRms(*fit, &used);
   }
-  auto level_of = [&](size_t k) {
-    const PixelFit& p = fit.pixels[k / nf];
-    return static_cast<double>(fit.images[k % nf].at<float>(p.y, p.x) - fit.residual[k]);
-  };
-  auto sigma_of = [&](size_t k) {
-    return options.noise > 0
-               ? options.noise
-               : std::sqrt(nlf.Variance(level_of(k)) * ResidualVarianceFactor(fit, static_cast<int>(k % nf)));
-  };
+  const SampleSigma sigma_of{fit, &nlf, options.noise};
   double var_sum = 0;
-  for (size_t k = 0; k < fit.residual.size(); ++k)
-    if (std::isfinite(fit.residual[k])) var_sum += sigma_of(k) * sigma_of(k);
+  for (size_t k = 0; k < fit->residual.size(); ++k)
+    if (std::isfinite(fit->residual[k])) var_sum += sigma_of(k) * sigma_of(k);
   d.noise_floor_rms = std::sqrt(var_sum / used);
   const double floor = d.noise_floor_rms;
   if (options.noise <= 0) {
-    fit.weight.assign(fit.residual.size(), 1.0f);
-    for (size_t k = 0; k < fit.residual.size(); ++k)
-      if (std::isfinite(fit.residual[k])) fit.weight[k] = static_cast<float>(floor / sigma_of(k));
+    fit->weight.assign(fit->residual.size(), 1.0f);
+    for (size_t k = 0; k < fit->residual.size(); ++k)
+      if (std::isfinite(fit->residual[k])) fit->weight[k] = static_cast<float>(floor / sigma_of(k));
     d.noise_model = {{"a_DN2", nlf.a}, {"b_DN", nlf.b}, {"c", nlf.c}};
     d.noise_model_sigmas = {{"a_DN2", nlf.sigma_a}, {"b_DN", nlf.sigma_b}};
     if (nlf.super_poisson) d.noise_model_sigmas["c"] = nlf.sigma_c;
   }
-  d.findings.push_back(std::to_string(fit.pixels.size()) + " pixels x " + std::to_string(nf) + " frames analysed (" +
-                       std::to_string(fit.steps) + "-step phase shift + " + std::to_string(fit.gray_bits) +
-                       " Gray-code images), " + std::to_string(fit.width) + "x" + std::to_string(fit.height) +
+  const FringeFit& fitted = *fit;
+  d.findings.push_back(std::to_string(fitted.pixels.size()) + " pixels x " + std::to_string(nf) + " frames analysed (" +
+                       std::to_string(fitted.steps) + "-step phase shift + " + std::to_string(fitted.gray_bits) +
+                       " Gray-code images), " + std::to_string(fitted.width) + "x" + std::to_string(fitted.height) +
                        " camera, full scale " + Fixed(full_scale, 0) + " DN");
   d.findings.push_back("noise floor " + Fixed(estimated, 3) +
                        " DN: RMS of residual differences between neighbouring pixels along the fringes / sqrt(2) (" +
@@ -149,11 +151,18 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
       Fixed(100 * nlf.quadratic_share, 1) + "% of the variance at I = " + Fixed(nlf.top_level, 0) +
       " DN); noise floor (RMS of sigma(I)) " + Fixed(floor, 3) + " DN" +
       (options.noise > 0 ? " (not used: --noise)" : ""));
-  if (fit.censored)
-    d.findings.push_back(std::to_string(fit.range_refitted) +
+  if (fitted.censored)
+    d.findings.push_back(std::to_string(fitted.range_refitted) +
                          " pixels come within 4 sigma(I) of 0: fitted against the mean of the noisy value clamped "
                          "at 0 (the sensor's black end), not the raw intensity");
-  // Residual by frame class and Gray-code levels in units of B.
+  return nlf;
+}
+
+// Residual by frame class and Gray-code levels in units of B.
+void DescribeResidual(const fringe::FringeFit& fit, long used, Diagnosis* out) {
+  using namespace fringe;
+  Diagnosis& d = *out;
+  const int nf = fit.frames;
   double ps_ss = 0, gc_ss = 0, white = 0, black = 0;
   long ps_n = 0, gc_n = 0, nw = 0, nb = 0;
   std::vector<double> black_level;
@@ -183,8 +192,15 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
   d.findings.push_back("median black level (A - B)/B = " + Fixed(black_level[black_level.size() / 2], 3) +
                        " (ambient light or projector black; the per-pixel A absorbs it, so it leaves no residual)");
 
-  // Structure tests on a fixed-size random sample of residuals.
-  Report(options, "structure tests", 1, 4);
+}
+
+// Structure tests on a fixed-size random sample of residuals; returns the name of the most
+// significant one.
+std::string TestStructure(const fringe::FringeFit& fit, const SampleSigma& sigma_of, double full_scale,
+                          const DiagnoseOptions& options, Diagnosis* out) {
+  using namespace fringe;
+  Diagnosis& d = *out;
+  const int nf = fit.frames;
   std::mt19937_64 rng(options.seed);
   std::uniform_int_distribution<size_t> pick(0, fit.residual.size() - 1);
   std::vector<double> r, sig, fidx, level, xs, ys, pr, ph, psig;
@@ -229,8 +245,40 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
   }
   d.structure_p_value = holm[worst];
   d.structure_found = d.structure_p_value < options.alpha;
+  return tests[worst].name;
+}
 
-  // Candidates, cross-validated over image tiles.
+// Look-alikes of the named cause `best`: `out` becomes ambiguous when one is not separated.
+void FindLookAlike(const CandidateFit& best, double floor, Diagnosis* out) {
+  Diagnosis& d = *out;
+  // Look-alikes: a contender that removes a material share of the excess too, with at most
+  // kOccamFactor times the parameters, whose held-out error per image tile is not worse than the
+  // named one's by kSeparationZ standard errors of the tile-to-tile scatter (paired over tiles).
+  std::string closest;
+  double closest_z = -INFINITY;
+  for (const CandidateFit& c : d.candidates) {
+    if (c.effect == best.effect || c.effect == kNoEffect || !c.implausible.empty()) continue;
+    if (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare) continue;
+    if (c.num_parameters > kOccamFactor * best.num_parameters) continue;
+    const double z = PairedTileZ(best.heldout_group_ssr, c.heldout_group_ssr);
+    d.findings.push_back("held-out difference '" + best.effect + "' - '" + c.effect + "': " + Fixed(z, 2) +
+                         " standard errors (tile-to-tile scatter)");
+    if (z > -kSeparationZ && z > closest_z) closest_z = z, closest = c.effect;
+  }
+  if (!closest.empty()) {
+    d.cause = kAmbiguous;
+    d.look_alikes = {best.effect, closest};
+    d.separate_with = SeparatingData(best.effect, closest);
+    d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
+  }
+}
+
+// Candidates, cross-validated over image tiles, and the cause they name.
+void NameCause(const fringe::FringeFit& fit, const fringe::NoiseLevel& nlf, const std::string& worst_test,
+               const DiagnoseOptions& options, Diagnosis* out) {
+  using namespace fringe;
+  Diagnosis& d = *out;
+  const double floor = d.noise_floor_rms;
   Report(options, "candidates", 2, 4);
   d.candidates = FitCandidates(fit, options.folds, floor);
   SelectCandidate(&d.candidates);
@@ -253,31 +301,12 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
     d.sigmas = best.sigmas;
     d.confidence = best.weight;
     d.rms_after = best.heldout_rms;
-    // Look-alikes: a contender that removes a material share of the excess too, with at most
-    // kOccamFactor times the parameters, whose held-out error per image tile is not worse than the
-    // named one's by kSeparationZ standard errors of the tile-to-tile scatter (paired over tiles).
-    std::string closest;
-    double closest_z = -INFINITY;
-    for (const CandidateFit& c : d.candidates) {
-      if (c.effect == best.effect || c.effect == kNoEffect || !c.implausible.empty()) continue;
-      if (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare) continue;
-      if (c.num_parameters > kOccamFactor * best.num_parameters) continue;
-      const double z = PairedTileZ(best.heldout_group_ssr, c.heldout_group_ssr);
-      d.findings.push_back("held-out difference '" + best.effect + "' - '" + c.effect + "': " + Fixed(z, 2) +
-                           " standard errors (tile-to-tile scatter)");
-      if (z > -kSeparationZ && z > closest_z) closest_z = z, closest = c.effect;
-    }
-    if (!closest.empty()) {
-      d.cause = kAmbiguous;
-      d.look_alikes = {best.effect, closest};
-      d.separate_with = SeparatingData(best.effect, closest);
-      d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
-    }
+    FindLookAlike(best, floor, &d);
   } else {
     d.rms_after = d.rms_before;
     if (d.structure_found && excess >= kUnexplainedExcess * floor * floor) {
       d.cause = kUnexplained;
-      d.explaining_variable = tests[worst].name;
+      d.explaining_variable = worst_test;
     } else if (nlf.super_poisson && options.noise <= 0) {
       // The mean model holds; the noise does not follow read + shot noise (a + b·I).
       d.cause = "signal_dependent_noise";
@@ -289,9 +318,28 @@ Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std
     d.confidence = base->weight;
   }
   d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, floor);
+}
+
+}  // namespace
+
+Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& frames,
+                               double full_scale, const DiagnoseOptions& options, const std::string& label) {
+  Report(options, "fit ideal model", 0, 4);
+  fringe::FringeFit fit = fringe::FitIdealModel(manifest, frames, full_scale);
+  Diagnosis d;
+  d.kind = DataKind::kFringe;
+  d.data = label;
+  d.unit = "DN";
+  d.model = "ideal fringe model I = A + B cos(phi + delta_k) per pixel";
+  const fringe::NoiseLevel nlf = ModelNoise(&fit, full_scale, options, &d);
+  DescribeResidual(fit, d.num_residuals, &d);
+  Report(options, "structure tests", 1, 4);
+  const std::string worst_test = TestStructure(fit, SampleSigma{&fit, &nlf, options.noise}, full_scale, options, &d);
+  Report(options, "candidates", 2, 4);
+  NameCause(fit, nlf, worst_test, options, &d);
   if (!options.output_folder.empty()) {
     Report(options, "pictures", 3, 4);
-    d.pictures = WriteFringePictures(fit, floor, options.output_folder, options.seed);
+    d.pictures = fringe::WriteFringePictures(fit, d.noise_floor_rms, options.output_folder, options.seed);
   }
   Report(options, "done", 4, 4);
   return d;

@@ -3,7 +3,10 @@
 
 #include <random>
 
+#include "fringe_internal.h"
 #include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/core/error.h"
+#include "ramtk/diagnose/fringe/extra_cause.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::diagnose {
@@ -16,25 +19,32 @@ struct EffectRange {
   bool visible;      // the ideal intensity model can see it
 };
 
+// The drawn effects: the rows of the fringe cause table with a magnitude range (fringe_causes.def).
 // Realistic magnitudes: a projector gamma of a consumer DLP, phase-step errors of a few degrees,
 // a few percent lamp/exposure drift over the sequence, 50–120 % over-exposure (the brightest
 // surface, albedo 0.8 at exposure 0.9, reaches full scale only beyond ×1.39), 0.8–2.5 px camera
 // defocus at 320×256, a projector defocus of 0.5–1.4 projector px (~1–2.6 camera px here), a sensor knee at 20–35 % of
 // full scale (the scene's brightest samples reach ~70 %; a knee above ~40 % bends them by less than the per-pixel fit
 // leaves visible), ambient light 5–20 % of projector white, an extra k1 of a poorly calibrated lens.
-const EffectRange kRanges[] = {
-    {"projector_nonlinearity", 1.3, 2.2, false, true},
-    {"phase_shift_error", 1.5, 5.0, false, true},
-    {"intensity_drift", 0.03, 0.10, true, true},
-    {"saturation", 1.5, 2.2, false, true},
-    {"camera_defocus", 0.8, 2.5, false, true},
-    {"defocus", 0.5, 1.4, false, true},
-    {"soft_knee_response", 0.2, 0.35, false, true},
-    {"ambient_light", 0.05, 0.2, false, false},
-    {"lens_distortion_unmodelled", 0.02, 0.1, true, false},
-};
+std::vector<EffectRange> DrawnEffects() {
+  std::vector<EffectRange> out;
+  static const EffectRange kRows[] = {
+#define RAMTK_FRINGE_CAUSE(name, fit, lo, hi, either_sign, visible, parameters, plausible, help) \
+  {#name, lo, hi, either_sign, visible},
+#include "ramtk/diagnose/engine/fringe_causes.def"
+  };
+  for (const EffectRange& e : kRows)
+    if (e.hi > 0) out.push_back(e);
+  return out;
+}
 
 }  // namespace
+
+std::vector<std::string> DrawnFringeEffects() {
+  std::vector<std::string> out;
+  for (const EffectRange& e : DrawnEffects()) out.push_back(e.name);
+  return out;
+}
 
 HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
   std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32), 0xF81E6Eu};
@@ -43,8 +53,9 @@ HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed) {
   HiddenFringeDraw d;
   d.seed = seed;
   if (unit(rng) < 1.0 / 3.0) return d;
-  const int n = static_cast<int>(sizeof(kRanges) / sizeof(kRanges[0]));
-  const EffectRange& e = kRanges[std::min(n - 1, static_cast<int>(unit(rng) * n))];
+  const std::vector<EffectRange> drawn = DrawnEffects();
+  const int n = static_cast<int>(drawn.size());
+  const EffectRange& e = drawn[std::min(n - 1, static_cast<int>(unit(rng) * n))];
   d.effect = e.name;
   d.magnitude = e.lo + (e.hi - e.lo) * unit(rng);
   if (e.either_sign && unit(rng) < 0.5) d.magnitude = -d.magnitude;
@@ -63,7 +74,10 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   config.supersampling = 2;
   config.seed = draw.seed;
   config.sensor.full_well_electrons /= draw.camera_gain;
-  if (draw.effect != "none") config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
+  const FringeLinearCause* registered = nullptr;
+  for (const FringeLinearCause& c : RegisteredFringeCauses())
+    if (draw.effect == c.info.name) registered = &c;
+  if (draw.effect != "none" && registered == nullptr) config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
   const vision::SimulatedCamera sim = vision::SimulateCamera(config, 0);
 
   HiddenFringeSet out;
@@ -82,6 +96,17 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
     cv::Mat f;
     sim.images[i].convertTo(f, CV_32F);
     out.frames.push_back(f);
+  }
+  if (registered != nullptr) {
+    if (!registered->plant)
+      throw InputError({"", 0, "HiddenFringeDraw.effect"}, "cause '" + draw.effect + "' cannot be planted");
+    FringeSequenceView seq;
+    seq.frames = static_cast<int>(out.frames.size());
+    const int steps = m.sequence[0].steps;
+    for (int k = 0; k < steps; ++k)
+      seq.phase_frame.push_back(k), seq.step_shift_rad.push_back(fringe::StepShift(k, steps));
+    for (int f = steps; f < seq.frames; ++f) seq.gray_frame.push_back(f);
+    registered->plant(seq, draw.magnitude, &out.frames);
   }
   return out;
 }

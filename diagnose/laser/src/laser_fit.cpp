@@ -1,4 +1,4 @@
-#include "laser_fit.h"
+#include "ramtk/diagnose/laser/detail/laser_fit.h"
 
 #include <ceres/ceres.h>
 

@@ -5,7 +5,11 @@
 namespace ramtk::diagnose {
 
 std::vector<std::string> DrawnLaserEffects() {
-  return {"beam_non_perpendicular", "beam_offset", "beam_width", "trigger_latency", "speed_variation"};
+  std::vector<std::string> out;
+#define RAMTK_LASER_CAUSE(name, drawn, fitted, parameters, plausible, help) \
+  if (drawn) out.push_back(#name);
+#include "ramtk/diagnose/engine/laser_causes.def"
+  return out;
 }
 
 HiddenLaserEffect DrawHiddenLaserEffect(std::uint64_t seed) {

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "laser_fit.h"
+#include "ramtk/diagnose/laser/detail/laser_fit.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/laser/laser.h"
@@ -108,19 +108,10 @@ std::vector<UsedEvent> UsedEvents(const std::vector<tcf::BeamEvent>& events, con
   return out;
 }
 
-}  // namespace
-
-Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf::ProgrammedMotion& motion,
-                           const tcf::SensorFrame& sensor, const DiagnoseOptions& options) {
-  LogModel lm;
-  lm.motion = &motion;
-  lm.frame = sensor.base_from_lasersensor;
-  lm.used = UsedEvents(events, motion);
-  const int n = static_cast<int>(lm.used.size());
-  if (n < 12) throw InputError({options.data, 0, "events"}, "fewer than 12 events inside the programmed segments");
-
-  // Cross-validation groups: one crossing (a blocked event and the clear event after it, same
-  // segment and beam) per group, spread over the folds.
+// The device-log model: residual of every used event, its cross-validation groups (one crossing,
+// a blocked event and the clear event after it on the same segment and beam, per group), parameter
+// names, steps and plausibility bounds. The residuals read `lm`, which must outlive the model.
+ResidualModel MakeModel(const LogModel& lm, const Eigen::VectorXd& q0) {
   ResidualModel model;
   std::map<std::pair<int, int>, int> open;
   for (const UsedEvent& u : lm.used) {
@@ -134,29 +125,6 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
       if (u.event.state == tcf::BeamState::kBlocked) open[key] = model.num_groups;
       ++model.num_groups;
     }
-  }
-
-  // Starting tool: the TCF solver's (ideal settings); the programme's nominal tool if it fails.
-  std::string start_note;
-  Eigen::VectorXd q0 = Eigen::VectorXd::Zero(kNumParams);
-  q0(kBeta) = 90.0;
-  q0(kTz) = 150.0;
-  try {
-    tcf::TcfSolverOptions so;
-    so.self_calibrate_latency = so.self_calibrate_beam_offset = so.self_calibrate_speed = false;
-    so.timing_sigma_s = so.repeatability_sigma_mm = 0.0;
-    const tcf::TcfSummary s = tcf::SolveTcf(events, motion, sensor, so, options.data);
-    q0.head<3>() = s.solution.tcp_in_flange;
-    if (std::abs(s.solution.axis_in_flange.z()) > 0.1) {
-      const Vec3 a = s.solution.axis_in_flange / s.solution.axis_in_flange.z();
-      q0(kAx) = a.x();
-      q0(kAy) = a.y();
-    }
-  } catch (const InputError&) {
-    throw;  // bad files are the user's to fix, not a reason to guess a tool
-  } catch (const std::exception& e) {
-    start_note = std::string("the TCF solver did not give a starting tool (") + e.what() +
-                 "); the fit starts from the programme's nominal tool";
   }
   model.names = {"tcp_x_mm",   "tcp_y_mm",  "tcp_z_mm", "axis_x",     "axis_y",
                  "beta_deg",   "offset_mm", "width_mm", "latency_ms", "speed_error_percent",
@@ -178,34 +146,41 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   model.lower(kSpeed) = -10.0, model.upper(kSpeed) = 10.0;
   model.lower(kTiltX) = model.lower(kTiltY) = -kMaxPlaneTiltDeg;
   model.upper(kTiltX) = model.upper(kTiltY) = kMaxPlaneTiltDeg;
+  return model;
+}
 
-  Diagnosis d;
-  d.kind = DataKind::kLaser;
-  d.data = options.data;
-  d.unit = "mm";
-  d.model = "ideal device (perpendicular crossing line beams, no latency, programmed speed)";
-  const double sigma = options.noise > 0 ? options.noise : kLaserLogNoiseMm;
-  d.noise_floor_rms = sigma;
-  d.num_residuals = n;
-
-  const std::vector<int> base = {kTx, kTy, kTz, kAx, kAy};
-  const std::vector<CandidateSpec> specs = {{kNoEffect, {}},
-                                            {"beam_non_perpendicular", {kBeta}},
-                                            {"beam_offset", {kOffset}},
-                                            {"beam_width", {kWidth}},
-                                            {"trigger_latency", {kLatency}},
-                                            {"speed_variation", {kSpeed}},
-                                            {"sensor_plane_tilt", {kTiltX, kTiltY}}};
-  std::vector<CandidateOutcome> outcomes;
-  for (size_t i = 0; i < specs.size(); ++i) {
-    if (options.progress) options.progress({"candidates", i, specs.size()});
-    outcomes.push_back(laser_detail::EvaluateCandidate(model, base, specs[i], options.folds));
+// Starting tool: the TCF solver's (ideal settings); the programme's nominal tool if it fails (with
+// a note saying so).
+Eigen::VectorXd StartingTool(const std::vector<tcf::BeamEvent>& events, const tcf::ProgrammedMotion& motion,
+                             const tcf::SensorFrame& sensor, const DiagnoseOptions& options, std::string* start_note) {
+  Eigen::VectorXd q0 = Eigen::VectorXd::Zero(kNumParams);
+  q0(kBeta) = 90.0;
+  q0(kTz) = 150.0;
+  try {
+    tcf::TcfSolverOptions so;
+    so.self_calibrate_latency = so.self_calibrate_beam_offset = so.self_calibrate_speed = false;
+    so.timing_sigma_s = so.repeatability_sigma_mm = 0.0;
+    const tcf::TcfSummary s = tcf::SolveTcf(events, motion, sensor, so, options.data);
+    q0.head<3>() = s.solution.tcp_in_flange;
+    if (std::abs(s.solution.axis_in_flange.z()) > 0.1) {
+      const Vec3 a = s.solution.axis_in_flange / s.solution.axis_in_flange.z();
+      q0(kAx) = a.x();
+      q0(kAy) = a.y();
+    }
+  } catch (const InputError&) {
+    throw;  // bad files are the user's to fix, not a reason to guess a tool
+  } catch (const std::exception& e) {
+    *start_note = std::string("the TCF solver did not give a starting tool (") + e.what() +
+                  "); the fit starts from the programme's nominal tool";
   }
-  if (options.progress) options.progress({"candidates", specs.size(), specs.size()});
+  return q0;
+}
 
-  // Structure of the ideal model's residual (scaled for the fitted tool) against the noise.
-  const Eigen::VectorXd r0 = model.residuals(outcomes[0].full.params);
-  const double dof_scale = std::sqrt(static_cast<double>(n) / (n - static_cast<double>(base.size())));
+// Structure tests of the ideal model's residual `r0` (scaled for the fitted tool) against the noise.
+std::vector<TestResult> TestStructure(const LogModel& lm, const tcf::ProgrammedMotion& motion, const Eigen::VectorXd& r0,
+                                      int num_base, double sigma) {
+  const int n = static_cast<int>(lm.used.size());
+  const double dof_scale = std::sqrt(static_cast<double>(n) / (n - static_cast<double>(num_base)));
   std::vector<double> scaled(n), state(n), beam(n), direction, circle_resid, circle_angle, elapsed(n);
   for (int i = 0; i < n; ++i) {
     const UsedEvent& u = lm.used[i];
@@ -227,6 +202,115 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   // angle travelled: once and twice per turn.
   if (circle_resid.size() > 8)
     tests.push_back(HarmonicTrendTest(circle_resid, {sigma}, circle_angle, 2, "angle along the circle"));
+  return tests;
+}
+
+// The held-out residual pictures before and after the chosen extension into `folder`.
+void WriteLaserPictures(const LogModel& lm, const tcf::ProgrammedMotion& motion, const CandidateOutcome& ideal,
+                        const CandidateOutcome& final_outcome, double sigma, const std::string& folder,
+                        Diagnosis* out) {
+  Diagnosis& d = *out;
+  const int n = static_cast<int>(lm.used.size());
+  std::filesystem::create_directories(folder);
+  const Eigen::VectorXd before = ideal.heldout_resid, after = final_outcome.heldout_resid;
+  const Eigen::VectorXd fitted_tool = ideal.full.params;
+  auto series = [](const char* label) {
+    report::Series s;
+    s.label = label;
+    return s;
+  };
+  report::Series ccw = series("ccw circles"), cw = series("cw circles"), fixed = series("after the extension");
+  report::Series xs = series("x beam"), ys = series("y beam");
+  report::Series circ = series("circles"), lines = series("straight moves");
+  report::Series blocked = series("blocked"), clear = series("clear");
+  for (int i = 0; i < n; ++i) {
+    const UsedEvent& u = lm.used[i];
+    const double y = before(i);
+    if (u.circle) {
+      const tcf::CircleSegment& c = motion.circles[u.segment];
+      double ang = std::fmod(RadToDeg(c.AngleAt(u.event.time_s)), 360.0);
+      if (ang < 0) ang += 360.0;
+      (u.direction > 0 ? ccw : cw).x.push_back(ang);
+      (u.direction > 0 ? ccw : cw).y.push_back(y);
+      fixed.x.push_back(ang);
+      fixed.y.push_back(after(i));
+    }
+    report::Series& by_beam = u.event.beam == tcf::Beam::kX ? xs : ys;
+    by_beam.x.push_back(u.segment + 1 +
+                        0.6 * (u.event.time_s - u.start) /
+                            (u.circle ? motion.circles[u.segment].duration_s
+                                      : motion.lines[u.segment - motion.circles.size()].duration_s));
+    by_beam.y.push_back(y);
+    // Height of the fitted tip above the beam plane at the event.
+    const Isometry3 f = ProgrammedPose(motion, u, u.event.time_s);
+    const Vec3 tip = lm.frame.inverse() * (f * Vec3(fitted_tool(kTx), fitted_tool(kTy), fitted_tool(kTz)));
+    (u.circle ? circ : lines).x.push_back(-tip.z());
+    (u.circle ? circ : lines).y.push_back(y);
+    (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).x.push_back(u.event.time_s - u.start);
+    (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).y.push_back(y);
+  }
+  const std::string y_label = "clearance at the logged instant, held out (mm)";
+  AddFigure(OnePanel("residual_vs_angle",
+                     "Held-out residual of the circle events against the crossing angle, ccw and cw circles, "
+                     "and after the chosen extension",
+                     "Residual vs crossing angle, ccw vs cw (and after " + d.cause + ")",
+                     "programmed circle angle at the event (deg)", y_label, {ccw, cw, fixed}, sigma),
+            folder, &d.pictures);
+  AddFigure(OnePanel("residual_by_circle", "Held-out residual per circle and straight move, by beam",
+                     "Residual by segment (circles first, then straight moves)",
+                     "segment number + fraction of the segment elapsed", y_label, {xs, ys}, sigma),
+            folder, &d.pictures);
+  AddFigure(OnePanel("residual_vs_height", "Held-out residual against the height of the tool in the beams",
+                     "Residual vs height of the fitted tip below the beam plane",
+                     "tip height below the beam plane (mm)", y_label, {circ, lines}, sigma),
+            folder, &d.pictures);
+  AddFigure(OnePanel("residual_vs_time",
+                     "Held-out residual against the time within its segment, blocking and clearing events",
+                     "Residual vs time in the segment, blocked vs clear events", "time since the segment started (s)",
+                     y_label, {blocked, clear}, sigma),
+            folder, &d.pictures);
+}
+
+}  // namespace
+
+Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf::ProgrammedMotion& motion,
+                           const tcf::SensorFrame& sensor, const DiagnoseOptions& options) {
+  LogModel lm;
+  lm.motion = &motion;
+  lm.frame = sensor.base_from_lasersensor;
+  lm.used = UsedEvents(events, motion);
+  const int n = static_cast<int>(lm.used.size());
+  if (n < 12) throw InputError({options.data, 0, "events"}, "fewer than 12 events inside the programmed segments");
+  std::string start_note;
+  const ResidualModel model = MakeModel(lm, StartingTool(events, motion, sensor, options, &start_note));
+
+  Diagnosis d;
+  d.kind = DataKind::kLaser;
+  d.data = options.data;
+  d.unit = "mm";
+  d.model = "ideal device (perpendicular crossing line beams, no latency, programmed speed)";
+  const double sigma = options.noise > 0 ? options.noise : kLaserLogNoiseMm;
+  d.noise_floor_rms = sigma;
+  d.num_residuals = n;
+
+  const std::vector<int> base = {kTx, kTy, kTz, kAx, kAy};
+  // The current model, then every row of the laser cause table the log can show, in table order.
+  std::vector<CandidateSpec> specs = {{kNoEffect, {}}};
+#define RAMTK_UNPAREN(...) __VA_ARGS__
+#define RAMTK_LASER_CAUSE(name, drawn, fitted, parameters, plausible, help) \
+  if (!std::vector<int>{RAMTK_UNPAREN fitted}.empty()) specs.push_back({#name, {RAMTK_UNPAREN fitted}});
+#include "ramtk/diagnose/engine/laser_causes.def"
+#undef RAMTK_UNPAREN
+  std::vector<CandidateOutcome> outcomes;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    if (options.progress) options.progress({"candidates", i, specs.size()});
+    outcomes.push_back(laser_detail::EvaluateCandidate(model, base, specs[i], options.folds));
+  }
+  if (options.progress) options.progress({"candidates", specs.size(), specs.size()});
+
+  // Structure of the ideal model's residual (scaled for the fitted tool) against the noise.
+  const Eigen::VectorXd r0 = model.residuals(outcomes[0].full.params);
+  const std::vector<TestResult> tests = TestStructure(lm, motion, r0, static_cast<int>(base.size()), sigma);
   std::vector<double> p;
   for (const TestResult& t : tests) p.push_back(t.p_value);
   const std::vector<double> holm = HolmCorrection(p);
@@ -255,68 +339,8 @@ Diagnosis DiagnoseLaserLog(const std::vector<tcf::BeamEvent>& events, const tcf:
   }
   const CandidateOutcome final_outcome =
       laser_detail::AddFurtherEffects(model, base, specs, outcomes, chosen, options.folds, 10.0, "held-out RMS", &d);
-
-  if (!options.output_folder.empty()) {
-    std::filesystem::create_directories(options.output_folder);
-    const Eigen::VectorXd before = outcomes[0].heldout_resid, after = final_outcome.heldout_resid;
-    const Eigen::VectorXd fitted_tool = outcomes[0].full.params;
-    auto series = [](const char* label) {
-      report::Series s;
-      s.label = label;
-      return s;
-    };
-    report::Series ccw = series("ccw circles"), cw = series("cw circles"), fixed = series("after the extension");
-    report::Series xs = series("x beam"), ys = series("y beam");
-    report::Series circ = series("circles"), lines = series("straight moves");
-    report::Series blocked = series("blocked"), clear = series("clear");
-    for (int i = 0; i < n; ++i) {
-      const UsedEvent& u = lm.used[i];
-      const double y = before(i);
-      if (u.circle) {
-        const tcf::CircleSegment& c = motion.circles[u.segment];
-        double ang = std::fmod(RadToDeg(c.AngleAt(u.event.time_s)), 360.0);
-        if (ang < 0) ang += 360.0;
-        (u.direction > 0 ? ccw : cw).x.push_back(ang);
-        (u.direction > 0 ? ccw : cw).y.push_back(y);
-        fixed.x.push_back(ang);
-        fixed.y.push_back(after(i));
-      }
-      report::Series& by_beam = u.event.beam == tcf::Beam::kX ? xs : ys;
-      by_beam.x.push_back(u.segment + 1 +
-                          0.6 * (u.event.time_s - u.start) /
-                              (u.circle ? motion.circles[u.segment].duration_s
-                                        : motion.lines[u.segment - motion.circles.size()].duration_s));
-      by_beam.y.push_back(y);
-      // Height of the fitted tip above the beam plane at the event.
-      const Isometry3 f = ProgrammedPose(motion, u, u.event.time_s);
-      const Vec3 tip = lm.frame.inverse() * (f * Vec3(fitted_tool(kTx), fitted_tool(kTy), fitted_tool(kTz)));
-      (u.circle ? circ : lines).x.push_back(-tip.z());
-      (u.circle ? circ : lines).y.push_back(y);
-      (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).x.push_back(u.event.time_s - u.start);
-      (u.event.state == tcf::BeamState::kBlocked ? blocked : clear).y.push_back(y);
-    }
-    const std::string y_label = "clearance at the logged instant, held out (mm)";
-    const std::string& folder = options.output_folder;
-    AddFigure(OnePanel("residual_vs_angle",
-                       "Held-out residual of the circle events against the crossing angle, ccw and cw circles, "
-                       "and after the chosen extension",
-                       "Residual vs crossing angle, ccw vs cw (and after " + d.cause + ")",
-                       "programmed circle angle at the event (deg)", y_label, {ccw, cw, fixed}, sigma),
-              folder, &d.pictures);
-    AddFigure(OnePanel("residual_by_circle", "Held-out residual per circle and straight move, by beam",
-                       "Residual by segment (circles first, then straight moves)",
-                       "segment number + fraction of the segment elapsed", y_label, {xs, ys}, sigma),
-              folder, &d.pictures);
-    AddFigure(OnePanel("residual_vs_height", "Held-out residual against the height of the tool in the beams",
-                       "Residual vs height of the fitted tip below the beam plane",
-                       "tip height below the beam plane (mm)", y_label, {circ, lines}, sigma),
-              folder, &d.pictures);
-    AddFigure(OnePanel("residual_vs_time",
-                       "Held-out residual against the time within its segment, blocking and clearing events",
-                       "Residual vs time in the segment, blocked vs clear events", "time since the segment started (s)",
-                       y_label, {blocked, clear}, sigma),
-              folder, &d.pictures);
-  }
+  if (!options.output_folder.empty())
+    WriteLaserPictures(lm, motion, outcomes[0], final_outcome, sigma, options.output_folder, &d);
   return d;
 }
 

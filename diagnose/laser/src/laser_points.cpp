@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "laser_fit.h"
+#include "ramtk/diagnose/laser/detail/laser_fit.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/laser/laser.h"

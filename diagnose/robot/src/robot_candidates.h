@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "ramtk/diagnose/engine/diagnosis.h"
-#include "robot_linear.h"
+#include "ramtk/diagnose/robot/detail/robot_linear.h"
 
 namespace ramtk::diagnose::robot_detail {
 
@@ -35,8 +35,8 @@ struct Evaluated {
 // The current model: nuisance set-up plus the input's per-cycle thermal parameters.
 Design CurrentModelDesign(const RobotDiagnoseInput& in, const RowSet& rs);
 
-// Every applicable candidate of the catalogue (skipped ones are left out, with a note line in
-// `notes`).
+// Every applicable cause of the robot cause table and the registered ones, in table order
+// (skipped ones are left out, with a note line in `notes`); one progress step per cause fitted.
 std::vector<Evaluated> EvaluateCandidates(const Context& ctx, std::vector<std::string>* notes);
 
 // ---- identifiability (robot_identify.cpp) ----
@@ -80,7 +80,7 @@ PlausibilityBounds BoundsFor(const kinematics::RobotModel& model);
 // Appends to fit->implausible every fitted value outside its bounds (a negative compliance beyond 3σ too).
 void CheckPlausibility(const PlausibilityBounds& bounds, CandidateFit* fit);
 
-// Drift causes: thermal, temperature-driven, sensor frame drift, a ball that moved.
+// Drift causes (their RobotCauseCode::drift): thermal, temperature-driven, sensor frame drift, a ball that moved.
 bool IsDriftEffect(const std::string& effect);
 // When the best candidate (front, after SelectCandidate) is a drift and the best static candidate
 // predicts the held-out poses as well (within 2 standard errors), moves the static one to the front

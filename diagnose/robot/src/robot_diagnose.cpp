@@ -142,32 +142,33 @@ double LambdaWith(const RobotDiagnoseInput& in, const thermal::ThermalExperiment
   return thermal::Lambda(mm.Residuals(thermal::IdentifyForMonitoring(exp, dm, id)), {});
 }
 
-}  // namespace
+// One robot diagnosis in progress: the rows, the cross-validation set-up and what each step finds
+// for the next.
+struct Analysis {
+  Analysis(const RobotDiagnoseInput& input, const DiagnoseOptions& opts, robot_detail::RowSet rows)
+      : in(input), options(opts), rs(std::move(rows)), n(static_cast<int>(rs.rows.size())) {}
+  const RobotDiagnoseInput& in;
+  const DiagnoseOptions& options;
+  const robot_detail::RowSet rs;
+  const int n;
+  double sigma = 0.0;                             // noise per coordinate, mm
+  robot_detail::Context ctx;                      // rows, folds and the current model
+  std::vector<Eigen::Vector3d> before;            // residual of the current model
+  std::vector<NamedTest> tests;                   // structure tests of `before`
+  std::vector<robot_detail::Evaluated> evaluated;
+  robot_detail::PlausibilityBounds bounds;
+  CandidateFit none;                              // the current model as a candidate
+  const robot_detail::Evaluated* chosen_eval = nullptr;
+  robot_detail::Evaluated combined;               // several causes together (when `multi`)
+  bool multi = false;
+};
 
-Diagnosis DiagnoseRobot(const DiagnoseOptions& options) {
-  ThrowIfInvalid(options.Validate(), "DiagnoseOptions");
-  return DiagnoseRobotData(ReadRobotDiagnoseInput(options), options);
-}
-
-Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions& options) {
-  DiagnoseOptions checked = options;  // in-memory data needs no file name
-  if (checked.data.empty()) checked.data = in.ball_path.empty() ? "(in memory)" : in.ball_path;
-  ThrowIfInvalid(checked.Validate(), "DiagnoseOptions");
-  const robot_detail::RowSet rs = robot_detail::BuildRows(in);
-  Diagnosis d;
-  d.kind = DataKind::kRobot;
-  d.data = in.ball_path;
-  d.unit = "mm";
-  d.model = (in.model_label.empty() ? in.model.name : in.model_label) +
-            (in.thermal_params.empty()
-                 ? std::string(", static")
-                 : ", per-cycle drift of " + (in.thermal_label.empty() ? std::string("") : in.thermal_label + " = ") +
-                       thermal::ParamListToString(in.thermal_params)) +
-            "; " + rs.setup_note;
-  const int n = static_cast<int>(rs.rows.size());
-  d.num_residuals = 3 * n;
-
-  // Noise floor.
+// The noise floor: given, estimated from successive cycles of the same pose, or the default.
+void SetNoiseFloor(Analysis* run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const DiagnoseOptions& options = run->options;
+  const robot_detail::RowSet& rs = run->rs;
+  const int n = run->n;
   int pairs = 0;
   double sigma = options.noise;
   std::string noise_note;
@@ -186,14 +187,20 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   d.findings.push_back(noise_note);
   d.findings.push_back(std::to_string(n) + " ball measurements, " + std::to_string(rs.num_cycles) + " cycles, " +
                        std::to_string(rs.pose_ids.size()) + " poses");
+  run->sigma = sigma;
+}
 
+void SetUpFolds(Analysis* run) {
+  const RobotDiagnoseInput& in = run->in;
+  const DiagnoseOptions& options = run->options;
+  const robot_detail::RowSet& rs = run->rs;
+  robot_detail::Context& ctx = run->ctx;
   // Folds over poses and cycles (a Latin square): cycle c holds out the poses of fold (k − c) mod K,
   // so every cycle keeps most of its poses (per-cycle drift stays fittable) and every pose stays in
   // the training set through the other cycles (no pose is predicted from a geometry that lacks it).
-  robot_detail::Context ctx;
   ctx.input = &in;
   ctx.rows = &rs;
-  ctx.sigma = sigma;
+  ctx.sigma = run->sigma;
   ctx.progress = options.progress;
   ctx.folds = std::min<int>(options.folds, static_cast<int>(rs.pose_ids.size()));
   if (ctx.folds < 2) throw InputError({in.ball_path, 0, "pose"}, "cross-validation over poses needs at least 2 poses");
@@ -205,14 +212,23 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   }
   ctx.base = robot_detail::CurrentModelDesign(in, rs);
   ctx.base_cv = robot_detail::CrossValidate(rs.rows, ctx.base, ctx.fold_of_row, ctx.folds, rs.num_cycles);
+}
 
-  // Step 1–2: residual of the current model and its structure.
-  std::vector<Eigen::Vector3d> before(n);
+// Steps 1–2: residual of the current model and its structure.
+void TestStructure(Analysis* run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const DiagnoseOptions& options = run->options;
+  const robot_detail::RowSet& rs = run->rs;
+  const robot_detail::Context& ctx = run->ctx;
+  const int n = run->n;
+  std::vector<Eigen::Vector3d>& before = run->before;
+  before.resize(n);
   for (int i = 0; i < n; ++i) before[i] = robot_detail::FitResidual(rs.rows, ctx.base, ctx.base_cv.full, i);
   d.residual_rms = ctx.base_cv.TrainRms();
   const double fitted = ctx.base.ns + static_cast<double>(ctx.base.np) * rs.num_cycles;
-  const double sigma_eff = sigma * std::sqrt(std::max(0.05, 1.0 - fitted / (3.0 * n)));
-  const std::vector<NamedTest> tests = StructureTests(rs, before, sigma_eff, ctx.base.np == 0);
+  const double sigma_eff = run->sigma * std::sqrt(std::max(0.05, 1.0 - fitted / (3.0 * n)));
+  run->tests = StructureTests(rs, before, sigma_eff, ctx.base.np == 0);
+  const std::vector<NamedTest>& tests = run->tests;
   std::vector<double> p;
   for (const NamedTest& t : tests) p.push_back(t.test.p_value);
   const std::vector<double> corrected = HolmCorrection(p);
@@ -229,23 +245,28 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
     if (k > 0 && corrected[i] >= options.alpha) break;
     d.findings.push_back(tests[i].test.Describe() + " (Holm-corrected p = " + Num(corrected[i], 3) + ")");
   }
+}
 
-  // Step 3: candidates.
+// Step 3: every candidate, the chosen one first.
+void FitCandidates(Analysis* run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const robot_detail::RowSet& rs = run->rs;
+  std::vector<robot_detail::Evaluated>& evaluated = run->evaluated;
   std::vector<std::string> notes;
-  std::vector<robot_detail::Evaluated> evaluated = robot_detail::EvaluateCandidates(ctx, &notes);
-  const robot_detail::PlausibilityBounds bounds = robot_detail::BoundsFor(in.model);
+  evaluated = robot_detail::EvaluateCandidates(run->ctx, &notes);
+  run->bounds = robot_detail::BoundsFor(run->in.model);
   for (auto& e : evaluated) {
-    e.fit.absorbed_share = robot_detail::AbsorbedShare(ctx.base, e.design);
-    robot_detail::CheckPlausibility(bounds, &e.fit);
+    e.fit.absorbed_share = robot_detail::AbsorbedShare(run->ctx.base, e.design);
+    robot_detail::CheckPlausibility(run->bounds, &e.fit);
     if (!e.fit.implausible.empty()) {
       notes.push_back(e.fit.effect + " is implausible, never named: " + e.fit.implausible);
     }
   }
-  CandidateFit none;
+  CandidateFit& none = run->none;
   none.effect = kNoEffect;
-  none.train_rms = ctx.base_cv.TrainRms();
-  none.heldout_rms = ctx.base_cv.HeldoutRms();
-  none.heldout_count = ctx.base_cv.heldout_n;
+  none.train_rms = run->ctx.base_cv.TrainRms();
+  none.heldout_rms = run->ctx.base_cv.HeldoutRms();
+  none.heldout_count = run->ctx.base_cv.heldout_n;
   d.candidates.push_back(none);
   for (const auto& e : evaluated) {
     d.candidates.push_back(e.fit);
@@ -258,17 +279,23 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
   if (!specific_first.empty()) notes.push_back(specific_first);
   for (const std::string& note : notes) d.findings.push_back("candidate " + note);
   const CandidateFit& chosen = d.candidates[0];
-  const robot_detail::Evaluated* chosen_eval = nullptr;
   for (const auto& e : evaluated)
-    if (e.fit.effect == chosen.effect) chosen_eval = &e;
+    if (e.fit.effect == chosen.effect) run->chosen_eval = &e;
+}
 
-  // Step 4: the gain on held-out data.
-  d.rms_before = none.heldout_rms;
+// Step 4: the gain on held-out data, and how alike each candidate's fitted correction is to the
+// chosen one's.
+void MeasureGain(const Analysis& run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const robot_detail::RowSet& rs = run.rs;
+  const robot_detail::Context& ctx = run.ctx;
+  const robot_detail::Evaluated* chosen_eval = run.chosen_eval;
+  const std::vector<robot_detail::Evaluated>& evaluated = run.evaluated;
+  const CandidateFit& chosen = d.candidates[0];
+  d.rms_before = run.none.heldout_rms;
   d.rms_after = chosen.heldout_rms;
-  d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, sigma);
+  d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, run.sigma);
   d.confidence = chosen.weight;
-  // Step 3b: is the chosen candidate the whole story, and can these data tell it from the others?
-  std::string verdict = chosen.effect;
   Eigen::VectorXd sig_chosen;
   if (chosen_eval != nullptr) {
     sig_chosen =
@@ -281,93 +308,133 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
           c.signature_cos = den > 0 ? std::abs(sc.dot(sig_chosen)) / den : 0.0;
         }
   }
-  if (chosen_eval != nullptr && d.structure_found && d.excess_removed >= 0.25) {
-    // Out-of-catalogue honesty: after fitting the chosen extension, does a structure test still find
-    // dependence on a measured variable? Then the name would claim too much.
-    std::vector<Eigen::Vector3d> after(n);
-    for (int i = 0; i < n; ++i)
-      after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
-    const double fitted_after = chosen_eval->design.ns + static_cast<double>(chosen_eval->design.np) * rs.num_cycles;
-    const double sigma_after = sigma * std::sqrt(std::max(0.05, 1.0 - fitted_after / (3.0 * n)));
-    std::vector<NamedTest> rest = StructureTests(rs, after, sigma_after, chosen_eval->design.np == 0);
-    std::vector<double> rp;
-    for (const NamedTest& t : rest) rp.push_back(t.test.p_value);
-    const std::vector<double> rc = HolmCorrection(rp);
-    std::vector<NamedTest> remaining;
-    for (size_t i = 0; i < rest.size(); ++i)
-      if (rc[i] < options.alpha && rest[i].variable != "level" && rest[i].variable != "time order")
-        remaining.push_back(rest[i]);
-    if (!remaining.empty() && d.excess_removed < kExplainedShare) {
-      verdict = kUnexplained;
-      d.explaining_variable = ExplainingVariable(remaining);
-      d.partial = {chosen.effect};
-      // Quote the strongest test of the variable named, not the strongest test overall.
-      const NamedTest* quoted = &remaining.front();
-      for (const NamedTest& t : remaining) {
-        if (t.variable == d.explaining_variable &&
-            (quoted->variable != d.explaining_variable || t.test.statistic - t.test.dof > quoted->test.statistic - quoted->test.dof)) {
-          quoted = &t;
-        }
-      }
-      d.findings.push_back("after fitting '" + chosen.effect + "' (" + Num(100 * d.excess_removed, 3) +
-                           "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
-                           quoted->test.Describe() + "): structure outside the catalogue, '" + chosen.effect +
-                           "' explains it only in part");
-    } else {
-      // Look-alikes: candidates with a material gain whose held-out error is not worse than the
-      // chosen one's by more than kSeparationZ standard errors of the per-pose scatter.
-      // Look-alikes predict nearly the same correction (|cos| of their signatures ≥ kLookAlikeCos);
-      // the closest one (highest z) forms the reported pair, further ones are listed in the findings.
-      // Nested pairs are not look-alikes: the held-out score with its parameter penalty already
-      // decided between a model and its own special case.
-      std::vector<std::string> alike{chosen.effect};
-      Eigen::VectorXd difference;
-      double closest = -INFINITY;
-      std::string closest_effect;
-      for (const auto& e : evaluated) {
-        if (e.fit.effect == chosen.effect) continue;
-        if (ExcessRemoved(d.rms_before, e.fit.heldout_rms, sigma) < 0.25) continue;
-        // Nested: one candidate's columns lie in the other's span (beyond the common base), so the
-        // richer one only adds parameters and the penalised held-out score has chosen between them.
-        // (Not judged on the fitted corrections: a rich model reproduces many signals it does not
-        // contain, e.g. a sensor drift quadratic in time and a temperature rising with time.)
-        const double nested =
-            std::max(robot_detail::NestedShare(chosen_eval->design, e.design, ctx.base.ns, ctx.base.np),
-                     robot_detail::NestedShare(e.design, chosen_eval->design, ctx.base.ns, ctx.base.np));
-        if (e.fit.num_parameters > kOccamFactor * chosen.num_parameters) {
-          d.findings.push_back("'" + e.fit.effect + "' (" + std::to_string(e.fit.num_parameters) +
-                               " parameters) matches '" + chosen.effect + "' (" +
-                               std::to_string(chosen.num_parameters) +
-                               ") only with many more parameters: not a look-alike (parsimony)");
-          continue;
-        }
-        if (nested >= kNestedShare) {
-          d.findings.push_back("'" + e.fit.effect + "' and '" + chosen.effect + "' are nested (" +
-                               Num(100 * nested, 3) +
-                               "% of the smaller one's columns lie in the larger one): the penalised held-out score "
-                               "decides");
-          continue;
-        }
-        const double z = robot_detail::HeldoutDifferenceZ(rs, chosen_eval->cv.heldout_residual, e.cv.heldout_residual);
-        double cos = 0;
-        for (const CandidateFit& c : d.candidates)
-          if (c.effect == e.fit.effect) cos = c.signature_cos;
-        d.findings.push_back("held-out difference '" + chosen.effect + "' - '" + e.fit.effect + "': " + Num(z, 3) +
-                             " standard errors (per-pose scatter); signatures |cos| " + Num(cos, 3));
-        if (z > -kSeparationZ && cos >= kLookAlikeCos && z > closest) {
-          closest = z, closest_effect = e.fit.effect;
-          difference = robot_detail::Signature(rs.rows, e.design, e.cv.full, chosen_eval->design, chosen_eval->cv.full);
-        }
-      }
-      if (!closest_effect.empty()) alike.push_back(closest_effect);
-      if (alike.size() > 1) {
-        verdict = kAmbiguous;
-        d.look_alikes = alike;
-        d.separate_with = robot_detail::SeparatingData(rs, difference, alike);
-        d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
-      }
+}
+
+// Out-of-catalogue honesty: after fitting the chosen extension, the structure tests that still find
+// dependence on a measured variable (then the name would claim too much).
+std::vector<NamedTest> RemainingStructure(const Analysis& run) {
+  const robot_detail::RowSet& rs = run.rs;
+  const robot_detail::Evaluated* chosen_eval = run.chosen_eval;
+  const int n = run.n;
+  const double sigma = run.sigma;
+  const DiagnoseOptions& options = run.options;
+  std::vector<Eigen::Vector3d> after(n);
+  for (int i = 0; i < n; ++i)
+    after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
+  const double fitted_after = chosen_eval->design.ns + static_cast<double>(chosen_eval->design.np) * rs.num_cycles;
+  const double sigma_after = sigma * std::sqrt(std::max(0.05, 1.0 - fitted_after / (3.0 * n)));
+  std::vector<NamedTest> rest = StructureTests(rs, after, sigma_after, chosen_eval->design.np == 0);
+  std::vector<double> rp;
+  for (const NamedTest& t : rest) rp.push_back(t.test.p_value);
+  const std::vector<double> rc = HolmCorrection(rp);
+  std::vector<NamedTest> remaining;
+  for (size_t i = 0; i < rest.size(); ++i)
+    if (rc[i] < options.alpha && rest[i].variable != "level" && rest[i].variable != "time order")
+      remaining.push_back(rest[i]);
+  return remaining;
+}
+
+// The verdict when structure remains: unexplained, with the variable that carries it.
+void DescribeUnexplained(const std::vector<NamedTest>& remaining, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const CandidateFit& chosen = d.candidates[0];
+  d.explaining_variable = ExplainingVariable(remaining);
+  d.partial = {chosen.effect};
+  // Quote the strongest test of the variable named, not the strongest test overall.
+  const NamedTest* quoted = &remaining.front();
+  for (const NamedTest& t : remaining) {
+    if (t.variable == d.explaining_variable &&
+        (quoted->variable != d.explaining_variable || t.test.statistic - t.test.dof > quoted->test.statistic - quoted->test.dof)) {
+      quoted = &t;
     }
   }
+  d.findings.push_back("after fitting '" + chosen.effect + "' (" + Num(100 * d.excess_removed, 3) +
+                       "% of the excess) the residual still depends on " + d.explaining_variable + " (" +
+                       quoted->test.Describe() + "): structure outside the catalogue, '" + chosen.effect +
+                       "' explains it only in part");
+}
+
+// Look-alikes of the chosen candidate; true (and the pair with what would separate them in `out`)
+// when these data do not separate it from one.
+bool FindLookAlikes(const Analysis& run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const robot_detail::RowSet& rs = run.rs;
+  const robot_detail::Context& ctx = run.ctx;
+  const robot_detail::Evaluated* chosen_eval = run.chosen_eval;
+  const CandidateFit& chosen = d.candidates[0];
+  const double sigma = run.sigma;
+  const std::vector<robot_detail::Evaluated>& evaluated = run.evaluated;
+  // Look-alikes: candidates with a material gain whose held-out error is not worse than the
+  // chosen one's by more than kSeparationZ standard errors of the per-pose scatter.
+  // Look-alikes predict nearly the same correction (|cos| of their signatures ≥ kLookAlikeCos);
+  // the closest one (highest z) forms the reported pair, further ones are listed in the findings.
+  // Nested pairs are not look-alikes: the held-out score with its parameter penalty already
+  // decided between a model and its own special case.
+  std::vector<std::string> alike{chosen.effect};
+  Eigen::VectorXd difference;
+  double closest = -INFINITY;
+  std::string closest_effect;
+  for (const auto& e : evaluated) {
+    if (e.fit.effect == chosen.effect) continue;
+    if (ExcessRemoved(d.rms_before, e.fit.heldout_rms, sigma) < 0.25) continue;
+    // Nested: one candidate's columns lie in the other's span (beyond the common base), so the
+    // richer one only adds parameters and the penalised held-out score has chosen between them.
+    // (Not judged on the fitted corrections: a rich model reproduces many signals it does not
+    // contain, e.g. a sensor drift quadratic in time and a temperature rising with time.)
+    const double nested =
+        std::max(robot_detail::NestedShare(chosen_eval->design, e.design, ctx.base.ns, ctx.base.np),
+                 robot_detail::NestedShare(e.design, chosen_eval->design, ctx.base.ns, ctx.base.np));
+    if (e.fit.num_parameters > kOccamFactor * chosen.num_parameters) {
+      d.findings.push_back("'" + e.fit.effect + "' (" + std::to_string(e.fit.num_parameters) +
+                           " parameters) matches '" + chosen.effect + "' (" +
+                           std::to_string(chosen.num_parameters) +
+                           ") only with many more parameters: not a look-alike (parsimony)");
+      continue;
+    }
+    if (nested >= kNestedShare) {
+      d.findings.push_back("'" + e.fit.effect + "' and '" + chosen.effect + "' are nested (" +
+                           Num(100 * nested, 3) +
+                           "% of the smaller one's columns lie in the larger one): the penalised held-out score "
+                           "decides");
+      continue;
+    }
+    const double z = robot_detail::HeldoutDifferenceZ(rs, chosen_eval->cv.heldout_residual, e.cv.heldout_residual);
+    double cos = 0;
+    for (const CandidateFit& c : d.candidates)
+      if (c.effect == e.fit.effect) cos = c.signature_cos;
+    d.findings.push_back("held-out difference '" + chosen.effect + "' - '" + e.fit.effect + "': " + Num(z, 3) +
+                         " standard errors (per-pose scatter); signatures |cos| " + Num(cos, 3));
+    if (z > -kSeparationZ && cos >= kLookAlikeCos && z > closest) {
+      closest = z, closest_effect = e.fit.effect;
+      difference = robot_detail::Signature(rs.rows, e.design, e.cv.full, chosen_eval->design, chosen_eval->cv.full);
+    }
+  }
+  if (!closest_effect.empty()) alike.push_back(closest_effect);
+  if (alike.size() <= 1) return false;
+  d.look_alikes = alike;
+  d.separate_with = robot_detail::SeparatingData(rs, difference, alike);
+  d.findings.push_back("these data do not separate the look-alikes; to separate them: " + d.separate_with);
+  return true;
+}
+
+// Step 3b: is the chosen candidate the whole story, and can these data tell it from the others?
+std::string Verdict(const Analysis& run, Diagnosis* d) {
+  const std::string chosen = d->candidates[0].effect;
+  if (run.chosen_eval == nullptr || !d->structure_found || d->excess_removed < 0.25) return chosen;
+  const std::vector<NamedTest> remaining = RemainingStructure(run);
+  if (!remaining.empty() && d->excess_removed < kExplainedShare) {
+    DescribeUnexplained(remaining, d);
+    return kUnexplained;
+  }
+  return FindLookAlikes(run, d) ? kAmbiguous : chosen;
+}
+
+// The cause (or none, unexplained, not observable) from the verdict and the gain.
+void Conclude(const Analysis& run, const std::string& verdict, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const CandidateFit& chosen = d.candidates[0];
+  const CandidateFit& none = run.none;
+  const std::vector<NamedTest>& tests = run.tests;
   if (verdict != kUnexplained && chosen.effect != kNoEffect && d.structure_found && d.excess_removed >= 0.25) {
     d.cause = verdict;
     d.parameters = chosen.parameters;
@@ -407,11 +474,16 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       d.confidence = none.weight;
     }
   }
+}
 
-  // Step 5: several causes at once. When the first cause explains part of the excess, the others
-  // are fitted on top of it, each kept with its own held-out gain.
-  robot_detail::Evaluated combined;
-  bool multi = false;
+// Step 5: several causes at once. When the first cause explains part of the excess, the others
+// are fitted on top of it, each kept with its own held-out gain.
+void SeveralCauses(Analysis* run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const CandidateFit& chosen = d.candidates[0];
+  const CandidateFit& none = run->none;
+  const robot_detail::Evaluated* chosen_eval = run->chosen_eval;
+  const double sigma = run->sigma;
   if (chosen_eval != nullptr && d.structure_found && chosen.effect != kNoEffect && chosen.implausible.empty() &&
       d.cause != kAmbiguous && d.cause != kNotObservable) {
     const double first_share = ExcessRemoved(none.heldout_rms, chosen.heldout_rms, sigma);
@@ -419,12 +491,12 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       // Further causes are added while they pay (the score margin, a tenth of what is left) and the
       // residual is above the noise floor: a small third error is still a cause once the large
       // ones are in.
-      std::vector<CauseStep> steps = robot_detail::ForwardSelect(ctx, *chosen_eval, none.heldout_rms, sigma, 1.0,
-                                                                 bounds, &d.findings, &combined);
+      std::vector<CauseStep> steps = robot_detail::ForwardSelect(run->ctx, *chosen_eval, none.heldout_rms, sigma, 1.0,
+                                                                 run->bounds, &d.findings, &run->combined);
       if (steps.size() > 1) {
-        multi = true;
+        run->multi = true;
         d.causes = steps;
-        d.rms_after = combined.fit.heldout_rms;
+        d.rms_after = run->combined.fit.heldout_rms;
         d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, sigma);
         d.confidence = chosen.weight;
         d.parameters.clear();
@@ -450,8 +522,14 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       }
     }
   }
+}
 
-  // λ of thesis §3.2 on the monitoring points, current vs extended per-cycle set.
+// λ of thesis §3.2 on the monitoring points, current vs extended per-cycle set.
+void LambdaFinding(const Analysis& run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const RobotDiagnoseInput& in = run.in;
+  const CandidateFit& chosen = d.candidates[0];
+  const robot_detail::Evaluated* chosen_eval = run.chosen_eval;
   if (in.has_monitoring && in.has_setup && in.setup.has_tool_sensor && chosen_eval != nullptr &&
       !chosen_eval->added_cycle_params.empty() && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
     try {
@@ -469,26 +547,68 @@ Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions&
       d.findings.push_back(std::string("λ not computed: ") + e.what());
     }
   }
+}
 
-  if (!options.output_folder.empty()) {
-    std::filesystem::create_directories(options.output_folder);
-    std::vector<Eigen::Vector3d> after = before;
-    std::vector<Eigen::Vector3d> heldout_after = ctx.base_cv.heldout_residual;
-    std::vector<std::string> added;
-    Eigen::MatrixXd added_series;
-    if (multi) {
-      for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, combined.design, combined.cv.full, i);
-      heldout_after = combined.cv.heldout_residual;
-    } else if (chosen_eval != nullptr && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
-      for (int i = 0; i < n; ++i)
-        after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
-      heldout_after = chosen_eval->cv.heldout_residual;
-      for (int param : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(param));
-      added_series = chosen_eval->added_series;
-    }
-    robot_detail::WriteRobotPictures(rs, before, after, ctx.base_cv.heldout_residual, heldout_after, sigma, added,
-                                     added_series, d.cause, options.output_folder, &d.pictures);
+// The residual pictures before and after the cause(s) into options.output_folder.
+void WritePictures(const Analysis& run, Diagnosis* out) {
+  Diagnosis& d = *out;
+  const CandidateFit& chosen = d.candidates[0];
+  const robot_detail::Evaluated* chosen_eval = run.chosen_eval;
+  const robot_detail::Evaluated& combined = run.combined;
+  const robot_detail::RowSet& rs = run.rs;
+  const int n = run.n;
+  std::filesystem::create_directories(run.options.output_folder);
+  std::vector<Eigen::Vector3d> after = run.before;
+  std::vector<Eigen::Vector3d> heldout_after = run.ctx.base_cv.heldout_residual;
+  std::vector<std::string> added;
+  Eigen::MatrixXd added_series;
+  if (run.multi) {
+    for (int i = 0; i < n; ++i) after[i] = robot_detail::FitResidual(rs.rows, combined.design, combined.cv.full, i);
+    heldout_after = combined.cv.heldout_residual;
+  } else if (chosen_eval != nullptr && (d.cause == chosen.effect || d.cause == kAmbiguous)) {
+    for (int i = 0; i < n; ++i)
+      after[i] = robot_detail::FitResidual(rs.rows, chosen_eval->design, chosen_eval->cv.full, i);
+    heldout_after = chosen_eval->cv.heldout_residual;
+    for (int param : chosen_eval->added_cycle_params) added.push_back(kinematics::ParamName(param));
+    added_series = chosen_eval->added_series;
   }
+  robot_detail::WriteRobotPictures(rs, run.before, after, run.ctx.base_cv.heldout_residual, heldout_after, run.sigma, added,
+                                   added_series, d.cause, run.options.output_folder, &d.pictures);
+}
+
+}  // namespace
+
+Diagnosis DiagnoseRobot(const DiagnoseOptions& options) {
+  ThrowIfInvalid(options.Validate(), "DiagnoseOptions");
+  return DiagnoseRobotData(ReadRobotDiagnoseInput(options), options);
+}
+
+
+Diagnosis DiagnoseRobotData(const RobotDiagnoseInput& in, const DiagnoseOptions& options) {
+  DiagnoseOptions checked = options;  // in-memory data needs no file name
+  if (checked.data.empty()) checked.data = in.ball_path.empty() ? "(in memory)" : in.ball_path;
+  ThrowIfInvalid(checked.Validate(), "DiagnoseOptions");
+  Analysis run(in, options, robot_detail::BuildRows(in));
+  Diagnosis d;
+  d.kind = DataKind::kRobot;
+  d.data = in.ball_path;
+  d.unit = "mm";
+  d.model = (in.model_label.empty() ? in.model.name : in.model_label) +
+            (in.thermal_params.empty()
+                 ? std::string(", static")
+                 : ", per-cycle drift of " + (in.thermal_label.empty() ? std::string("") : in.thermal_label + " = ") +
+                       thermal::ParamListToString(in.thermal_params)) +
+            "; " + run.rs.setup_note;
+  d.num_residuals = 3 * run.n;
+  SetNoiseFloor(&run, &d);
+  SetUpFolds(&run);
+  TestStructure(&run, &d);
+  FitCandidates(&run, &d);
+  MeasureGain(run, &d);
+  Conclude(run, Verdict(run, &d), &d);
+  SeveralCauses(&run, &d);
+  LambdaFinding(run, &d);
+  if (!options.output_folder.empty()) WritePictures(run, &d);
   return d;
 }
 

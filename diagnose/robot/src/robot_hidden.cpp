@@ -10,7 +10,7 @@
 #include "ramtk/kinematics/forward.h"
 #include "ramtk/kinematics/tracker_io.h"
 #include "ramtk/thermal/simulator.h"
-#include "robot_linear.h"
+#include "robot_causes.h"
 
 namespace ramtk::diagnose {
 namespace {
@@ -24,7 +24,29 @@ std::string Fmt(double v) {
   return b;
 }
 
+// Moves every simulated measurement by the registered cause's displacement.
+void PlantExtraCause(const RobotColumnCause& cause, robot_detail::PlantContext* p) {
+  if (!cause.displacement) throw InputError({"", 0, "HiddenRobotOptions.effect"}, "cause '" + std::string(cause.info.name) + "' cannot be planted");
+  p->draw->truth = cause.truth;
+  p->draw->description = std::string(cause.info.name) + " planted";
+  auto& rows = p->result->ball.rows;
+  const double t0 = rows.empty() ? 0.0 : rows[0].time_s;
+  for (auto& m : rows) {
+    RobotPlantRow r;
+    r.q = m.q_controller, r.time_h = (m.time_s - t0) / 3600.0, r.cycle = m.cycle, r.model = p->model;
+    r.sensor_from_base = p->result->setup.sensor_from_base, r.ball_in_flange = p->result->setup.ball_in_flange;
+    m.position_mm += r.sensor_from_base.linear() * cause.displacement(r);
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> DrawnRobotEffects() {
+  std::vector<std::string> out;
+  for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
+    if (c.code.plant_before != nullptr || c.code.plant_after != nullptr) out.push_back(c.name);
+  return out;
+}
 
 std::string HiddenRobotOptions::Validate() const {
   if (cycles < 4) return "cycles must be >= 4";
@@ -39,121 +61,42 @@ HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::
   const std::string problem = options.Validate();
   if (!problem.empty()) throw InputError({"", 0, "HiddenRobotOptions"}, problem);
   std::mt19937_64 rng(seed * 0x9E3779B97F4A7C15ull + 17);
-  std::uniform_real_distribution<double> u01(0.0, 1.0);
-  auto uniform = [&](double a, double b) { return a + (b - a) * u01(rng); };
-  auto sign = [&]() { return u01(rng) < 0.5 ? -1.0 : 1.0; };
-  auto pick = [&](int n) { return std::min(n - 1, static_cast<int>(u01(rng) * n)); };
-  auto unit = [&]() {
-    std::normal_distribution<double> n01;
-    Eigen::Vector3d v(n01(rng), n01(rng), n01(rng));
-    return Eigen::Vector3d(v.normalized());
-  };
-  static const char* effects[7] = {"joint_offset",        "link_length_error", "thermal_length_drift",
-                                   "thermal_angle_drift", "joint_compliance",  "sensor_frame_drift",
-                                   "tool_offset_change"};
+  robot_detail::PlantContext plant;
+  plant.random.rng = &rng;
+  plant.options = &options;
+  plant.model = &model;
+  const std::vector<std::string> drawn = DrawnRobotEffects();
   HiddenRobotDraw draw;
   draw.seed = seed;
-  draw.effect = u01(rng) < options.none_probability ? kNoEffect : effects[pick(7)];
+  plant.draw = &draw;
+  const robot_detail::RobotCause* cause = nullptr;
+  if (!options.effect.empty()) {
+    for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
+      if (c.name == options.effect) cause = &c;
+    if (cause == nullptr) throw InputError({"", 0, "HiddenRobotOptions.effect"}, "unknown cause '" + options.effect + "'");
+  } else if (!(plant.random.U01() < options.none_probability)) {
+    const std::string& name = drawn[plant.random.Pick(static_cast<int>(drawn.size()))];
+    for (const robot_detail::RobotCause& c : robot_detail::RobotCauses())
+      if (c.name == name) cause = &c;
+  }
+  draw.effect = cause == nullptr ? kNoEffect : cause->name;
 
   thermal::ThermalSimOptions o = thermal::ThesisPreset(seed);
-  const std::vector<thermal::ParamDrift> preset_drifts = o.drifts;
+  plant.preset_drifts = o.drifts;
   o.drifts.clear();
   o.cycles = options.cycles;
   o.ball_poses = options.poses;
   o.cycle_period_s = options.cycle_period_s;
   o.monitoring_points = 1;
   kinematics::RobotModel truth = model;
-  std::string& what = draw.description;
-
-  if (draw.effect == "joint_offset") {
-    const int j = 1 + pick(4);  // θ2..θ5: θ1 turns like the sensor frame, θ6 like the ball offset
-    const double delta = sign() * uniform(0.004, 0.03);
-    truth.links[j].theta0 += DegToRad(delta);
-    draw.truth["theta" + std::to_string(j + 1) + "_offset_deg"] = delta;
-    what = "theta" + std::to_string(j + 1) + " zero off by " + Fmt(delta) + " deg";
-  } else if (draw.effect == "link_length_error") {
-    static const int params[4] = {ParamIndex(ParamKind::kA, 0), ParamIndex(ParamKind::kA, 1),
-                                  ParamIndex(ParamKind::kA, 2), ParamIndex(ParamKind::kD, 3)};
-    const int p = params[pick(4)];
-    const double delta = sign() * uniform(0.1, 1.0);
-    kinematics::ParamVector x = truth.Params();
-    x[p] += delta;
-    truth.SetParams(x);
-    draw.truth[kinematics::ParamName(p) + "_error_mm"] = delta;
-    what = kinematics::ParamName(p) + " off by " + Fmt(delta) + " mm";
-  } else if (draw.effect == "thermal_length_drift" || draw.effect == "thermal_angle_drift") {
-    const bool angles = draw.effect == "thermal_angle_drift";
-    for (const auto& d : preset_drifts) {
-      if (kinematics::IsAngleParam(d.param)) continue;
-      thermal::ParamDrift scaled = d;
-      const double f = angles ? uniform(0.5, 1.5) : uniform(0.5, 2.0);
-      for (double& k : scaled.per_kelvin) k *= f;
-      o.drifts.push_back(scaled);
-    }
-    what = "length drift (thesis d4 d6 a1 a2 a3, scaled)";
-    if (angles) {
-      static const int pool[10] = {ParamIndex(ParamKind::kTheta, 1), ParamIndex(ParamKind::kTheta, 2),
-                                   ParamIndex(ParamKind::kTheta, 3), ParamIndex(ParamKind::kTheta, 4),
-                                   ParamIndex(ParamKind::kAlpha, 0), ParamIndex(ParamKind::kAlpha, 1),
-                                   ParamIndex(ParamKind::kAlpha, 2), ParamIndex(ParamKind::kAlpha, 3),
-                                   ParamIndex(ParamKind::kAlpha, 4), ParamIndex(ParamKind::kBeta, 1)};
-      const int count = 1 + pick(2);
-      std::vector<int> chosen;
-      while (static_cast<int>(chosen.size()) < count) {
-        const int p = pool[pick(10)];
-        if (std::find(chosen.begin(), chosen.end(), p) == chosen.end()) chosen.push_back(p);
-      }
-      for (int p : chosen) {
-        thermal::ParamDrift d;
-        d.param = p;
-        d.per_kelvin.assign(6, 0.0);
-        const int joint = 1 + pick(3);  // heated by joint 2, 3 or 4
-        const double k = sign() * uniform(4e-6, 15e-6);
-        d.per_kelvin[joint] = k;
-        o.drifts.push_back(d);
-        draw.truth[kinematics::ParamName(p) + "_urad_per_K"] = k * 1e6;
-        what += " + " + kinematics::ParamName(p) + " " + Fmt(k * 1e6) + " µrad/K of joint " + std::to_string(joint + 1);
-      }
-    }
-  }
+  plant.truth = &truth;
+  plant.sim = &o;
+  if (cause != nullptr && cause->code.plant_before != nullptr) cause->code.plant_before(&plant);
   thermal::ThermalSimResult sim = thermal::SimulateThermal(truth, o);
-  const Isometry3& sensor_from_base = sim.setup.sensor_from_base;
-  const Eigen::Vector3d& ball = sim.setup.ball_in_flange;
-  double t0 = sim.ball.rows.empty() ? 0.0 : sim.ball.rows[0].time_s;
-
-  if (draw.effect == "joint_compliance") {
-    const double c2 = uniform(30, 150), c3 = uniform(30, 150);  // µrad per kN·m
-    draw.truth["joint2_compliance_urad_per_kNm"] = c2;
-    draw.truth["joint3_compliance_urad_per_kNm"] = c3;
-    what = "gravity compliance of joints 2, 3: " + Fmt(c2) + ", " + Fmt(c3) + " µrad/(kN·m)";
-    for (auto& m : sim.ball.rows) {
-      const Eigen::Matrix<double, 6, 1> tau = robot_detail::GravityTorques(model, m.q_controller, ball) / 1000.0;
-      kinematics::RobotModel bent = model;
-      bent.links[1].theta0 += c2 * 1e-6 * tau[1];
-      bent.links[2].theta0 += c3 * 1e-6 * tau[2];
-      m.position_mm += sensor_from_base.linear() * (kinematics::BaseFromFlange(bent, m.q_controller) * ball -
-                                                    kinematics::BaseFromFlange(model, m.q_controller) * ball);
-    }
-  } else if (draw.effect == "sensor_frame_drift") {
-    const Eigen::Vector3d w = unit() * uniform(30, 150) * 1e-6, v = unit() * uniform(0.05, 0.3);  // per hour
-    draw.truth["rotation_urad_per_h"] = w.norm() * 1e6;
-    draw.truth["translation_mm_per_h"] = v.norm();
-    what = "sensor drifts " + Fmt(w.norm() * 1e6) + " µrad/h and " + Fmt(v.norm()) + " mm/h";
-    for (auto& m : sim.ball.rows) {
-      const double t = (m.time_s - t0) / 3600.0;
-      m.position_mm = Eigen::AngleAxisd(w.norm() * t, w.normalized()) * m.position_mm + v * t;
-    }
-  } else if (draw.effect == "tool_offset_change") {
-    const Eigen::Vector3d shift = unit() * uniform(0.05, 0.3);
-    const int from = options.cycles / 4 + pick(options.cycles / 2);
-    draw.truth["shift_mm"] = shift.norm();
-    draw.truth["from_cycle"] = from;
-    what = "ball moves " + Fmt(shift.norm()) + " mm on the flange at cycle " + std::to_string(from);
-    for (auto& m : sim.ball.rows)
-      if (m.cycle >= from)
-        m.position_mm += sensor_from_base.linear() * kinematics::BaseFromFlange(model, m.q_controller).linear() * shift;
-  }
-  if (draw.effect == kNoEffect) what = "nothing hidden";
+  plant.result = &sim;
+  if (cause != nullptr && cause->code.plant_after != nullptr) cause->code.plant_after(&plant);
+  if (cause != nullptr && cause->extra) PlantExtraCause(*cause->extra, &plant);
+  if (draw.effect == kNoEffect) draw.description = "nothing hidden";
 
   draw.input.model = model;
   draw.input.model_label = model.name;

@@ -1,4 +1,4 @@
-#include "robot_linear.h"
+#include "ramtk/diagnose/robot/detail/robot_linear.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

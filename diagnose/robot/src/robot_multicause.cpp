@@ -6,7 +6,7 @@
 
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/engine/model_selection.h"
-#include "robot_candidates.h"
+#include "robot_causes.h"
 
 namespace ramtk::diagnose::robot_detail {
 namespace {
@@ -93,8 +93,8 @@ void CheckPlausibility(const PlausibilityBounds& bounds, CandidateFit* fit) {
 }
 
 bool IsDriftEffect(const std::string& effect) {
-  return effect == "thermal_length_drift" || effect == "thermal_angle_drift" || effect == "sensor_frame_drift" ||
-         effect == "temperature_driven_drift" || effect == "tool_offset_change";
+  const RobotCauseCode* code = FindRobotCause(effect);
+  return code != nullptr && code->drift;
 }
 
 std::string PreferStatic(const RowSet& rs, const std::vector<Evaluated>& evaluated,

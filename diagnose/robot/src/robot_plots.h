@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "ramtk/diagnose/engine/diagnosis.h"
-#include "robot_linear.h"
+#include "ramtk/diagnose/robot/detail/robot_linear.h"
 
 namespace ramtk::diagnose::robot_detail {
 

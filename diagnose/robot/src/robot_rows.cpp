@@ -11,7 +11,7 @@
 #include "ramtk/kinematics/robot_io.h"
 #include "ramtk/kinematics/tracker_io.h"
 #include "ramtk/thermal/identify.h"
-#include "robot_linear.h"
+#include "ramtk/diagnose/robot/detail/robot_linear.h"
 
 namespace ramtk::diagnose {
 std::string ResolveRobotModelPath(const std::string& name_or_path) {

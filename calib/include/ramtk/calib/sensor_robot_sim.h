@@ -26,7 +26,7 @@ struct SensorRobotSimOptions {
   // Flange orientations: a nominal orientation facing the volume, turned about a random axis by
   // a random angle up to this (deg); the poses then differ by up to twice this.
   double max_tilt_deg = 35.0;
-  // Sphere-centre noise per axis, sensor frame (mm, 1σ). The issue asks for 5–20 µm.
+  // Sphere-centre noise per axis, sensor frame (mm, 1σ). A fringe scanner gives 5–20 µm.
   double center_noise_mm = 0.010;
   // Robot position repeatability, ISO 9283 RP (mm). Simulated as an isotropic Gaussian offset of
   // the ball in the base frame with σ per axis = RP / 3.6 (RP = mean + 3σ of the distance for a

@@ -1,9 +1,9 @@
 // `ramtk diagnose` for fringe image sets: the measured intensities of one camera against the ideal
 // fringe model I = A + B·cos(φ + δ_k) (A, B, φ fitted per pixel from the phase-shift frames; the
 // Gray-code frames predicted as A ± B from the unwrapped coordinate, with the pixel's own box
-// footprint at code edges). Candidates: projector_nonlinearity, phase_shift_error,
-// intensity_drift, saturation, defocus (ambient_light and lens_distortion_unmodelled leave this
-// model exact and are reported as "none" by design, docs/diagnose_fringe.md).
+// footprint at code edges). Candidates: the rows of the fringe cause table
+// (ramtk/diagnose/engine/fringe_causes.def) with a fit; ambient_light and lens_distortion_unmodelled
+// leave this model exact and are reported as "none" by design (docs/diagnose_fringe.md).
 #pragma once
 
 #include <opencv2/core.hpp>

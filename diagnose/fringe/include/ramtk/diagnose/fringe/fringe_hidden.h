@@ -26,8 +26,11 @@ struct HiddenFringeDraw {
                                   // well is divided by it): shot-noise variance b·I grows with it
 };
 
-// Draw for `seed`: "none" with probability 1/3, else one of the seven fringe effects uniformly.
+// Draw for `seed`: "none" with probability 1/3, else uniformly one of the fringe cause table's rows
+// that carry a magnitude range (ramtk/diagnose/engine/fringe_causes.def).
 HiddenFringeDraw DrawHiddenFringeEffect(std::uint64_t seed);
+// The names DrawHiddenFringeEffect draws from, in table order.
+std::vector<std::string> DrawnFringeEffects();
 
 struct HiddenFringeSet {
   HiddenFringeDraw draw;
@@ -40,6 +43,8 @@ struct HiddenFringeSet {
 
 // Renders the draw: the simulator's "small" rig at half resolution (320×256), 8-bit, SLMaster
 // sequence (12-step phase shift, 64 periods, 7-bit complementary Gray code), supersampling 2.
+// A cause registered with RegisterFringeCause (extra_cause.h) is rendered without it and then
+// planted into the frames by its plant function.
 HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw);
 
 }  // namespace ramtk::diagnose

@@ -29,7 +29,8 @@ struct HiddenLaserEffect {
   tcf::TcfSimulation simulation;      // the log, the programme, the calibrated frame, the truth
 };
 
-// The effects the generator draws from (besides "none").
+// The effects the generator draws from (besides "none"): the rows of the laser cause table
+// (ramtk/diagnose/engine/laser_causes.def) marked drawn, in table order.
 std::vector<std::string> DrawnLaserEffects();
 
 HiddenLaserEffect DrawHiddenLaserEffect(std::uint64_t seed);

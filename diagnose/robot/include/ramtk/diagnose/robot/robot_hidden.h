@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "ramtk/diagnose/robot/robot.h"
 
@@ -21,6 +22,8 @@ struct HiddenRobotOptions {
   int poses = 15;                 // ball poses per cycle
   double cycle_period_s = 300.0;  // 16 × 5 min: the first 80 min of the thesis's warm-up
   double none_probability = 1.0 / 3.0;
+  std::string effect;  // "": drawn (none with none_probability, else a drawn cause); else this cause
+                       // is planted (a table row that plants itself, or a registered cause)
   std::string Validate() const;  // empty if valid
 };
 
@@ -31,6 +34,10 @@ struct HiddenRobotDraw {
   std::map<std::string, double> truth;  // the hidden parameters (units in the key)
   RobotDiagnoseInput input;             // data + current (nominal) model + set-up
 };
+
+// The causes DrawHiddenRobotEffect draws from (besides none): the robot cause table's rows that
+// plant themselves, in table order.
+std::vector<std::string> DrawnRobotEffects();
 
 // `model` is the nominal robot (KR150-like: base Z up). InputError on invalid options.
 HiddenRobotDraw DrawHiddenRobotEffect(const kinematics::RobotModel& model, std::uint64_t seed,

@@ -1,4 +1,4 @@
-// Private to the robot diagnosis: the linearised measurement model and its block least squares.
+// Detail of the robot diagnosis (its sources and tests use it): the linearised measurement model and its block least squares.
 //
 // Every candidate is linear in its parameters around the current model: the residual of row i
 // (3 coordinates, sensor frame) is r_i ≈ Js_i·s + Jc_i·p_cycle(i), with static parameters s (the
