@@ -20,6 +20,8 @@
 #include "ramtk/vision/stereo/cloud_noise.h"
 #include "ramtk/vision/fringe/image_io.h"
 #include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan_monocular.h"
+#include "scan_fit.h"
 #include "scan_frames.h"
 
 namespace ramtk::vision {
@@ -58,6 +60,7 @@ std::string ScanOptions::Validate() const {
   if (std::string p = decode.Validate(); !p.empty()) return "decode." + p;
   if (std::string p = match.Validate(); !p.empty()) return "match." + p;
   if (std::string p = triangulation.Validate(); !p.empty()) return "triangulation." + p;
+  if (std::string p = projector.Validate(); !p.empty()) return "projector." + p;
   if (fit_spheres)
     if (std::string p = sphere.Validate(); !p.empty()) return "sphere." + p;
   if (std::string p = roi.Validate(); !p.empty()) return p;  // its fields are named roi.*
@@ -143,6 +146,18 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
     return result;
   }
 
+  FitSpheresBesideCloud(result, options);
+  RAMTK_LOG(kDebug) << sum.match.BriefReport();
+  RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
+  return result;
+}
+
+}  // namespace
+
+// The sphere fit (with its gates and the neighbour-correlation inflation) on result.cloud, beside
+// ScanOptions::on_cloud, into result.summary (scan_fit.h).
+void FitSpheresBesideCloud(ScanResult& result, const ScanOptions& options) {
+  ScanSummary& sum = result.summary;
   auto fit = [&] {
     const auto fit_t0 = std::chrono::steady_clock::now();
     SphereFitOptions so = options.sphere;
@@ -230,12 +245,7 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
         if (options.on_cloud) options.on_cloud(result.cloud, result.depth);
       });
   if (options.fit_spheres) Report(options, "fit", 5, 5);
-  RAMTK_LOG(kDebug) << sum.match.BriefReport();
-  RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
-  return result;
 }
-
-}  // namespace
 
 ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                        double period, const ScanOptions& options, const std::string& calibration_path) {
@@ -475,6 +485,7 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   ThrowIfInvalid(options.Validate(), "ScanOptions");
   const bool reference_decode = detail::CurrentDecodeTestHooks().reference_path;
   const FringeManifest m = ReadFringeManifest(manifest_path);
+  if (!m.projector_calibration.empty()) return ScanMonocularSet(m, options);
   for (const std::string& cam : {options.left_camera, options.right_camera})
     if (!m.cameras.count(cam))
       throw InputError({manifest_path, 0, "cameras." + cam}, "the set has no camera '" + cam + "'");
@@ -616,6 +627,16 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                   {"match", s.match_s},
                   {"triangulate", s.triangulate_s},
                   {"fit", s.fit_s}};
+  if (s.mode != "stereo") {
+    // One camera against the projector: no right camera, no stereo match.
+    j["mode"] = s.mode;
+    j["decode"] = {{"camera", s.left.BriefReport()}};
+    j.erase("match");
+    j["projector_triangulation"] = {{"coded_pixels", s.projector.coded_pixels},
+                                    {"points", s.projector.points},
+                                    {"rejected_geometry", s.projector.rejected_geometry},
+                                    {"rejected_residual", s.projector.rejected_residual}};
+  }
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
 }
