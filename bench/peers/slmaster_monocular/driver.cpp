@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/opencv.hpp>
 
