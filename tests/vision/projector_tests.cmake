@@ -5,7 +5,8 @@ ramtk_add_gtest(vision_projector_tests
   projector_triangulate_test.cpp
   scan_monocular_test.cpp
   scan_monocular_real_test.cpp
-  projector_corners_test.cpp)
+  projector_corners_test.cpp
+  tri_view_test.cpp)
 target_link_libraries(vision_projector_tests PRIVATE ramtk::vision ${OpenCV_LIBS})
 
 # `ramtk simulate fringe --monocular` then `ramtk scan` of its camera–projector set against the
