@@ -24,8 +24,8 @@ struct ProjectorTriangulationOptions {
   // Points whose depth z (camera frame, mm) lies outside (min_depth_mm, max_depth_mm) are dropped.
   double min_depth_mm = 0;
   double max_depth_mm = 1e5;
-  // Gauss-Newton iterations on the depth (each one halves the error's digits' deficit; two or
-  // three reach 1e-9 mm on any lens OpenCV calibrates).
+  // Most Gauss-Newton iterations on the depth (the solve stops when a step is below 1e-12 of the
+  // depth; two or three steps on the lenses OpenCV calibrates).
   int max_iterations = 8;
   // Both directions: a pixel whose decoded projector pixel misses the ray's projection by more
   // than this many sigma (chi with one degree of freedom) is dropped (the coordinates disagree).
