@@ -24,6 +24,7 @@ struct SimulateFringeOptions {
   int bits = 8;                        // camera bit depth
   std::string frame_format = "png";    // png or bmp
   int supersampling = 4;               // n×n rays per pixel
+  bool monocular = false;              // also write the left camera as a camera–projector set
   std::string ball;                    // x,y,z of the ball centre in the left-camera frame, mm
   double radius = 0.0;                 // ball radius, mm (0 = preset)
   std::vector<std::string> spheres;    // extra spheres x,y,z,r (mm), e.g. the second ball of a ball bar
@@ -94,6 +95,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt, Provenance provenance) {
   config.frame_format = opt.frame_format;
   config.sensor.noise = !opt.no_noise;
   config.supersampling = opt.supersampling;
+  config.write_monocular = opt.monocular;
   for (const std::string& e : opt.effects) {
     const auto eq = e.find('=');
     if (eq == std::string::npos) throw InputError({"", 0, "--effect"}, "expected name=magnitude, got '" + e + "'");
@@ -147,6 +149,9 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "reads only the rows it needs)")
       ->capture_default_str();
   sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
+  sub->add_flag("--monocular", opt->monocular,
+                "Also write monocular.json and projector_calibration.yml: the left camera against the projector "
+                "(a camera–projector set for `ramtk scan`)");
   sub->add_option(
       "--ball", opt->ball,
       "Ball centre x,y,z in the left-camera frame, mm (default 0,0,700; the small preset's windows follow it)");

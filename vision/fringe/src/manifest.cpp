@@ -153,6 +153,7 @@ std::vector<std::string> FringeManifest::InputFiles() const {
     for (const std::string& f : files) out.push_back(Resolve(f));
   }
   if (!calibration.empty()) out.push_back(Resolve(calibration));
+  if (!projector_calibration.empty()) out.push_back(Resolve(projector_calibration));
   return out;
 }
 
@@ -241,6 +242,10 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
     if (!j.at("calibration").is_string()) Fail(path, "calibration", "expected a file name");
     m.calibration = j.at("calibration").get<std::string>();
   }
+  if (j.contains("projector_calibration")) {
+    if (!j.at("projector_calibration").is_string()) Fail(path, "projector_calibration", "expected a file name");
+    m.projector_calibration = j.at("projector_calibration").get<std::string>();
+  }
   const json& seq = JsonRequire(j, "sequence", path, "");
   if (!seq.is_array()) Fail(path, "sequence", "expected an array of blocks");
   for (std::size_t i = 0; i < seq.size(); ++i)
@@ -276,6 +281,7 @@ std::string FringeManifestToJson(const FringeManifest& m) {
   j["projector"] = {{"width", m.projector_width}, {"height", m.projector_height}};
   j["direction"] = FringeDirectionName(m.direction);
   if (!m.calibration.empty()) j["calibration"] = m.calibration;
+  if (!m.projector_calibration.empty()) j["projector_calibration"] = m.projector_calibration;
   json seq = json::array();
   for (const SequenceBlock& b : m.sequence) {
     json o;

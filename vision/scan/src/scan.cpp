@@ -19,7 +19,9 @@
 #include "ramtk/vision/decode/detail/test_hooks.h"
 #include "ramtk/vision/fringe/image_io.h"
 #include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/scan/scan_monocular.h"
 #include "ramtk/vision/stereo/cloud_noise.h"
+#include "scan_fit.h"
 #include "scan_frames.h"
 #include "scan_pass.h"
 
@@ -59,6 +61,7 @@ std::string ScanOptions::Validate() const {
   if (std::string p = decode.Validate(); !p.empty()) return "decode." + p;
   if (std::string p = match.Validate(); !p.empty()) return "match." + p;
   if (std::string p = triangulation.Validate(); !p.empty()) return "triangulation." + p;
+  if (std::string p = projector.Validate(); !p.empty()) return "projector." + p;
   if (fit_spheres)
     if (std::string p = sphere.Validate(); !p.empty()) return "sphere." + p;
   if (std::string p = roi.Validate(); !p.empty()) return p;  // its fields are named roi.*
@@ -142,21 +145,8 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   sum.triangulate_s = Seconds(t0);
   if (!Report(options, "triangulate", 4, 5)) return Cancelled(std::move(result));
 
-  // The outputs' writer (ScanOptions::on_cloud) beside the fit, whose serial parts leave a core idle.
-  tbb::parallel_invoke(
-      [&] {
-        if (options.fit_spheres) detail::FitScanSpheres(result.cloud, options, stages.sphere, &sum);
-      },
-      [&] {
-        if (options.on_cloud) options.on_cloud(result.cloud, result.depth);
-      });
-  if (options.fit_spheres) Report(options, "fit", 5, 5);
-  RAMTK_LOG(kDebug) << sum.match.BriefReport();
-  RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
-  return result;
+  FitSpheresBesideCloud(result, options);
 }
-
-}  // namespace
 
 ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                        double period, const ScanOptions& options) {
@@ -381,6 +371,7 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
   ThrowIfInvalid(options.Validate(), "ScanOptions");
   const bool reference_decode = detail::CurrentDecodeTestHooks().reference_path;
   const FringeManifest m = ReadFringeManifest(manifest_path);
+  if (!m.projector_calibration.empty()) return ScanMonocularSet(m, options);
   for (const std::string& cam : {options.left_camera, options.right_camera})
     if (!m.cameras.count(cam))
       throw InputError({manifest_path, 0, "cameras." + cam}, "the set has no camera '" + cam + "'");
@@ -508,6 +499,16 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                   {"match", s.match_s},
                   {"triangulate", s.triangulate_s},
                   {"fit", s.fit_s}};
+  if (s.mode != "stereo") {
+    // One camera against the projector: no right camera, no stereo match.
+    j["mode"] = s.mode;
+    j["decode"] = {{"camera", s.left.BriefReport()}};
+    j.erase("match");
+    j["projector_triangulation"] = {{"coded_pixels", s.projector.coded_pixels},
+                                    {"points", s.projector.points},
+                                    {"rejected_geometry", s.projector.rejected_geometry},
+                                    {"rejected_residual", s.projector.rejected_residual}};
+  }
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
 }

@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
+#include <tbb/parallel_invoke.h>
+
 #include "ramtk/core/log.h"
 #include "ramtk/vision/stereo/cloud_noise.h"
+#include "scan_fit.h"
 #include "scan_pass.h"
 
 namespace ramtk::vision::detail {
@@ -114,3 +117,20 @@ void FitScanSpheres(const PointCloud& cloud, const ScanOptions& options, const S
 }
 
 }  // namespace ramtk::vision::detail
+
+namespace ramtk::vision {
+
+void FitSpheresBesideCloud(ScanResult& result, const ScanOptions& options) {
+  const SphereFitOptions so = detail::StageOptionsOf(options).sphere;
+  // The outputs' writer (ScanOptions::on_cloud) beside the fit, whose serial parts leave a core idle.
+  tbb::parallel_invoke(
+      [&] {
+        if (options.fit_spheres) detail::FitScanSpheres(result.cloud, options, so, &result.summary);
+      },
+      [&] {
+        if (options.on_cloud) options.on_cloud(result.cloud, result.depth);
+      });
+  if (options.fit_spheres && options.progress) options.progress({"fit", 5, 5});
+}
+
+}  // namespace ramtk::vision

@@ -419,6 +419,19 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
           {"effects", effects},
           {"truth", "truth/truth.json"}}}};
     WriteFileAtomically((tmp / "manifest.json").string(), manifest.dump(2) + "\n");
+    if (config.write_monocular) {
+      // The left camera against the projector: the projector as camera 2, projector_from_left as R, T.
+      StereoCalibration projector_pair;
+      projector_pair.left = WrittenCalibration(config).left;
+      projector_pair.right = config.projector.intrinsics;
+      projector_pair.right_from_left = config.projector.view_from_left;
+      WriteStereoCalibration((tmp / "projector_calibration.yml").string(), projector_pair);
+      json monocular = manifest;
+      monocular.erase("calibration");
+      monocular["projector_calibration"] = "projector_calibration.yml";
+      monocular["cameras"] = {{"left", manifest_cameras["left"]}};
+      WriteFileAtomically((tmp / "monocular.json").string(), monocular.dump(2) + "\n");
+    }
 
     json spheres = json::array();
     for (const Sphere& s : config.scene.spheres)

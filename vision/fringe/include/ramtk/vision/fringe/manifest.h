@@ -64,6 +64,10 @@ struct FringeManifest {
   int projector_height = 0;  // projector pixels
   FringeDirection direction = FringeDirection::kVertical;
   std::string calibration;              // stereo calibration file as written (may be "")
+  // Camera–projector (monocular) set: the calibration of the camera and the projector as written
+  // (vision/projector/projector_calibration.h; ramtk's or SLMaster's layout); "" for a stereo set.
+  // With it, `ramtk scan` triangulates one camera against the projector.
+  std::string projector_calibration;
   std::vector<SequenceBlock> sequence;  // in projection order
   // Camera name ("left", "right", ...) -> ordered image files as written in the manifest.
   std::map<std::string, std::vector<std::string>> cameras;
@@ -75,7 +79,7 @@ struct FringeManifest {
   // `file` resolved against the manifest's folder (absolute paths are kept).
   std::string Resolve(const std::string& file) const;
   // Every file this set is read from: the manifest itself, each camera's images and the
-  // calibration file (resolved), so that commands can refuse outputs that would overwrite them.
+  // calibration files (resolved), so that commands can refuse outputs that would overwrite them.
   std::vector<std::string> InputFiles() const;
   // Throws InputError (file = path, field = the offending key) if the manifest is inconsistent:
   // bad counts, unsupported block combination, image count != sequence length. (A check of data

@@ -16,6 +16,7 @@
 #include "ramtk/vision/kernels/camera.h"
 #include "ramtk/vision/decode/decode.h"
 #include "ramtk/vision/stereo/point_cloud.h"
+#include "ramtk/vision/projector/projector_triangulate.h"
 #include "ramtk/vision/scan/scan_roi.h"
 #include "ramtk/vision/sim/scene.h"
 #include "ramtk/vision/sphere/sphere_fit.h"
@@ -36,6 +37,10 @@ struct ScanOptions {
   DecodeOptions decode;                // phase decoding of each camera (its progress is ignored)
   StereoMatchOptions match;            // epipolar matching (its progress is ignored)
   TriangulationOptions triangulation;  // ray-gap gate
+  // Camera–projector sets (a manifest naming projector_calibration, scan_monocular.h): depth
+  // range and iterations of the camera–projector triangulation. Its depth range is narrowed to
+  // match.min_depth_mm .. match.max_depth_mm too (`ramtk scan --min-depth/--max-depth`).
+  ProjectorTriangulationOptions projector;
   // Fit spheres to the cloud (false: cloud only).
   bool fit_spheres = true;
   // Sphere search and fit. ScanOptions() sets the 38.1 mm ball's radius prior (19.05 mm) and the
@@ -72,6 +77,10 @@ struct ScanOptions {
 
 struct ScanSummary {
   Termination termination = Termination::kSuccess;  // kSuccess, kNoResult or kCancelled
+  // "stereo" (two cameras matched) or "monocular" (one camera against the projector; `left` is
+  // that camera's decode, `right` and `match` stay empty, `projector` holds the triangulation).
+  std::string mode = "stereo";
+  ProjectorTriangulationSummary projector;
   std::string message = "ok";                       // "ok", "no sphere found" or "cancelled"
   std::string set;                                  // manifest path ("" for in-memory sets)
   std::string calibration;                          // calibration path used

@@ -62,6 +62,10 @@ struct FringeSimulationConfig {
   // How SimulateFringeSet writes the frames: "png" (any bit depth), or "bmp" (uncompressed, 8-bit
   // sensors only; what many cameras write, and read by rows under `ramtk scan --roi`).
   std::string frame_format = "png";
+  // Also write the left camera as a camera–projector set: projector_calibration.yml (the left
+  // camera and the projector in the stereo keys, the projector as camera 2; docs/formats.md
+  // "Projector calibration") and monocular.json (the left camera's frames naming it).
+  bool write_monocular = false;
 
   // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
@@ -118,7 +122,8 @@ struct FringeSimulationSummary {
 };
 
 // Renders both cameras and writes into `out_dir` (created; it must not exist or be empty unless
-// `overwrite`): manifest.json, calibration.yml, left/NN.png, right/NN.png (10/12-bit images scaled
+// `overwrite`): manifest.json, calibration.yml (with write_monocular also monocular.json and
+// projector_calibration.yml), left/NN.png, right/NN.png (10/12-bit images scaled
 // to 16-bit full scale; NN.bmp with frame_format "bmp"), and truth/ (per camera
 // float TIFFs projector_x, projector_y, depth, lit_fraction and object_id, plus truth.json).
 // Everything is written into a temporary sibling folder renamed into place at the end, so a
