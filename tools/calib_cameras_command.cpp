@@ -25,6 +25,7 @@ struct CamerasCommandOptions {
   double outlier_factor = 3.0;
   double outlier_min_px = 0.25;
   bool free_k3 = false;
+  std::string model = "pinhole5";  // lens model: pinhole5, rational, thin-prism, fisheye
   std::string corners = "subpix";  // chessboards: subpix, sector or auto
 };
 
@@ -35,7 +36,9 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
   calib::CameraCalibrationOptions co;
   co.outlier_factor = opt.outlier_factor;
   co.outlier_min_px = opt.outlier_min_px;
-  co.fix_k3 = !opt.free_k3;
+  co.model = calib::ParseCalibrationModel(opt.model, {"", 0, "--model"});
+  // k3 = 0 is the 5-coefficient model's default; the other models estimate all their coefficients.
+  co.fix_k3 = !opt.free_k3 && co.model == calib::CalibrationModel::kPinhole5;
   const std::string bad = co.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
   const calib::CornerChoice choice = calib::ParseCornerChoice(opt.corners, {"", 0, "--corners"});
@@ -113,7 +116,12 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
     sub->add_option("--coverage", opt->coverage, "Coverage/residual picture (PNG); default <output>_coverage.png");
     sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");
     sub->add_option("--outlier-min-px", opt->outlier_min_px, "... and above this RMS (px)");
-    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
+    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (pinhole5; default: k3 = 0)");
+    sub->add_option("--model", opt->model,
+                    "Lens model: pinhole5 (k1 k2 p1 p2 [k3]), rational (8 coefficients), thin-prism (12) or fisheye "
+                    "(cv::fisheye, k1..k4)")
+        ->check(CLI::IsMember({"pinhole5", "rational", "thin-prism", "fisheye"}))
+        ->capture_default_str();
     sub->add_option("--corners", opt->corners,
                     "Chessboard corners to calibrate from: subpix (refined, unbiased on rendered boards), sector "
                     "(findChessboardCornersSB's accurate corners) or auto (the lower RMS). Both are calibrated and "

@@ -58,7 +58,10 @@ std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const B
                                   const CornerComparison* corners) {
   return camera::CameraCalibrationText(
       camera.intrinsics, camera.rms_px, camera.per_view_rms_px, camera.std_intrinsics,
-      "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3", [&](cv::FileStorage& fs) {
+      camera.intrinsics.distortion.model == camera::LensModel::kPinhole5
+          ? "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3"
+          : "ramtk single-camera calibration; parameter_std order fx fy cx cy, then D1's coefficients",
+      [&](cv::FileStorage& fs) {
         fs << "board" << board.ToString();
         fs << "views1"
            << "[";
