@@ -107,7 +107,10 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
     }
     r.intrinsics = camera::IntrinsicsFromOpenCv(cv::Matx33d(k), std::vector<double>(d.begin<double>(), d.end<double>()),
                                                 image_size, LensModelOf(options.model));
-    r.std_intrinsics.assign(std_in.begin<double>(), std_in.begin<double>() + 4 + d.total());
+    // σ of fx fy cx cy and of the coefficients the model writes (OpenCV returns 14 for the
+    // rational model whatever it estimated).
+    r.std_intrinsics.assign(std_in.begin<double>(),
+                            std_in.begin<double>() + 4 + camera::DistortionVector(r.intrinsics.distortion).size());
     r.per_view_rms_px = rms;
     r.view_names.clear();
     r.rvecs.clear();

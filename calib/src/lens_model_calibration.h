@@ -25,9 +25,9 @@ double CalibrateCameraModel(const ObjectPoints& object, const ImagePoints& image
                             cv::Mat* d, std::vector<cv::Mat>* rvecs, std::vector<cv::Mat>* tvecs, cv::Mat* std_in,
                             cv::Mat* std_ex, cv::Mat* per_view);
 
-// cv::stereoCalibrate from both cameras' intrinsics (refined jointly except for the fisheye model,
-// whose intrinsics stay fixed): R, T and the RMS per pair (per_view: n × 2, left, right); returns
-// the stereo RMS (px).
+// cv::stereoCalibrate from both cameras' intrinsics (refined jointly, except for the fisheye
+// model, whose intrinsics stay fixed): R, T and the RMS per pair (per_view: n × 2, left, right);
+// returns the stereo RMS (px).
 double StereoCalibrateModel(const ObjectPoints& object, const ImagePoints& left, const ImagePoints& right,
                             cv::Size image_size, const CameraCalibrationOptions& options,
                             const cv::TermCriteria& criteria, cv::Mat* k1, cv::Mat* d1, cv::Mat* k2, cv::Mat* d2,
