@@ -65,7 +65,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
     const calib::CameraCalibrationResult r =
         compare ? calib::CalibrateCameraComparingCorners(left, left_sector, size, co, choice, &summary, &corners)
                 : calib::CalibrateCamera(left, size, co, &summary);
-    yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr);
+    yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     picture = calib::DrawCoverage(r, kept(left, left_sector));
   } else {
     const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
@@ -80,7 +80,7 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
         compare ? calib::CalibrateStereoComparingCorners(left, right, left_sector, right_sector, size, co, choice,
                                                          &summary, &corners)
                 : calib::CalibrateStereo(left, right, size, co, &summary);
-    yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr);
+    yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
                 calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
   }
@@ -111,7 +111,9 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
                     "Board: chessboard:9x6:25 | circles:7x5:25 | acircles:4x11:20 | charuco:10x7:25:18[:DICT_5X5_100] "
                     "(COLSxROWS, then mm), or a file holding that text")
         ->required();
-    sub->add_option("--output", opt->output, "Calibration YAML (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...)")
+    sub->add_option("--output", opt->output,
+                    "Calibration file (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...): YAML, or JSON / XML "
+                    "when named .json / .xml")
         ->required();
     sub->add_option("--coverage", opt->coverage, "Coverage/residual picture (PNG); default <output>_coverage.png");
     sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");

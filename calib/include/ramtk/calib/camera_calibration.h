@@ -174,12 +174,15 @@ StereoCalibrationResult CalibrateStereoComparingCorners(const std::vector<ViewPo
 // rejected_views1, the same with 2) and the rejected pairs.
 // With `corners`, also the comparison: corners (the kept set), corner_rms_px_subpix/_sector,
 // corner_fx_sigma_px_subpix/_sector (left, right) and corner_views_subpix/_sector.
+// `format`: the FileStorage dialect (YAML unless the output is named .json or .xml).
 std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board,
-                                  const CornerComparison* corners = nullptr);
+                                  const CornerComparison* corners = nullptr,
+                                  camera::CalibrationFormat format = camera::CalibrationFormat::kYaml);
 // Single camera (camera::CameraCalibrationText): image_size K1 D1 rms_px per_view_errors_px
 // parameter_std (fx fy cx cy k1 k2 p1 p2 k3), then board, views1, rejected_views1.
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board,
-                                  const CornerComparison* corners = nullptr);
+                                  const CornerComparison* corners = nullptr,
+                                  camera::CalibrationFormat format = camera::CalibrationFormat::kYaml);
 
 // Coverage and residual picture of one camera: every used feature (a dot per view colour) and
 // its residual vector magnified residual_scale times; rejected views' features in grey.
