@@ -65,7 +65,8 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
     const calib::CameraCalibrationResult r =
         compare ? calib::CalibrateCameraComparingCorners(left, left_sector, size, co, choice, &summary, &corners)
                 : calib::CalibrateCamera(left, size, co, &summary);
-    yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
+    yaml =
+        calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     picture = calib::DrawCoverage(r, kept(left, left_sector));
   } else {
     const std::vector<std::string> right_files = calib::ListBoardImages(opt.right);
@@ -80,7 +81,8 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
         compare ? calib::CalibrateStereoComparingCorners(left, right, left_sector, right_sector, size, co, choice,
                                                          &summary, &corners)
                 : calib::CalibrateStereo(left, right, size, co, &summary);
-    yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
+    yaml =
+        calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
                 calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
   }

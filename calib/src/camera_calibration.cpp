@@ -6,11 +6,11 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "lens_model_calibration.h"
 #include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/image/image_file.h"
-#include "lens_model_calibration.h"
 #include "stereo_covariance.h"
 
 namespace ramtk::calib {
@@ -196,8 +196,8 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
     cv::Mat d2 = internal::CalibrationDistortion(st.right.intrinsics, options.model);
     cv::Mat rot, tr, per_view;
     // Joint refinement of both cameras and the rig from the single-camera starts.
-    st.rig.rms_px = internal::StereoCalibrateModel(obj, il, ir, image_size, options, kCriteria, &k1, &d1, &k2, &d2, &rot,
-                                                   &tr, &per_view);
+    st.rig.rms_px = internal::StereoCalibrateModel(obj, il, ir, image_size, options, kCriteria, &k1, &d1, &k2, &d2,
+                                                   &rot, &tr, &per_view);
     ++rounds;
     std::vector<double> worst_of_pair;
     for (int i = 0; i < per_view.rows; ++i) {
@@ -212,12 +212,12 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       pairs.erase(pairs.begin() + worst);
       continue;
     }
-    st.rig.left = camera::IntrinsicsFromOpenCv(
-        cv::Matx33d(k1), std::vector<double>(d1.begin<double>(), d1.end<double>()), image_size,
-        LensModelOf(options.model));
-    st.rig.right = camera::IntrinsicsFromOpenCv(
-        cv::Matx33d(k2), std::vector<double>(d2.begin<double>(), d2.end<double>()), image_size,
-        LensModelOf(options.model));
+    st.rig.left =
+        camera::IntrinsicsFromOpenCv(cv::Matx33d(k1), std::vector<double>(d1.begin<double>(), d1.end<double>()),
+                                     image_size, LensModelOf(options.model));
+    st.rig.right =
+        camera::IntrinsicsFromOpenCv(cv::Matx33d(k2), std::vector<double>(d2.begin<double>(), d2.end<double>()),
+                                     image_size, LensModelOf(options.model));
     const cv::Matx33d rotation(rot);
     const cv::Vec3d translation(tr);
     for (int i = 0; i < 3; ++i) {
@@ -231,13 +231,12 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
     const bool pinhole5 = st.rig.left.distortion.model == camera::LensModel::kPinhole5 &&
                           st.rig.right.distortion.model == camera::LensModel::kPinhole5;
     if (!pinhole5) {
-      RAMTK_LOG(kInfo) << "stereo calibration: no standard deviations for the " << camera::LensModelName(LensModelOf(options.model))
-                       << " lens model";
-    } else if (internal::StereoExtrinsicStd(obj, il, ir, camera::CameraMatrix(st.rig.left),
-                                            camera::DistortionVector(st.rig.left.distortion),
-                                            camera::CameraMatrix(st.rig.right),
-                                            camera::DistortionVector(st.rig.right.distortion), rotation, translation,
-                                            options.fix_k3, &std_rt, &std_left, &std_right)) {
+      RAMTK_LOG(kInfo) << "stereo calibration: no standard deviations for the "
+                       << camera::LensModelName(LensModelOf(options.model)) << " lens model";
+    } else if (internal::StereoExtrinsicStd(
+                   obj, il, ir, camera::CameraMatrix(st.rig.left), camera::DistortionVector(st.rig.left.distortion),
+                   camera::CameraMatrix(st.rig.right), camera::DistortionVector(st.rig.right.distortion), rotation,
+                   translation, options.fix_k3, &std_rt, &std_left, &std_right)) {
       st.rig.parameter_std = std_left;
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_right.begin(), std_right.end());
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_rt.val, std_rt.val + 6);

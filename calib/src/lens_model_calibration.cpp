@@ -38,8 +38,8 @@ std::vector<cv::Point3d> Double(const std::vector<cv::Point3f>& p) { return {p.b
 // Squared reprojection error of one view through the fisheye model, and (if `jac`) the Jacobian
 // of its projections: 2n × 15, columns fx fy cx cy k1..k4 rvec tvec skew (cv::fisheye::projectPoints).
 double FisheyeViewError(const std::vector<cv::Point3f>& object, const std::vector<cv::Point2f>& image,
-                        const cv::Mat& rvec, const cv::Mat& tvec, const cv::Mat& k, const cv::Mat& d,
-                        cv::Mat* residual, cv::Mat* jac) {
+                        const cv::Mat& rvec, const cv::Mat& tvec, const cv::Mat& k, const cv::Mat& d, cv::Mat* residual,
+                        cv::Mat* jac) {
   std::vector<cv::Point2d> proj;
   cv::fisheye::projectPoints(Double(object), proj, rvec, tvec, k, d, 0.0, jac ? *jac : cv::noArray());
   double sum = 0.0;
@@ -47,7 +47,8 @@ double FisheyeViewError(const std::vector<cv::Point3f>& object, const std::vecto
   for (std::size_t i = 0; i < image.size(); ++i) {
     const double dx = image[i].x - proj[i].x, dy = image[i].y - proj[i].y;
     sum += dx * dx + dy * dy;
-    if (residual) residual->at<double>(static_cast<int>(2 * i)) = dx, residual->at<double>(static_cast<int>(2 * i + 1)) = dy;
+    if (residual)
+      residual->at<double>(static_cast<int>(2 * i)) = dx, residual->at<double>(static_cast<int>(2 * i + 1)) = dy;
   }
   return sum;
 }

@@ -37,7 +37,7 @@ Vec2 RationalUntilted(const Distortion& d, const Vec2& p, Eigen::Matrix2d* jac) 
   if (jac != nullptr) {
     const double dnum = d.k1 + 2.0 * d.k2 * r2 + 3.0 * d.k3 * r4;
     const double dden = d.k4 + 2.0 * d.k5 * r2 + 3.0 * d.k6 * r4;
-    const double dradial = (dnum * den - num * dden) * inv_den * inv_den;  // d radial / d r²
+    const double dradial = (dnum * den - num * dden) * inv_den * inv_den;             // d radial / d r²
     const double prism_x = d.s1 + 2.0 * d.s2 * r2, prism_y = d.s3 + 2.0 * d.s4 * r2;  // d / d r²
     Eigen::Matrix2d& j = *jac;
     j(0, 0) = radial + 2.0 * x * x * dradial + 2.0 * d.p1 * y + 6.0 * d.p2 * x + 2.0 * x * prism_x;

@@ -16,8 +16,8 @@ cv::Matx33d CameraMatrix(const CameraIntrinsics& c) { return {c.fx, 0.0, c.cx, 0
 cv::Vec<double, 5> DistortionCoefficients(const CameraIntrinsics& c) {
   const Distortion& d = c.distortion;
   if (d.model != LensModel::kPinhole5)
-    throw InputError({"", 0, "distortion"}, std::string("the ") + LensModelName(d.model) +
-                                                " lens model has no 5-coefficient vector");
+    throw InputError({"", 0, "distortion"},
+                     std::string("the ") + LensModelName(d.model) + " lens model has no 5-coefficient vector");
   return {d.k1, d.k2, d.p1, d.p2, d.k3};
 }
 

@@ -17,9 +17,9 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/vision/decode/decode.h"
-#include "ramtk/vision/sim/fringe_simulator.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 #include "ramtk/vision/sphere/sphere_fit.h"
 #include "scan_options.h"
 

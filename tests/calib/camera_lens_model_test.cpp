@@ -110,9 +110,8 @@ TEST(CalibrationLensModels, StereoRigThroughEachModel) {
     CameraCalibrationOptions options;
     options.model = c.model;
     options.fix_k3 = false;
-    const StereoCalibrationResult st = CalibrateStereo(t::DetectViews(li, board, {}, "left"),
-                                                       t::DetectViews(ri, board, {}, "right"), cv::Size(640, 480),
-                                                       options);
+    const StereoCalibrationResult st = CalibrateStereo(
+        t::DetectViews(li, board, {}, "left"), t::DetectViews(ri, board, {}, "right"), cv::Size(640, 480), options);
     EXPECT_EQ(st.rig.left.distortion.model, LensModelOf(c.model)) << c.name;
     EXPECT_EQ(st.rig.right.distortion.model, LensModelOf(c.model)) << c.name;
     cv::Vec3d dr;

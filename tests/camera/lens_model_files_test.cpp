@@ -24,9 +24,9 @@ std::string TempPath(const std::string& name) {
 StereoCalibration WideRig() {
   StereoCalibration c;
   c.left = {1210.5, 1208.25, 963.7, 601.2, {}, 1928, 1208};
-  EXPECT_EQ(DistortionFromVector({-0.21, 0.04, 1e-4, -3e-4, 0.002, 0.11, -0.02, 0.004, 1e-3, -2e-4, 5e-4, 1e-4,
-                                  0.003, -0.001},
-                                 LensModel::kRational, &c.left.distortion),
+  EXPECT_EQ(DistortionFromVector(
+                {-0.21, 0.04, 1e-4, -3e-4, 0.002, 0.11, -0.02, 0.004, 1e-3, -2e-4, 5e-4, 1e-4, 0.003, -0.001},
+                LensModel::kRational, &c.left.distortion),
             "");
   c.right = {612.25, 611.75, 640.5, 480.25, {}, 1280, 960};
   EXPECT_EQ(DistortionFromVector({0.021, -0.0043, 0.0011, -2.5e-4}, LensModel::kFisheye, &c.right.distortion), "");

@@ -46,9 +46,9 @@ Distortion RandomRational(std::mt19937& rng, int n) {
 Distortion RandomFisheye(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Distortion d;
-  EXPECT_EQ(DistortionFromVector({0.05 * u(rng), 0.01 * u(rng), 0.005 * u(rng), 0.001 * u(rng)}, LensModel::kFisheye,
-                                 &d),
-            "");
+  EXPECT_EQ(
+      DistortionFromVector({0.05 * u(rng), 0.01 * u(rng), 0.005 * u(rng), 0.001 * u(rng)}, LensModel::kFisheye, &d),
+      "");
   return d;
 }
 

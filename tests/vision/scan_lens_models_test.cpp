@@ -22,20 +22,17 @@ const Vec3 kBall(110.0, 80.0, 700.0);
 
 // The preset's rig with both cameras' lenses replaced by `coefficients` of `model`, each window
 // moved so the ball images at its centre again (as the preset crops it).
-FringeSimulationConfig WithLens(camera::LensModel model, const std::vector<double>& coefficients,
-                                std::uint64_t seed) {
+FringeSimulationConfig WithLens(camera::LensModel model, const std::vector<double>& coefficients, std::uint64_t seed) {
   FringeSimulationConfig c = MakeFringePreset("small", kBall);
   c.seed = seed;
   for (CameraIntrinsics* cam : {&c.cameras.left, &c.cameras.right}) {
     if (model != camera::LensModel::kPinhole5) {
-      const Vec2 before = ProjectPoint(*cam, (cam == &c.cameras.left ? Isometry3::Identity()
-                                                                       : c.cameras.right_from_left) *
-                                                 kBall);
+      const Vec2 before =
+          ProjectPoint(*cam, (cam == &c.cameras.left ? Isometry3::Identity() : c.cameras.right_from_left) * kBall);
       const std::string error = camera::DistortionFromVector(coefficients, model, &cam->distortion);
       EXPECT_EQ(error, "");
-      const Vec2 after = ProjectPoint(*cam, (cam == &c.cameras.left ? Isometry3::Identity()
-                                                                      : c.cameras.right_from_left) *
-                                                kBall);
+      const Vec2 after =
+          ProjectPoint(*cam, (cam == &c.cameras.left ? Isometry3::Identity() : c.cameras.right_from_left) * kBall);
       cam->cx -= std::round(after.x() - before.x());
       cam->cy -= std::round(after.y() - before.y());
     }
@@ -47,8 +44,8 @@ FringeSimulationConfig WithLens(camera::LensModel model, const std::vector<doubl
 // that finds no single sphere is a failure.
 Vec3 CentreError(const FringeSimulationConfig& c, const StereoCalibration* scan_with = nullptr) {
   const auto s = SimulateAndDecode(c);
-  const ScanResult r = ScanDecoded(scan_with ? *scan_with : WrittenCalibration(c), s.left, s.right, s.period,
-                                   ScanOptions{});
+  const ScanResult r =
+      ScanDecoded(scan_with ? *scan_with : WrittenCalibration(c), s.left, s.right, s.period, ScanOptions{});
   if (r.summary.spheres.spheres.size() != 1u) {
     if (scan_with == nullptr) ADD_FAILURE() << r.summary.BriefReport();
     return Vec3::Constant(1e9);
@@ -56,8 +53,8 @@ Vec3 CentreError(const FringeSimulationConfig& c, const StereoCalibration* scan_
   return r.summary.spheres.spheres[0].centre_mm - c.scene.spheres[0].centre_in_left;
 }
 
-const std::vector<double> kRational = {-0.03, 0.05,  1e-4, -2e-4, 0.0,  0.4,   -0.3,
-                                       0.1,   2e-3,  -1e-3, 1e-3, 5e-4, 0.004, -0.002};
+const std::vector<double> kRational = {-0.03, 0.05, 1e-4,  -2e-4, 0.0,  0.4,   -0.3,
+                                       0.1,   2e-3, -1e-3, 1e-3,  5e-4, 0.004, -0.002};
 const std::vector<double> kFisheye = {0.05, -0.02, 0.01, -0.002};
 
 struct LensCase {

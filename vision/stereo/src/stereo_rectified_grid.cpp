@@ -64,8 +64,9 @@ void RowPositionsBaseline(const CameraIntrinsics& camera, const Vec3& ray0, cons
   }
 }
 
-// The same on four lanes (AVX2), for the 5-coefficient model only: each lane takes the loop's operations in its order (no FMA
-// target), so the positions are bit-identical; the last pixels by the loop itself.
+// The same on four lanes (AVX2), for the 5-coefficient model only: each lane takes the loop's
+// operations in its order (no FMA target), so the positions are bit-identical; the last pixels by
+// the loop itself.
 RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0, const Vec3& ray_du, int n,
                                  double* pu, double* pv) {
   const __m256d ox = _mm256_set1_pd(ray0.x()), oy = _mm256_set1_pd(ray0.y()), oz = _mm256_set1_pd(ray0.z());

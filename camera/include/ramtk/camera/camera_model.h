@@ -39,25 +39,25 @@ enum class LensModel {
 // zero in the 5-coefficient model. The fisheye model uses k1, k2, k3, k4 (its θ³, θ⁵, θ⁷, θ⁹
 // terms) and no others.
 struct Distortion {
-  double k1 = 0.0;           // radial, r² (fisheye: θ³)
-  double k2 = 0.0;           // radial, r⁴ (fisheye: θ⁵)
-  double p1 = 0.0;           // tangential
-  double p2 = 0.0;           // tangential
-  double k3 = 0.0;           // radial, r⁶ (fisheye: θ⁷)
-  double k4 = 0.0;           // rational: denominator r² (fisheye: θ⁹)
-  double k5 = 0.0;           // rational: denominator r⁴
-  double k6 = 0.0;           // rational: denominator r⁶
-  double s1 = 0.0;           // thin prism: x'' += s1 r²
-  double s2 = 0.0;           // thin prism: x'' += s2 r⁴
-  double s3 = 0.0;           // thin prism: y'' += s3 r²
-  double s4 = 0.0;           // thin prism: y'' += s4 r⁴
-  double tilt_x_deg = 0.0;   // sensor tilt τx, degrees (OpenCV's coefficient vector holds radians)
-  double tilt_y_deg = 0.0;   // sensor tilt τy, degrees
+  double k1 = 0.0;                         // radial, r² (fisheye: θ³)
+  double k2 = 0.0;                         // radial, r⁴ (fisheye: θ⁵)
+  double p1 = 0.0;                         // tangential
+  double p2 = 0.0;                         // tangential
+  double k3 = 0.0;                         // radial, r⁶ (fisheye: θ⁷)
+  double k4 = 0.0;                         // rational: denominator r² (fisheye: θ⁹)
+  double k5 = 0.0;                         // rational: denominator r⁴
+  double k6 = 0.0;                         // rational: denominator r⁶
+  double s1 = 0.0;                         // thin prism: x'' += s1 r²
+  double s2 = 0.0;                         // thin prism: x'' += s2 r⁴
+  double s3 = 0.0;                         // thin prism: y'' += s3 r²
+  double s4 = 0.0;                         // thin prism: y'' += s4 r⁴
+  double tilt_x_deg = 0.0;                 // sensor tilt τx, degrees (OpenCV's coefficient vector holds radians)
+  double tilt_y_deg = 0.0;                 // sensor tilt τy, degrees
   LensModel model = LensModel::kPinhole5;  // which formula the coefficients enter
   // Whether the model is the identity (an ideal pinhole): never for the fisheye model.
   bool IsZero() const {
-    return model != LensModel::kFisheye && k1 == 0 && k2 == 0 && p1 == 0 && p2 == 0 && k3 == 0 && k4 == 0 &&
-           k5 == 0 && k6 == 0 && s1 == 0 && s2 == 0 && s3 == 0 && s4 == 0 && tilt_x_deg == 0 && tilt_y_deg == 0;
+    return model != LensModel::kFisheye && k1 == 0 && k2 == 0 && p1 == 0 && p2 == 0 && k3 == 0 && k4 == 0 && k5 == 0 &&
+           k6 == 0 && s1 == 0 && s2 == 0 && s3 == 0 && s4 == 0 && tilt_x_deg == 0 && tilt_y_deg == 0;
   }
 };
 

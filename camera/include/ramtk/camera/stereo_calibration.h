@@ -53,8 +53,8 @@ inline constexpr const char* kCalibParameterStdOrder =
 
 // Reads either layout. Throws InputError naming the file, the key and (YAML) its line for: an unreadable or
 // unparsable file, a missing key, a matrix of the wrong size, a K that is not a pinhole matrix,
-// a coefficient vector its lens model does not take, an unknown lens model, an R that is not a rotation (its orthonormality
-// error is reported), a non-positive image size.
+// a coefficient vector its lens model does not take, an unknown lens model, an R that is not a rotation (its
+// orthonormality error is reported), a non-positive image size.
 StereoCalibration ReadStereoCalibration(const std::string& path);
 // The same from the file's text; `path` only names it in errors.
 StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path);
