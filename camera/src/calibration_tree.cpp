@@ -140,8 +140,17 @@ CalibrationNode FromFileNode(const cv::FileNode& node, const std::string& path, 
   return out;
 }
 
-// OpenCV's XML FileStorage (<opencv_storage>), read by cv::FileStorage; no line numbers.
+// OpenCV's XML FileStorage (<opencv_storage>), read by cv::FileStorage; no line numbers. Control
+// characters (which XML 1.0 does not allow) are refused first: a NUL inside an attribute makes
+// OpenCV 4.6's XML parser read through a null pointer (fuzz/crashes/fuzz_stereo_calibration-crash-5050…).
 CalibrationNode FromXml(const std::string& text, const std::string& path) {
+  int line = 1;
+  for (const char c : text) {
+    if (c == '\n') ++line;
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 && c != '\t' && c != '\n' && c != '\r')
+      throw InputError({path, line, ""}, "a control character (code " + std::to_string(u) + ") in an XML file");
+  }
   try {
     cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_XML);
     if (!fs.isOpened()) throw InputError({path, 0, ""}, "cannot parse as OpenCV XML FileStorage");
