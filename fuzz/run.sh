@@ -22,7 +22,8 @@ seed fuzz_manifest datasets/scan_default/manifest.json datasets/vision/*.json
 seed fuzz_laser_log fuzz/seeds/laser_log.csv
 seed fuzz_tcf_json fuzz/seeds/tcf_*.json
 seed fuzz_ply fuzz/seeds/*.ply
-seed fuzz_stereo_calibration datasets/scan_default/calibration.yml fuzz/seeds/*.yml fuzz/seeds/calibration.json
+seed fuzz_stereo_calibration datasets/scan_default/calibration.yml fuzz/seeds/*.yml fuzz/seeds/calibration.json \
+  fuzz/seeds/calibration.xml
 seed fuzz_image fuzz/seeds/*.png fuzz/seeds/*.bmp
 for t in fuzz_csv fuzz_measurements fuzz_robot_yaml fuzz_tracker fuzz_manifest fuzz_laser_log fuzz_tcf_json fuzz_ply \
          fuzz_stereo_calibration fuzz_image; do

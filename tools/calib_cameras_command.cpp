@@ -28,6 +28,7 @@ struct CamerasCommandOptions {
   double outlier_factor = 3.0;
   double outlier_min_px = 0.25;
   bool free_k3 = false;
+  std::string model = "pinhole5";  // lens model: pinhole5, rational, thin-prism, fisheye
   std::string corners = "subpix";  // chessboards: subpix, sector or auto
   std::string poses_out;           // board poses with covariance (CSV); empty: none
 };
@@ -55,7 +56,9 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
   calib::CameraCalibrationOptions co;
   co.outlier_factor = opt.outlier_factor;
   co.outlier_min_px = opt.outlier_min_px;
-  co.fix_k3 = !opt.free_k3;
+  co.model = calib::ParseCalibrationModel(opt.model, {"", 0, "--model"});
+  // k3 = 0 is the 5-coefficient model's default; the other models estimate all their coefficients.
+  co.fix_k3 = !opt.free_k3 && co.model == calib::CalibrationModel::kPinhole5;
   const std::string bad = co.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--outlier-factor/--outlier-min-px"}, bad);
   const calib::CornerChoice choice = calib::ParseCornerChoice(opt.corners, {"", 0, "--corners"});
@@ -82,7 +85,8 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
     const calib::CameraCalibrationResult r =
         compare ? calib::CalibrateCameraComparingCorners(left, left_sector, size, co, choice, &summary, &corners)
                 : calib::CalibrateCamera(left, size, co, &summary);
-    yaml = calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr);
+    yaml =
+        calib::CameraCalibrationYaml(r, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     picture = calib::DrawCoverage(r, kept(left, left_sector));
     if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(r, kept(left, left_sector), co, left_files);
   } else {
@@ -98,7 +102,8 @@ int RunCameras(const CamerasCommandOptions& opt, const Provenance& provenance) {
         compare ? calib::CalibrateStereoComparingCorners(left, right, left_sector, right_sector, size, co, choice,
                                                          &summary, &corners)
                 : calib::CalibrateStereo(left, right, size, co, &summary);
-    yaml = calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr);
+    yaml =
+        calib::StereoCalibrationYaml(st, board, compare ? &corners : nullptr, camera::CalibrationFormatOf(opt.output));
     if (!opt.poses_out.empty()) poses_csv = BoardPosesCsv(st.left, kept(left, left_sector), co, left_files);
     cv::hconcat(calib::DrawCoverage(st.left, kept(left, left_sector)),
                 calib::DrawCoverage(st.right, kept(right, right_sector)), picture);
@@ -132,12 +137,19 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code) {
                     "Board: chessboard:9x6:25 | circles:7x5:25 | acircles:4x11:20 | charuco:10x7:25:18[:DICT_5X5_100] "
                     "(COLSxROWS, then mm), or a file holding that text")
         ->required();
-    sub->add_option("--output", opt->output, "Calibration YAML (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...)")
+    sub->add_option("--output", opt->output,
+                    "Calibration file (OpenCV FileStorage: K1 D1 [K2 D2 R T] image_size ...): YAML, or JSON / XML "
+                    "when named .json / .xml")
         ->required();
     sub->add_option("--coverage", opt->coverage, "Coverage/residual picture (PNG); default <output>_coverage.png");
     sub->add_option("--outlier-factor", opt->outlier_factor, "Reject a view above this times the median view RMS");
     sub->add_option("--outlier-min-px", opt->outlier_min_px, "... and above this RMS (px)");
-    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (default: k3 = 0)");
+    sub->add_flag("--free-k3", opt->free_k3, "Estimate k3 too (pinhole5; default: k3 = 0)");
+    sub->add_option("--model", opt->model,
+                    "Lens model: pinhole5 (k1 k2 p1 p2 [k3]), rational (8 coefficients), thin-prism (12) or fisheye "
+                    "(cv::fisheye, k1..k4)")
+        ->check(CLI::IsMember({"pinhole5", "rational", "thin-prism", "fisheye"}))
+        ->capture_default_str();
     sub->add_option("--corners", opt->corners,
                     "Chessboard corners to calibrate from: subpix (refined, unbiased on rendered boards), sector "
                     "(findChessboardCornersSB's accurate corners) or auto (the lower RMS). Both are calibrated and "

@@ -46,7 +46,7 @@ BoardRenderer::BoardRenderer(const BoardSpec& board, const camera::CameraIntrins
   const int s = options.supersample;
   if (camera.width < 1 || camera.height < 1) throw InputError({"", 0, "camera"}, "image size must be positive");
   const int w = camera.width * s, h = camera.height * s;
-  // Undistort every sub-pixel by Gauss-Newton on OpenCV's distortion model (camera::UndistortNormalized;
+  // Undistort every sub-pixel by Gauss-Newton on the camera's lens model (camera::UndistortNormalized;
   // cv::undistortPoints' fixed-point iteration is far slower at this accuracy).
   rays_.create(h, w, CV_64FC2);
   cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& range) {
@@ -72,9 +72,8 @@ BoardRenderer::BoardRenderer(const BoardSpec& board, const camera::CameraIntrins
                             (y + SampleOffset(x, y, 1, options.jitter)) / s - 0.5);
     }
   }
-  std::vector<cv::Point2d> back;
-  cv::projectPoints(check, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera::CameraMatrix(camera),
-                    camera::DistortionCoefficients(camera), back);
+  const std::vector<cv::Point2d> back =
+      camera::ProjectPointsOpenCv(check, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera);
   for (std::size_t i = 0; i < back.size(); ++i) {
     ray_map_error_px_ = std::max(ray_map_error_px_, cv::norm(back[i] - expected[i]));
   }

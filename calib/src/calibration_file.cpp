@@ -41,8 +41,8 @@ void WriteCornerComparison(cv::FileStorage& fs, const CornerComparison& c, int c
 }  // namespace
 
 std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const BoardSpec& board,
-                                  const CornerComparison* corners) {
-  return camera::StereoCalibrationText(st.rig, false,
+                                  const CornerComparison* corners, camera::CalibrationFormat format) {
+  return camera::StereoCalibrationText(st.rig, format,
                                        "ramtk stereo calibration: x_right = R * x_left + T (mm); parameter_std order " +
                                            std::string(camera::kCalibParameterStdOrder),
                                        [&](cv::FileStorage& fs) {
@@ -55,10 +55,13 @@ std::string StereoCalibrationYaml(const StereoCalibrationResult& st, const Board
 }
 
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board,
-                                  const CornerComparison* corners) {
+                                  const CornerComparison* corners, camera::CalibrationFormat format) {
   return camera::CameraCalibrationText(
       camera.intrinsics, camera.rms_px, camera.per_view_rms_px, camera.std_intrinsics,
-      "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3", [&](cv::FileStorage& fs) {
+      camera.intrinsics.distortion.model == camera::LensModel::kPinhole5
+          ? "ramtk single-camera calibration; parameter_std order fx fy cx cy k1 k2 p1 p2 k3"
+          : "ramtk single-camera calibration; parameter_std order fx fy cx cy, then D1's coefficients",
+      [&](cv::FileStorage& fs) {
         fs << "board" << board.ToString();
         fs << "views1"
            << "[";
@@ -66,7 +69,8 @@ std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const B
         fs << "]";
         WriteRejected(fs, "rejected_views1", camera.rejected);
         if (corners) WriteCornerComparison(fs, *corners, 1);
-      });
+      },
+      format);
 }
 
 }  // namespace ramtk::calib

@@ -6,6 +6,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "lens_model_calibration.h"
 #include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
@@ -52,6 +53,8 @@ int CameraCalibrationOptions::OpenCvFlags() const {
   if (fix_k3) f |= cv::CALIB_FIX_K3;
   if (zero_tangential) f |= cv::CALIB_ZERO_TANGENT_DIST;
   if (fix_aspect_ratio) f |= cv::CALIB_FIX_ASPECT_RATIO;
+  if (model == CalibrationModel::kRational || model == CalibrationModel::kThinPrism) f |= cv::CALIB_RATIONAL_MODEL;
+  if (model == CalibrationModel::kThinPrism) f |= cv::CALIB_THIN_PRISM_MODEL;
   return f;
 }
 
@@ -89,8 +92,8 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
     }
     cv::Mat k, d, std_in, std_ex, per_view;
     std::vector<cv::Mat> rvecs, tvecs;
-    r.rms_px = cv::calibrateCamera(obj, img, image_size, k, d, rvecs, tvecs, std_in, std_ex, per_view,
-                                   options.OpenCvFlags(), kCriteria);
+    r.rms_px = internal::CalibrateCameraModel(obj, img, image_size, options, kCriteria, &k, &d, &rvecs, &tvecs, &std_in,
+                                              &std_ex, &per_view);
     ++s.rounds;
     if (s.rounds == 1) s.initial_rms_px = r.rms_px;
     std::vector<double> rms(per_view.begin<double>(), per_view.end<double>());
@@ -103,8 +106,11 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
       continue;
     }
     r.intrinsics = camera::IntrinsicsFromOpenCv(cv::Matx33d(k), std::vector<double>(d.begin<double>(), d.end<double>()),
-                                                image_size);
-    r.std_intrinsics.assign(std_in.begin<double>(), std_in.begin<double>() + 9);
+                                                image_size, LensModelOf(options.model));
+    // σ of fx fy cx cy and of the coefficients the model writes (OpenCV returns 14 for the
+    // rational model whatever it estimated).
+    r.std_intrinsics.assign(std_in.begin<double>(),
+                            std_in.begin<double>() + 4 + camera::DistortionVector(r.intrinsics.distortion).size());
     r.per_view_rms_px = rms;
     r.view_names.clear();
     r.rvecs.clear();
@@ -186,12 +192,12 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       ir.push_back(p.r);
     }
     cv::Mat k1(camera::CameraMatrix(st.left.intrinsics)), k2(camera::CameraMatrix(st.right.intrinsics));
-    cv::Mat d1(camera::DistortionCoefficients(st.left.intrinsics), true);
-    cv::Mat d2(camera::DistortionCoefficients(st.right.intrinsics), true);
-    cv::Mat rot, tr, e, f, per_view;
+    cv::Mat d1 = internal::CalibrationDistortion(st.left.intrinsics, options.model);
+    cv::Mat d2 = internal::CalibrationDistortion(st.right.intrinsics, options.model);
+    cv::Mat rot, tr, per_view;
     // Joint refinement of both cameras and the rig from the single-camera starts.
-    st.rig.rms_px = cv::stereoCalibrate(obj, il, ir, k1, d1, k2, d2, image_size, rot, tr, e, f, per_view,
-                                        cv::CALIB_USE_INTRINSIC_GUESS | options.OpenCvFlags(), kCriteria);
+    st.rig.rms_px = internal::StereoCalibrateModel(obj, il, ir, image_size, options, kCriteria, &k1, &d1, &k2, &d2,
+                                                   &rot, &tr, &per_view);
     ++rounds;
     std::vector<double> worst_of_pair;
     for (int i = 0; i < per_view.rows; ++i) {
@@ -206,24 +212,31 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
       pairs.erase(pairs.begin() + worst);
       continue;
     }
-    st.rig.left = camera::IntrinsicsFromOpenCv(cv::Matx33d(k1),
-                                               std::vector<double>(d1.begin<double>(), d1.end<double>()), image_size);
-    st.rig.right = camera::IntrinsicsFromOpenCv(cv::Matx33d(k2),
-                                                std::vector<double>(d2.begin<double>(), d2.end<double>()), image_size);
+    st.rig.left =
+        camera::IntrinsicsFromOpenCv(cv::Matx33d(k1), std::vector<double>(d1.begin<double>(), d1.end<double>()),
+                                     image_size, LensModelOf(options.model));
+    st.rig.right =
+        camera::IntrinsicsFromOpenCv(cv::Matx33d(k2), std::vector<double>(d2.begin<double>(), d2.end<double>()),
+                                     image_size, LensModelOf(options.model));
     const cv::Matx33d rotation(rot);
     const cv::Vec3d translation(tr);
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) st.rig.right_from_left.linear()(i, j) = rotation(i, j);
       st.rig.right_from_left.translation()(i) = translation[i];
     }
-    const cv::Vec<double, 5> dl = camera::DistortionCoefficients(st.rig.left);
-    const cv::Vec<double, 5> dr = camera::DistortionCoefficients(st.rig.right);
     cv::Vec6d std_rt;
     std::vector<double> std_left, std_right;
     st.rig.parameter_std.clear();
-    if (internal::StereoExtrinsicStd(obj, il, ir, camera::CameraMatrix(st.rig.left), {dl.val, dl.val + 5},
-                                     camera::CameraMatrix(st.rig.right), {dr.val, dr.val + 5}, rotation, translation,
-                                     options.fix_k3, &std_rt, &std_left, &std_right)) {
+    // The joint σ are the 5-coefficient model's (stereo_covariance.h); the other models have none.
+    const bool pinhole5 = st.rig.left.distortion.model == camera::LensModel::kPinhole5 &&
+                          st.rig.right.distortion.model == camera::LensModel::kPinhole5;
+    if (!pinhole5) {
+      RAMTK_LOG(kInfo) << "stereo calibration: no standard deviations for the "
+                       << camera::LensModelName(LensModelOf(options.model)) << " lens model";
+    } else if (internal::StereoExtrinsicStd(
+                   obj, il, ir, camera::CameraMatrix(st.rig.left), camera::DistortionVector(st.rig.left.distortion),
+                   camera::CameraMatrix(st.rig.right), camera::DistortionVector(st.rig.right.distortion), rotation,
+                   translation, options.fix_k3, &std_rt, &std_left, &std_right)) {
       st.rig.parameter_std = std_left;
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_right.begin(), std_right.end());
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_rt.val, std_rt.val + 6);
@@ -299,9 +312,9 @@ cv::Mat DrawCoverage(const CameraCalibrationResult& cam, const std::vector<ViewP
       continue;
     }
     const std::size_t i = static_cast<std::size_t>(it - cam.view_names.begin());
-    std::vector<cv::Point2f> proj;
-    cv::projectPoints(v.object_points, cam.rvecs[i], cam.tvecs[i], camera::CameraMatrix(cam.intrinsics),
-                      camera::DistortionCoefficients(cam.intrinsics), proj);
+    const std::vector<cv::Point2d> projected = camera::ProjectPointsOpenCv(
+        {v.object_points.begin(), v.object_points.end()}, cam.rvecs[i], cam.tvecs[i], cam.intrinsics);
+    const std::vector<cv::Point2f> proj(projected.begin(), projected.end());
     cv::Mat hue(1, 1, CV_8UC3,
                 cv::Scalar(static_cast<int>(170 * i / std::max<std::size_t>(1, cam.view_names.size())), 200, 200));
     cv::cvtColor(hue, hue, cv::COLOR_HSV2BGR);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 
 #include "ramtk/core/error.h"
 #include "ramtk/core/json.h"
@@ -114,6 +115,53 @@ CalibrationNode FromJson(const nlohmann::json& j, const std::string& path, int d
   return out;
 }
 
+CalibrationNode FromFileNode(const cv::FileNode& node, const std::string& path, int depth) {
+  if (depth > kMaxCalibrationDepth)
+    throw InputError({path, 0, ""}, "nested deeper than " + std::to_string(kMaxCalibrationDepth) + " levels");
+  CalibrationNode out;
+  if (node.isInt() || node.isReal()) {
+    out.kind = Kind::kNumber;
+    out.number = node.real();
+    out.integer = node.isInt();
+  } else if (node.isString()) {
+    out.kind = Kind::kText;
+    out.text = node.string();
+  } else if (node.isSeq()) {
+    out.kind = Kind::kList;
+    for (const cv::FileNode& item : node) out.items.push_back(FromFileNode(item, path, depth + 1));
+  } else if (node.isMap()) {
+    out.kind = Kind::kMap;
+    for (const cv::FileNode& item : node) {
+      const std::string key = item.name();
+      if (out.Find(key) != nullptr) throw InputError({path, 0, key}, "duplicate key");
+      out.fields.emplace_back(key, FromFileNode(item, path, depth + 1));
+    }
+  }
+  return out;
+}
+
+// OpenCV's XML FileStorage (<opencv_storage>), read by cv::FileStorage; no line numbers. Control
+// characters (which XML 1.0 does not allow) are refused first: a NUL inside an attribute makes
+// OpenCV 4.6's XML parser read through a null pointer (fuzz/crashes/fuzz_stereo_calibration-crash-5050…).
+CalibrationNode FromXml(const std::string& text, const std::string& path) {
+  int line = 1;
+  for (const char c : text) {
+    if (c == '\n') ++line;
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 && c != '\t' && c != '\n' && c != '\r')
+      throw InputError({path, line, ""}, "a control character (code " + std::to_string(u) + ") in an XML file");
+  }
+  try {
+    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_XML);
+    if (!fs.isOpened()) throw InputError({path, 0, ""}, "cannot parse as OpenCV XML FileStorage");
+    CalibrationNode root = FromFileNode(fs.root(), path, 0);
+    if (root.kind == Kind::kNull) root.kind = Kind::kMap;  // <opencv_storage/>: no keys
+    return root;
+  } catch (const cv::Exception& e) {
+    throw InputError({path, 0, ""}, "cannot parse as OpenCV XML FileStorage: " + e.msg);
+  }
+}
+
 }  // namespace
 
 const CalibrationNode* CalibrationNode::Find(const std::string& key) const {
@@ -130,8 +178,7 @@ CalibrationNode ParseCalibrationTree(const std::string& text, const std::string&
   std::size_t first = text.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && text.compare(first, 3, "\xEF\xBB\xBF") == 0) first += 3;  // UTF-8 BOM
   const char lead = first == std::string::npos ? '\0' : text[first];
-  if (lead == '<')
-    throw InputError({path, 0, ""}, "looks like XML; calibration files are read as YAML or JSON (save it as .yml)");
+  if (lead == '<') return FromXml(text, path);
   if (lead == '{') {
     return FromJson(ParseJsonText(text.substr(first), path), path, 0);
   }

@@ -6,7 +6,8 @@
 // parser in OpenCV 4.6 hangs on some malformed files (a finding of
 // fuzz/fuzz_stereo_calibration.cpp, kept in fuzz/known_hangs/), so the text is parsed by
 // yaml-cpp (YAML) or nlohmann-json (JSON) into this tree, which remembers each node's line for
-// error messages. XML files are refused with a message.
+// error messages. OpenCV's XML (first non-blank character '<') is read by cv::FileStorage; its
+// nodes carry no line.
 
 #include <string>
 #include <utility>
@@ -32,9 +33,10 @@ struct CalibrationNode {
 inline constexpr std::size_t kMaxCalibrationFileBytes = 4u << 20;  // 4 MiB
 inline constexpr int kMaxCalibrationDepth = 16;                    // nesting of lists / maps
 
-// Parses YAML (OpenCV's dialect or plain YAML) or JSON (first non-blank character '{').
-// Throws InputError naming `path` (and the line where known) on a parse error, a duplicate key,
-// nesting deeper than kMaxCalibrationDepth, a file over kMaxCalibrationFileBytes, or XML.
+// Parses YAML (OpenCV's dialect or plain YAML), JSON (first non-blank character '{') or OpenCV's
+// XML (first non-blank character '<'). Throws InputError naming `path` (and the line where known)
+// on a parse error, a duplicate key, nesting deeper than kMaxCalibrationDepth or a file over
+// kMaxCalibrationFileBytes.
 CalibrationNode ParseCalibrationTree(const std::string& text, const std::string& path);
 
 }  // namespace ramtk::camera::internal

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "calibration_tree.h"
+#include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 
@@ -108,8 +109,22 @@ int LineOf(const CalibrationNode& root, const std::string& key) {
   return node == nullptr ? 0 : node->line;
 }
 
+// The lens model of camera `suffix` ("1" or "2"): distortion_model<suffix>, else distortion_model,
+// else the 5-coefficient or rational model as the coefficient vector says.
+LensModel ReadLensModel(const CalibrationNode& fs, const std::string& path, const std::string& suffix) {
+  for (const std::string key : {"distortion_model" + suffix, std::string("distortion_model")}) {
+    const CalibrationNode* node = fs.Find(key);
+    if (node == nullptr || node->kind == Kind::kNull) continue;
+    LensModel model = LensModel::kPinhole5;
+    if (node->kind != Kind::kText || !ParseLensModel(node->text, &model))
+      throw InputError(At(path, *node, key), "unknown lens model (expected pinhole5, rational, thin-prism or fisheye)");
+    return model;
+  }
+  return LensModel::kPinhole5;
+}
+
 CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, const std::string& k_key,
-                            const std::string& k_alias, const std::string& d_key) {
+                            const std::string& k_alias, const std::string& d_key, const std::string& suffix) {
   int rows = 0, cols = 0;
   std::string key;
   const std::vector<double> k = RequireNumbers(fs, path, {k_key, k_alias}, &rows, &cols, &key);
@@ -127,15 +142,16 @@ CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, 
   cam.cy = k[5];
   const std::vector<double> d = RequireNumbers(fs, path, {d_key}, &rows, &cols, &key);
   const InputLocation d_at{path, LineOf(fs, key), key};
-  if (std::min(rows, cols) != 1 ||
-      (d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 && d.size() != 14))
+  if (std::min(rows, cols) != 1)
+    throw InputError(d_at, "expected the distortion coefficients in one row, got " + std::to_string(rows) + "x" +
+                               std::to_string(cols));
+  const LensModel model = ReadLensModel(fs, path, suffix);
+  if (model != LensModel::kFisheye && d.size() != 4 && d.size() != 5 && d.size() != 8 && d.size() != 12 &&
+      d.size() != 14)
     throw InputError(d_at, "expected 4, 5, 8, 12 or 14 distortion coefficients in one row, got " +
                                std::to_string(rows) + "x" + std::to_string(cols));
-  for (std::size_t i = 5; i < d.size(); ++i)
-    if (d[i] != 0.0)
-      throw InputError(d_at, "coefficient " + std::to_string(i) +
-                                 " is not zero: only the 5-coefficient model (k1 k2 p1 p2 k3) is supported");
-  cam.distortion = {d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0};
+  const std::string error = DistortionFromVector(d, model, &cam.distortion);
+  if (!error.empty()) throw InputError(d_at, error);
   return cam;
 }
 
@@ -207,8 +223,8 @@ namespace {
 
 StereoCalibration ReadCalibrationKeys(const CalibrationNode& fs, const std::string& path) {
   StereoCalibration calib;
-  calib.left = ReadCamera(fs, path, "K1", "M1", "D1");
-  calib.right = ReadCamera(fs, path, "K2", "M2", "D2");
+  calib.left = ReadCamera(fs, path, "K1", "M1", "D1", "1");
+  calib.right = ReadCamera(fs, path, "K2", "M2", "D2", "2");
   ReadImageSize(fs, path, {"image_size", "S", "imageSize"}, &calib.left.width, &calib.left.height);
   calib.right.width = calib.left.width;
   calib.right.height = calib.left.height;
@@ -280,8 +296,10 @@ void WriteCameraKeys(cv::FileStorage& fs, const CameraIntrinsics& c, const std::
   cv::Mat k(3, 3, CV_64F);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) k.at<double>(i, j) = kk(i, j);
-  const Distortion& d = c.distortion;
-  fs << ("K" + suffix) << k << ("D" + suffix) << cv::Mat((cv::Mat_<double>(1, 5) << d.k1, d.k2, d.p1, d.p2, d.k3));
+  const std::vector<double> d = DistortionVector(c.distortion);
+  fs << ("K" + suffix) << k << ("D" + suffix) << cv::Mat(d, true).reshape(1, 1);
+  if (c.distortion.model != LensModel::kPinhole5)
+    fs << ("distortion_model" + suffix) << LensModelName(c.distortion.model);
 }
 
 void WriteQualityKeys(cv::FileStorage& fs, double rms_px, const std::vector<double>& per_view_errors_px,
@@ -291,17 +309,29 @@ void WriteQualityKeys(cv::FileStorage& fs, double rms_px, const std::vector<doub
   if (!parameter_std.empty()) fs << "parameter_std" << parameter_std;
 }
 
-cv::FileStorage MemoryStorage(bool json, const std::string& comment) {
-  cv::FileStorage fs(json ? ".json" : ".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
-  if (!json && !comment.empty()) fs.writeComment(comment);
+cv::FileStorage MemoryStorage(CalibrationFormat format, const std::string& comment) {
+  const char* name = format == CalibrationFormat::kJson ? ".json" : format == CalibrationFormat::kXml ? ".xml" : ".yml";
+  cv::FileStorage fs(name, cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  if (format != CalibrationFormat::kJson && !comment.empty()) fs.writeComment(comment);
   return fs;
 }
 
 }  // namespace
 
+CalibrationFormat CalibrationFormatOf(const std::string& path) {
+  if (EndsWith(path, ".json")) return CalibrationFormat::kJson;
+  if (EndsWith(path, ".xml")) return CalibrationFormat::kXml;
+  return CalibrationFormat::kYaml;
+}
+
 std::string StereoCalibrationText(const StereoCalibration& calib, bool json, const std::string& comment,
                                   const ExtraCalibrationKeys& extra_keys) {
-  cv::FileStorage fs = MemoryStorage(json, comment);
+  return StereoCalibrationText(calib, json ? CalibrationFormat::kJson : CalibrationFormat::kYaml, comment, extra_keys);
+}
+
+std::string StereoCalibrationText(const StereoCalibration& calib, CalibrationFormat format, const std::string& comment,
+                                  const ExtraCalibrationKeys& extra_keys) {
+  cv::FileStorage fs = MemoryStorage(format, comment);
   fs << "image_size" << cv::Size(calib.left.width, calib.left.height);
   if (calib.right.width != calib.left.width || calib.right.height != calib.left.height)
     fs << "image_size2" << cv::Size(calib.right.width, calib.right.height);
@@ -321,8 +351,8 @@ std::string StereoCalibrationText(const StereoCalibration& calib, bool json, con
 std::string CameraCalibrationText(const CameraIntrinsics& camera, double rms_px,
                                   const std::vector<double>& per_view_errors_px,
                                   const std::vector<double>& parameter_std, const std::string& comment,
-                                  const ExtraCalibrationKeys& extra_keys) {
-  cv::FileStorage fs = MemoryStorage(false, comment);
+                                  const ExtraCalibrationKeys& extra_keys, CalibrationFormat format) {
+  cv::FileStorage fs = MemoryStorage(format, comment);
   fs << "image_size" << cv::Size(camera.width, camera.height);
   WriteCameraKeys(fs, camera, "1");
   WriteQualityKeys(fs, rms_px, per_view_errors_px, parameter_std);
@@ -331,7 +361,7 @@ std::string CameraCalibrationText(const CameraIntrinsics& camera, double rms_px,
 }
 
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calib) {
-  WriteFileAtomically(path, StereoCalibrationText(calib, EndsWith(path, ".json"),
+  WriteFileAtomically(path, StereoCalibrationText(calib, CalibrationFormatOf(path),
                                                   "ramtk stereo calibration: x_in_right = R * x_in_left + T, T in mm, "
                                                   "pixels for K"));
 }

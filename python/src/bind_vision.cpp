@@ -12,13 +12,14 @@
 
 #include "numpy_convert.h"
 #include "progress_bridge.h"
+#include "ramtk/camera/opencv_camera.h"
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/vision/decode/decode.h"
-#include "ramtk/vision/sim/fringe_simulator.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
 #include "ramtk/vision/sphere/sphere_fit.h"
 #include "scan_options.h"
 
@@ -109,7 +110,8 @@ void BindStereoCalibration(py::module_& m) {
   using camera::CameraIntrinsics;
   using camera::StereoCalibration;
   auto intrinsics = [](const py::array_t<double, py::array::c_style | py::array::forcecast>& k,
-                       const std::vector<double>& dist, int width, int height, const char* side) {
+                       const std::vector<double>& dist, int width, int height, const char* side,
+                       camera::LensModel model = camera::LensModel::kPinhole5) {
     const std::string f = std::string(side) + "_K";
     if (k.ndim() != 2 || k.shape(0) != 3 || k.shape(1) != 3) throw InputError({"", 0, f}, "expected a 3x3 matrix");
     if (k.at(0, 1) != 0 || k.at(1, 0) != 0 || k.at(2, 0) != 0 || k.at(2, 1) != 0 || k.at(2, 2) != 1 ||
@@ -118,17 +120,16 @@ void BindStereoCalibration(py::module_& m) {
       throw InputError({"", 0, f}, "not a pinhole matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0");
     for (double v : dist)
       if (!std::isfinite(v)) throw InputError({"", 0, std::string(side) + "_distortion"}, "not finite");
-    if (dist.size() != 5)
-      throw InputError({"", 0, std::string(side) + "_distortion"}, "expected 5 coefficients k1 k2 p1 p2 k3");
+    // OpenCV's coefficient vector of the camera's lens model (5 for the default model).
     CameraIntrinsics c;
+    const std::string bad = dist.size() < 4 ? "expected 5 coefficients k1 k2 p1 p2 k3"
+                                            : camera::DistortionFromVector(dist, model, &c.distortion);
+    if (!bad.empty()) throw InputError({"", 0, std::string(side) + "_distortion"}, bad);
     c.fx = k.at(0, 0), c.fy = k.at(1, 1), c.cx = k.at(0, 2), c.cy = k.at(1, 2);
-    c.distortion = {dist[0], dist[1], dist[2], dist[3], dist[4]};
     c.width = width, c.height = height;
     return c;
   };
-  auto distortion = [](const CameraIntrinsics& c) {
-    return std::vector<double>{c.distortion.k1, c.distortion.k2, c.distortion.p1, c.distortion.p2, c.distortion.k3};
-  };
+  auto distortion = [](const CameraIntrinsics& c) { return camera::DistortionVector(c.distortion); };
   // A changed copy is accepted only if the file reader accepts it (pinhole K, 5 distortion
   // coefficients, a rotation, positive sizes); InputError names the field otherwise.
   auto checked = [](const StereoCalibration& c) {
@@ -140,11 +141,8 @@ void BindStereoCalibration(py::module_& m) {
     StereoCalibration copy = c;
     CameraIntrinsics& cam = left ? copy.left : copy.right;
     const Array current = ToArray(cam.K());
-    cam = intrinsics(k ? *k : current,
-                     dist ? *dist
-                          : std::vector<double>{cam.distortion.k1, cam.distortion.k2, cam.distortion.p1,
-                                                cam.distortion.p2, cam.distortion.k3},
-                     cam.width, cam.height, left ? "left" : "right");
+    cam = intrinsics(k ? *k : current, dist ? *dist : camera::DistortionVector(cam.distortion), cam.width, cam.height,
+                     left ? "left" : "right", cam.distortion.model);
     c = checked(copy);
   };
   py::class_<StereoCalibration>(m, "StereoCalibration")

@@ -64,9 +64,9 @@ inline std::vector<cv::Point3f> BoardOutline(const BoardSpec& b) {
 
 inline bool Visible(const std::vector<cv::Point3f>& outline, const cv::Vec3d& r, const cv::Vec3d& t,
                     const camera::CameraIntrinsics& cam) {
-  std::vector<cv::Point2f> p;
-  cv::projectPoints(outline, r, t, camera::CameraMatrix(cam), camera::DistortionCoefficients(cam), p);
-  for (const cv::Point2f& q : p) {
+  const std::vector<cv::Point2d> p =
+      camera::ProjectPointsOpenCv({outline.begin(), outline.end()}, r, t, cam);  // any lens model
+  for (const cv::Point2d& q : p) {
     if (q.x < 8 || q.y < 8 || q.x > cam.width - 9 || q.y > cam.height - 9) return false;
   }
   return true;

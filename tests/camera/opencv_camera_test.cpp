@@ -29,13 +29,15 @@ TEST(OpenCvCamera, ConversionsRoundTripAndProjectLikeOpenCv) {
   EXPECT_NEAR(projected[0].y, ours.y(), 1e-9);
 }
 
-TEST(OpenCvCamera, FewerCoefficientsAreZeroAndExtraTermsAreRefused) {
+TEST(OpenCvCamera, FewerCoefficientsAreZeroAndExtraTermsAreTheRationalModel) {
   const cv::Matx33d k(1000, 0, 320, 0, 1000, 240, 0, 0, 1);
   const CameraIntrinsics four = IntrinsicsFromOpenCv(k, {0.1, 0.2, 0.3, 0.4}, cv::Size(640, 480));
   EXPECT_EQ(four.distortion.k3, 0.0);
   EXPECT_EQ(four.distortion.p2, 0.4);
   EXPECT_NO_THROW(IntrinsicsFromOpenCv(k, {0.1, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, cv::Size(640, 480)));
-  EXPECT_THROW(IntrinsicsFromOpenCv(k, {0.1, 0.2, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0}, cv::Size(640, 480)), InputError);
+  EXPECT_EQ(IntrinsicsFromOpenCv(k, {0.1, 0.2, 0.0, 0.0, 0.0, 0.5, 0.0, 0.0}, cv::Size(640, 480)).distortion.model,
+            LensModel::kRational);
+  EXPECT_THROW(IntrinsicsFromOpenCv(k, {0.1, 0.2, 0.0, 0.0, 0.0, 0.5, 0.0}, cv::Size(640, 480)), InputError);
 }
 
 }  // namespace

@@ -216,7 +216,11 @@ TEST(SimStereoCalibration, MalformedStructuresAreInputErrors) {
   deep += "1";
   for (int i = 0; i < 40; ++i) deep += "]";
   EXPECT_NE(ReadError(deep).find("nested deeper"), std::string::npos);
+  // XML is read by cv::FileStorage: its parse errors say XML; an empty storage misses the first key.
   EXPECT_NE(ReadError("<?xml version=\"1.0\"?>\n<opencv_storage/>\n").find("XML"), std::string::npos);
+  const std::string empty_xml = ReadError("<?xml version=\"1.0\"?>\n<opencv_storage>\n</opencv_storage>\n");
+  EXPECT_NE(empty_xml.find("missing key"), std::string::npos) << empty_xml;
+  EXPECT_NE(ReadError("<?xml version=\"1.0\"?>\n<opencv_storage><K1>1 2</opencv_storage>\n"), "");
   std::string quoted = good;
   quoted.replace(quoted.find("-200."), 5, "\"-200\"");
   EXPECT_NE(ReadError(quoted, &where).find("expected a list of numbers"), std::string::npos);

@@ -1,5 +1,6 @@
 # Stereo scan: PLY I/O (against PCL), matching and triangulation against the simulator's truth,
-# the scan pipeline (ball centre vs truth, no-sphere, bad calibration, the real SLMaster set) and
+# the scan pipeline (ball centre vs truth, no-sphere, bad calibration, the real SLMaster set; the
+# rational and fisheye lens models against the pinhole case) and
 # `ramtk scan` on the command line.
 find_package(PCL 1.13 REQUIRED COMPONENTS common io)
 ramtk_add_gtest(vision_scan_tests
@@ -19,7 +20,8 @@ ramtk_add_gtest(vision_scan_tests
   scan_shard_test.cpp
   scan_roi_test.cpp
   scan_depth_picture_test.cpp
-  scan_output_formats_test.cpp)
+  scan_output_formats_test.cpp
+  scan_lens_models_test.cpp)
 target_link_libraries(vision_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS} pcl_common pcl_io)
 target_include_directories(vision_scan_tests PRIVATE ${PCL_INCLUDE_DIRS})
 target_compile_definitions(vision_scan_tests PRIVATE RAMTK_TEST_OUTPUT_DIR="${CMAKE_CURRENT_BINARY_DIR}/output"

@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "ramtk/camera/opencv_camera.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
@@ -41,15 +42,22 @@ Isometry3 LookAt(const Vec3& centre, const Vec3& target) {
 
 json Vec3Json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
+// The intrinsics in the truth file; a lens of another model than the 5-coefficient one adds its
+// name and OpenCV's coefficient vector.
 json IntrinsicsJson(const CameraIntrinsics& c) {
   const Distortion& d = c.distortion;
-  return {{"fx", c.fx},
-          {"fy", c.fy},
-          {"cx", c.cx},
-          {"cy", c.cy},
-          {"width", c.width},
-          {"height", c.height},
-          {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
+  json j = {{"fx", c.fx},
+            {"fy", c.fy},
+            {"cx", c.cx},
+            {"cy", c.cy},
+            {"width", c.width},
+            {"height", c.height},
+            {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
+  if (d.model != camera::LensModel::kPinhole5) {
+    j["lens_model"] = camera::LensModelName(d.model);
+    j["distortion_opencv"] = camera::DistortionVector(d);
+  }
+  return j;
 }
 
 json SequenceJson(const std::vector<SequenceBlock>& blocks) {

@@ -39,13 +39,16 @@ RectifiedPair MakeRectifiedPair(const StereoCalibration& calibration) {
 namespace {
 
 // The distorted pixel (pu, pv) of grid pixels i = first .. n - 1 of one row, whose camera rays
-// are ray0 + i ray_du (NaN in pu behind the camera).
+// are ray0 + i ray_du (NaN in pu behind the camera). kPinhole5: the 5-coefficient model's
+// expressions without the model's dispatch (a loop the compiler vectorises).
+template <bool kPinhole5>
 __attribute__((always_inline)) inline void RowPositions(const CameraIntrinsics& camera, const Vec3& ray0,
                                                         const Vec3& ray_du, int first, int n, double* __restrict pu,
                                                         double* __restrict pv) {
   for (int i = first; i < n; ++i) {
     const double rx = ray0.x() + ray_du.x() * i, ry = ray0.y() + ray_du.y() * i, rz = ray0.z() + ray_du.z() * i;
-    const Vec2 d = DistortNormalized(camera.distortion, Vec2(rx / rz, ry / rz));
+    const Vec2 d = kPinhole5 ? camera::DistortPinhole5(camera.distortion, Vec2(rx / rz, ry / rz))
+                             : DistortNormalized(camera.distortion, Vec2(rx / rz, ry / rz));
     // Behind the camera: NaN, which fails the bounds test of the map reads.
     pu[i] = rz > 1e-12 ? camera.fx * d.x() + camera.cx : std::numeric_limits<double>::quiet_NaN();
     pv[i] = camera.fy * d.y() + camera.cy;
@@ -54,11 +57,16 @@ __attribute__((always_inline)) inline void RowPositions(const CameraIntrinsics& 
 
 void RowPositionsBaseline(const CameraIntrinsics& camera, const Vec3& ray0, const Vec3& ray_du, int n, double* pu,
                           double* pv) {
-  RowPositions(camera, ray0, ray_du, 0, n, pu, pv);
+  if (camera.distortion.model == camera::LensModel::kPinhole5) {
+    RowPositions<true>(camera, ray0, ray_du, 0, n, pu, pv);
+  } else {
+    RowPositions<false>(camera, ray0, ray_du, 0, n, pu, pv);
+  }
 }
 
-// The same on four lanes (AVX2): each lane takes the loop's operations in its order (no FMA
-// target), so the positions are bit-identical; the last pixels by the loop itself.
+// The same on four lanes (AVX2), for the 5-coefficient model only: each lane takes the loop's
+// operations in its order (no FMA target), so the positions are bit-identical; the last pixels by
+// the loop itself.
 RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray0, const Vec3& ray_du, int n,
                                  double* pu, double* pv) {
   const __m256d ox = _mm256_set1_pd(ray0.x()), oy = _mm256_set1_pd(ray0.y()), oz = _mm256_set1_pd(ray0.z());
@@ -75,7 +83,7 @@ RAMTK_AVX2 void RowPositionsAvx2(const CameraIntrinsics& camera, const Vec3& ray
     _mm256_storeu_pd(pu + i, _mm256_blendv_pd(nan, u, _mm256_cmp_pd(rz, near, _CMP_GT_OQ)));
     _mm256_storeu_pd(pv + i, _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(camera.fy), uy), _mm256_set1_pd(camera.cy)));
   }
-  RowPositions(camera, ray0, ray_du, i, n, pu, pv);
+  RowPositions<true>(camera, ray0, ray_du, i, n, pu, pv);
 }
 
 // The map's bilinear value at grid pixels [i, n) of a row (their distorted positions pu, pv),
@@ -181,13 +189,14 @@ RectifiedGrid ResampleOnRectifiedGrid(const CameraIntrinsics& camera, const Mat3
   const Mat3 camera_from_rect = rect_from_camera.transpose();
   const Vec3 ray_du = camera_from_rect.col(0) / f;
   const bool avx2 = Avx2Kernels();
+  const bool avx2_positions = avx2 && camera.distortion.model == camera::LensModel::kPinhole5;
   tbb::parallel_for(tbb::blocked_range<int>(0, grows, 8), [&](const tbb::blocked_range<int>& range) {
     // Each row in two loops: the distorted positions (arithmetic only, which the compiler
     // vectorises), then the reads of the map (gathers and branches).
     std::vector<double> pu(static_cast<std::size_t>(gcols)), pv(static_cast<std::size_t>(gcols));
     for (int j = range.begin(); j < range.end(); ++j) {
       const Vec3 ray0 = camera_from_rect * Vec3(grid.u0 / f, (grid.v0 + j) / f, 1.0);
-      (avx2 ? RowPositionsAvx2 : RowPositionsBaseline)(camera, ray0, ray_du, gcols, pu.data(), pv.data());
+      (avx2_positions ? RowPositionsAvx2 : RowPositionsBaseline)(camera, ray0, ray_du, gcols, pu.data(), pv.data());
       float* out = grid.coord.ptr<float>(j);
       float lo = std::numeric_limits<float>::infinity(), hi = -lo;
       int start = 0;

@@ -249,11 +249,12 @@ detail::WalkMaps LaneMaps(const Pass& p) {
 }
 
 // Whether the lanes can walk the pass: with the walk (not StereoMatchTestHooks::full_search), on a
-// CPU with AVX2, with the three destination maps in one layout (MatchStereo makes them so) and
-// every offset in an int.
+// CPU with AVX2, into a camera of the 5-coefficient lens model (the lanes' model), with the three
+// destination maps in one layout (MatchStereo makes them so) and every offset in an int.
 bool LanesWalk(const Pass& p) {
   const double limit = 2e9;
-  return !p.full_search && detail::Avx2Kernels() && p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
+  return !p.full_search && detail::Avx2Kernels() && p.dst->distortion.model == camera::LensModel::kPinhole5 &&
+         p.dst_sigma_rows.stride == p.dst_coord_rows.stride &&
          p.dst_modulation_rows.stride == p.dst_coord_rows.stride &&
          static_cast<double>(p.dst_coord_rows.stride) * (p.dst_coord.rows + 1) < limit &&
          static_cast<double>(p.dst_coord.cols) * (p.dst_coord.rows + 1) < limit &&

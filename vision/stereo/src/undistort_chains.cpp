@@ -172,7 +172,8 @@ RAMTK_AVX2 void FourChains(const CameraIntrinsics& camera, const UndistortChain*
 
 void UndistortChains(const CameraIntrinsics& camera, const UndistortChain* chains, int n, const ChainRays* rays) {
   int i = 0;
-  if (Avx2Kernels() && !camera.distortion.IsZero())
+  // The lanes evaluate the 5-coefficient model; the other lens models take the scalar chain.
+  if (Avx2Kernels() && !camera.distortion.IsZero() && camera.distortion.model == camera::LensModel::kPinhole5)
     for (; i + 4 <= n; i += 4) FourChains(camera, chains + i, rays);
   for (; i < n; ++i) ScalarChain(camera, chains[i], rays);
 }

@@ -11,6 +11,7 @@
 
 #include "ramtk/calib/board.h"
 #include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/core/error.h"
 #include "ramtk/core/progress.h"
 #include "ramtk/core/termination.h"
 
@@ -29,8 +30,17 @@ struct RejectedView {
   std::string reason;  // e.g. "board not found", "RMS 2.31 px > 3 x median 0.12 px"
 };
 
+// The lens model a session estimates (camera_model.h): OpenCV's 5 coefficients, its rational
+// model (8: CALIB_RATIONAL_MODEL), rational with thin prism (12: CALIB_THIN_PRISM_MODEL too), or
+// the fisheye model (cv::fisheye::calibrate, k1..k4).
+enum class CalibrationModel { kPinhole5, kRational, kThinPrism, kFisheye };
+// "pinhole5", "rational", "thin-prism", "fisheye"; InputError naming `where` otherwise.
+CalibrationModel ParseCalibrationModel(const std::string& text, const InputLocation& where);
+camera::LensModel LensModelOf(CalibrationModel model);
+
 struct CameraCalibrationOptions {
-  bool fix_k3 = true;             // estimate k1 k2 p1 p2 only (k3 = 0), OpenCV's CALIB_FIX_K3
+  CalibrationModel model = CalibrationModel::kPinhole5;  // the lens model estimated
+  bool fix_k3 = true;             // estimate k1 k2 p1 p2 only (k3 = 0), OpenCV's CALIB_FIX_K3 (not fisheye)
   bool zero_tangential = false;   // p1 = p2 = 0 (CALIB_ZERO_TANGENT_DIST)
   bool fix_aspect_ratio = false;  // fx = fy (CALIB_FIX_ASPECT_RATIO)
   int min_views = 4;              // fewer usable views is an error
@@ -47,10 +57,12 @@ struct CameraCalibrationOptions {
 };
 
 struct CameraCalibrationResult {
-  camera::CameraIntrinsics intrinsics;  // fx fy cx cy, distortion (k1 k2 p1 p2 k3) and image size
+  camera::CameraIntrinsics intrinsics;  // fx fy cx cy, distortion (of options.model) and image size
   double rms_px = 0.0;                  // over every point of the used views
-  // Standard deviations of fx fy cx cy k1 k2 p1 p2 k3 (OpenCV's stdDeviationsIntrinsics, from
-  // the Jacobian scaled by the residual variance); 0 for fixed parameters.
+  // Standard deviations of fx fy cx cy then the distortion vector's coefficients in OpenCV's
+  // order (k1 k2 p1 p2 k3 [k4 k5 k6 [s1 s2 s3 s4]]; fisheye k1 k2 k3 k4), from the Jacobian scaled
+  // by the residual variance (OpenCV's stdDeviationsIntrinsics; computed alike for the fisheye
+  // model); 0 for fixed parameters.
   std::vector<double> std_intrinsics;
   std::vector<std::string> view_names;    // used views
   std::vector<double> per_view_rms_px;    // per used view
@@ -94,7 +106,9 @@ struct StereoCalibrationResult {
 };
 
 // Stereo: left[i] and right[i] are the same board pose. Each camera is calibrated alone, then
-// cv::stereoCalibrate (CALIB_FIX_INTRINSIC) on the pairs both kept, with pair rejection.
+// cv::stereoCalibrate (CALIB_USE_INTRINSIC_GUESS) on the pairs both kept, with pair rejection; the
+// fisheye model: cv::fisheye::stereoCalibrate with the intrinsics fixed. parameter_std only for
+// the 5-coefficient model.
 StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
                                         cv::Size image_size, const CameraCalibrationOptions& options,
                                         CameraCalibrationSummary* summary = nullptr);
@@ -160,12 +174,15 @@ StereoCalibrationResult CalibrateStereoComparingCorners(const std::vector<ViewPo
 // rejected_views1, the same with 2) and the rejected pairs.
 // With `corners`, also the comparison: corners (the kept set), corner_rms_px_subpix/_sector,
 // corner_fx_sigma_px_subpix/_sector (left, right) and corner_views_subpix/_sector.
+// `format`: the FileStorage dialect (YAML unless the output is named .json or .xml).
 std::string StereoCalibrationYaml(const StereoCalibrationResult& stereo, const BoardSpec& board,
-                                  const CornerComparison* corners = nullptr);
+                                  const CornerComparison* corners = nullptr,
+                                  camera::CalibrationFormat format = camera::CalibrationFormat::kYaml);
 // Single camera (camera::CameraCalibrationText): image_size K1 D1 rms_px per_view_errors_px
 // parameter_std (fx fy cx cy k1 k2 p1 p2 k3), then board, views1, rejected_views1.
 std::string CameraCalibrationYaml(const CameraCalibrationResult& camera, const BoardSpec& board,
-                                  const CornerComparison* corners = nullptr);
+                                  const CornerComparison* corners = nullptr,
+                                  camera::CalibrationFormat format = camera::CalibrationFormat::kYaml);
 
 // Coverage and residual picture of one camera: every used feature (a dot per view colour) and
 // its residual vector magnified residual_scale times; rejected views' features in grey.

@@ -1,16 +1,20 @@
 #pragma once
-// Stereo camera calibration: two pinhole cameras with OpenCV distortion and the rigid transform
-// between them, in OpenCV's calibration files (YAML or JSON): written with cv::FileStorage, read
-// with yaml-cpp / nlohmann-json (camera/src/calibration_tree.h; FileStorage's YAML parser can hang
-// on a damaged file).
+// Stereo camera calibration: two cameras with OpenCV lens models and the rigid transform between
+// them, in OpenCV's calibration files (YAML, JSON or XML): written with cv::FileStorage, read with
+// yaml-cpp / nlohmann-json / cv::FileStorage's XML parser (camera/src/calibration_tree.h;
+// FileStorage's YAML parser can hang on a damaged file).
 //
 // Read layouts (docs/formats.md, "Stereo calibration"):
-//  * standard keys: K1 D1 K2 D2 R T and the image size as `image_size: [w, h]` (or `S`, or
+//  * standard keys: K1 D1 K2 D2 R T (D: OpenCV's 4, 5, 8, 12 or 14 coefficients, or the fisheye
+//    model's 4 with `distortion_model1` / `distortion_model2` / `distortion_model` naming the
+//    model: pinhole5, rational, thin-prism, fisheye, or ROS's plumb_bob, rational_polynomial,
+//    equidistant) and the image size as `image_size: [w, h]` (or `S`, or
 //    `image_width` + `image_height`); an optional `image_size2` when the right camera differs;
 //  * SLMaster's caliInfo.yml: M1 D1 M2 D2 Rlr Tlr S (S = [w, h]); its rectification extras
 //    (R1 R2 P1 P2 Q E F epilines*) are ignored.
 // R, T follow cv::stereoCalibrate: x_in_right = R·x_in_left + T, T in millimetres.
-// Written with the standard keys (plus rms_px, per_view_errors_px and parameter_std when known).
+// Written with the standard keys (plus rms_px, per_view_errors_px and parameter_std when known;
+// distortion_model1 / distortion_model2 for a camera that is not the 5-coefficient model).
 
 #include <functional>
 #include <limits>
@@ -52,8 +56,8 @@ inline constexpr const char* kCalibParameterStdOrder =
 
 // Reads either layout. Throws InputError naming the file, the key and (YAML) its line for: an unreadable or
 // unparsable file, a missing key, a matrix of the wrong size, a K that is not a pinhole matrix,
-// distortion beyond the 5-coefficient model, an R that is not a rotation (its orthonormality
-// error is reported), a non-positive image size.
+// a coefficient vector its lens model does not take, an unknown lens model, an R that is not a rotation (its
+// orthonormality error is reported), a non-positive image size.
 StereoCalibration ReadStereoCalibration(const std::string& path);
 // The same from the file's text; `path` only names it in errors.
 StereoCalibration ParseStereoCalibration(const std::string& text, const std::string& path);
@@ -63,7 +67,7 @@ StereoCalibration ParseStereoCalibration(const std::string& text, const std::str
 // A stereo file gives its left camera. The same checks and errors as ReadStereoCalibration.
 CameraIntrinsics ReadCameraCalibration(const std::string& path);
 
-// Writes the standard keys; JSON if `path` ends in ".json", YAML otherwise. Atomic (temporary
+// Writes the standard keys; JSON if `path` ends in ".json", XML if ".xml", YAML otherwise. Atomic (temporary
 // file + rename). Throws InputError if the file cannot be written.
 void WriteStereoCalibration(const std::string& path, const StereoCalibration& calibration);
 
@@ -74,11 +78,17 @@ void WriteStereoCalibration(const std::string& path, const StereoCalibration& ca
 using ExtraCalibrationKeys = std::function<void(cv::FileStorage&)>;
 std::string StereoCalibrationText(const StereoCalibration& calibration, bool json, const std::string& comment = "",
                                   const ExtraCalibrationKeys& extra_keys = {});
+// The text formats cv::FileStorage writes; a path's extension names one (.json, .xml, else YAML).
+enum class CalibrationFormat { kYaml, kJson, kXml };
+CalibrationFormat CalibrationFormatOf(const std::string& path);
+std::string StereoCalibrationText(const StereoCalibration& calibration, CalibrationFormat format,
+                                  const std::string& comment = "", const ExtraCalibrationKeys& extra_keys = {});
 // One camera in the same dialect: image_size K1 D1, then rms_px, per_view_errors_px and
 // parameter_std (9 values, fx fy cx cy k1 k2 p1 p2 k3) when known, then `extra_keys`.
 std::string CameraCalibrationText(const CameraIntrinsics& camera, double rms_px,
                                   const std::vector<double>& per_view_errors_px,
                                   const std::vector<double>& parameter_std, const std::string& comment = "",
-                                  const ExtraCalibrationKeys& extra_keys = {});
+                                  const ExtraCalibrationKeys& extra_keys = {},
+                                  CalibrationFormat format = CalibrationFormat::kYaml);
 
 }  // namespace ramtk::camera
