@@ -1,7 +1,10 @@
 #pragma once
-// Internal interface of the fused decode path (decode_fast.cpp) and of the references it is
-// tested against (decode_reference.cpp, nonlinearity.cpp), used by decode.cpp and the tests.
+// Internal interface of the fast decode path (decode_fast.cpp, decode_fused.cpp,
+// harmonic_ratios_fast.cpp) and of the references it is tested against (decode_reference.cpp,
+// nonlinearity.cpp), used by decode.cpp and the tests.
 
+#include <cstdint>
+#include <cstring>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +13,13 @@
 #include "ramtk/vision/decode/nonlinearity.h"
 
 namespace ramtk::vision::detail {
+
+// Whether the eight bytes at p are all zero (eight masked pixels, skipped at once).
+inline bool EightZero(const uchar* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v == 0;
+}
 
 struct FastDecodeInput {
   int width = 0, height = 0;
