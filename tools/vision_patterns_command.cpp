@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/parse.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/fringe/patterns.h"
 
@@ -98,6 +99,7 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new set is complete)");
+  sub->footer(vision::PatternCodecHelp());
   sub->callback([opt, exit_code, sub]() { *exit_code = RunPatterns(*opt, CommandProvenance(sub)); });
 }
 

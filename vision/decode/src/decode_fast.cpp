@@ -14,6 +14,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode/detail/decode_avx2.h"
 #include "ramtk/vision/decode/detail/decode_internal.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/decode/nonlinearity.h"
 #include "ramtk/vision/fringe/unwrap.h"
 #include "ramtk/vision/kernels/rank_select.h"
@@ -90,7 +91,7 @@ FastDecodeInput MakeFastInput(const FringeManifest& m, const std::vector<cv::Mat
   const SequenceBlock* gc_block = nullptr;
   std::size_t next = 0;
   for (const SequenceBlock& b : m.sequence) {
-    if (b.type == BlockType::kGrayCode) {
+    if (CodecOf(b).role == CodecRole::kOrder) {  // the period order of the phase block
       gc_block = &b;
       in.gray_frames.clear();
       for (int j = 0; j < b.bits; ++j) in.gray_frames.push_back(&frames[next + j]);

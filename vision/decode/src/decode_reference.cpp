@@ -11,6 +11,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/decode/detail/decode_internal.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/phase_shift.h"
 #include "ramtk/vision/fringe/unwrap.h"
 
@@ -129,7 +130,7 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   std::vector<cv::Mat> gc_frames;
   std::size_t next = 0;
   for (const SequenceBlock& b : m.sequence) {
-    if (b.type == BlockType::kGrayCode) {
+    if (CodecOf(b).role == CodecRole::kOrder) {  // the period order of the phase block
       gc_block = &b;
       gc_frames.assign(frames.begin() + next, frames.begin() + next + b.bits);
     } else {

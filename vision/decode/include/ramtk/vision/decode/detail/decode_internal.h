@@ -110,6 +110,12 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
 void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
               float* sp, float* sc);
 
+// The decode of a sequence whose one block is a codec with its own decode function (codec.h
+// PatternCodec::decode, decode_codec.cpp): the frames as float, the codec's coordinate, modulation
+// and sigma, the mask where the coordinate is finite, and the summary's counts and medians.
+DecodedCamera DecodeFramesWithCodec(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                                    const DecodeOptions& options, const std::string& camera);
+
 // The reference decode: float frames, one pass per stage over every pixel (phase_shift.h,
 // unwrap.h, CorrectPhaseNonlinearityReference). Runs in place of DecodeFramesFast under the test
 // hook DecodeTestHooks::reference_path.
