@@ -1,7 +1,7 @@
 // The reference decode (detail::DecodeFramesReference): float frames, one pass per stage over
-// every pixel (phase_shift.h, unwrap.h and the reference nonlinearity estimator). The fused path
-// (decode_fast.cpp, decode_fused.cpp) is tested against it; the test hook DecodeTestHooks::reference_path runs it
-// in place of the fused path.
+// every pixel (phase_shift.h, unwrap.h and the reference nonlinearity estimator). The fast path
+// (decode_fast.cpp, decode_fused.cpp) is tested against it; the test hook
+// DecodeTestHooks::reference_path runs it in place of the fast path.
 #include <algorithm>
 #include <cmath>
 #include <limits>
