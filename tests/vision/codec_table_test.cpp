@@ -2,8 +2,6 @@
 // round-trips through the manifest and the generator; and a codec added through the table alone
 // (a linear intensity ramp registered here) is read from a manifest, drawn by the generator and
 // the simulator's renderer, and decoded to the projector pixel it was drawn at.
-#include "ramtk/vision/fringe/codec.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +10,7 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/fringe/patterns.h"
 #include "ramtk/vision/sim/fringe_renderer.h"
@@ -48,7 +47,8 @@ std::vector<SequenceBlock> SequenceFor(const PatternCodec& c) {
     if (p.field == CodecField::kSteps) b.steps = std::max(4, static_cast<int>(p.min));
     if (p.field == CodecField::kBits) b.bits = 3;
     if (p.field == CodecField::kComplementary) b.complementary = true;
-    if (p.field == CodecField::kCycles) b.cycles = p.min_count == 1 ? std::vector<double>{1} : std::vector<double>{16, 15};
+    if (p.field == CodecField::kCycles)
+      b.cycles = p.min_count == 1 ? std::vector<double>{1} : std::vector<double>{16, 15};
   }
   if (c.role == CodecRole::kOrder) return {PhaseShiftBlock(4, 4), b};
   return {b};

@@ -16,8 +16,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 // Throws InputError unless `m` is a CV_32F map of `size`.
 void RequireMap(const cv::Mat& m, const cv::Size& size, const std::string& codec, const char* what) {
   if (m.type() != CV_32F || m.size() != size)
-    throw InputError({"", 0, "codec " + codec}, std::string("its decode must return a CV_32F ") + what +
-                                                     " map of the images' size");
+    throw InputError({"", 0, "codec " + codec},
+                     std::string("its decode must return a CV_32F ") + what + " map of the images' size");
 }
 
 float Median(std::vector<float>& v) {

@@ -16,11 +16,16 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586476925;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-CodecParameter Steps() {
-  return {"steps", CodecField::kSteps, true, 3, kInf, 1, 1, "", "phase steps N per frequency"};
-}
+CodecParameter Steps() { return {"steps", CodecField::kSteps, true, 3, kInf, 1, 1, "", "phase steps N per frequency"}; }
 CodecParameter PhaseAtOrigin() {
-  return {"phase_at_origin_deg", CodecField::kPhaseAtOrigin, false, -360, 360, 1, 1, "",
+  return {"phase_at_origin_deg",
+          CodecField::kPhaseAtOrigin,
+          false,
+          -360,
+          360,
+          1,
+          1,
+          "",
           "phase at projector pixel 0, degrees (default -180: every period starts dark)"};
 }
 
@@ -71,12 +76,13 @@ PatternCodec GrayCodeCodec() {
   c.check_with_phase = [](const SequenceBlock& gc, const SequenceBlock& ps) -> std::string {
     const double cycles = ps.cycles.at(0);
     const int need = static_cast<int>(std::lround(std::log2(cycles))) + (gc.complementary ? 1 : 0);
-    const bool power_of_two =
-        cycles >= 1 && cycles == std::floor(cycles) && (static_cast<long long>(cycles) & (static_cast<long long>(cycles) - 1)) == 0;
+    const bool power_of_two = cycles >= 1 && cycles == std::floor(cycles) &&
+                              (static_cast<long long>(cycles) & (static_cast<long long>(cycles) - 1)) == 0;
     if (power_of_two && gc.bits == need) return "";
     return "bits: a " + std::string(gc.complementary ? "complementary " : "") + "Gray code for " +
-           std::to_string(cycles) + " cycles needs cycles = 2^k and bits = " +
-           (gc.complementary ? "log2(cycles)+1" : "log2(cycles)") + " (got " + std::to_string(gc.bits) + ")";
+           std::to_string(cycles) +
+           " cycles needs cycles = 2^k and bits = " + (gc.complementary ? "log2(cycles)+1" : "log2(cycles)") +
+           " (got " + std::to_string(gc.bits) + ")";
   };
   return c;
 }
@@ -86,8 +92,9 @@ PatternCodec HeterodyneCodec() {
   c.name = "heterodyne";
   c.type = BlockType::kHeterodyne;
   c.role = CodecRole::kAbsolute;
-  c.help = "multi-frequency phase shift, finest first: N steps per frequency; the beat of the frequencies "
-           "((c1-c2) or (c1-c2)-(c2-c3)) covers the projector once";
+  c.help =
+      "multi-frequency phase shift, finest first: N steps per frequency; the beat of the frequencies "
+      "((c1-c2) or (c1-c2)-(c2-c3)) covers the projector once";
   c.parameters = {Steps(),
                   {"cycles", CodecField::kCycles, true, 0, kInf, 2, 3, "periods_px",
                    "fringe periods across the projector per frequency, decreasing (or periods_px)"},

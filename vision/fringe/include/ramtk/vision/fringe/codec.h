@@ -32,9 +32,9 @@ enum class CodecField {
 };
 
 struct CodecParameter {
-  std::string key;                   // manifest key
+  std::string key;                        // manifest key
   CodecField field = CodecField::kSteps;  // the SequenceBlock field it fills
-  bool required = true;              // false: the SequenceBlock default stays when the key is absent
+  bool required = true;                   // false: the SequenceBlock default stays when the key is absent
   // Accepted values, inclusive (kCycles: above min, each entry of an array; unused for booleans).
   double min = 0, max = 0;
   int min_count = 1, max_count = 1;  // kCycles: how many values (1: a number in the file, else an array)
@@ -49,16 +49,15 @@ struct CodecDecodeResult {
   cv::Mat sigma_coordinate;  // CV_32F sigma of the coordinate, projector px (NaN where not decoded)
 };
 // `frames`: the block's images in order, CV_32F in DN; `full_scale`: the sensor's largest value.
-using CodecDecodeFunction = std::function<CodecDecodeResult(const SequenceBlock& block,
-                                                            const std::vector<cv::Mat>& frames, int extent,
-                                                            double full_scale)>;
+using CodecDecodeFunction = std::function<CodecDecodeResult(
+    const SequenceBlock& block, const std::vector<cv::Mat>& frames, int extent, double full_scale)>;
 
 struct PatternCodec {
-  std::string name;                        // the manifest's "type"
+  std::string name;                         // the manifest's "type"
   BlockType type = BlockType::kRegistered;  // the built-in rows' own value; kRegistered for added codecs
-  CodecRole role = CodecRole::kAbsolute;   // what the block gives the decoder
-  std::string help;                        // one line: docs/formats.md and `ramtk patterns --help`
-  std::vector<CodecParameter> parameters;  // in the order the docs list them
+  CodecRole role = CodecRole::kAbsolute;    // what the block gives the decoder
+  std::string help;                         // one line: docs/formats.md and `ramtk patterns --help`
+  std::vector<CodecParameter> parameters;   // in the order the docs list them
   // Images the block occupies.
   std::function<int(const SequenceBlock& block)> image_count;
   // Ideal projector intensity in [0, 1] of image `image` of the block at projector pixel u along
