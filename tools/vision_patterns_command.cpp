@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/parse.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/fringe/patterns.h"
 
@@ -13,7 +14,7 @@ namespace ramtk::tools {
 namespace {
 
 struct PatternsCommandOptions {
-  std::string scheme = "complementary_gray_code";  // phase_shift | gray_code | complementary_gray_code | heterodyne
+  std::string scheme = "complementary_gray_code";  // phase_shift | gray_code | complementary_gray_code | an absolute codec
   int width = 1280;                                // projector width, px
   int height = 720;                                // projector height, px
   std::string direction = "vertical";              // vertical | horizontal fringes
@@ -26,6 +27,31 @@ struct PatternsCommandOptions {
   std::string out;                                 // output folder
   bool force = false;                              // replace an existing output folder
 };
+
+// The absolute codecs of the codec table, "a | b".
+std::string AbsoluteCodecNames() {
+  std::string names;
+  for (const vision::PatternCodec* c : vision::PatternCodecs())
+    if (c->role == vision::CodecRole::kAbsolute) names += (names.empty() ? "" : " | ") + c->name;
+  return names;
+}
+
+// A block of an absolute codec, its parameters from the options: --steps, --heterodyne-cycles (a
+// list) or --cycles (one value), --phase-at-origin.
+vision::SequenceBlock AbsoluteBlock(const vision::PatternCodec& codec, const PatternsCommandOptions& opt,
+                                    double phase0) {
+  vision::SequenceBlock b;
+  b.type = codec.type;
+  if (codec.type == vision::BlockType::kRegistered) b.codec = codec.name;
+  for (const vision::CodecParameter& p : codec.parameters) {
+    if (p.field == vision::CodecField::kSteps) b.steps = opt.steps;
+    if (p.field == vision::CodecField::kPhaseAtOrigin) b.phase_at_origin_rad = phase0;
+    if (p.field == vision::CodecField::kCycles)
+      b.cycles = p.max_count > 1 ? ParseDoubleList(opt.heterodyne, {"", 0, "--heterodyne-cycles"})
+                                 : std::vector<double>{opt.cycles};
+  }
+  return b;
+}
 
 int RunPatterns(const PatternsCommandOptions& opt, const Provenance& provenance) {
   using namespace vision;
@@ -41,13 +67,8 @@ int RunPatterns(const PatternsCommandOptions& opt, const Provenance& provenance)
     throw InputError({"", 0, "--direction"}, "expected vertical or horizontal, got '" + opt.direction + "'");
   }
   const double phase0 = opt.phase_at_origin_deg * 3.14159265358979323846 / 180.0;
-  if (opt.scheme == "heterodyne") {
-    SequenceBlock b;
-    b.type = BlockType::kHeterodyne;
-    b.steps = opt.steps;
-    b.cycles = ParseDoubleList(opt.heterodyne, {"", 0, "--heterodyne-cycles"});
-    b.phase_at_origin_rad = phase0;
-    m.sequence.push_back(b);
+  if (const PatternCodec* codec = FindPatternCodec(opt.scheme); codec && codec->role == CodecRole::kAbsolute) {
+    m.sequence.push_back(AbsoluteBlock(*codec, opt, phase0));
   } else {
     if ((opt.cycles > 0) == (opt.period > 0))
       throw InputError({"", 0, "--cycles"}, "give exactly one of --cycles and --period");
@@ -66,7 +87,8 @@ int RunPatterns(const PatternsCommandOptions& opt, const Provenance& provenance)
     } else if (opt.scheme != "phase_shift") {
       throw InputError(
           {"", 0, "--scheme"},
-          "expected phase_shift, gray_code, complementary_gray_code or heterodyne, got '" + opt.scheme + "'");
+          "expected phase_shift, gray_code, complementary_gray_code or an absolute codec (" + AbsoluteCodecNames() +
+              "), got '" + opt.scheme + "'");
     }
   }
   m.path = (std::filesystem::path(opt.out) / "manifest.json").string();
@@ -83,7 +105,8 @@ int RunPatterns(const PatternsCommandOptions& opt, const Provenance& provenance)
 void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
   auto opt = std::make_shared<PatternsCommandOptions>();
   CLI::App* sub = app.add_subcommand("patterns", "Write fringe projector patterns (PNG) and their manifest");
-  sub->add_option("--scheme", opt->scheme, "phase_shift | gray_code | complementary_gray_code | heterodyne")
+  sub->add_option("--scheme", opt->scheme,
+                  "phase_shift | gray_code | complementary_gray_code | an absolute codec: " + AbsoluteCodecNames())
       ->capture_default_str();
   sub->add_option("--width", opt->width, "Projector width, px")->capture_default_str();
   sub->add_option("--height", opt->height, "Projector height, px")->capture_default_str();
@@ -98,6 +121,7 @@ void RegisterPatternsCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--bits", opt->bits, "PNG bit depth: 8 or 16")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
   sub->add_flag("--force", opt->force, "Replace an existing non-empty output folder (once the new set is complete)");
+  sub->footer(vision::PatternCodecHelp());
   sub->callback([opt, exit_code, sub]() { *exit_code = RunPatterns(*opt, CommandProvenance(sub)); });
 }
 

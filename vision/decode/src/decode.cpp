@@ -13,6 +13,7 @@
 #include "ramtk/vision/decode/detail/decode_internal.h"
 #include "ramtk/vision/decode/detail/test_hooks.h"
 #include "ramtk/vision/decode/phase_preview.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/image_io.h"
 
 namespace ramtk::vision {
@@ -92,7 +93,10 @@ DecodedCamera DecodeFrames(const FringeManifest& m, const std::vector<cv::Mat>& 
   }
   const bool reference = detail::CurrentDecodeTestHooks().reference_path;
   DecodedCamera out;
-  if (!reference && uniform) {
+  const PatternCodec& codec = CodecOf(m.sequence[0]);  // an absolute block is the whole sequence (Check)
+  if (codec.decode) {
+    out = detail::DecodeFramesWithCodec(m, frames, full_scale, options, camera);
+  } else if (!reference && uniform) {
     out = detail::DecodeFramesFast(m, frames, full_scale, options, camera);
   } else if (uniform && frames[0].depth() == CV_32F) {
     out = reference ? detail::DecodeFramesReference(m, frames, full_scale, options, camera)

@@ -1,7 +1,7 @@
 // The reference decode (detail::DecodeFramesReference): float frames, one pass per stage over
-// every pixel (phase_shift.h, unwrap.h and the reference nonlinearity estimator). The fused path
-// (decode_fast.cpp) is tested against it; the test hook DecodeTestHooks::reference_path runs it
-// in place of the fused path.
+// every pixel (phase_shift.h, unwrap.h and the reference nonlinearity estimator). The fast path
+// (decode_fast.cpp, decode_fused.cpp) is tested against it; the test hook
+// DecodeTestHooks::reference_path runs it in place of the fast path.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +11,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/decode/detail/decode_internal.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/phase_shift.h"
 #include "ramtk/vision/fringe/unwrap.h"
 
@@ -27,6 +28,87 @@ double MedianOf(std::vector<float>& v) {
 
 bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, std::size_t total) {
   return !o.progress || o.progress(Progress{stage, done, total});
+}
+
+// The quality mask over every frequency's phase (dark, saturated, low modulation), counted by cause.
+cv::Mat QualityMask(const std::vector<PhaseShiftResult>& phases, const DecodeOptions& options, double full_scale,
+                    DecodeSummary* sum) {
+  cv::Mat mask(phases[0].wrapped.size(), CV_8U, cv::Scalar(255));
+  const float b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
+  const float sat = static_cast<float>(options.saturation_fraction * full_scale);
+  const float dark = static_cast<float>(options.dark_fraction * full_scale);
+  for (int y = 0; y < mask.rows; ++y) {
+    uchar* mk = mask.ptr<uchar>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      bool low = false, is_sat = false, is_dark = false;
+      for (const PhaseShiftResult& p : phases) {
+        const float mx = p.max_sample.ptr<float>(y)[x];
+        is_dark |= mx < dark;
+        is_sat |= mx >= sat;
+        low |= p.modulation.ptr<float>(y)[x] < b_min;
+      }
+      if (is_dark) {
+        ++sum->dark;
+      } else if (is_sat) {
+        ++sum->saturated;
+      } else if (low) {
+        ++sum->low_modulation;
+      } else {
+        continue;
+      }
+      mk[x] = 0;
+    }
+  }
+  return mask;
+}
+
+// Temporal unwrapping: heterodyne, Gray code, or a single period across the projector (the phase
+// is absolute).
+UnwrapResult UnwrapReference(const std::vector<PhaseShiftResult>& phases, const SequenceBlock& ps_block,
+                             const SequenceBlock* gc_block, const std::vector<cv::Mat>& gc_frames, int extent,
+                             double max_order_residual, double period_px) {
+  const PhaseShiftResult& fine = phases[0];
+  UnwrapResult unwrapped;
+  if (ps_block.type == BlockType::kHeterodyne) {
+    std::vector<cv::Mat> w;
+    for (const PhaseShiftResult& p : phases) w.push_back(p.wrapped);
+    unwrapped = UnwrapHeterodyne(w, ps_block.cycles, ps_block.phase_at_origin_rad, extent, max_order_residual);
+  } else if (gc_block) {
+    const cv::Mat cells = DecodeGrayCode(gc_frames, fine.background);
+    unwrapped = UnwrapGrayCode(fine.wrapped, ps_block.phase_at_origin_rad, ps_block.cycles[0], extent, cells,
+                               gc_block->bits, gc_block->complementary);
+  } else {
+    unwrapped.coordinate.create(fine.wrapped.size(), CV_32F);
+    unwrapped.valid = cv::Mat(fine.wrapped.size(), CV_8U, cv::Scalar(255));
+    for (int y = 0; y < fine.wrapped.rows; ++y)
+      for (int x = 0; x < fine.wrapped.cols; ++x)
+        unwrapped.coordinate.at<float>(y, x) = static_cast<float>(
+            PeriodFraction(fine.wrapped.at<float>(y, x), ps_block.phase_at_origin_rad) * period_px);
+  }
+  return unwrapped;
+}
+
+// The ripple added to sigma_phase, sigma_coordinate from it, NaN where masked (also in the
+// coordinate). Returns the median sigma_phi of the valid pixels.
+double FinishSigmaMaps(const cv::Mat& mask, double ripple, double period_px, cv::Mat& coord, DecodedCamera* out) {
+  std::vector<float> sig;
+  out->sigma_coordinate.create(mask.size(), CV_32F);
+  for (int y = 0; y < mask.rows; ++y) {
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!mask.at<uchar>(y, x)) {
+        coord.at<float>(y, x) = kNaN;
+        out->sigma_phase.at<float>(y, x) = kNaN;
+        out->sigma_coordinate.at<float>(y, x) = kNaN;
+      } else {
+        float& sp = out->sigma_phase.at<float>(y, x);
+        sp = static_cast<float>(std::sqrt(static_cast<double>(sp) * sp + ripple * ripple));
+        sig.push_back(sp);
+        out->sigma_coordinate.at<float>(y, x) =
+            static_cast<float>(out->sigma_phase.at<float>(y, x) * period_px / (2 * CV_PI));
+      }
+    }
+  }
+  return MedianOf(sig);
 }
 
 }  // namespace
@@ -48,7 +130,7 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   std::vector<cv::Mat> gc_frames;
   std::size_t next = 0;
   for (const SequenceBlock& b : m.sequence) {
-    if (b.type == BlockType::kGrayCode) {
+    if (CodecOf(b).role == CodecRole::kOrder) {  // the period order of the phase block
       gc_block = &b;
       gc_frames.assign(frames.begin() + next, frames.begin() + next + b.bits);
     } else {
@@ -78,52 +160,9 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     sum.message = "cancelled";
     return out;
   }
-  cv::Mat mask(fine.wrapped.size(), CV_8U, cv::Scalar(255));
-  const float b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
-  const float sat = static_cast<float>(options.saturation_fraction * full_scale);
-  const float dark = static_cast<float>(options.dark_fraction * full_scale);
-  for (int y = 0; y < mask.rows; ++y) {
-    uchar* mk = mask.ptr<uchar>(y);
-    for (int x = 0; x < mask.cols; ++x) {
-      bool low = false, is_sat = false, is_dark = false;
-      for (const PhaseShiftResult& p : phases) {
-        const float mx = p.max_sample.ptr<float>(y)[x];
-        is_dark |= mx < dark;
-        is_sat |= mx >= sat;
-        low |= p.modulation.ptr<float>(y)[x] < b_min;
-      }
-      if (is_dark) {
-        ++sum.dark;
-      } else if (is_sat) {
-        ++sum.saturated;
-      } else if (low) {
-        ++sum.low_modulation;
-      } else {
-        continue;
-      }
-      mk[x] = 0;
-    }
-  }
-
-  // Temporal unwrapping.
-  UnwrapResult unwrapped;
-  if (ps_block->type == BlockType::kHeterodyne) {
-    std::vector<cv::Mat> w;
-    for (const PhaseShiftResult& p : phases) w.push_back(p.wrapped);
-    unwrapped =
-        UnwrapHeterodyne(w, ps_block->cycles, ps_block->phase_at_origin_rad, extent, options.max_order_residual);
-  } else if (gc_block) {
-    const cv::Mat cells = DecodeGrayCode(gc_frames, fine.background);
-    unwrapped = UnwrapGrayCode(fine.wrapped, ps_block->phase_at_origin_rad, ps_block->cycles[0], extent, cells,
-                               gc_block->bits, gc_block->complementary);
-  } else {  // a single period across the projector: the phase is absolute
-    unwrapped.coordinate.create(fine.wrapped.size(), CV_32F);
-    unwrapped.valid = cv::Mat(fine.wrapped.size(), CV_8U, cv::Scalar(255));
-    for (int y = 0; y < mask.rows; ++y)
-      for (int x = 0; x < mask.cols; ++x)
-        unwrapped.coordinate.at<float>(y, x) = static_cast<float>(
-            PeriodFraction(fine.wrapped.at<float>(y, x), ps_block->phase_at_origin_rad) * sum.period_px);
-  }
+  cv::Mat mask = QualityMask(phases, options, full_scale, &sum);
+  const UnwrapResult unwrapped =
+      UnwrapReference(phases, *ps_block, gc_block, gc_frames, extent, options.max_order_residual, sum.period_px);
   for (int y = 0; y < mask.rows; ++y)
     for (int x = 0; x < mask.cols; ++x)
       if (mask.at<uchar>(y, x) && !unwrapped.valid.at<uchar>(y, x)) {
@@ -196,24 +235,7 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
 
   const double ripple = detail::PhaseRipple(options, coord, mask, n, sum.period_px, sum.valid_pixels);
   sum.phase_ripple_rad = ripple;
-  std::vector<float> sig;
-  out.sigma_coordinate.create(mask.size(), CV_32F);
-  for (int y = 0; y < mask.rows; ++y) {
-    for (int x = 0; x < mask.cols; ++x) {
-      if (!mask.at<uchar>(y, x)) {
-        coord.at<float>(y, x) = kNaN;
-        out.sigma_phase.at<float>(y, x) = kNaN;
-        out.sigma_coordinate.at<float>(y, x) = kNaN;
-      } else {
-        float& sp = out.sigma_phase.at<float>(y, x);
-        sp = static_cast<float>(std::sqrt(static_cast<double>(sp) * sp + ripple * ripple));
-        sig.push_back(sp);
-        out.sigma_coordinate.at<float>(y, x) =
-            static_cast<float>(out.sigma_phase.at<float>(y, x) * sum.period_px / (2 * CV_PI));
-      }
-    }
-  }
-  sum.median_sigma_phase_rad = MedianOf(sig);
+  sum.median_sigma_phase_rad = FinishSigmaMaps(mask, ripple, sum.period_px, coord, &out);
   out.coordinate = coord;
   out.wrapped = fine.wrapped;
   out.background = fine.background;

@@ -150,6 +150,44 @@ std::string NonlinearityEstimate::BriefReport() const {
   return s.str();
 }
 
+namespace {
+
+// The ripple basis sin((m + 1) N phi), cos((m + 1) N phi) of the wrapped phase, m < orders (CV_64F).
+std::vector<cv::Mat> RippleBasisReference(const cv::Mat& wrapped, int steps, int orders) {
+  std::vector<cv::Mat> basis(2 * orders);
+  for (int m = 0; m < orders; ++m) {
+    basis[2 * m].create(wrapped.size(), CV_64F);
+    basis[2 * m + 1].create(wrapped.size(), CV_64F);
+    for (int y = 0; y < wrapped.rows; ++y) {
+      const float* p = wrapped.ptr<float>(y);
+      for (int x = 0; x < wrapped.cols; ++x) {
+        const double a = (m + 1.0) * steps * p[x];
+        basis[2 * m].ptr<double>(y)[x] = std::sin(a);
+        basis[2 * m + 1].ptr<double>(y)[x] = std::cos(a);
+      }
+    }
+  }
+  return basis;
+}
+
+// Subtracts sum_i coef[1 + i] basis[i] from the phase on the mask.
+void SubtractRippleReference(const Eigen::VectorXd& coef, const std::vector<cv::Mat>& basis, const cv::Mat& mask,
+                             cv::Mat& abs_phase) {
+  const int nb = static_cast<int>(basis.size());
+  for (int y = 0; y < abs_phase.rows; ++y) {
+    float* p = abs_phase.ptr<float>(y);
+    const uchar* m = mask.ptr<uchar>(y);
+    for (int x = 0; x < abs_phase.cols; ++x) {
+      if (!m[x]) continue;
+      double ripple = 0;
+      for (int i = 0; i < nb; ++i) ripple += coef[1 + i] * basis[i].ptr<double>(y)[x];
+      p[x] = static_cast<float>(p[x] - ripple);
+    }
+  }
+}
+
+}  // namespace
+
 NonlinearityEstimate detail::CorrectPhaseNonlinearityReference(cv::Mat& abs_phase, const cv::Mat& wrapped,
                                                                const cv::Mat& mask, int steps,
                                                                const NonlinearityOptions& options) {
@@ -172,19 +210,8 @@ NonlinearityEstimate detail::CorrectPhaseNonlinearityReference(cv::Mat& abs_phas
   cv::boxFilter(mf, den, CV_64F, cv::Size(w, w), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
   const double full = w * w - 0.5;  // only windows with every pixel valid
   // Basis functions of the measured phase and their high-passed versions (independent of the pass).
-  std::vector<cv::Mat> basis(nb), hp_basis(nb);
-  for (int m = 0; m < options.orders; ++m) {
-    basis[2 * m].create(wrapped.size(), CV_64F);
-    basis[2 * m + 1].create(wrapped.size(), CV_64F);
-    for (int y = 0; y < wrapped.rows; ++y) {
-      const float* p = wrapped.ptr<float>(y);
-      for (int x = 0; x < wrapped.cols; ++x) {
-        const double a = (m + 1.0) * steps * p[x];
-        basis[2 * m].ptr<double>(y)[x] = std::sin(a);
-        basis[2 * m + 1].ptr<double>(y)[x] = std::cos(a);
-      }
-    }
-  }
+  const std::vector<cv::Mat> basis = RippleBasisReference(wrapped, steps, options.orders);
+  std::vector<cv::Mat> hp_basis(nb);
   for (int i = 0; i < nb; ++i) hp_basis[i] = basis[i] - MaskedMean(basis[i], mf, den, w);
 
   const cv::Rect box = cv::boundingRect(mask);
@@ -276,17 +303,7 @@ NonlinearityEstimate detail::CorrectPhaseNonlinearityReference(cv::Mat& abs_phas
       est.ripple_t2 = detail::FirstOrderRippleT2(ne.band_ata, ne.band_atb);
       if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
-    // Subtract this pass's ripple.
-    for (int y = 0; y < abs_phase.rows; ++y) {
-      float* p = abs_phase.ptr<float>(y);
-      const uchar* m = mask.ptr<uchar>(y);
-      for (int x = 0; x < abs_phase.cols; ++x) {
-        if (!m[x]) continue;
-        double ripple = 0;
-        for (int i = 0; i < nb; ++i) ripple += coef[1 + i] * basis[i].ptr<double>(y)[x];
-        p[x] = static_cast<float>(p[x] - ripple);
-      }
-    }
+    SubtractRippleReference(coef, basis, mask, abs_phase);  // this pass's ripple
     est.applied = true;
   }
   if (est.applied) {

@@ -236,50 +236,12 @@ void AccumulateRow(const double* h, const float* d, const uchar* m, const float*
   nk->used += used;
 }
 
-}  // namespace
-
-NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
-                                              const cv::Mat& mask_full, int steps, const NonlinearityOptions& options) {
-  ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
-  NonlinearityEstimate est;
-  est.steps = steps;
-  est.sin_rad.assign(options.orders, 0.0);
-  est.cos_rad.assign(options.orders, 0.0);
-  const cv::Rect box = cv::boundingRect(mask_full);
-  int w = options.window_px;
-  if (w == 0) {
-    if (box.empty()) return est;
-    // The reference samples the period on even rows and columns: start the view on even ones.
-    const cv::Rect even(box.x & ~1, box.y & ~1, box.br().x - (box.x & ~1), box.br().y - (box.y & ~1));
-    const double period = detail::CameraFringePeriod(abs_phase_full(even), mask_full(even));
-    if (!(period > 0)) return est;
-    w = std::clamp(static_cast<int>(std::lround(2 * period)) | 1, 7, 101);
-  }
-  est.window_px = w;
-  if (box.empty()) {
-    est.passes = 1;
-    return est;
-  }
-  // Outside the box the mask is zero, as the reference's zero border: same window sums inside.
-  cv::Mat abs_phase = abs_phase_full(box);
-  const cv::Mat wrapped = wrapped_full(box), mask = mask_full(box);
-  const int nb = 2 * options.orders, terms = nb + 1;
-  const float full = static_cast<float>(w * w - 0.5);
-  const int half = w / 2;
-  // Each strip recomputes the basis and window sums of the `half` rows on either side, so taller
-  // strips waste less (w = 55 on the SLMaster set: 64-row strips compute 1.8x the rows, 256-row
-  // ones 1.2x, ~20 % faster). The height is bounded by ~24 MB of strip buffers (basis and its sums
-  // as float, the phase and its high-pass as double, mask and counts as float).
-  const double strip_row_bytes = static_cast<double>(box.width) * (8.0 * nb + 24.0);
-  const int strip_rows = std::clamp(static_cast<int>(24e6 / strip_row_bytes) - 2 * half, 64, 512);
-  // The rows of the fit (NonlinearityOptions::row_subsample): all, or 1/k of each band's rows.
-  const int subsample =
-      detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
-  est.row_subsample = subsample;
+// The strips of rows the fit runs over (detail::RippleFitRows cut into strips of about
+// `strip_rows` rows; a 70-row range is one strip, not 64 rows and 6 rows that would each compute
+// the 2 * half rows of margin).
+std::vector<Strip> MakeStrips(int box_height, int subsample, int strip_rows, int half) {
   std::vector<Strip> strips;
-  // A range is cut into strips of about strip_rows rows (a 70-row range is one strip, not 64
-  // rows and 6 rows that would each compute the 2 * half rows of margin).
-  for (const auto& [from, to] : detail::RippleFitRows(box.height, subsample)) {
+  for (const auto& [from, to] : detail::RippleFitRows(box_height, subsample)) {
     const int count = std::max(1, static_cast<int>(std::lround(static_cast<double>(to - from) / strip_rows)));
     const int rows = (to - from + count - 1) / count;
     for (int y0 = from; y0 < to; y0 += rows) {
@@ -287,30 +249,37 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
       st.y0 = y0;
       st.y1 = std::min(to, y0 + rows);
       st.a = std::max(0, y0 - half);
-      st.b = std::min(box.height, st.y1 + half);
+      st.b = std::min(box_height, st.y1 + half);
       strips.push_back(st);
     }
   }
-  // The strip buffers, reused from strip to strip by each thread.
-  struct StripBuffers {
-    cv::Mat mf, den, clean, hp;
-    std::vector<cv::Mat> basis, bsum;
-  };
-  tbb::enumerable_thread_specific<StripBuffers> buffers([&] {
-    StripBuffers b;
-    b.basis.resize(nb);
-    b.bsum.resize(nb);
-    return b;
-  });
+  return strips;
+}
 
-  // Normal equations over the pixels whose whole window is valid and whose high-pass is small,
-  // per band of rows (the ripple's jackknife test, detail::RippleBand), with the ripple basis of
-  // orders 1..`orders`. With `design` false only the sum of squares and the count.
-  // The strips run side by side (OpenCV runs each box filter on one thread: one strip's filters
-  // side by side left a core idle), each strip's rows reduced in a fixed grouping
-  // (parallel_deterministic_reduce), and the strips' sums added in strip order: the same sums on
-  // every run and any number of threads.
-  auto sweep = [&](bool design, int orders) {
+// The strip buffers, reused from strip to strip by each thread.
+struct StripBuffers {
+  cv::Mat mf, den, clean, hp;
+  std::vector<cv::Mat> basis, bsum;
+};
+
+// Normal equations over the pixels whose whole window is valid and whose high-pass is small, per
+// band of rows (the ripple's jackknife test, detail::RippleBand), with the ripple basis of orders
+// 1..`orders`. With `design` false only the sum of squares and the count.
+// The strips run side by side (OpenCV runs each box filter on one thread: one strip's filters side
+// by side left a core idle), each strip's rows reduced in a fixed grouping
+// (parallel_deterministic_reduce), and the strips' sums added in strip order: the same sums on
+// every run and any number of threads.
+struct RippleSweep {
+  const cv::Mat& abs_phase;
+  const cv::Mat& wrapped;
+  const cv::Mat& mask;
+  int steps, w;
+  float full;
+  double outlier_rad;
+  std::vector<Strip> strips;
+  tbb::enumerable_thread_specific<StripBuffers> buffers;
+
+  std::vector<Normal> operator()(bool design, int orders) {
     const int nbo = 2 * orders, to = nbo + 1;
     std::vector<std::vector<Normal>> per_strip(strips.size());
     tbb::parallel_for(std::size_t{0}, strips.size(), [&](std::size_t si) {
@@ -327,7 +296,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
             const float* bp[kMaxTerms] = {};
             const float* bs[kMaxTerms] = {};
             for (int y = r.begin(); y < r.end(); ++y) {
-              Normal& nk = acc[detail::RippleBand(y, box.height)];
+              Normal& nk = acc[detail::RippleBand(y, mask.rows)];
               const double* h = b.hp.ptr<double>(y - st.y0);
               const float* d = b.den.ptr<float>(y - st.y0);
               const uchar* m = mask.ptr<uchar>(y);
@@ -337,11 +306,11 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
                   bs[i] = b.bsum[i].ptr<float>(y - st.y0);
                 }
               if (to == 7)  // the default three orders
-                AccumulateRow<7>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
+                AccumulateRow<7>(h, d, m, bp, bs, mask.cols, to, full, outlier_rad, design, &nk);
               else if (to == 3)  // the first order (the significance test)
-                AccumulateRow<3>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
+                AccumulateRow<3>(h, d, m, bp, bs, mask.cols, to, full, outlier_rad, design, &nk);
               else
-                AccumulateRow<0>(h, d, m, bp, bs, box.width, to, full, options.outlier_rad, design, &nk);
+                AccumulateRow<0>(h, d, m, bp, bs, mask.cols, to, full, outlier_rad, design, &nk);
             }
             return acc;
           },
@@ -355,14 +324,103 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
     for (const std::vector<Normal>& rows : per_strip)
       for (int k = 0; k < detail::kRippleBands; ++k) bands[k].Add(rows[k], to);
     return bands;
-  };
-  // Per band, the normal equations as Eigen matrices (FirstOrderRippleT2).
-  auto band_systems = [](const std::vector<Normal>& bands, int to, std::vector<Eigen::MatrixXd>* band_ata,
-                         std::vector<Eigen::VectorXd>* band_atb) {
-    band_ata->resize(bands.size());
-    band_atb->resize(bands.size());
-    for (std::size_t k = 0; k < bands.size(); ++k) bands[k].ToEigen(to, &(*band_ata)[k], &(*band_atb)[k]);
-  };
+  }
+};
+
+// The jackknife statistic of the first-order ripple over the bands' normal equations
+// (detail::FirstOrderRippleT2 on Eigen matrices).
+double BandsRippleT2(const std::vector<Normal>& bands, int to) {
+  std::vector<Eigen::MatrixXd> band_ata(bands.size());
+  std::vector<Eigen::VectorXd> band_atb(bands.size());
+  for (std::size_t k = 0; k < bands.size(); ++k) bands[k].ToEigen(to, &band_ata[k], &band_atb[k]);
+  return detail::FirstOrderRippleT2(band_ata, band_atb);
+}
+
+// Subtracts the fitted ripple from the phase (the basis again: one sincos per pixel).
+void SubtractRipple(const Eigen::VectorXd& coef, int orders, int steps, const cv::Mat& wrapped, const cv::Mat& mask,
+                    cv::Mat& abs_phase) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, mask.rows, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) {
+      float* p = abs_phase.ptr<float>(y);
+      const float* wr = wrapped.ptr<float>(y);
+      const uchar* m = mask.ptr<uchar>(y);
+      for (int x = 0; x < mask.cols; ++x) {
+        if (!m[x]) continue;
+        double s1, c1;
+        SinCos(static_cast<double>(steps) * wr[x], &s1, &c1);
+        double s = s1, c = c1, ripple = 0;
+        for (int o = 0; o < orders; ++o) {
+          // As float, as the stored basis the reference and the fit use.
+          ripple += coef[1 + 2 * o] * static_cast<float>(s) + coef[2 + 2 * o] * static_cast<float>(c);
+          const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
+          s = sn;
+          c = cn;
+        }
+        p[x] = static_cast<float>(p[x] - ripple);
+      }
+    }
+  });
+}
+
+// The window of the ripple fit: options.window_px, or twice the camera fringe period (odd, 7..101)
+// measured on the mask's box; 0 if there is no fringe to measure.
+int RippleWindow(const cv::Mat& abs_phase_full, const cv::Mat& mask_full, const cv::Rect& box,
+                 const NonlinearityOptions& options) {
+  if (options.window_px != 0) return options.window_px;
+  if (box.empty()) return 0;
+  // The reference samples the period on even rows and columns: start the view on even ones.
+  const cv::Rect even(box.x & ~1, box.y & ~1, box.br().x - (box.x & ~1), box.br().y - (box.y & ~1));
+  const double period = detail::CameraFringePeriod(abs_phase_full(even), mask_full(even));
+  if (!(period > 0)) return 0;
+  return std::clamp(static_cast<int>(std::lround(2 * period)) | 1, 7, 101);
+}
+
+}  // namespace
+
+NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv::Mat& wrapped_full,
+                                              const cv::Mat& mask_full, int steps, const NonlinearityOptions& options) {
+  ThrowIfInvalid(options.Validate(), "NonlinearityOptions");
+  NonlinearityEstimate est;
+  est.steps = steps;
+  est.sin_rad.assign(options.orders, 0.0);
+  est.cos_rad.assign(options.orders, 0.0);
+  const cv::Rect box = cv::boundingRect(mask_full);
+  const int w = RippleWindow(abs_phase_full, mask_full, box, options);
+  if (w == 0) return est;
+  est.window_px = w;
+  if (box.empty()) {
+    est.passes = 1;
+    return est;
+  }
+  // Outside the box the mask is zero, as the reference's zero border: same window sums inside.
+  cv::Mat abs_phase = abs_phase_full(box);
+  const cv::Mat wrapped = wrapped_full(box), mask = mask_full(box);
+  const int nb = 2 * options.orders, terms = nb + 1;
+  const int half = w / 2;
+  // Each strip recomputes the basis and window sums of the `half` rows on either side, so taller
+  // strips waste less (w = 55 on the SLMaster set: 64-row strips compute 1.8x the rows, 256-row
+  // ones 1.2x, ~20 % faster). The height is bounded by ~24 MB of strip buffers (basis and its sums
+  // as float, the phase and its high-pass as double, mask and counts as float).
+  const double strip_row_bytes = static_cast<double>(box.width) * (8.0 * nb + 24.0);
+  const int strip_rows = std::clamp(static_cast<int>(24e6 / strip_row_bytes) - 2 * half, 64, 512);
+  // The rows of the fit (NonlinearityOptions::row_subsample): all, or 1/k of each band's rows.
+  const int subsample =
+      detail::RippleRowSubsample(cv::countNonZero(mask), options.row_subsample, options.row_subsample_min_pixels);
+  est.row_subsample = subsample;
+  RippleSweep sweep{abs_phase,
+                    wrapped,
+                    mask,
+                    steps,
+                    w,
+                    static_cast<float>(w * w - 0.5),
+                    options.outlier_rad,
+                    MakeStrips(box.height, subsample, strip_rows, half),
+                    tbb::enumerable_thread_specific<StripBuffers>([&] {
+                      StripBuffers b;
+                      b.basis.resize(nb);
+                      b.bsum.resize(nb);
+                      return b;
+                    })};
 
   // The significance test first, on a first-order fit (detail::FirstOrderRippleGate): without a
   // significant ripple (a 12-step set, a linear projector) the higher orders are never fitted.
@@ -374,10 +432,7 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
     est.passes = 1;
     if (ne.used < options.min_pixels) return detail::FinishRippleEstimate(&est);
     est.residual_rms_before_rad = std::sqrt(ne.ss / ne.used);
-    std::vector<Eigen::MatrixXd> band_ata;
-    std::vector<Eigen::VectorXd> band_atb;
-    band_systems(bands, 3, &band_ata, &band_atb);
-    est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+    est.ripple_t2 = BandsRippleT2(bands, 3);
     if (!(est.ripple_t2 >= options.min_ripple_t2)) {
       const Eigen::VectorXd coef = ne.Solve(3);
       est.sin_rad[0] = coef[1];
@@ -400,34 +455,10 @@ NonlinearityEstimate CorrectPhaseNonlinearity(cv::Mat& abs_phase_full, const cv:
       est.cos_rad[o] += coef[2 + 2 * o];
     }
     if (pass == 0) {
-      std::vector<Eigen::MatrixXd> band_ata;
-      std::vector<Eigen::VectorXd> band_atb;
-      band_systems(bands, terms, &band_ata, &band_atb);
-      est.ripple_t2 = detail::FirstOrderRippleT2(band_ata, band_atb);
+      est.ripple_t2 = BandsRippleT2(bands, terms);
       if (options.min_ripple_t2 > 0 && !(est.ripple_t2 >= options.min_ripple_t2)) break;  // not significant
     }
-    // Subtract the ripple (the basis again: one sincos per pixel).
-    tbb::parallel_for(tbb::blocked_range<int>(0, box.height, 16), [&](const tbb::blocked_range<int>& r) {
-      for (int y = r.begin(); y < r.end(); ++y) {
-        float* p = abs_phase.ptr<float>(y);
-        const float* wr = wrapped.ptr<float>(y);
-        const uchar* m = mask.ptr<uchar>(y);
-        for (int x = 0; x < box.width; ++x) {
-          if (!m[x]) continue;
-          double s1, c1;
-          SinCos(static_cast<double>(steps) * wr[x], &s1, &c1);
-          double s = s1, c = c1, ripple = 0;
-          for (int o = 0; o < options.orders; ++o) {
-            // As float, as the stored basis the reference and the fit use.
-            ripple += coef[1 + 2 * o] * static_cast<float>(s) + coef[2 + 2 * o] * static_cast<float>(c);
-            const double sn = s * c1 + c * s1, cn = c * c1 - s * s1;
-            s = sn;
-            c = cn;
-          }
-          p[x] = static_cast<float>(p[x] - ripple);
-        }
-      }
-    });
+    SubtractRipple(coef, options.orders, steps, wrapped, mask, abs_phase);
     est.applied = true;
   }
   if (est.applied) {

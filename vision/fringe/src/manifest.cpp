@@ -8,6 +8,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/manifest_builder.h"
 
 namespace ramtk::vision {
@@ -21,57 +22,115 @@ using nlohmann::json;
   throw InputError({file, 0, field}, message);
 }
 
-bool IsPowerOfTwo(double c) {
-  if (c < 1 || c != std::floor(c)) return false;
-  const auto n = static_cast<long long>(c);
-  return (n & (n - 1)) == 0;
+// The values of a kCycles parameter (or its period key, converted to cycles across `extent`).
+std::vector<double> ParseCycles(const json& b, const CodecParameter& p, const std::string& file,
+                                const std::string& where, int extent) {
+  const bool has_cycles = b.contains(p.key);
+  const bool has_period = !p.period_key.empty() && b.contains(p.period_key);
+  if (has_cycles == has_period) {
+    if (p.period_key.empty()) Fail(file, where + p.key, "is required");
+    Fail(file, where + p.key, "give exactly one of '" + p.key + "' and '" + p.period_key + "'");
+  }
+  const std::string key = has_cycles ? p.key : p.period_key;
+  const json& v = b.at(key);
+  std::vector<double> values;
+  if (p.max_count == 1) {
+    values.push_back(JsonNumber(v, file, where + key));
+  } else {
+    if (!v.is_array()) Fail(file, where + key, "expected an array of numbers");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      values.push_back(JsonNumber(v[i], file, where + key + "[" + std::to_string(i) + "]"));
+  }
+  for (double& x : values) {
+    if (x <= 0) Fail(file, where + key, "must be positive");
+    if (has_period) x = extent / x;  // period in px -> cycles across the projector
+  }
+  return values;
+}
+
+// One parameter of the block's codec from the JSON object (absent optional keys keep the default).
+void ParseParameter(const json& b, const CodecParameter& p, const std::string& file, const std::string& where,
+                    int extent, SequenceBlock* block) {
+  if (p.field == CodecField::kCycles) {
+    block->cycles = ParseCycles(b, p, file, where, extent);
+    return;
+  }
+  if (!b.contains(p.key)) {
+    if (p.required) JsonRequire(b, p.key, file, where);
+    return;
+  }
+  const json& v = b.at(p.key);
+  switch (p.field) {
+    case CodecField::kSteps:
+      block->steps = JsonInt(v, file, where + p.key);
+      break;
+    case CodecField::kBits:
+      block->bits = JsonInt(v, file, where + p.key);
+      break;
+    case CodecField::kComplementary:
+      if (!v.is_boolean()) Fail(file, where + p.key, "expected true or false");
+      block->complementary = v.get<bool>();
+      break;
+    case CodecField::kPhaseAtOrigin: {
+      const double deg = JsonNumber(v, file, where + p.key);
+      // One turn either way covers every convention; beyond it is a corrupt value (1e308 would
+      // decode to "valid" pixels without one finite coordinate).
+      if (!(std::abs(deg) <= 360.0)) Fail(file, where + p.key, "must be within [-360, 360] degrees");
+      block->phase_at_origin_rad = deg * kPi / 180.0;
+      break;
+    }
+    case CodecField::kCycles:
+      break;
+  }
 }
 
 SequenceBlock ParseBlock(const json& b, const std::string& file, const std::string& where, int extent) {
-  SequenceBlock block;
   const std::string type = JsonRequire(b, "type", file, where).is_string() ? b.at("type").get<std::string>() : "";
-  if (type == "phase_shift" || type == "heterodyne") {
-    block.type = type == "phase_shift" ? BlockType::kPhaseShift : BlockType::kHeterodyne;
-    block.steps = JsonInt(JsonRequire(b, "steps", file, where), file, where + "steps");
-    const bool has_cycles = b.contains("cycles");
-    const char* period_key = block.type == BlockType::kPhaseShift ? "period_px" : "periods_px";
-    const bool has_period = b.contains(period_key);
-    if (has_cycles == has_period)
-      Fail(file, where + "cycles", std::string("give exactly one of 'cycles' and '") + period_key + "'");
-    const std::string key = has_cycles ? "cycles" : period_key;
-    const json& v = b.at(key);
-    std::vector<double> values;
-    if (block.type == BlockType::kPhaseShift) {
-      values.push_back(JsonNumber(v, file, where + key));
-    } else {
-      if (!v.is_array()) Fail(file, where + key, "expected an array of numbers");
-      for (std::size_t i = 0; i < v.size(); ++i)
-        values.push_back(JsonNumber(v[i], file, where + key + "[" + std::to_string(i) + "]"));
-    }
-    for (double& x : values) {
-      if (x <= 0) Fail(file, where + key, "must be positive");
-      if (has_period) x = extent / x;  // period in px -> cycles across the projector
-    }
-    block.cycles = values;
-    if (b.contains("phase_at_origin_deg")) {
-      const double deg = JsonNumber(b.at("phase_at_origin_deg"), file, where + "phase_at_origin_deg");
-      // One turn either way covers every convention; beyond it is a corrupt value (1e308 would
-      // decode to "valid" pixels without one finite coordinate).
-      if (!(std::abs(deg) <= 360.0)) Fail(file, where + "phase_at_origin_deg", "must be within [-360, 360] degrees");
-      block.phase_at_origin_rad = deg * kPi / 180.0;
-    }
-  } else if (type == "gray_code") {
-    block.type = BlockType::kGrayCode;
-    block.bits = JsonInt(JsonRequire(b, "bits", file, where), file, where + "bits");
-    if (b.contains("complementary")) {
-      if (!b.at("complementary").is_boolean()) Fail(file, where + "complementary", "expected true or false");
-      block.complementary = b.at("complementary").get<bool>();
-    }
-  } else {
-    Fail(file, where + "type",
-         "expected 'phase_shift', 'gray_code' or 'heterodyne', got " + b.value("type", json()).dump());
+  const PatternCodec* codec = FindPatternCodec(type);
+  if (!codec) {
+    std::string names;
+    for (const PatternCodec* c : PatternCodecs()) names += (names.empty() ? "'" : ", '") + c->name + "'";
+    Fail(file, where + "type", "expected one of " + names + ", got " + b.value("type", json()).dump());
   }
+  SequenceBlock block;
+  block.type = codec->type;
+  if (codec->type == BlockType::kRegistered) block.codec = codec->name;
+  for (const CodecParameter& p : codec->parameters) ParseParameter(b, p, file, where, extent, &block);
   return block;
+}
+
+// "" or `key: problem` for a value of a parameter outside its range.
+std::string CheckParameter(const SequenceBlock& b, const CodecParameter& p) {
+  auto out_of = [&](double v) { return !(v >= p.min && v <= p.max); };
+  switch (p.field) {
+    case CodecField::kSteps:
+      if (out_of(b.steps)) return p.key + ": needs " + std::to_string(static_cast<int>(p.min)) + " or more, got " + std::to_string(b.steps);
+      break;
+    case CodecField::kBits:
+      if (out_of(b.bits))
+        return p.key + ": expected " + std::to_string(static_cast<int>(p.min)) + ".." +
+               std::to_string(static_cast<int>(p.max)) + " code bits, got " + std::to_string(b.bits);
+      break;
+    case CodecField::kCycles:
+      if (static_cast<int>(b.cycles.size()) < p.min_count || static_cast<int>(b.cycles.size()) > p.max_count)
+        return p.key + ": expected " + std::to_string(p.min_count) + " to " + std::to_string(p.max_count) +
+               " frequencies, got " + std::to_string(b.cycles.size());
+      for (double c : b.cycles)
+        if (!(c > p.min && c <= p.max)) return p.key + ": must be positive";
+      break;
+    case CodecField::kPhaseAtOrigin:
+      if (out_of(b.phase_at_origin_rad * 180.0 / kPi)) return p.key + ": must be within [-360, 360] degrees";
+      break;
+    case CodecField::kComplementary:
+      break;
+  }
+  return "";
+}
+
+// Fails naming `where` + the key a problem `key: what` starts with.
+void FailProblem(const std::string& file, const std::string& where, const std::string& problem) {
+  const std::size_t colon = problem.find(": ");
+  Fail(file, where + problem.substr(0, colon), problem.substr(colon + 2));
 }
 
 }  // namespace
@@ -84,6 +143,8 @@ const char* BlockTypeName(BlockType type) {
       return "gray_code";
     case BlockType::kHeterodyne:
       return "heterodyne";
+    case BlockType::kRegistered:
+      return "registered";
   }
   return "?";
 }
@@ -118,17 +179,7 @@ SequenceBlock GrayCodeBlock(int bits, bool complementary) {
   return b;
 }
 
-int SequenceBlock::ImageCount() const {
-  switch (type) {
-    case BlockType::kPhaseShift:
-      return steps;
-    case BlockType::kGrayCode:
-      return bits;
-    case BlockType::kHeterodyne:
-      return steps * static_cast<int>(cycles.size());
-  }
-  return 0;
-}
+int SequenceBlock::ImageCount() const { return CodecOf(*this).image_count(*this); }
 
 int FringeManifest::ImageCount() const {
   int n = 0;
@@ -165,50 +216,35 @@ void FringeManifest::Check() const {
              std::to_string(projector_width) + " x " + std::to_string(projector_height));
   }
   if (sequence.empty()) Fail(path, "sequence", "is empty");
-  int n_ps = 0, n_gc = 0, n_het = 0;
-  const SequenceBlock* ps = nullptr;
-  const SequenceBlock* gc = nullptr;
+  int n_phase = 0, n_order = 0, n_absolute = 0;
+  const SequenceBlock* phase = nullptr;
+  const SequenceBlock* order = nullptr;
   for (std::size_t i = 0; i < sequence.size(); ++i) {
     const SequenceBlock& b = sequence[i];
     const std::string where = "sequence[" + std::to_string(i) + "].";
-    if (b.type != BlockType::kGrayCode) {
-      if (b.steps < 3) Fail(path, where + "steps", "needs at least 3 phase steps, got " + std::to_string(b.steps));
-      for (double c : b.cycles)
-        if (!(c > 0) || c > Extent() / 2.0)
-          Fail(path, where + "cycles", "fringe period must be at least 2 projector pixels and positive");
-    } else if (b.bits < 1 || b.bits > 16) {
-      Fail(path, where + "bits", "expected 1..16 Gray-code bits, got " + std::to_string(b.bits));
-    }
-    if (b.type == BlockType::kPhaseShift) ++n_ps, ps = &b;
-    if (b.type == BlockType::kGrayCode) ++n_gc, gc = &b;
-    if (b.type == BlockType::kHeterodyne) {
-      ++n_het;
-      if (b.cycles.size() < 2 || b.cycles.size() > 3)
-        Fail(path, where + "cycles", "heterodyne needs 2 or 3 frequencies");
-      for (std::size_t k = 1; k < b.cycles.size(); ++k)
-        if (!(b.cycles[k] < b.cycles[k - 1])) Fail(path, where + "cycles", "frequencies must decrease (finest first)");
-      // The coarsest beat must cover the projector once: (c1-c2) for 2, (c1-c2)-(c2-c3) for 3.
-      double beat = b.cycles[0] - b.cycles[1];
-      if (b.cycles.size() == 3) beat -= b.cycles[1] - b.cycles[2];
-      if (!(beat > 0) || beat > 1.0 + 1e-9)
-        Fail(path, where + "cycles",
-             "the beat of the frequencies must be in (0, 1] cycles across the projector (got " + std::to_string(beat) +
-                 ")");
-    }
+    if (b.type == BlockType::kRegistered && !FindPatternCodec(b.codec))
+      Fail(path, where + "type", "no pattern codec '" + b.codec + "' is registered");
+    const PatternCodec& codec = CodecOf(b);
+    for (const CodecParameter& p : codec.parameters)
+      if (const std::string problem = CheckParameter(b, p); !problem.empty()) FailProblem(path, where, problem);
+    if (codec.check)
+      if (const std::string problem = codec.check(b, Extent()); !problem.empty()) FailProblem(path, where, problem);
+    if (codec.role == CodecRole::kPhase) ++n_phase, phase = &b;
+    if (codec.role == CodecRole::kOrder) ++n_order, order = &b;
+    if (codec.role == CodecRole::kAbsolute) ++n_absolute;
   }
-  const bool ok = (n_het == 1 && n_ps == 0 && n_gc == 0) || (n_het == 0 && n_ps == 1 && n_gc <= 1);
+  const bool ok = (n_absolute == 1 && n_phase == 0 && n_order == 0) || (n_absolute == 0 && n_phase == 1 && n_order <= 1);
   if (!ok)
     Fail(path, "sequence",
-         "supported sequences: one heterodyne block, or one phase_shift block with at most one gray_code block");
-  if (ps && !gc && ps->cycles[0] > 1.0 + 1e-9)
+         "supported sequences: one absolute block (heterodyne or a registered codec), or one phase block "
+         "(phase_shift) with at most one period-order block (gray_code)");
+  if (phase && !order && phase->cycles.at(0) > 1.0 + 1e-9)
     Fail(path, "sequence", "a phase_shift block with more than one cycle needs a gray_code block to unwrap it");
-  if (ps && gc) {
-    const int need = static_cast<int>(std::lround(std::log2(ps->cycles[0]))) + (gc->complementary ? 1 : 0);
-    if (!IsPowerOfTwo(ps->cycles[0]) || gc->bits != need)
-      Fail(path, "sequence.gray_code.bits",
-           "a " + std::string(gc->complementary ? "complementary " : "") + "Gray code for " +
-               std::to_string(ps->cycles[0]) + " cycles needs cycles = 2^k and bits = " +
-               (gc->complementary ? "log2(cycles)+1" : "log2(cycles)") + " (got " + std::to_string(gc->bits) + ")");
+  if (phase && order) {
+    const PatternCodec& codec = CodecOf(*order);
+    if (codec.check_with_phase)
+      if (const std::string problem = codec.check_with_phase(*order, *phase); !problem.empty())
+        FailProblem(path, "sequence." + codec.name + ".", problem);
   }
   if (cameras.empty()) Fail(path, "cameras", "no camera listed");
   for (const auto& [name, files] : cameras) {
@@ -284,19 +320,31 @@ std::string FringeManifestToJson(const FringeManifest& m) {
   if (!m.projector_calibration.empty()) j["projector_calibration"] = m.projector_calibration;
   json seq = json::array();
   for (const SequenceBlock& b : m.sequence) {
+    const PatternCodec& codec = CodecOf(b);
     json o;
-    o["type"] = BlockTypeName(b.type);
-    if (b.type == BlockType::kGrayCode) {
-      o["bits"] = b.bits;
-      o["complementary"] = b.complementary;
-    } else {
-      o["steps"] = b.steps;
-      if (b.type == BlockType::kPhaseShift) {
-        o["cycles"] = b.cycles.at(0);
-      } else {
-        o["cycles"] = b.cycles;
+    o["type"] = codec.name;
+    for (const CodecParameter& p : codec.parameters) {
+      switch (p.field) {
+        case CodecField::kSteps:
+          o[p.key] = b.steps;
+          break;
+        case CodecField::kBits:
+          o[p.key] = b.bits;
+          break;
+        case CodecField::kComplementary:
+          o[p.key] = b.complementary;
+          break;
+        case CodecField::kCycles:
+          if (p.max_count == 1) {
+            o[p.key] = b.cycles.at(0);
+          } else {
+            o[p.key] = b.cycles;
+          }
+          break;
+        case CodecField::kPhaseAtOrigin:
+          o[p.key] = b.phase_at_origin_rad * 180.0 / kPi;
+          break;
       }
-      o["phase_at_origin_deg"] = b.phase_at_origin_rad * 180.0 / kPi;
     }
     seq.push_back(o);
   }

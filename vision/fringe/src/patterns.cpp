@@ -1,4 +1,5 @@
-// Pattern generation: N-step phase shift, heterodyne and (complementary) Gray code.
+// Pattern generation: every block drawn by its codec (codec.h), one line along the coded direction
+// expanded to the projector image.
 #include "ramtk/vision/fringe/patterns.h"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/provenance.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/image_io.h"
 
 namespace ramtk::vision {
@@ -37,23 +39,10 @@ std::vector<cv::Mat> GeneratePatterns(const FringeManifest& m) {
   std::vector<cv::Mat> out;
   std::vector<float> line(extent);
   for (const SequenceBlock& b : m.sequence) {
-    if (b.type == BlockType::kGrayCode) {
-      for (int j = 0; j < b.bits; ++j) {
-        for (int u = 0; u < extent; ++u) {
-          line[u] = static_cast<float>(GrayCodeImageBit(GrayCodeWord(GrayCodeCell(u, b.bits, extent)), b.bits, j));
-        }
-        out.push_back(Expand(line, m));
-      }
-      continue;
-    }
-    for (double cycles : b.cycles) {
-      for (int k = 0; k < b.steps; ++k) {
-        const double shift = kTwoPi * k / b.steps;
-        for (int u = 0; u < extent; ++u)
-          line[u] =
-              static_cast<float>(0.5 + 0.5 * std::cos(PatternPhase(u, cycles, extent, b.phase_at_origin_rad) + shift));
-        out.push_back(Expand(line, m));
-      }
+    const PatternCodec& codec = CodecOf(b);
+    for (int i = 0; i < codec.image_count(b); ++i) {
+      for (int u = 0; u < extent; ++u) line[u] = static_cast<float>(codec.intensity(b, i, u, extent));
+      out.push_back(Expand(line, m));
     }
   }
   return out;

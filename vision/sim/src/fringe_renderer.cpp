@@ -113,7 +113,18 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<SequenceBlock>& block
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const SequenceBlock& block = blocks[b];
     const std::string field = "sequence[" + std::to_string(b) + "]";
-    if (block.type != BlockType::kGrayCode) {
+    if (block.type == BlockType::kRegistered) {  // drawn by its codec (codec.h), sample by sample
+      const PatternCodec& codec = CodecOf(block);
+      for (int i = 0; i < codec.image_count(block); ++i) {
+        PatternFrame f;
+        f.type = BlockType::kRegistered;
+        f.block = static_cast<int>(b);
+        f.index = i;
+        f.codec = &codec;
+        f.source = block;
+        frames.push_back(f);
+      }
+    } else if (block.type != BlockType::kGrayCode) {
       if (block.steps < 3) throw InputError({"", 0, field + ".steps"}, "a phase shift needs at least 3 steps");
       const bool heterodyne = block.type == BlockType::kHeterodyne;
       const std::vector<double>& all_cycles = block.cycles;
@@ -223,6 +234,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         for (std::size_t f = 0; f < frames.size(); ++f) {
           const PatternFrame& frame = frames[f];
           const bool phase = frame.type == BlockType::kPhaseShift;
+          const bool registered = frame.type == BlockType::kRegistered;
           if (frame.block != cached_block || frame.cycles != cached_cycles) {
             cached_block = frame.block;
             cached_cycles = frame.cycles;
@@ -231,7 +243,7 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
                 const double phi = kTwoPi * frame.cycles * sub[s].coord / extent + frame.phase_at_origin_rad;
                 cos_phi[s] = std::cos(phi);
                 sin_phi[s] = std::sin(phi);
-              } else {
+              } else if (!registered) {
                 gray[s] = GrayCodeWord(GrayCodeCell(sub[s].coord, frame.bits, extent));
               }
             }
@@ -247,7 +259,9 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
           double sum = ambient_term;
           for (int s = 0; s < samples; ++s) {
             if (sub[s].cosine <= 0.0) continue;
-            double p = phase        ? 0.5 + 0.5 * modulation * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
+            double p = registered   ? frame.codec->intensity(frame.source, frame.index, sub[s].coord,
+                                                             static_cast<int>(extent))
+                       : phase      ? 0.5 + 0.5 * modulation * (cos_phi[s] * cos_delta - sin_phi[s] * sin_delta)
                        : blur > 0.0 ? BlurredGrayBit(sub[s].coord, extent, frame.bits, shift, blur)
                                     : static_cast<double>((gray[s] >> shift) & 1);
             if (options.projector_gamma != 1.0 && p > 0.0) p = std::pow(p, options.projector_gamma);

@@ -73,6 +73,8 @@ json SequenceJson(const std::vector<SequenceBlock>& blocks) {
                      {"steps", b.steps},
                      {"cycles", b.cycles.at(0)},
                      {"phase_at_origin_deg", RadToDeg(b.phase_at_origin_rad)}});
+    } else if (b.type == BlockType::kRegistered) {
+      seq.push_back({{"type", b.codec}});
     } else {
       seq.push_back({{"type", "gray_code"}, {"bits", b.bits}, {"complementary", b.complementary}});
     }

@@ -24,11 +24,15 @@ enum class FringeDirection {
   kHorizontal,  // horizontal stripes: encode the projector row v (uses projector height)
 };
 
-enum class BlockType { kPhaseShift, kGrayCode, kHeterodyne };
+// The built-in codecs' blocks; kRegistered: a codec added at run time (codec.h), named by
+// SequenceBlock::codec. Each codec's parameters, ranges and role are in its row of codec.h's table.
+enum class BlockType { kPhaseShift, kGrayCode, kHeterodyne, kRegistered };
 
 // One block of the projected sequence.
 struct SequenceBlock {
   BlockType type = BlockType::kPhaseShift;
+  // kRegistered: the codec's name (the manifest's "type"); "" for the built-in types.
+  std::string codec;
   // phase_shift / heterodyne: phase steps per frequency (>= 3).
   int steps = 0;
   // phase_shift: one value; heterodyne: one per frequency, in projection order. Fringe periods
@@ -100,6 +104,7 @@ std::string FringeManifestToJson(const FringeManifest& manifest);
 // Writes the manifest atomically.
 void WriteFringeManifest(const std::string& path, const FringeManifest& manifest);
 
+// The built-in types' manifest names ("registered" for kRegistered: the block's codec names it).
 const char* BlockTypeName(BlockType type);
 
 }  // namespace ramtk::vision

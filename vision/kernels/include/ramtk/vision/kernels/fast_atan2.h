@@ -1,6 +1,6 @@
 #pragma once
 // atan2 of one double pair without a library call or branches, for the decode's wrapped phase
-// (decode_fast.cpp), where glibc's atan2f was ~100 instructions per valid pixel. The ratio of the
+// (decode_fused.cpp), where glibc's atan2f was ~100 instructions per valid pixel. The ratio of the
 // smaller to the larger magnitude is folded to |t| <= tan(pi/8) (atan t = pi/4 + atan((t-1)/(t+1))),
 // where the Taylor series of atan to t^25 is exact to ~1e-11 rad; the octant then comes from the
 // signs and the swap. IEEE atan2's signed zeros are kept: atan2(+-0, -0) = +-pi. Checked against

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "ramtk/core/progress.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/manifest.h"
 #include "ramtk/vision/kernels/camera.h"
 #include "ramtk/vision/sim/scene.h"
@@ -42,7 +43,7 @@ struct PinholeView {
 
 // One projected image of the sequence (heterodyne blocks expand to phase-shift frames).
 struct PatternFrame {
-  BlockType type = BlockType::kPhaseShift;  // kPhaseShift or kGrayCode
+  BlockType type = BlockType::kPhaseShift;  // kPhaseShift, kGrayCode or kRegistered
   int block = 0;                            // index of its block in the sequence
   int index = 0;                     // step k (phase shift) or image i (Gray code) within the block
   int steps = 0;                     // phase shift: N
@@ -50,6 +51,8 @@ struct PatternFrame {
   double phase_at_origin_rad = 0.0;  // phase shift: φ0
   int bits = 0;                      // Gray code: number of images in the block
   double shift_error_rad = 0.0;      // phase shift: ε_k added to the nominal 2πk/N
+  const PatternCodec* codec = nullptr;  // kRegistered: the codec that draws image `index` of `source`
+  SequenceBlock source;                 // kRegistered: its block
 };
 
 // Expands blocks into frames (with zero shift errors). Throws InputError (field "sequence[i]") for

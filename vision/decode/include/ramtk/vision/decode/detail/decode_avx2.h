@@ -1,5 +1,5 @@
 #pragma once
-// 256-bit (AVX2) versions of the fused decode's row kernels (decode_fast.cpp), chosen at run time
+// 256-bit (AVX2) versions of the fused decode's row kernels (decode_fused.cpp), chosen at run time
 // on CPUs that have AVX2. Each lane takes the same IEEE operations in the same order as the
 // 128-bit kernels, and no fused multiply-add is used, so every output is bit-identical to theirs
 // (tests/vision/decode_avx2_test.cpp). Each kernel returns how many leading pixels it did; the
@@ -23,7 +23,7 @@ int AccumulateRowU16Avx2(const std::uint16_t* const* rows, int n, int width, con
 // WrappedPhaseRow for pixels [0, 8 k), 8 k <= n.
 int WrappedPhaseRowAvx2(const float* s, const float* c, int n, float* phi);
 
-// FinestStatsU8 (decode_fast.cpp) for pixels [0, 8 k), 8 k <= width; `brightest` is updated
+// FinestStatsU8 (decode_fused.cpp) for pixels [0, 8 k), 8 k <= width; `brightest` is updated
 // with the largest `top` among them.
 int FinestStatsU8Avx2(int n, int width, const float* s, const float* c, const float* sum, const float* sum2,
                       const float* top, float dark_dn, float saturation_dn, float b_min, uchar* dark, uchar* sat,

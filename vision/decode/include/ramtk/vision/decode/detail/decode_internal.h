@@ -1,7 +1,10 @@
 #pragma once
-// Internal interface of the fused decode path (decode_fast.cpp) and of the references it is
-// tested against (decode_reference.cpp, nonlinearity.cpp), used by decode.cpp and the tests.
+// Internal interface of the fast decode path (decode_fast.cpp, decode_fused.cpp,
+// harmonic_ratios_fast.cpp) and of the references it is tested against (decode_reference.cpp,
+// nonlinearity.cpp), used by decode.cpp and the tests.
 
+#include <cstdint>
+#include <cstring>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +13,13 @@
 #include "ramtk/vision/decode/nonlinearity.h"
 
 namespace ramtk::vision::detail {
+
+// Whether the eight bytes at p are all zero (eight masked pixels, skipped at once).
+inline bool EightZero(const uchar* p) {
+  std::uint64_t v;
+  std::memcpy(&v, p, sizeof v);
+  return v == 0;
+}
 
 struct FastDecodeInput {
   int width = 0, height = 0;
@@ -99,6 +109,12 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
 // where the mask byte is 0, NaN in both and in the coordinate `c` (otherwise left as it is).
 void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
               float* sp, float* sc);
+
+// The decode of a sequence whose one block is a codec with its own decode function (codec.h
+// PatternCodec::decode, decode_codec.cpp): the frames as float, the codec's coordinate, modulation
+// and sigma, the mask where the coordinate is finite, and the summary's counts and medians.
+DecodedCamera DecodeFramesWithCodec(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
+                                    const DecodeOptions& options, const std::string& camera);
 
 // The reference decode: float frames, one pass per stage over every pixel (phase_shift.h,
 // unwrap.h, CorrectPhaseNonlinearityReference). Runs in place of DecodeFramesFast under the test

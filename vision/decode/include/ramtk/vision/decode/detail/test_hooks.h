@@ -8,7 +8,7 @@ namespace ramtk::vision::detail {
 
 struct DecodeTestHooks {
   // The reference decode (decode_reference.cpp: separate passes over float copies of the frames,
-  // every pixel) in place of the fused path (decode_fast.cpp). Both give the same phase, mask and
+  // every pixel) in place of the fused path (decode_fused.cpp). Both give the same phase, mask and
   // coordinate within float rounding (tests/vision/decode_fast_test.cpp). The fused path differs
   // only in (a) `wrapped` is 0 where a pixel is masked by darkness, saturation or modulation,
   // (b) edge_corrections counts unmasked pixels only, (c) the harmonic ratios are averaged over
