@@ -579,7 +579,7 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads, int r
       last = now;
       return true;
     };
-    const StereoMatch match = MatchStereo(calibration, left, right, left.summary.period_px, o, manifest_path);
+    const StereoMatch match = MatchStereo(calibration, left, right, left.summary.period_px, o);
     if (r == 0) std::printf("%s\n", match.summary.BriefReport().c_str());
   }
   std::printf("%d repetitions, %s threads, ms (min / median):", repeat,

@@ -377,8 +377,8 @@ CameraIntrinsics ReadCameraCalibration(const std::string& path) {
     throw InputError({path, root.line, ""}, "the top level is not a map of keys (K1, D1, image_size, ...)");
   const bool opencv_sample = root.Find("K1") == nullptr && root.Find("M1") == nullptr &&
                              root.Find("camera_matrix") != nullptr;
-  CameraIntrinsics camera = opencv_sample ? ReadCamera(root, path, "camera_matrix", "K", "distortion_coefficients")
-                                          : ReadCamera(root, path, "K1", "M1", "D1");
+  CameraIntrinsics camera = opencv_sample ? ReadCamera(root, path, "camera_matrix", "K", "distortion_coefficients", "")
+                                          : ReadCamera(root, path, "K1", "M1", "D1", "1");
   ReadImageSize(root, path, {"image_size", "S", "imageSize"}, &camera.width, &camera.height);
   return camera;
 }

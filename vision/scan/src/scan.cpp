@@ -146,7 +146,12 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
   if (!Report(options, "triangulate", 4, 5)) return Cancelled(std::move(result));
 
   FitSpheresBesideCloud(result, options);
+  RAMTK_LOG(kDebug) << sum.match.BriefReport();
+  RAMTK_LOG(kDebug) << sum.triangulation.BriefReport();
+  return result;
 }
+
+}  // namespace
 
 ScanResult ScanDecoded(const StereoCalibration& calibration, const DecodedCamera& left, const DecodedCamera& right,
                        double period, const ScanOptions& options) {
