@@ -62,8 +62,8 @@ void RegisterManifestCommand(CLI::App& app, int* exit_code) {
                   "every image readable, one image size");
   sub->add_option("folder", opt->folder, "Capture folder (the globs are relative to it)")->required();
   sub->add_option("--sequence", opt->sequence,
-                  "Projected sequence, comma-separated: ps:STEPS:CYCLES[:PHASE_DEG], het:STEPS:C1:C2..., gc:BITS, "
-                  "cgc:BITS (complementary), e.g. ps:12:64,cgc:7")
+                  "Projected sequence, comma-separated blocks of the codec table (ramtk patterns --help): " +
+                      vision::SequenceSpecForms() + "; e.g. ps:12:64,cgc:7")
       ->required();
   sub->add_option("--projector", opt->projector, "Projector resolution WIDTHxHEIGHT (pixels), e.g. 1280x720")
       ->required();

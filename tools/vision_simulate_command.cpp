@@ -11,6 +11,7 @@
 #include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/parse.h"
 #include "ramtk/core/units.h"
+#include "ramtk/vision/fringe/sequence_spec.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
 
 namespace ramtk::tools {
@@ -39,42 +40,6 @@ struct SimulateFringeOptions {
   bool quiet = false;                            // no progress on stderr
 };
 
-// "ps:12:64,cgc:7" → blocks. Items: ps:STEPS:CYCLES (phase shift), gc:BITS (Gray code),
-// cgc:BITS (complementary Gray code), het:STEPS:C1/C2[/C3] (heterodyne, finest first).
-std::vector<vision::SequenceBlock> ParseSequence(const std::string& spec) {
-  std::vector<vision::SequenceBlock> blocks;
-  std::stringstream items(spec);
-  std::string item;
-  while (std::getline(items, item, ',')) {
-    std::vector<std::string> parts;
-    std::stringstream fields(item);
-    std::string part;
-    while (std::getline(fields, part, ':')) parts.push_back(part);
-    const InputLocation where{"", 0, "--sequence"};
-    auto integer = [&](const std::string& text) {
-      const double v = ParseDouble(text, where);
-      if (v != static_cast<int>(v)) throw InputError(where, "expected an integer, got '" + text + "'");
-      return static_cast<int>(v);
-    };
-    if (parts.size() == 3 && parts[0] == "ps") {
-      blocks.push_back(vision::PhaseShiftBlock(integer(parts[1]), ParseDouble(parts[2], where)));
-    } else if (parts.size() == 2 && (parts[0] == "gc" || parts[0] == "cgc")) {
-      blocks.push_back(vision::GrayCodeBlock(integer(parts[1]), parts[0] == "cgc"));
-    } else if (parts.size() == 3 && parts[0] == "het") {
-      std::vector<double> cycles;
-      std::stringstream list(parts[2]);
-      std::string c;
-      while (std::getline(list, c, '/')) cycles.push_back(ParseDouble(c, where));
-      blocks.push_back(vision::HeterodyneBlock(integer(parts[1]), cycles));
-    } else {
-      throw InputError(where, "cannot read block '" + item +
-                                  "' (expected ps:STEPS:CYCLES, gc:BITS, cgc:BITS or het:STEPS:C1/C2[/C3])");
-    }
-  }
-  if (blocks.empty()) throw InputError({"", 0, "--sequence"}, "no blocks given");
-  return blocks;
-}
-
 int RunSimulateFringe(const SimulateFringeOptions& opt, Provenance provenance) {
   Vec3 ball(0.0, 0.0, 700.0);
   if (!opt.ball.empty()) {
@@ -85,7 +50,7 @@ int RunSimulateFringe(const SimulateFringeOptions& opt, Provenance provenance) {
       opt.calibration.empty() ? vision::MakeFringePreset(opt.preset, ball)
                               : vision::MakeFringeConfigForCalibration(camera::ReadStereoCalibration(opt.calibration));
   config.seed = opt.seed;
-  if (!opt.sequence.empty()) config.sequence = ParseSequence(opt.sequence);
+  if (!opt.sequence.empty()) config.sequence = vision::ParseSequenceSpec(opt.sequence, {"", 0, "--sequence"});
   if (std::isfinite(opt.phase_at_origin_deg)) {
     if (!(std::abs(opt.phase_at_origin_deg) <= 360.0))
       throw InputError({"", 0, "--phase-at-origin"}, "must be within [-360, 360] degrees");
@@ -160,9 +125,9 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "Take both cameras from this stereo calibration (e.g. caliInfo.yml); the ball goes where "
                   "the optical axes meet");
   sub->add_option("--sequence", opt->sequence,
-                  "Pattern sequence, e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
-                  "het:4:70/64/59 (ps = phase shift STEPS:CYCLES, gc/cgc = (complementary) Gray code BITS, "
-                  "het = heterodyne STEPS:CYCLES/...)");
+                  "Pattern sequence, comma-separated blocks of the codec table (ramtk patterns --help): " +
+                      vision::SequenceSpecForms() + "; e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
+                      "het:4:70/64/59");
   sub->add_option("--phase-at-origin", opt->phase_at_origin_deg,
                   "Phase at projector pixel 0 of every phase-shift block, degrees (default: the sequence's, -180)");
   sub->add_option("--sphere", opt->spheres, "Extra sphere x,y,z,r in mm (left-camera frame), repeatable");

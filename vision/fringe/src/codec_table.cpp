@@ -47,6 +47,7 @@ PatternCodec PhaseShiftCodec() {
   c.name = "phase_shift";
   c.type = BlockType::kPhaseShift;
   c.role = CodecRole::kPhase;
+  c.spec_name = "ps";
   c.help = "N-step phase shift: image k shows 0.5 + 0.5 cos(2 pi cycles u / extent + phase_at_origin + 2 pi k / N)";
   c.parameters = {Steps(),
                   {"cycles", CodecField::kCycles, true, 0, kInf, 1, 1, "period_px",
@@ -65,10 +66,11 @@ PatternCodec GrayCodeCodec() {
   c.name = "gray_code";
   c.type = BlockType::kGrayCode;
   c.role = CodecRole::kOrder;
+  c.spec_name = "gc";
   c.help = "Gray code of the period order: image j shows bit (bits - 1 - j) of the cell's code word (gray_code.h)";
   c.parameters = {{"bits", CodecField::kBits, true, 1, 16, 1, 1, "", "code images"},
                   {"complementary", CodecField::kComplementary, false, 0, 1, 1, 1, "",
-                   "one extra bit splitting every period in halves (default false)"}};
+                   "one extra bit splitting every period in halves (default false)", "c"}};
   c.image_count = [](const SequenceBlock& b) { return b.bits; };
   c.intensity = [](const SequenceBlock& b, int image, double u, int extent) {
     return static_cast<double>(GrayCodeImageBit(GrayCodeWord(GrayCodeCell(u, b.bits, extent)), b.bits, image));
@@ -92,6 +94,7 @@ PatternCodec HeterodyneCodec() {
   c.name = "heterodyne";
   c.type = BlockType::kHeterodyne;
   c.role = CodecRole::kAbsolute;
+  c.spec_name = "het";
   c.help =
       "multi-frequency phase shift, finest first: N steps per frequency; the beat of the frequencies "
       "((c1-c2) or (c1-c2)-(c2-c3)) covers the projector once";
@@ -143,8 +146,10 @@ const char* RoleName(CodecRole role) {
   return "?";
 }
 
+}  // namespace
+
 // "integer >= 3", "number > 0", "2..3 numbers > 0", "true/false", "number in [-360, 360]".
-std::string Accepted(const CodecParameter& p) {
+std::string CodecParameterAccepted(const CodecParameter& p) {
   if (p.field == CodecField::kComplementary) return "true/false";
   const bool integer = p.field == CodecField::kSteps || p.field == CodecField::kBits;
   std::string what = integer ? "integer" : "number";
@@ -157,8 +162,6 @@ std::string Accepted(const CodecParameter& p) {
   if (integer) return what + " " + Number(p.min) + ".." + Number(p.max);
   return what + " in [" + Number(p.min) + ", " + Number(p.max) + "]";
 }
-
-}  // namespace
 
 std::vector<const PatternCodec*> PatternCodecs() {
   std::vector<const PatternCodec*> out;
@@ -218,7 +221,7 @@ std::string PatternCodecTableMarkdown() {
     for (const CodecParameter& p : c.parameters) {
       params += (params.empty() ? "" : "; ") + std::string("`") + p.key + "`";
       if (!p.period_key.empty()) params += " or `" + p.period_key + "`";
-      params += ": " + Accepted(p) + (p.required ? "" : ", optional") + " — " + p.help;
+      params += ": " + CodecParameterAccepted(p) + (p.required ? "" : ", optional") + " — " + p.help;
     }
     s += "| `" + c.name + "` | " + RoleName(c.role) + " | " + params + " | " + c.help + " |\n";
   }
@@ -230,7 +233,7 @@ std::string PatternCodecHelp() {
   for (const PatternCodec& c : Table()) {
     s += "  " + c.name + " (" + RoleName(c.role) + "): " + c.help + "\n";
     for (const CodecParameter& p : c.parameters) {
-      s += "    " + p.key + (p.period_key.empty() ? "" : " | " + p.period_key) + ": " + Accepted(p) +
+      s += "    " + p.key + (p.period_key.empty() ? "" : " | " + p.period_key) + ": " + CodecParameterAccepted(p) +
            (p.required ? "" : ", optional") + " - " + p.help + "\n";
     }
   }

@@ -15,30 +15,6 @@
 namespace ramtk::vision {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-std::vector<std::string> Split(const std::string& text, char sep) {
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(text);
-  while (std::getline(in, part, sep)) parts.push_back(part);
-  if (!text.empty() && text.back() == sep) parts.emplace_back();
-  return parts;
-}
-
-int PositiveInt(const std::string& text, const InputLocation& where, const std::string& what) {
-  const double v = ParseDouble(text, where);
-  if (!(v >= 1 && v <= 1e6) || v != std::floor(v))
-    throw InputError(where, what + " must be a positive integer, got '" + text + "'");
-  return static_cast<int>(v);
-}
-
-std::string Number(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // Default camera globs: the L/R or left/right subfolders of the capture folder.
 std::map<std::string, std::string> DefaultGlobs(const std::string& folder) {
   namespace fs = std::filesystem;
@@ -54,43 +30,6 @@ std::map<std::string, std::string> DefaultGlobs(const std::string& folder) {
 }
 
 }  // namespace
-
-std::vector<SequenceBlock> ParseSequenceSpec(const std::string& text, const InputLocation& where) {
-  std::vector<SequenceBlock> blocks;
-  for (const std::string& token : Split(text, ',')) {
-    const std::vector<std::string> f = Split(token, ':');
-    const std::string kind = f.empty() ? "" : f[0];
-    if (kind == "ps" && (f.size() == 3 || f.size() == 4)) {
-      const double phase = f.size() == 4 ? ParseDouble(f[3], where) * kPi / 180.0 : -kPi;
-      blocks.push_back(PhaseShiftBlock(PositiveInt(f[1], where, "steps"), ParseDouble(f[2], where), phase));
-    } else if (kind == "het" && f.size() >= 4) {
-      std::vector<double> cycles;
-      for (std::size_t i = 2; i < f.size(); ++i) cycles.push_back(ParseDouble(f[i], where));
-      blocks.push_back(HeterodyneBlock(PositiveInt(f[1], where, "steps"), cycles));
-    } else if ((kind == "gc" || kind == "cgc") && f.size() == 2) {
-      blocks.push_back(GrayCodeBlock(PositiveInt(f[1], where, "bits"), kind == "cgc"));
-    } else {
-      throw InputError(where, "unknown sequence block '" + token +
-                                  "' (expected ps:STEPS:CYCLES[:PHASE_DEG], het:STEPS:C1:C2..., gc:BITS or cgc:BITS)");
-    }
-  }
-  if (blocks.empty()) throw InputError(where, "empty sequence");
-  return blocks;
-}
-
-std::string SequenceSpec(const std::vector<SequenceBlock>& sequence) {
-  std::string out;
-  for (const SequenceBlock& b : sequence) {
-    if (!out.empty()) out += ",";
-    if (b.type == BlockType::kGrayCode) {
-      out += (b.complementary ? "cgc:" : "gc:") + std::to_string(b.bits);
-    } else {
-      out += (b.type == BlockType::kPhaseShift ? "ps:" : "het:") + std::to_string(b.steps);
-      for (double c : b.cycles) out += ":" + Number(c);
-    }
-  }
-  return out;
-}
 
 bool IsImageGlob(const std::string& text) { return text.find_first_of("*?[") != std::string::npos; }
 

@@ -40,6 +40,8 @@ struct CodecParameter {
   int min_count = 1, max_count = 1;  // kCycles: how many values (1: a number in the file, else an array)
   std::string period_key;            // kCycles: the key giving periods in projector px instead ("" = none)
   std::string help;                  // one line: docs/formats.md and `ramtk patterns --help`
+  // kComplementary: the prefix on the block's name in a sequence spec that sets it ("c": cgc:7).
+  std::string spec_prefix;
 };
 
 // The decode of a kAbsolute codec the fused decoder does not run itself.
@@ -57,6 +59,7 @@ struct PatternCodec {
   BlockType type = BlockType::kRegistered;  // the built-in rows' own value; kRegistered for added codecs
   CodecRole role = CodecRole::kAbsolute;    // what the block gives the decoder
   std::string help;                         // one line: docs/formats.md and `ramtk patterns --help`
+  std::string spec_name;                    // its name in a sequence spec (sequence_spec.h); "" = `name`
   std::vector<CodecParameter> parameters;   // in the order the docs list them
   // Images the block occupies.
   std::function<int(const SequenceBlock& block)> image_count;
@@ -89,5 +92,7 @@ SequenceBlock RegisteredBlock(const std::string& codec_name);
 std::string PatternCodecTableMarkdown();
 // The codec table as text for `ramtk patterns --help`.
 std::string PatternCodecHelp();
+// The values a parameter accepts, e.g. "integer >= 3", "number in [-360, 360]".
+std::string CodecParameterAccepted(const CodecParameter& parameter);
 
 }  // namespace ramtk::vision

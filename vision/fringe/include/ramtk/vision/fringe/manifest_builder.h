@@ -10,17 +10,9 @@
 
 #include "ramtk/core/error.h"
 #include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/fringe/sequence_spec.h"  // ParseSequenceSpec, SequenceSpec
 
 namespace ramtk::vision {
-
-// Comma-separated blocks in projection order:
-//   ps:STEPS:CYCLES[:PHASE_DEG]   phase shift (phase at projector pixel 0, default -180 deg)
-//   het:STEPS:C1:C2[:C3...]       heterodyne, one phase-shift run per number of cycles
-//   gc:BITS, cgc:BITS             Gray code, plain or complementary
-// InputError naming `where` for anything else.
-std::vector<SequenceBlock> ParseSequenceSpec(const std::string& text, const InputLocation& where);
-// The spec of a sequence (the inverse of ParseSequenceSpec).
-std::string SequenceSpec(const std::vector<SequenceBlock>& sequence);
 
 // True when `text` holds a glob character (* ? [).
 bool IsImageGlob(const std::string& text);
