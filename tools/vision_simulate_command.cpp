@@ -103,11 +103,7 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--out", opt->out_dir, "Output folder (must not exist, or be empty, unless --force)")->required();
   sub->add_option("--seed", opt->seed, "Random seed (recorded in the output)")->capture_default_str();
   sub->add_option("--effect", opt->effects,
-                  "Effect name=magnitude, repeatable: projector_nonlinearity (gamma), phase_shift_error (deg), "
-                  "intensity_drift (relative), saturation (exposure factor), defocus (projector blur sigma, projector "
-                  "px), camera_defocus (camera blur sigma, px), "
-                  "ambient_light (fraction of white), lens_distortion_unmodelled (extra k1), soft_knee_response (knee, "
-                  "fraction of full scale)");
+                  "Effect name=magnitude, repeatable: " + vision::FringeEffects::Help());
   sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
   sub->add_option("--frame-format", opt->frame_format,
                   "Frame files: png, or bmp (uncompressed, 8-bit only: what many cameras write; `scan --roi` then "

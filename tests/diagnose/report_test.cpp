@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
+#include "ramtk/core/error.h"
 #include "ramtk/diagnose/engine/catalogue.h"
 #include "ramtk/diagnose/engine/plot.h"
 #include "ramtk/diagnose/fringe/fringe_hidden.h"
@@ -59,10 +60,26 @@ TEST(Catalogue, DocsTableListsExactlyTheTableRows) {
 // The simulators name their effects as the tables do: the fringe rows the hidden draws render are
 // exactly the vision simulator's effects, the laser rows exactly the TCF simulator's.
 TEST(Catalogue, SimulatorEffectsAreTheTablesRows) {
-  std::set<std::string> simulator;
-  for (const auto& [name, magnitude] : vision::FringeEffects{}.ByName()) simulator.insert(name);
+  const std::vector<std::string> table = vision::FringeEffects::Names();
+  const std::set<std::string> simulator(table.begin(), table.end());
+  EXPECT_EQ(simulator.size(), table.size());
+  std::set<std::string> by_name;
+  for (const auto& [name, magnitude] : vision::FringeEffects{}.ByName()) by_name.insert(name);
+  EXPECT_EQ(by_name, simulator);
   const std::vector<std::string> drawn = DrawnFringeEffects();
   EXPECT_EQ(simulator, std::set<std::string>(drawn.begin(), drawn.end()));
+  // Each row is settable by its name; an unknown name is refused listing every row.
+  for (const std::string& name : table) {
+    vision::FringeEffects e;
+    e.Set(name, 0.5);
+    EXPECT_EQ(e.ByName().at(name), 0.5) << name;
+  }
+  try {
+    vision::FringeEffects{}.Set("no_such_effect", 1.0);
+    ADD_FAILURE() << "an unknown effect was accepted";
+  } catch (const InputError& error) {
+    for (const std::string& name : table) EXPECT_NE(std::string(error.what()).find(name + " ("), std::string::npos) << name;
+  }
   std::set<std::string> laser_rows;
   for (const EffectInfo& e : EffectsOf(DataKind::kLaser)) laser_rows.insert(e.name);
   const std::vector<std::string> device = tcf::DeviceEffects::Names();

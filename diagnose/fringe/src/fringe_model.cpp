@@ -7,6 +7,7 @@
 
 #include "fringe_internal.h"
 #include "ramtk/core/error.h"
+#include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/fringe/phase_shift.h"
 #include "ramtk/vision/fringe/unwrap.h"
 
@@ -98,10 +99,11 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
   FringeFit fit;
   int frame = 0;
   for (const vision::SequenceBlock& b : manifest.sequence) {
-    if (b.type == vision::BlockType::kPhaseShift && !ps) {
+    const vision::CodecRole role = vision::CodecOf(b).role;
+    if (role == vision::CodecRole::kPhase && !ps) {
       ps = &b;
       for (int k = 0; k < b.steps; ++k) fit.phase_frame.push_back(frame + k);
-    } else if (b.type == vision::BlockType::kGrayCode && !gc) {
+    } else if (role == vision::CodecRole::kOrder && !gc) {
       gc = &b;
       for (int j = 0; j < b.bits; ++j) fit.gray_frame.push_back(frame + j);
     } else {

@@ -111,46 +111,36 @@ std::string FrameName(int i, const std::string& format) {
 
 }  // namespace
 
+std::vector<std::string> FringeEffects::Names() {
+  return {
+#define RAMTK_FRINGE_EFFECT(name, off, unit, help) #name,
+#include "ramtk/vision/sim/fringe_effects.def"
+  };
+}
+
+std::string FringeEffects::Help() {
+  std::string s;
+#define RAMTK_FRINGE_EFFECT(name, off, unit, help) s += std::string(s.empty() ? "" : ", ") + #name + " (" + unit + ")";
+#include "ramtk/vision/sim/fringe_effects.def"
+  return s;
+}
+
 void FringeEffects::Set(const std::string& name, double m, const std::string& where) {
   if (!std::isfinite(m)) throw InputError({"", 0, where}, "effect " + name + ": magnitude must be finite");
-  if (name == "projector_nonlinearity") {
-    projector_nonlinearity = m;
-  } else if (name == "phase_shift_error") {
-    phase_shift_error = m;
-  } else if (name == "intensity_drift") {
-    intensity_drift = m;
-  } else if (name == "saturation") {
-    saturation = m;
-  } else if (name == "defocus") {
-    defocus = m;
-  } else if (name == "camera_defocus") {
-    camera_defocus = m;
-  } else if (name == "soft_knee_response") {
-    soft_knee_response = m;
-  } else if (name == "ambient_light") {
-    ambient_light = m;
-  } else if (name == "lens_distortion_unmodelled") {
-    lens_distortion_unmodelled = m;
-  } else {
-    throw InputError(
-        {"", 0, where},
-        "unknown effect '" + name +
-            "' (known: projector_nonlinearity, phase_shift_error, intensity_drift, "
-            "saturation, defocus, camera_defocus, soft_knee_response, ambient_light, lens_distortion_unmodelled)");
-  }
+  double* field = nullptr;
+#define RAMTK_FRINGE_EFFECT(row, off, unit, help) \
+  if (name == #row) field = &row;
+#include "ramtk/vision/sim/fringe_effects.def"
+  if (!field) throw InputError({"", 0, where}, "unknown effect '" + name + "' (known: " + Help() + ")");
+  *field = m;
   if (const std::string p = Validate(); !p.empty()) throw InputError({"", 0, where}, SplitOptionsProblem(p).message);
 }
 
 std::map<std::string, double> FringeEffects::ByName() const {
-  return {{"projector_nonlinearity", projector_nonlinearity},
-          {"phase_shift_error", phase_shift_error},
-          {"intensity_drift", intensity_drift},
-          {"saturation", saturation},
-          {"defocus", defocus},
-          {"camera_defocus", camera_defocus},
-          {"soft_knee_response", soft_knee_response},
-          {"ambient_light", ambient_light},
-          {"lens_distortion_unmodelled", lens_distortion_unmodelled}};
+  return {
+#define RAMTK_FRINGE_EFFECT(name, off, unit, help) {#name, name},
+#include "ramtk/vision/sim/fringe_effects.def"
+  };
 }
 
 std::string FringeEffects::Validate() const {
@@ -341,6 +331,73 @@ std::string FringeSimulationSummary::BriefReport() const {
   return s.str();
 }
 
+namespace {
+
+// truth/truth.json: the scene, the cameras' truth files, the projector and every effect's realisation.
+json TruthJson(const FringeSimulationConfig& config, const EffectRealisation& fx, const json& effects,
+               const json& truth_cameras) {
+  json spheres = json::array();
+  for (const Sphere& s : config.scene.spheres)
+    spheres.push_back({{"name", s.name},
+                       {"centre_in_left_mm", Vec3Json(s.centre_in_left)},
+                       {"radius_mm", s.radius},
+                       {"albedo", s.albedo}});
+  json planes = json::array();
+  for (const Plane& p : config.scene.planes)
+    planes.push_back({{"name", p.name},
+                      {"point_in_left_mm", Vec3Json(p.point_in_left)},
+                      {"normal_in_left", Vec3Json(p.normal_in_left.normalized())},
+                      {"albedo", p.albedo}});
+  json shift_deg = json::array();
+  for (double e : fx.shift_errors_rad) shift_deg.push_back(RadToDeg(e));
+  return {
+      {"frame", "left camera, mm"},
+      {"seed", config.seed},
+      {"effects", effects},
+      {"spheres", spheres},
+      {"planes", planes},
+      {"object_ids", "spheres in order, then planes; -1 = no surface"},
+      {"cameras", truth_cameras},
+      {"projector",
+       {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
+        {"projector_from_left", PoseToJson(config.projector.view_from_left)}}},
+      {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
+      {"render",
+       {{"supersampling", config.supersampling},
+        {"ambient", config.effects.ambient_light},
+        {"projector_gamma", config.effects.projector_nonlinearity},
+        {"projector_blur_px", config.effects.defocus}}},
+      {"sensor",
+       {{"bits", config.sensor.bits},
+        {"exposure", config.sensor.exposure * config.effects.saturation},
+        {"full_well_electrons", config.sensor.full_well_electrons},
+        {"read_noise_electrons", config.sensor.read_noise_electrons},
+        {"blur_sigma_px", config.effects.camera_defocus},
+        {"soft_knee_fraction", config.effects.soft_knee_response},
+        {"noise", config.sensor.noise}}},
+      {"truth_images",
+       "float32 TIFF per camera: projector_x/projector_y = projector pixel of the pixel-centre ray's first hit "
+       "(NaN where the projector does not light it), depth = z in that camera's frame (mm, NaN: no surface), "
+       "lit_fraction = share of the pixel's rays lit on the same object, object_id"}};
+}
+
+// The left camera against the projector (projector_calibration.yml, the projector as camera 2,
+// projector_from_left as R, T) and monocular.json: the set's manifest with the left camera only.
+void WriteMonocular(const FringeSimulationConfig& config, const fs::path& tmp, const json& manifest) {
+  StereoCalibration projector_pair;
+  projector_pair.left = WrittenCalibration(config).left;
+  projector_pair.right = config.projector.intrinsics;
+  projector_pair.right_from_left = config.projector.view_from_left;
+  WriteStereoCalibration((tmp / "projector_calibration.yml").string(), projector_pair);
+  json monocular = manifest;
+  monocular.erase("calibration");
+  monocular["projector_calibration"] = "projector_calibration.yml";
+  monocular["cameras"] = {{"left", manifest.at("cameras").at("left")}};
+  WriteFileAtomically((tmp / "monocular.json").string(), monocular.dump(2) + "\n");
+}
+
+}  // namespace
+
 FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, const std::string& out_dir,
                                           bool overwrite, const ProgressCallback& progress,
                                           const Provenance* provenance) {
@@ -429,63 +486,9 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
           {"effects", effects},
           {"truth", "truth/truth.json"}}}};
     WriteFileAtomically((tmp / "manifest.json").string(), manifest.dump(2) + "\n");
-    if (config.write_monocular) {
-      // The left camera against the projector: the projector as camera 2, projector_from_left as R, T.
-      StereoCalibration projector_pair;
-      projector_pair.left = WrittenCalibration(config).left;
-      projector_pair.right = config.projector.intrinsics;
-      projector_pair.right_from_left = config.projector.view_from_left;
-      WriteStereoCalibration((tmp / "projector_calibration.yml").string(), projector_pair);
-      json monocular = manifest;
-      monocular.erase("calibration");
-      monocular["projector_calibration"] = "projector_calibration.yml";
-      monocular["cameras"] = {{"left", manifest_cameras["left"]}};
-      WriteFileAtomically((tmp / "monocular.json").string(), monocular.dump(2) + "\n");
-    }
+    if (config.write_monocular) WriteMonocular(config, tmp, manifest);
 
-    json spheres = json::array();
-    for (const Sphere& s : config.scene.spheres)
-      spheres.push_back({{"name", s.name},
-                         {"centre_in_left_mm", Vec3Json(s.centre_in_left)},
-                         {"radius_mm", s.radius},
-                         {"albedo", s.albedo}});
-    json planes = json::array();
-    for (const Plane& p : config.scene.planes)
-      planes.push_back({{"name", p.name},
-                        {"point_in_left_mm", Vec3Json(p.point_in_left)},
-                        {"normal_in_left", Vec3Json(p.normal_in_left.normalized())},
-                        {"albedo", p.albedo}});
-    json shift_deg = json::array();
-    for (double e : fx.shift_errors_rad) shift_deg.push_back(RadToDeg(e));
-    json truth = {
-        {"frame", "left camera, mm"},
-        {"seed", config.seed},
-        {"effects", effects},
-        {"spheres", spheres},
-        {"planes", planes},
-        {"object_ids", "spheres in order, then planes; -1 = no surface"},
-        {"cameras", truth_cameras},
-        {"projector",
-         {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
-          {"projector_from_left", PoseToJson(config.projector.view_from_left)}}},
-        {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
-        {"render",
-         {{"supersampling", config.supersampling},
-          {"ambient", config.effects.ambient_light},
-          {"projector_gamma", config.effects.projector_nonlinearity},
-          {"projector_blur_px", config.effects.defocus}}},
-        {"sensor",
-         {{"bits", config.sensor.bits},
-          {"exposure", config.sensor.exposure * config.effects.saturation},
-          {"full_well_electrons", config.sensor.full_well_electrons},
-          {"read_noise_electrons", config.sensor.read_noise_electrons},
-          {"blur_sigma_px", config.effects.camera_defocus},
-          {"soft_knee_fraction", config.effects.soft_knee_response},
-          {"noise", config.sensor.noise}}},
-        {"truth_images",
-         "float32 TIFF per camera: projector_x/projector_y = projector pixel of the pixel-centre ray's first hit "
-         "(NaN where the projector does not light it), depth = z in that camera's frame (mm, NaN: no surface), "
-         "lit_fraction = share of the pixel's rays lit on the same object, object_id"}};
+    const json truth = TruthJson(config, fx, effects, truth_cameras);
     WriteFileAtomically((tmp / "truth" / "truth.json").string(), truth.dump(2) + "\n");
     if (provenance) WriteFolderProvenance(tmp.string(), *provenance);
 

@@ -23,26 +23,20 @@ namespace ramtk::vision {
 // Magnitudes of the fringe-image effects (DESIGN.md effect catalogue). Each field's default is
 // "off".
 struct FringeEffects {
-  double projector_nonlinearity = 1.0;      // projector gamma γ (pattern P shown as P^γ); 1 = linear
-  double phase_shift_error = 0.0;           // std dev of each phase step's shift error ε_k, degrees
-  double intensity_drift = 0.0;             // relative gain change, linear from the first to the last
-                                            // frame (0.02: the last frame is 2 % brighter)
-  double saturation = 1.0;                  // exposure multiplier; > 1 drives bright fringes into clipping
-  double defocus = 0.0;                     // projector defocus: Gaussian blur std dev, projector pixels
-                                            // across the fringes (RenderOptions::projector_blur_px)
-  double camera_defocus = 0.0;              // camera defocus: Gaussian blur std dev, camera pixels
-  double soft_knee_response = 0.0;          // sensor knee k in (0, 1): signal above k·full scale is
-                                            // compressed smoothly (SensorOptions::soft_knee_fraction);
-                                            // 0 = linear
-  double ambient_light = 0.0;               // ambient irradiance as a fraction of projector white
-  double lens_distortion_unmodelled = 0.0;  // extra radial k1 rendered in both cameras but left out
-                                            // of the written calibration
+  // One double per row of fringe_effects.def (its name, at its "off" magnitude; the row's help
+  // says what it does).
+#define RAMTK_FRINGE_EFFECT(name, off, unit, help) double name = off;
+#include "ramtk/vision/sim/fringe_effects.def"
 
   // Sets the effect `name` (catalogue identifier) to `magnitude`. Throws InputError (field `where`)
   // for an unknown name or an out-of-range magnitude.
   void Set(const std::string& name, double magnitude, const std::string& where = "--effect");
   // All effects by catalogue name, with their current magnitudes.
   std::map<std::string, double> ByName() const;
+  // The table's names in its order (fringe_effects.def).
+  static std::vector<std::string> Names();
+  // "name (unit), ..." for every row: `--effect` help and the unknown-name error.
+  static std::string Help();
   // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
