@@ -35,7 +35,11 @@ ramtk_cli_test(simulate_fringe_bad_direction 1
   STDERR "field '--direction': expected vertical or horizontal")
 ramtk_cli_test(simulate_fringe_bad_sequence 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --sequence ps:4
-  STDERR "field '--sequence': cannot read block 'ps:4'")
+  STDERR "field '--sequence': sequence block 'ps:4' lacks CYCLES \\(expected ps:STEPS:CYCLES")
+# An unknown block is refused listing the codec table's forms.
+ramtk_cli_test(simulate_fringe_unknown_sequence_block 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --sequence ps:12:64,zz:3
+  STDERR "field '--sequence': unknown sequence block 'zz:3': the codec table has ps:STEPS:CYCLES.*gc:BITS, cgc:BITS, het:STEPS:CYCLES1/CYCLES2")
 ramtk_cli_test(simulate_fringe_bmp_needs_8_bit 1
   ARGS simulate fringe --out ${SIM_OUT}_bad --frame-format bmp --bits 12
   STDERR "field 'frame_format': bmp holds 8-bit frames")
