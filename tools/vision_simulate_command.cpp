@@ -102,8 +102,7 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
       ->capture_default_str();
   sub->add_option("--out", opt->out_dir, "Output folder (must not exist, or be empty, unless --force)")->required();
   sub->add_option("--seed", opt->seed, "Random seed (recorded in the output)")->capture_default_str();
-  sub->add_option("--effect", opt->effects,
-                  "Effect name=magnitude, repeatable: " + vision::FringeEffects::Help());
+  sub->add_option("--effect", opt->effects, "Effect name=magnitude, repeatable: " + vision::FringeEffects::Help());
   sub->add_option("--bits", opt->bits, "Camera bit depth: 8, 10, 12 or 16")->capture_default_str();
   sub->add_option("--frame-format", opt->frame_format,
                   "Frame files: png, or bmp (uncompressed, 8-bit only: what many cameras write; `scan --roi` then "
@@ -122,7 +121,8 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "the optical axes meet");
   sub->add_option("--sequence", opt->sequence,
                   "Pattern sequence, comma-separated blocks of the codec table (ramtk patterns --help): " +
-                      vision::SequenceSpecForms() + "; e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
+                      vision::SequenceSpecForms() +
+                      "; e.g. ps:12:64,cgc:7 (the default, SLMaster's), ps:4:16,gc:4 or "
                       "het:4:70/64/59");
   sub->add_option("--phase-at-origin", opt->phase_at_origin_deg,
                   "Phase at projector pixel 0 of every phase-shift block, degrees (default: the sequence's, -180)");

@@ -49,7 +49,8 @@ std::vector<std::string> Forms(const PatternCodec& codec) {
     if (p.max_count > 1) {
       f = Placeholder(p) + "1";
       for (int i = 2; i <= p.max_count; ++i)
-        f += i <= p.min_count ? "/" + Placeholder(p) + std::to_string(i) : "[/" + Placeholder(p) + std::to_string(i) + "]";
+        f += i <= p.min_count ? "/" + Placeholder(p) + std::to_string(i)
+                              : "[/" + Placeholder(p) + std::to_string(i) + "]";
     }
     fields += p.required ? ":" + f : "[:" + f + "]";
   }
@@ -140,7 +141,8 @@ SequenceBlock ParseBlock(const std::string& token, const InputLocation& where) {
     }
   }
   if (next < f.size())
-    throw InputError(where, "sequence block '" + token + "' has too many values (expected " + Forms(*codec).front() + ")");
+    throw InputError(where,
+                     "sequence block '" + token + "' has too many values (expected " + Forms(*codec).front() + ")");
   return block;
 }
 
