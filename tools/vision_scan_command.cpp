@@ -49,6 +49,8 @@ struct ScanCommandOptions {
   double roi_margin = vision::ScanRoiOptions{}.margin_mm;  // mm added to the ball radius for the window
   int roi_stride = 0;                                      // coarse pass stride (0 = automatic)
   bool load_whole_frames = false;                          // --roi: load frames whole, not by rows
+  bool tri_view = false;                                   // the projector as a third view
+  std::string projector_calib;                             // tri-view's projector calibration
 };
 
 // The options that change a set's results (row.csv of each batch set; --resume compares them).
@@ -71,6 +73,8 @@ vision::ScanResultSettings ResultSettings(const ScanCommandOptions& o) {
   s.roi = o.roi;
   s.roi_margin = o.roi_margin;
   s.roi_stride = o.roi_stride;
+  s.tri_view = o.tri_view;
+  s.projector_calib = o.projector_calib;
   return s;
 }
 
@@ -112,10 +116,12 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
   options.read_rows_on_demand = !opt.load_whole_frames;
+  options.tri_view = opt.tri_view;
+  options.projector_calibration_path = opt.projector_calib;
   ThrowIfInvalid(options.Validate(), "ScanOptions");
 
   // The outputs may not be or contain any input (the manifests, their images, the calibration).
-  std::vector<std::string> inputs = {opt.batch, opt.calib, opt.truth};
+  std::vector<std::string> inputs = {opt.batch, opt.calib, opt.truth, opt.projector_calib};
   auto add_set = [&inputs](const std::string& manifest) {
     for (const std::string& f : ReadFringeManifest(manifest).InputFiles()) inputs.push_back(f);
   };
@@ -130,7 +136,8 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
     }
     CheckOutputAgainstInputs(opt.out, inputs, "--out");
     // The batch's own provenance names the list and the calibration; each set's folder adds its files.
-    for (const std::string& f : {opt.batch, opt.calib, opt.truth}) AddProvenanceFile(&provenance, f);
+    for (const std::string& f : {opt.batch, opt.calib, opt.truth, opt.projector_calib})
+      AddProvenanceFile(&provenance, f);
     ProgressCallback progress;
     if (!opt.quiet) progress = ProgressPrinter("sets");
     // A shard scans every N-th set into the same folders a single run would, and writes its rows
@@ -272,6 +279,13 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
   sub->add_flag("--load-whole-frames", opt->load_whole_frames,
                 "With --roi: load every frame whole even when its rows can be read alone (uncompressed 8-bit grey "
                 "BMP; by default only the rows the coarse pass and the windows read are read): for comparisons");
+  CLI::Option* tri_view = sub->add_flag(
+      "--tri-view", opt->tri_view,
+      "Stereo set: triangulate the left pixels without a stereo point against the projector (its calibration: "
+      "--projector-calib or the manifest's projector_calibration), each with its sigma; whole frame only");
+  sub->add_option("--projector-calib", opt->projector_calib,
+                  "With --tri-view: the left camera and projector's calibration (default: the manifest's)")
+      ->needs(tri_view);
   sub->add_option("--shard", opt->shard,
                   "With --batch: scan only shard K of N (every N-th set from the K-th) into results.shard-K-of-N.csv; "
                   "join the shards with `ramtk merge` (docs/cluster.md)")

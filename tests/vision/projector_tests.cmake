@@ -35,3 +35,23 @@ ramtk_cli_test(scan_monocular_missing_calibration 1
   STDERR "missing.yml"
   NO_PATH ${MONO_CLI}/not_written
   FIXTURE_REQUIRED vision_monocular_set)
+
+# Tri-view: the simulated stereo set scanned stereo-only and with the projector as a third view
+# (named by the manifest and by --projector-calib): the stereo pair's points kept, projector points
+# added, each ball centre within 3 sigma of the truth (check_tri_view.cmake); a stereo set naming
+# no projector calibration, or scanned in --roi windows, is refused with nothing written.
+add_test(NAME cli.scan_tri_view
+         COMMAND ${CMAKE_COMMAND} -DRAMTK=$<TARGET_FILE:ramtk> -DSET=${MONO_CLI}/set -DOUT=${MONO_CLI}/tri_view
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/check_tri_view.cmake)
+set_tests_properties(cli.scan_tri_view PROPERTIES FIXTURES_REQUIRED vision_monocular_set)
+ramtk_cli_test(scan_tri_view_without_projector_calibration 1
+  ARGS scan ${MONO_CLI}/set/manifest.json --tri-view --out ${MONO_CLI}/tri_view_not_written
+  STDERR "projector_calibration.*--projector-calib"
+  NO_PATH ${MONO_CLI}/tri_view_not_written
+  FIXTURE_REQUIRED vision_monocular_set)
+ramtk_cli_test(scan_tri_view_with_roi_windows 1
+  ARGS scan ${MONO_CLI}/set/manifest.json --tri-view --projector-calib ${MONO_CLI}/set/projector_calibration.yml
+       --roi auto --out ${MONO_CLI}/tri_view_roi_not_written
+  STDERR "tri_view.*roi must be full"
+  NO_PATH ${MONO_CLI}/tri_view_roi_not_written
+  FIXTURE_REQUIRED vision_monocular_set)

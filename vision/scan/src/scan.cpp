@@ -6,6 +6,7 @@
 #include <tbb/parallel_invoke.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -19,6 +20,7 @@
 #include "ramtk/vision/decode/detail/test_hooks.h"
 #include "ramtk/vision/fringe/image_io.h"
 #include "ramtk/vision/fringe/manifest.h"
+#include "ramtk/vision/projector/tri_view.h"
 #include "ramtk/vision/scan/scan_monocular.h"
 #include "ramtk/vision/stereo/cloud_noise.h"
 #include "scan_fit.h"
@@ -65,6 +67,8 @@ std::string ScanOptions::Validate() const {
   if (fit_spheres)
     if (std::string p = sphere.Validate(); !p.empty()) return "sphere." + p;
   if (std::string p = roi.Validate(); !p.empty()) return p;  // its fields are named roi.*
+  if (tri_view && roi.mode != ScanRoiOptions::Mode::kFull)
+    return "tri_view: the projector fills the whole frame's pixels (roi must be full)";
   if (roi.mode != ScanRoiOptions::Mode::kFull && !fit_spheres)
     return "roi: a window around the ball needs the sphere fit (fit_spheres)";
   if (!(max_sphere_variance_factor >= 1)) return "max_sphere_variance_factor: must be >= 1";
@@ -76,6 +80,7 @@ std::string ScanSummary::BriefReport() const {
   s.setf(std::ios::fixed);
   s.precision(4);
   s << "scan " << message << ": " << triangulation.points << " points";
+  if (tri_view) s << " (" << stereo_points << " stereo + " << projector_points << " projector)";
   if (termination == Termination::kCancelled) return s.str();
   if (spheres.spheres.empty()) {
     if (!spheres.no_sphere_reason.empty()) s << "; " << spheres.no_sphere_reason;
@@ -109,8 +114,42 @@ ScanResult Cancelled(ScanResult r = ScanResult()) {
 // (the right camera after matching, the left one but its modulation before triangulation, the
 // rest and the matches after it), so the sphere fit does not run beside them. Memory is
 // returned only where the caller holds no other reference to the maps (cv::Mat counts them).
+// Tri-view: the left pixels without a stereo point triangulated against the projector (`projector`
+// = the left camera and the projector, `direction` the coded axis), appended to the result.
+void AddTriViewPoints(const ProjectorCalibration& projector, FringeDirection direction, const DecodedCamera& left,
+                      const ScanOptions& options, ScanResult* result) {
+  ScanSummary& sum = result->summary;
+  ProjectorTriangulationOptions to = options.projector;
+  to.min_depth_mm = std::max(to.min_depth_mm, options.match.min_depth_mm);
+  to.max_depth_mm = std::min(to.max_depth_mm, options.match.max_depth_mm);
+  const TriViewSummary tv = AddProjectorPoints(projector, direction, left, to, &result->cloud, &result->depth);
+  sum.tri_view = true;
+  sum.stereo_points = tv.stereo_points;
+  sum.projector_points = tv.projector_points;
+  sum.projector = tv.projector;
+  sum.triangulation.points = static_cast<long>(result->cloud.size());
+  std::vector<float> sigma = result->cloud.sigma_mm;
+  if (!sigma.empty()) {
+    auto mid = sigma.begin() + static_cast<std::ptrdiff_t>(sigma.size() / 2);
+    std::nth_element(sigma.begin(), mid, sigma.end());
+    sum.triangulation.median_sigma_mm = *mid;
+  }
+  if (tv.projector_points > 0) {
+    sum.triangulation.depth_min_mm = std::min(sum.triangulation.depth_min_mm, tv.projector.depth_min_mm);
+    sum.triangulation.depth_max_mm = std::max(sum.triangulation.depth_max_mm, tv.projector.depth_max_mm);
+    if (tv.stereo_points == 0) {
+      sum.triangulation.depth_min_mm = tv.projector.depth_min_mm;
+      sum.triangulation.depth_max_mm = tv.projector.depth_max_mm;
+    }
+  }
+  RAMTK_LOG(kDebug) << "tri-view: " << tv.stereo_points << " stereo + " << tv.projector_points
+                    << " projector points; " << tv.projector.BriefReport();
+}
+
 ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCamera left, DecodedCamera right,
-                                double period, const ScanOptions& options) {
+                                double period, const ScanOptions& options,
+                                const ProjectorCalibration* projector = nullptr,
+                                FringeDirection direction = FringeDirection::kVertical) {
   const ScanStageOptions stages = StageOptionsOf(options);
   ScanResult result;
   ScanSummary& sum = result.summary;
@@ -132,16 +171,18 @@ ScanResult ScanDecodedReleasing(const StereoCalibration& calibration, DecodedCam
 
   t0 = std::chrono::steady_clock::now();
   // Triangulation reads only the left modulation (the points' quality) and summary: the other
-  // left maps go first (~74 MB on a thesis frame, the peak being the cloud beside the matches).
-  {
+  // left maps go first (~74 MB on a thesis frame, the peak being the cloud beside the matches);
+  // tri-view keeps them for the camera–projector triangulation after it.
+  if (projector == nullptr) {
     DecodedCamera kept;
     kept.summary = left.summary;
     kept.modulation = left.modulation;
     left = std::move(kept);
   }
   result.cloud = TriangulateMatches(calibration, left, match, stages.triangulation, &sum.triangulation, &result.depth);
-  left = DecodedCamera();
   match = StereoMatch();
+  if (projector != nullptr) AddTriViewPoints(*projector, direction, left, options, &result);
+  left = DecodedCamera();
   sum.triangulate_s = Seconds(t0);
   if (!Report(options, "triangulate", 4, 5)) return Cancelled(std::move(result));
 
@@ -201,7 +242,8 @@ ScanResult RunScanPass(const ScanPass& pass) {
   const double decode_s = Seconds(t0) - (pass.frames->LoadSeconds() - load0);
   if (!Report(options, "decode " + options.right_camera, 2, 5)) return Cancelled();
   const double period = left.summary.period_px;
-  ScanResult result = ScanDecodedReleasing(cropped, std::move(left), std::move(right), period, options);
+  ScanResult result = ScanDecodedReleasing(cropped, std::move(left), std::move(right), period, options,
+                                           pass.projector, pass.manifest->direction);
   result.summary.decode_s = decode_s;
   result.summary.windows = windows;
   if (!whole) {
@@ -313,9 +355,10 @@ ScanResult NoWindow(const RoiWindows& w, const SetFrames& frames, double roi_s, 
 // the calibration's (the callers check). The one path of every scan of frames: the whole frame
 // (roi full) is a pass whose windows are the whole frame.
 ScanResult ScanFramesReleasing(const FringeManifest& m, const StereoCalibration& calibration, SetFrames frames,
-                               const ScanOptions& options) {
+                               const ScanOptions& options, const ProjectorCalibration* projector = nullptr) {
   const ScanRoiOptions& roi = options.roi;
   ScanPass whole;
+  whole.projector = projector;
   whole.manifest = &m;
   whole.calibration = &calibration;
   whole.frames = &frames;
@@ -372,11 +415,36 @@ ScanResult ScanFrames(const FringeManifest& m, const StereoCalibration& calibrat
   return ScanFramesReleasing(m, calibration, SetFrames(left_frames, right_frames, full_scale), options);
 }
 
+namespace {
+
+// Tri-view's projector calibration: options.projector_calibration_path, else the manifest's
+// projector_calibration, whose camera must be the stereo calibration's left camera (its size).
+ProjectorCalibration ReadTriViewProjector(const FringeManifest& m, const ScanOptions& options,
+                                          const StereoCalibration& stereo) {
+  std::string path = options.projector_calibration_path;
+  if (path.empty()) {
+    if (m.projector_calibration.empty())
+      throw InputError({m.path, 0, "projector_calibration"},
+                       "tri-view needs the projector's calibration: the set names none (pass --projector-calib)");
+    path = m.Resolve(m.projector_calibration);
+  }
+  ProjectorCalibration p = ReadProjectorCalibration(path, m.projector_width, m.projector_height);
+  if (p.camera.width != stereo.left.width || p.camera.height != stereo.left.height)
+    throw InputError({path, 0, "image_size"}, "the projector calibration's camera is " +
+                                                  std::to_string(p.camera.width) + "x" +
+                                                  std::to_string(p.camera.height) + ", the stereo left camera " +
+                                                  std::to_string(stereo.left.width) + "x" +
+                                                  std::to_string(stereo.left.height));
+  return p;
+}
+
+}  // namespace
+
 ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& options) {
   ThrowIfInvalid(options.Validate(), "ScanOptions");
   const bool reference_decode = detail::CurrentDecodeTestHooks().reference_path;
   const FringeManifest m = ReadFringeManifest(manifest_path);
-  if (!m.projector_calibration.empty()) return ScanMonocularSet(m, options);
+  if (!m.projector_calibration.empty() && !options.tri_view) return ScanMonocularSet(m, options);
   for (const std::string& cam : {options.left_camera, options.right_camera})
     if (!m.cameras.count(cam))
       throw InputError({manifest_path, 0, "cameras." + cam}, "the set has no camera '" + cam + "'");
@@ -387,6 +455,9 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
     calib_path = m.Resolve(m.calibration);
   }
   const StereoCalibration calibration = ReadStereoCalibration(calib_path);
+  ProjectorCalibration projector;
+  if (options.tri_view) projector = ReadTriViewProjector(m, options, calibration);
+  const ProjectorCalibration* tri_view = options.tri_view ? &projector : nullptr;
   // A camera's frame `path` against the calibration's image size.
   auto check_size = [&](const std::string& cam, const std::string& path, const cv::Size& size) {
     const CameraIntrinsics& k = cam == options.left_camera ? calibration.left : calibration.right;
@@ -438,7 +509,7 @@ ScanResult ScanFringeSet(const std::string& manifest_path, const ScanOptions& op
       *full_scale = stack.full_scale;
       return std::move(stack.frames);
     });
-    result = ScanFramesReleasing(m, calibration, std::move(frames), options);
+    result = ScanFramesReleasing(m, calibration, std::move(frames), options, tri_view);
   } else {
     // Windows: uncompressed 8-bit grey frames are read by rows as the passes need them, others
     // loaded whole.
@@ -514,6 +585,12 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                                     {"rejected_geometry", s.projector.rejected_geometry},
                                     {"rejected_residual", s.projector.rejected_residual}};
   }
+  if (s.tri_view)
+    j["tri_view"] = {{"stereo_points", s.stereo_points},
+                     {"projector_points", s.projector_points},
+                     {"left_pixels_without_stereo_point", s.projector.coded_pixels},
+                     {"projector_rejected_geometry", s.projector.rejected_geometry},
+                     {"projector_median_sigma_mm", s.projector.median_sigma_mm}};
   j["report"] = s.BriefReport();
   return j.dump(2) + "\n";
 }

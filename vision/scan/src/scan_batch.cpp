@@ -31,6 +31,7 @@ std::string ScanResultSettings::ToString() const {
     << ";no_nonlinearity=" << no_nonlinearity << ";whole_residual_sigma=" << whole_residual_sigma
     << ";phase_filter=" << phase_filter << ";lr_sigma_factor=" << lr_sigma_factor << ";roi=" << roi
     << ";roi_margin=" << roi_margin << ";roi_stride=" << roi_stride;
+  if (tri_view) s << ";tri_view=1;projector_calib=" << projector_calib;
   return s.str();
 }
 namespace fs = std::filesystem;

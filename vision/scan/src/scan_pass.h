@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/vision/projector/projector_calibration.h"
 #include "ramtk/vision/scan/scan.h"
 #include "scan_frames.h"
 
@@ -41,6 +42,8 @@ struct ScanPass {
   ScanWindows windows;                             // the windows read (FullFrameWindows: the whole frame)
   bool last_use = true;                            // each camera's frames are released once read
   const ScanOptions* options = nullptr;            // the pass's options
+  // Tri-view (ScanOptions::tri_view, whole frame): the left camera and the projector; nullptr = off.
+  const ProjectorCalibration* projector = nullptr;
 };
 
 // The sphere fit on the scan's cloud with the stage's options `so` and the gates (a sphere that

@@ -146,6 +146,12 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
   stage_rows.push_back({"triangulate", FormatFixed(s.triangulate_s, 2),
                         std::to_string(s.triangulation.points) + " points",
                         "median σ " + FormatFixed(s.triangulation.median_sigma_mm * 1000.0, 2) + " µm"});
+  if (s.tri_view)
+    stage_rows.push_back({"tri-view", "", std::to_string(s.projector_points) + " of " +
+                                              std::to_string(s.projector.coded_pixels),
+                          std::to_string(s.stereo_points) + " stereo + " + std::to_string(s.projector_points) +
+                              " left camera–projector points (the left pixels without a stereo point); median σ " +
+                              FormatFixed(s.projector.median_sigma_mm * 1000.0, 2) + " µm"});
   stage_rows.push_back({"fit", FormatFixed(s.fit_s, 2), std::to_string(s.spheres.spheres.size()) + " sphere(s)", ""});
   html.Table({"stage", "wall time (s)", "count", "figures"}, stage_rows);
   html.Paragraph("The decode time covers both cameras.");

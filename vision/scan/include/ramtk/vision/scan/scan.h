@@ -41,6 +41,14 @@ struct ScanOptions {
   // range and iterations of the camera–projector triangulation. Its depth range is narrowed to
   // match.min_depth_mm .. match.max_depth_mm too (`ramtk scan --min-depth/--max-depth`).
   ProjectorTriangulationOptions projector;
+  // Tri-view on a stereo set (ScanFringeSet, whole frame only): the left pixels that decoded but
+  // got no stereo point are triangulated against the projector (vision/projector/tri_view.h),
+  // each with its sigma, and appended to the cloud and the depth map. Off: a manifest naming a
+  // projector_calibration is scanned as a camera–projector set (scan_monocular.h).
+  bool tri_view = false;
+  // With tri_view: the projector calibration (camera = the left camera), "" = the manifest's
+  // projector_calibration entry.
+  std::string projector_calibration_path;
   // Fit spheres to the cloud (false: cloud only).
   bool fit_spheres = true;
   // Sphere search and fit. ScanOptions() sets the 38.1 mm ball's radius prior (19.05 mm) and the
@@ -81,6 +89,11 @@ struct ScanSummary {
   // that camera's decode, `right` and `match` stay empty, `projector` holds the triangulation).
   std::string mode = "stereo";
   ProjectorTriangulationSummary projector;
+  // Tri-view (ScanOptions::tri_view): the points each pair gave, the stereo pair's and the left
+  // camera and projector's (their sum is triangulation.points); `projector` holds the latter's
+  // triangulation of the left pixels without a stereo point.
+  bool tri_view = false;
+  long stereo_points = 0, projector_points = 0;
   std::string message = "ok";                       // "ok", "no sphere found" or "cancelled"
   std::string set;                                  // manifest path ("" for in-memory sets)
   std::string calibration;                          // calibration path used

@@ -43,6 +43,8 @@ struct ScanResultSettings {
   std::string roi;
   double roi_margin = 0.0;
   int roi_stride = 0;
+  bool tri_view = false;             // --tri-view (recorded only when on)
+  std::string projector_calib;       // --projector-calib as given
   std::string ToString() const;
 };
 
