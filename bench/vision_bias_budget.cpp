@@ -6,20 +6,26 @@
 // the Cramér–Rao bound (SphereResult::crlb_centre_sigma_mm, the scan's correlation factor
 // included). Prints a Markdown table; a rig/axis whose |mean error| exceeds 0.5 standard errors
 // is marked.
-//   vision_bias_budget [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi]
+//   vision_bias_budget [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
 // the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
 // (-20, 10, 720); small-4step = 4-step phase shift instead of 12; small-half = the windows
 // resampled to half the resolution (ScaleCameraWindows 0.5, 320x256, 2x larger pixels);
-// thesis-roi = the whole 3312x2488 thesis frames scanned with `--roi auto` windows (slow).
+// thesis-roi = the whole 3312x2488 thesis frames scanned with `--roi auto` windows (slow);
+// 2048-4step = datasets/scan_default's calibration at 2048x1536, f = 2400 px, 4-step + 6-bit
+// complementary Gray, point-sampled, saturation 0.5 (docs/scan.md's 2048 rig), auto windows;
+// slmaster = the small preset's scene and sequence around SLMaster's real calibration
+// (RAMTK_SHARED_DIR/data/slmaster-binocular/caliInfo.yml), auto windows.
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/vision/decode/decode.h"
 #include "ramtk/vision/scan/scan.h"
 #include "ramtk/vision/sim/fringe_simulator.h"
@@ -59,6 +65,28 @@ Rig MakeRig(const std::string& name) {
     rig.config = ScaleCameraWindows(rig.config, 0.5);
   } else if (name == "thesis-roi") {
     rig.config = MakeFringePreset("thesis");
+    rig.roi = true;
+  } else if (name == "2048-4step") {
+    // The bundled default set's calibration with 2048x1536 images and f = 2400 px (the ball
+    // ~130 px across), 4-step + 6-bit complementary Gray, point sampling, half exposure.
+    StereoCalibration cal = ReadStereoCalibration(std::string(RAMTK_DATASETS_DIR) + "/scan_default/calibration.yml");
+    for (CameraIntrinsics* cam : {&cal.left, &cal.right}) {
+      cam->fx = cam->fy = 2400;
+      cam->cx = 1023.5;
+      cam->cy = 767.5;
+      cam->width = 2048;
+      cam->height = 1536;
+    }
+    rig.config = MakeFringeConfigForCalibration(cal);
+    rig.config.sequence = {PhaseShiftBlock(4, 32.0), GrayCodeBlock(6, true)};
+    rig.config.supersampling = 1;
+    rig.config.effects.Set("saturation", 0.5);
+    rig.roi = true;
+  } else if (name == "slmaster") {
+    // SLMaster's real stereo calibration (1280x1024) around the small preset's ball and sequence.
+    const char* shared = std::getenv("RAMTK_SHARED_DIR");
+    const std::string dir = shared ? shared : RAMTK_SHARED_DIR;
+    rig.config = MakeFringeConfigForCalibration(ReadStereoCalibration(dir + "/data/slmaster-binocular/caliInfo.yml"));
     rig.roi = true;
   } else {
     std::fprintf(stderr, "unknown rig %s\n", name.c_str());
@@ -170,8 +198,10 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
       rigs = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: %s [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi]\n",
-                   argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
+          argv[0]);
       return 2;
     }
   }
