@@ -5,8 +5,10 @@
 // error, RMS(error / predicted sigma), and the efficiency: the observed seed-to-seed scatter over
 // the Cramér–Rao bound (SphereResult::crlb_centre_sigma_mm, the scan's correlation factor
 // included). Prints a Markdown table; a rig/axis whose |mean error| exceeds 0.5 standard errors
-// is marked.
-//   vision_bias_budget [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
+// is marked. --noise-free scans the noise-free render (the sensor's quantisation only): the
+// part of the error that is not from the noise.
+//   vision_bias_budget [--seeds N] [--noise-free] [--rigs
+//   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
 // the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
 // (-20, 10, 720); small-4step = 4-step phase shift instead of 12; small-half = the windows
@@ -106,13 +108,13 @@ struct RigResult {
   std::vector<Draw> draws;
 };
 
-RigResult RunRig(const Rig& rig, int seeds) {
+RigResult RunRig(const Rig& rig, int seeds, bool noise) {
   FringeSimulationConfig c = rig.config;
   const Vec3 ball = c.scene.spheres[0].centre_in_left;
   const double radius = c.scene.spheres[0].radius;
   c.sensor.noise = false;
   const SimulatedCamera l0 = SimulateCamera(c, 0), r0 = SimulateCamera(c, 1);
-  c.sensor.noise = true;
+  c.sensor.noise = noise;
   const StereoCalibration calib = WrittenCalibration(c);
   RigResult out;
   out.seeds = seeds;
@@ -191,17 +193,20 @@ void PrintRig(const Rig& rig, const RigResult& r, std::vector<std::string>* flag
 
 int main(int argc, char** argv) {
   int seeds = 20;
+  bool noise = true;
   std::string rigs = "small,small-offaxis,small-4step,small-half";
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--noise-free")) {
+      noise = false;
     } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
       rigs = argv[++i];
     } else {
-      std::fprintf(
-          stderr,
-          "usage: %s [--seeds N] [--rigs small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
-          argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [--seeds N] [--noise-free] [--rigs "
+                   "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -213,7 +218,7 @@ int main(int argc, char** argv) {
   bool any = false;
   for (std::string name; std::getline(names, name, ',');) {
     const Rig rig = MakeRig(name);
-    const RigResult r = RunRig(rig, seeds);
+    const RigResult r = RunRig(rig, seeds, noise);
     PrintRig(rig, r, &flagged);
     any = any || !r.draws.empty();
     std::fflush(stdout);
