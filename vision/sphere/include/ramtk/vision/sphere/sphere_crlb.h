@@ -13,7 +13,8 @@
 // normal and the line of sight from the viewpoint):
 //   kIsotropic          sigma
 //   kAlongLineOfSight   sigma sqrt(cos^2 a + ratio^2 sin^2 a)
-//   kAlongRay           sigma |cos a|   (displacement along the ray only)
+//   kAlongRay           sigma |cos a|   (displacement along the ray only; a point seen exactly
+//                                         edge-on, sigma_n = 0, is left out)
 // Closed forms: a full sphere of N uniformly spread points with isotropic sigma gives 3 sigma^2 / N
 // per centre axis and sigma^2 / N for the radius; a hemisphere gives 3 sigma^2 / N across the
 // axis, 12 sigma^2 / N along it, 4 sigma^2 / N for the radius.
