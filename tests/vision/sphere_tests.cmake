@@ -5,6 +5,7 @@ find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus segmentation)
 ramtk_add_gtest(vision_sphere_tests
   sphere_fit_test.cpp
   sphere_grid_test.cpp
+  sphere_crlb_test.cpp
   sphere_mc_test.cpp
   sphere_pcl_test.cpp)
 target_link_libraries(vision_sphere_tests PRIVATE ramtk::vision nlohmann_json::nlohmann_json Ceres::ceres

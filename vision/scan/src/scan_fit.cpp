@@ -79,6 +79,8 @@ void InflateForCorrelatedNoise(const PointCloud& cloud, const ScanOptions& optio
       r.correlation_factor = factor;
       r.centre_covariance_mm2 *= factor;
       r.radius_sigma_mm *= std::sqrt(factor);
+      r.crlb_centre_sigma_mm *= std::sqrt(factor);
+      r.crlb_radius_sigma_mm *= std::sqrt(factor);
     }
   }
 }

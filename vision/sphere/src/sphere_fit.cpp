@@ -18,6 +18,7 @@
 #include "ramtk/core/log.h"
 #include "ramtk/vision/kernels/rank_select.h"
 #include "ramtk/vision/sphere/detail/sphere_fit_internal.h"
+#include "ramtk/vision/sphere/sphere_crlb.h"
 
 namespace ramtk::vision {
 namespace {
@@ -255,6 +256,21 @@ void SetFitFigures(const std::vector<Eigen::Vector3f>& points, const PointValues
   }
 }
 
+// The Cramér–Rao bound on the final fit's points at the fitted sphere (SphereResult::crlb_*).
+void SetCrlb(const std::vector<Eigen::Vector3f>& points, const std::vector<float>& sigma_mm,
+             const SphereFitOptions& options, SphereResult* result) {
+  SphereCrlbOptions co;
+  co.noise_model = options.noise_model;
+  co.viewpoint_mm = options.viewpoint_mm;
+  co.perpendicular_sigma_ratio = options.perpendicular_sigma_ratio;
+  co.fix_radius = options.fix_radius;
+  const SphereCrlb crlb =
+      SphereCramerRao(points, sigma_mm, result->inlier_indices, result->centre_mm, result->radius_mm, co);
+  if (!crlb.valid) return;
+  result->crlb_centre_sigma_mm = crlb.CentreSigma();
+  result->crlb_radius_sigma_mm = crlb.radius_sigma_mm;
+}
+
 }  // namespace
 
 std::string SphereFitOptions::Validate() const {
@@ -407,6 +423,7 @@ SphereFitSummary FindSpheres(const std::vector<Eigen::Vector3f>& points_mm, cons
     result.final_cost = fit.final_cost;
     SetFitFigures(points, sigma, sigma_n, inliers, fit, options, weighted, along_ray, &result);
     result.inlier_indices = inliers;
+    if (weighted) SetCrlb(points, sigma_mm, options, &result);
     // Remove this sphere's inliers and look for the next.
     std::vector<char> used(points.size(), 0);
     for (int i : classified) used[i] = 1;

@@ -125,6 +125,12 @@ struct SphereResult {
   // centre_covariance_mm2 and radius_sigma_mm. FindSpheres treats points as independent (1); a
   // caller that knows the points' pixel grid sets it (the scan: NeighbourCorrelationFactor).
   double correlation_factor = 1;
+  // Cramér–Rao bound of the centre (sigma along x, y, z, mm) and of the radius (mm; 0 when held
+  // fixed) on the final fit's points, their sigmas read by the options' noise model and the
+  // fitted sphere standing in for the true one (sphere_crlb.h), times correlation_factor; not
+  // scaled by variance_factor. Zero without per-point sigmas.
+  Eigen::Vector3d crlb_centre_sigma_mm = Eigen::Vector3d::Zero();
+  double crlb_radius_sigma_mm = 0;
   int ransac_iterations = 0;                // samples drawn to find this sphere
   int solver_iterations = 0;                // Ceres iterations of the final fit
   double initial_cost = 0, final_cost = 0;  // Ceres costs (0.5 sum z^2) of the final fit

@@ -1,0 +1,230 @@
+// Bias budget of the scanned sphere centre against the simulator's truth, per rig, over noise
+// seeds: the noise-free radiance is rendered once per rig and only the sensor noise is redrawn
+// per seed; each seed's set is decoded and scanned with the scan's defaults. Per rig and axis:
+// the mean centre error and its standard error (sd / sqrt(n)), the radius bias and its standard
+// error, RMS(error / predicted sigma), and the efficiency: the observed seed-to-seed scatter over
+// the Cramér–Rao bound (SphereResult::crlb_centre_sigma_mm, the scan's correlation factor
+// included). Prints a Markdown table; a rig/axis whose |mean error| exceeds 0.5 standard errors
+// is marked. --noise-free scans the noise-free render (the sensor's quantisation only): the
+// part of the error that is not from the noise.
+//   vision_bias_budget [--seeds N] [--noise-free] [--rigs
+//   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
+// Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
+// the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
+// (-20, 10, 720); small-4step = 4-step phase shift instead of 12; small-half = the windows
+// resampled to half the resolution (ScaleCameraWindows 0.5, 320x256, 2x larger pixels);
+// thesis-roi = the whole 3312x2488 thesis frames scanned with `--roi auto` windows (slow);
+// 2048-4step = datasets/scan_default's calibration at 2048x1536, f = 2400 px, 4-step + 6-bit
+// complementary Gray, point-sampled, saturation 0.5 (docs/scan.md's 2048 rig), auto windows;
+// slmaster = the small preset's scene and sequence around SLMaster's real calibration
+// (RAMTK_SHARED_DIR/data/slmaster-binocular/caliInfo.yml), auto windows.
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/vision/decode/decode.h"
+#include "ramtk/vision/scan/scan.h"
+#include "ramtk/vision/sim/fringe_simulator.h"
+#include "scan_sim.h"
+
+using namespace ramtk;
+using namespace ramtk::vision;
+
+namespace {
+
+// Images of one camera with fresh sensor noise (seed c.seed) on a noise-free render.
+SimulatedCamera Renoise(const FringeSimulationConfig& c, const SimulatedCamera& clean, int camera) {
+  SimulatedCamera out;
+  out.truth = clean.truth;
+  SensorOptions sensor = c.sensor;
+  sensor.blur_sigma_px = c.effects.camera_defocus;
+  for (std::size_t i = 0; i < clean.truth.radiance.size(); ++i)
+    out.images.push_back(
+        ApplySensor(clean.truth.radiance[i], 1.0, sensor, c.seed, static_cast<std::uint64_t>(camera) * 1000 + i));
+  return out;
+}
+
+struct Rig {
+  std::string name;
+  FringeSimulationConfig config;
+  bool roi = false;  // whole frames scanned with auto windows
+};
+
+Rig MakeRig(const std::string& name) {
+  Rig rig{name, MakeFringePreset("small"), false};
+  if (name == "small") return rig;
+  if (name == "small-offaxis") {
+    rig.config = MakeFringePreset("small", Vec3(-20, 10, 720));
+  } else if (name == "small-4step") {
+    rig.config.sequence = {PhaseShiftBlock(4, 64.0), GrayCodeBlock(7, true)};
+  } else if (name == "small-half") {
+    rig.config = ScaleCameraWindows(rig.config, 0.5);
+  } else if (name == "thesis-roi") {
+    rig.config = MakeFringePreset("thesis");
+    rig.roi = true;
+  } else if (name == "2048-4step") {
+    // The bundled default set's calibration with 2048x1536 images and f = 2400 px (the ball
+    // ~130 px across), 4-step + 6-bit complementary Gray, point sampling, half exposure.
+    StereoCalibration cal = ReadStereoCalibration(std::string(RAMTK_DATASETS_DIR) + "/scan_default/calibration.yml");
+    for (CameraIntrinsics* cam : {&cal.left, &cal.right}) {
+      cam->fx = cam->fy = 2400;
+      cam->cx = 1023.5;
+      cam->cy = 767.5;
+      cam->width = 2048;
+      cam->height = 1536;
+    }
+    rig.config = MakeFringeConfigForCalibration(cal);
+    rig.config.sequence = {PhaseShiftBlock(4, 32.0), GrayCodeBlock(6, true)};
+    rig.config.supersampling = 1;
+    rig.config.effects.Set("saturation", 0.5);
+    rig.roi = true;
+  } else if (name == "slmaster") {
+    // SLMaster's real stereo calibration (1280x1024) around the small preset's ball and sequence.
+    const char* shared = std::getenv("RAMTK_SHARED_DIR");
+    const std::string dir = shared ? shared : RAMTK_SHARED_DIR;
+    rig.config = MakeFringeConfigForCalibration(ReadStereoCalibration(dir + "/data/slmaster-binocular/caliInfo.yml"));
+    rig.roi = true;
+  } else {
+    std::fprintf(stderr, "unknown rig %s\n", name.c_str());
+    std::exit(2);
+  }
+  return rig;
+}
+
+// The scanned sphere of each seed.
+struct Draw {
+  Eigen::Vector3d error, sigma, crlb;
+  double radius_error;
+};
+
+struct RigResult {
+  int seeds = 0, misses = 0;
+  std::vector<Draw> draws;
+};
+
+RigResult RunRig(const Rig& rig, int seeds, bool noise) {
+  FringeSimulationConfig c = rig.config;
+  const Vec3 ball = c.scene.spheres[0].centre_in_left;
+  const double radius = c.scene.spheres[0].radius;
+  c.sensor.noise = false;
+  const SimulatedCamera l0 = SimulateCamera(c, 0), r0 = SimulateCamera(c, 1);
+  c.sensor.noise = noise;
+  const StereoCalibration calib = WrittenCalibration(c);
+  RigResult out;
+  out.seeds = seeds;
+  for (int s = 0; s < seeds; ++s) {
+    c.seed = 1000 + s;
+    const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
+    ScanOptions options;
+    ScanResult res;
+    if (rig.roi) {
+      options.roi.mode = ScanRoiOptions::Mode::kAuto;
+      res = ScanFrames(testing::ManifestForConfig(c), calib, l.images, r.images, (1 << c.sensor.bits) - 1.0, options);
+    } else {
+      const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
+      res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
+    }
+    if (res.summary.spheres.spheres.empty()) {
+      std::fprintf(stderr, "%s seed %d: %s\n", rig.name.c_str(), s, res.summary.BriefReport().c_str());
+      ++out.misses;
+      continue;
+    }
+    const SphereResult& b = res.summary.spheres.spheres[0];
+    out.draws.push_back({b.centre_mm - ball, b.CentreSigma(), b.crlb_centre_sigma_mm, b.radius_mm - radius});
+    std::fprintf(stderr, "%s seed %d: error (%+.2f, %+.2f, %+.2f) um, sigma (%.2f, %.2f, %.2f) um\n", rig.name.c_str(),
+                 s, 1e3 * out.draws.back().error.x(), 1e3 * out.draws.back().error.y(),
+                 1e3 * out.draws.back().error.z(), 1e3 * b.CentreSigma().x(), 1e3 * b.CentreSigma().y(),
+                 1e3 * b.CentreSigma().z());
+  }
+  return out;
+}
+
+// Mean and standard error of the mean of v.
+void MeanSe(const std::vector<double>& v, double* mean, double* se) {
+  const double n = static_cast<double>(v.size());
+  double m = 0, ss = 0;
+  for (double x : v) m += x / n;
+  for (double x : v) ss += (x - m) * (x - m);
+  *mean = m;
+  *se = n > 1 ? std::sqrt(ss / (n - 1) / n) : NAN;
+}
+
+void PrintRig(const Rig& rig, const RigResult& r, std::vector<std::string>* flagged) {
+  const char* axes = "xyz";
+  const double n = static_cast<double>(r.draws.size());
+  if (r.draws.size() < 2) {
+    std::printf("| %s | — | %zu of %d seeds fitted | | | | | |\n", rig.name.c_str(), r.draws.size(), r.seeds);
+    return;
+  }
+  std::vector<double> radius;
+  for (const Draw& d : r.draws) radius.push_back(d.radius_error);
+  double rb, rse;
+  MeanSe(radius, &rb, &rse);
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> e;
+    double z2 = 0, crlb = 0;
+    for (const Draw& d : r.draws) {
+      e.push_back(d.error[a]);
+      z2 += std::pow(d.error[a] / d.sigma[a], 2) / n;
+      crlb += d.crlb[a] / n;
+    }
+    double mean, se;
+    MeanSe(e, &mean, &se);
+    const double sd = se * std::sqrt(n);
+    const bool over = std::abs(mean) > 0.5 * se;
+    if (over) flagged->push_back(rig.name + " " + axes[a]);
+    std::printf("| %s | %c | %zu/%d | %+.2f ± %.2f%s | %+.2f | %.2f | %.2f / %.2f = %.2f |", rig.name.c_str(), axes[a],
+                r.draws.size(), r.seeds, 1e3 * mean, 1e3 * se, over ? " *" : "", mean / se, std::sqrt(z2), 1e3 * sd,
+                1e3 * crlb, sd / crlb);
+    if (a == 0)
+      std::printf(" %+.2f ± %.2f |\n", 1e3 * rb, 1e3 * rse);
+    else
+      std::printf(" |\n");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seeds = 20;
+  bool noise = true;
+  std::string rigs = "small,small-offaxis,small-4step,small-half";
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
+      seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--noise-free")) {
+      noise = false;
+    } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
+      rigs = argv[++i];
+    } else {
+      std::fprintf(stderr,
+                   "usage: %s [--seeds N] [--noise-free] [--rigs "
+                   "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
+                   argv[0]);
+      return 2;
+    }
+  }
+  std::vector<std::string> flagged;
+  std::printf(
+      "| rig | axis | seeds | mean centre error ± s.e. (um) | mean/s.e. | RMS(error/sigma) | "
+      "efficiency: sd / CRLB (um) | radius bias ± s.e. (um) |\n|---|---|---|---|---|---|---|---|\n");
+  std::stringstream names(rigs);
+  bool any = false;
+  for (std::string name; std::getline(names, name, ',');) {
+    const Rig rig = MakeRig(name);
+    const RigResult r = RunRig(rig, seeds, noise);
+    PrintRig(rig, r, &flagged);
+    any = any || !r.draws.empty();
+    std::fflush(stdout);
+  }
+  std::printf("\n|mean| > 0.5 s.e. (marked *):");
+  for (const std::string& f : flagged) std::printf(" %s;", f.c_str());
+  std::printf("%s\n", flagged.empty() ? " none" : "");
+  return any ? 0 : 1;
+}
