@@ -39,10 +39,13 @@ void CrossValidate(const std::vector<int>& fold_of_tile, int folds, const std::v
   c->heldout_count = static_cast<int>(nheld);
 }
 
-CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, const BasisFn& basis,
-                       const std::vector<std::vector<int>>& by_tile, const std::vector<int>& fold_of_tile, int folds,
-                       double sigma, const std::function<std::string(int)>& key,
-                       const std::function<double(int, double)>& scale) {
+CandidateFit FitLinear(const CandidateContext& ctx, const std::string& name, int m, const BasisFn& basis,
+                       const std::function<std::string(int)>& key, const std::function<double(int, double)>& scale) {
+  const FringeFit& fit = *ctx.fit;
+  const std::vector<std::vector<int>>& by_tile = ctx.by_tile;
+  const std::vector<int>& fold_of_tile = ctx.fold_of_tile;
+  const int folds = ctx.folds;
+  const double sigma = ctx.sigma;
   const int nt = static_cast<int>(by_tile.size());
   const int nf = fit.frames, n = fit.steps;
   std::vector<Eigen::MatrixXd> g(nt, Eigen::MatrixXd::Zero(m, m));

@@ -53,8 +53,8 @@ CandidateFit FitRegistered(const CandidateContext& ctx, const FringeLinearCause&
     cause.basis(seq, view, mat);
   };
   return FitLinear(
-      *ctx.fit, cause.info.name, static_cast<int>(cause.keys.size()), basis, ctx.by_tile, ctx.fold_of_tile,
-      ctx.folds, ctx.sigma, [&](int i) { return cause.keys[i]; }, [](int, double v) { return v; });
+      ctx, cause.info.name, static_cast<int>(cause.keys.size()), basis, [&](int i) { return cause.keys[i]; },
+      [](int, double v) { return v; });
 }
 
 }  // namespace fringe

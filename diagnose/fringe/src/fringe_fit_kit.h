@@ -37,10 +37,9 @@ void CrossValidate(const std::vector<int>& fold_of_tile, int folds, const std::v
 
 // A linear extension: r ≈ M·c with M (frames × m) built per pixel.
 using BasisFn = std::function<void(const FringeFit&, const PixelFit&, Eigen::Ref<Eigen::MatrixXd>)>;
-CandidateFit FitLinear(const FringeFit& fit, const std::string& name, int m, const BasisFn& basis,
-                       const std::vector<std::vector<int>>& by_tile, const std::vector<int>& fold_of_tile, int folds,
-                       double sigma, const std::function<std::string(int)>& key,
-                       const std::function<double(int, double)>& scale);
+// Fitted on ctx's tiles and folds, the parameter sigmas at ctx's noise floor.
+CandidateFit FitLinear(const CandidateContext& ctx, const std::string& name, int m, const BasisFn& basis,
+                       const std::function<std::string(int)>& key, const std::function<double(int, double)>& scale);
 
 // prefix + two-digit i + suffix ("step_03_error_deg").
 std::string Numbered(const std::string& prefix, int i, const std::string& suffix);

@@ -12,15 +12,11 @@ namespace ramtk::diagnose::fringe {
 // gain B·cos(hθ_k); Gray frames the response's white/black levels B·Σr_h and B·Σ(−1)^h r_h.
 CandidateFit FitProjectorNonlinearity(const CandidateContext& ctx) {
   const FringeFit& fit = *ctx.fit;
-  const auto& by_tile = ctx.by_tile;
-  const auto& fold_of_tile = ctx.fold_of_tile;
-  const int folds = ctx.folds;
-  const double sigma = ctx.sigma;
   const int n = fit.steps;
   const int hmax = std::max(2, (n + 1) / 2 - 1);  // the harmonics an N-step block resolves
   const int nh = hmax - 1;
   return FitLinear(
-      fit, "projector_nonlinearity", nh,
+      ctx, "projector_nonlinearity", nh,
       [&](const FringeFit& ft, const PixelFit& p, Eigen::Ref<Eigen::MatrixXd> mat) {
         for (int c = 0; c < nh; ++c) {
           const int hh = c + 2;
@@ -33,44 +29,33 @@ CandidateFit FitProjectorNonlinearity(const CandidateContext& ctx) {
           }
         }
       },
-      by_tile, fold_of_tile, folds, sigma, [](int c) { return "B" + std::to_string(c + 2) + "/B1"; },
-      [](int, double v) { return v; });
+      [](int c) { return "B" + std::to_string(c + 2) + "/B1"; }, [](int, double v) { return v; });
 }
 
 // phase_shift_error: step k shifted by ε_k: −B·sin(θ_k)·ε_k.
 CandidateFit FitPhaseShiftError(const CandidateContext& ctx) {
   const FringeFit& fit = *ctx.fit;
-  const auto& by_tile = ctx.by_tile;
-  const auto& fold_of_tile = ctx.fold_of_tile;
-  const int folds = ctx.folds;
-  const double sigma = ctx.sigma;
   const int n = fit.steps;
   return FitLinear(
-      fit, "phase_shift_error", n,
+      ctx, "phase_shift_error", n,
       [&](const FringeFit& ft, const PixelFit& p, Eigen::Ref<Eigen::MatrixXd> mat) {
         for (int k = 0; k < n; ++k) mat(ft.phase_frame[k], k) = -p.b * std::sin(p.phi + StepShift(k, n));
       },
-      by_tile, fold_of_tile, folds, sigma, [](int k) { return Numbered("step_", k, "_error_deg"); },
-      [](int, double v) { return v * 180.0 / kPi; });
+      [](int k) { return Numbered("step_", k, "_error_deg"); }, [](int, double v) { return v * 180.0 / kPi; });
 }
 
 // intensity_drift: per-frame gain g_f and offset o_f: I_f ≈ (1 + g_f)·ideal + o_f.
 CandidateFit FitIntensityDrift(const CandidateContext& ctx) {
   const FringeFit& fit = *ctx.fit;
-  const auto& by_tile = ctx.by_tile;
-  const auto& fold_of_tile = ctx.fold_of_tile;
-  const int folds = ctx.folds;
-  const double sigma = ctx.sigma;
   const int nf = fit.frames;
   return FitLinear(
-      fit, "intensity_drift", 2 * nf,
+      ctx, "intensity_drift", 2 * nf,
       [&](const FringeFit& ft, const PixelFit& p, Eigen::Ref<Eigen::MatrixXd> mat) {
         for (int f = 0; f < nf; ++f) {
           mat(f, f) = IdealIntensity(ft, p, f);
           mat(f, nf + f) = 1.0;
         }
       },
-      by_tile, fold_of_tile, folds, sigma,
       [nf](int i) { return i < nf ? Numbered("gain_frame_", i, "") : Numbered("offset_frame_", i - nf, "_DN"); },
       [](int, double v) { return v; });
 }
