@@ -38,18 +38,6 @@ using namespace ramtk::vision;
 
 namespace {
 
-// Images of one camera with fresh sensor noise (seed c.seed) on a noise-free render.
-SimulatedCamera Renoise(const FringeSimulationConfig& c, const SimulatedCamera& clean, int camera) {
-  SimulatedCamera out;
-  out.truth = clean.truth;
-  SensorOptions sensor = c.sensor;
-  sensor.blur_sigma_px = c.effects.camera_defocus;
-  for (std::size_t i = 0; i < clean.truth.radiance.size(); ++i)
-    out.images.push_back(
-        ApplySensor(clean.truth.radiance[i], 1.0, sensor, c.seed, static_cast<std::uint64_t>(camera) * 1000 + i));
-  return out;
-}
-
 struct Rig {
   std::string name;
   FringeSimulationConfig config;
@@ -120,7 +108,7 @@ RigResult RunRig(const Rig& rig, int seeds, bool noise) {
   out.seeds = seeds;
   for (int s = 0; s < seeds; ++s) {
     c.seed = 1000 + s;
-    const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
+    const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
     ScanOptions options;
     ScanResult res;
     if (rig.roi) {

@@ -68,18 +68,6 @@ std::string ArgS(int argc, char** argv, const char* name, const std::string& fal
   return fallback;
 }
 
-// Images of one camera with fresh sensor noise on a noise-free render.
-SimulatedCamera Renoise(const FringeSimulationConfig& c, const SimulatedCamera& clean, int camera) {
-  SimulatedCamera out;
-  out.truth = clean.truth;
-  SensorOptions sensor = c.sensor;
-  sensor.blur_sigma_px = c.effects.camera_defocus;
-  for (std::size_t i = 0; i < clean.truth.radiance.size(); ++i)
-    out.images.push_back(
-        ApplySensor(clean.truth.radiance[i], 1.0, sensor, c.seed, static_cast<std::uint64_t>(camera) * 1000 + i));
-  return out;
-}
-
 int Speed(const std::string& preset, int repeat) {
   FringeSimulationConfig c = MakeFringePreset(preset);
   std::printf("rendering the %s preset...\n", preset.c_str());
@@ -263,7 +251,7 @@ int Accuracy(int first_pose, int poses, int seeds, int rectified) {
     const StereoCalibration calib = WrittenCalibration(c);
     for (int s = 0; s < seeds; ++s) {
       c.seed = 1000 + s;
-      const SimulatedCamera l = Renoise(c, l0, 0), r = Renoise(c, r0, 1);
+      const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
       const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
       ScanOptions options;
       const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);

@@ -71,6 +71,23 @@ TEST(SimSimulator, SeedsReproduceImagesExactlyAcrossThreadCounts) {
   EXPECT_TRUE(Identical(a.truth.radiance[0], other.truth.radiance[0]));
 }
 
+// Sensing a render again with another seed gives what a whole simulation with that seed gives,
+// effects on the sensor (exposure, drift gains, camera blur) included.
+TEST(SimSimulator, ResensedRenderIsTheSimulationWithThatSeed) {
+  FringeSimulationConfig c = FastConfig();
+  c.effects.Set("saturation", 0.5);
+  c.effects.Set("intensity_drift", 0.05);
+  c.effects.Set("camera_defocus", 0.7);
+  c.seed = 11;
+  const SimulatedCamera rendered = SimulateCamera(c, 1);
+  c.seed = 12;
+  const SimulatedCamera whole = SimulateCamera(c, 1);
+  const SimulatedCamera resensed = ResenseCamera(c, rendered, 1);
+  ASSERT_EQ(resensed.images.size(), whole.images.size());
+  for (std::size_t i = 0; i < whole.images.size(); ++i) EXPECT_TRUE(Identical(resensed.images[i], whole.images[i])) << i;
+  EXPECT_FALSE(Identical(resensed.images[0], rendered.images[0]));
+}
+
 TEST(SimSimulator, IntensityDriftAndGammaFollowTheirMagnitudes) {
   FringeSimulationConfig c = FastConfig();
   c.sensor.bits = 16;

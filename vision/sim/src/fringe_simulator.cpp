@@ -313,13 +313,29 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
   SimulatedCamera out;
   out.truth = RenderView(config.scene, RenderedCameraView(config, camera), config.projector, frames, ro);
   if (out.truth.cancelled) return out;
+  out.images = SenseRadiance(config, out.truth.radiance, fx.gains, camera);
+  return out;
+}
+
+std::vector<cv::Mat> SenseRadiance(const FringeSimulationConfig& config, const std::vector<cv::Mat>& radiance,
+                                   const std::vector<double>& gains, int camera) {
   SensorOptions sensor = config.sensor;
   sensor.exposure *= config.effects.saturation;
   sensor.blur_sigma_px = config.effects.camera_defocus;
   sensor.soft_knee_fraction = config.effects.soft_knee_response;
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    out.images.push_back(ApplySensor(out.truth.radiance[i], fx.gains[i], sensor, config.seed,
-                                     static_cast<std::uint64_t>(camera) * 1000 + i));
+  std::vector<cv::Mat> images;
+  for (std::size_t i = 0; i < radiance.size(); ++i)
+    images.push_back(
+        ApplySensor(radiance[i], gains[i], sensor, config.seed, static_cast<std::uint64_t>(camera) * 1000 + i));
+  return images;
+}
+
+SimulatedCamera ResenseCamera(const FringeSimulationConfig& config, const SimulatedCamera& rendered, int camera) {
+  ThrowIfInvalid(config.Validate(), "FringeSimulationConfig");
+  const std::vector<PatternFrame> frames = ExpandSequence(config.sequence);
+  SimulatedCamera out;
+  out.truth = rendered.truth;
+  out.images = SenseRadiance(config, rendered.truth.radiance, RealiseEffects(config, frames).gains, camera);
   return out;
 }
 

@@ -105,6 +105,15 @@ struct SimulatedCamera {
 };
 SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera, const ProgressCallback& progress = {});
 
+// The sensor's images of one camera's radiance frames (per-frame gains from the intensity drift)
+// under config's sensor and effects, noise drawn from config.seed: SimulateCamera's last step.
+std::vector<cv::Mat> SenseRadiance(const FringeSimulationConfig& config, const std::vector<cv::Mat>& radiance,
+                                   const std::vector<double>& gains, int camera);
+
+// `rendered` (a SimulateCamera result of the same scene) sensed again under config, e.g. with
+// another seed: fresh sensor noise on one render, as SimulateCamera would draw it.
+SimulatedCamera ResenseCamera(const FringeSimulationConfig& config, const SimulatedCamera& rendered, int camera);
+
 // What SimulateFringeSet wrote.
 struct FringeSimulationSummary {
   std::string out_dir;  // the output folder
