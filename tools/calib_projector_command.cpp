@@ -10,8 +10,8 @@
 #include "progress_printer.h"
 #include "ramtk/calib/projector/projector_session_calibration.h"
 #include "ramtk/calib/projector/projector_session_sim.h"
-#include "ramtk/core/error.h"
 #include "ramtk/camera/stereo_calibration.h"
+#include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/outputs.h"
 #include "ramtk/vision/projector/projector_calibration.h"
@@ -71,9 +71,10 @@ int RunCalibProjector(const CalibProjectorOptions& opt, Provenance provenance) {
   std::printf("projector_from_camera T (mm) %.3f %.3f %.3f\n", t.x(), t.y(), t.z());
   for (const calib::ProjectorPoseReport& p : result.poses) {
     if (p.used) {
-      std::printf("  %s: %d corners, %d in the projector (median sigma %.3f px); RMS %.3f camera px, %.3f projector px\n",
-                  p.name.c_str(), p.camera_corners, p.projector_corners, p.median_corner_sigma_px, p.camera_rms_px,
-                  p.projector_rms_px);
+      std::printf(
+          "  %s: %d corners, %d in the projector (median sigma %.3f px); RMS %.3f camera px, %.3f projector px\n",
+          p.name.c_str(), p.camera_corners, p.projector_corners, p.median_corner_sigma_px, p.camera_rms_px,
+          p.projector_rms_px);
     } else {
       std::printf("  %s: not used: %s\n", p.name.c_str(), p.reason.c_str());
     }

@@ -11,9 +11,9 @@ bool StereoExtrinsicStd(const std::vector<std::vector<cv::Point3f>>& object,
                         const std::vector<std::vector<cv::Point2f>>& left,
                         const std::vector<std::vector<cv::Point2f>>& right, const cv::Matx33d& k1,
                         const std::vector<double>& d1, const cv::Matx33d& k2, const std::vector<double>& d2,
-                        const cv::Matx33d& rotation, const cv::Vec3d& translation, bool fix_k3, bool per_camera_variance,
-                        cv::Vec6d* std_rt,
-                        std::vector<double>* std_left, std::vector<double>* std_right) {
+                        const cv::Matx33d& rotation, const cv::Vec3d& translation, bool fix_k3,
+                        bool per_camera_variance, cv::Vec6d* std_rt, std::vector<double>* std_left,
+                        std::vector<double>* std_right) {
   const int n_intr = fix_k3 ? 8 : 9;  // fx fy cx cy k1 k2 p1 p2 [k3]
   const int n_views = static_cast<int>(object.size());
   const int n_params = 2 * n_intr + 6 + 6 * n_views;

@@ -79,7 +79,7 @@ PoseCorners FindPoseCorners(const ProjectorSession& session, std::size_t index, 
   out.report.name = pose.name;
   const BoardDetection detection = DetectBoard(FlatImage(columns), board, options.detect);
   if (!detection.found) {
-    out.report.reason = "board not found: " + detection.reason;
+    out.report.reason = detection.reason.empty() ? "board not found" : detection.reason;
     return out;
   }
   out.camera = {pose.name, detection.image_points, detection.object_points, detection.ids};
@@ -196,16 +196,15 @@ ProjectorSessionResult CalibrateProjectorSession(const ProjectorSession& session
   result.projector_width = corners.front().projector_size.width;
   result.projector_height = corners.front().projector_size.height;
   if (static_cast<int>(camera_views.size()) < options.calibration.min_views) {
-    throw InputError({session.path, 0, "poses"},
-                     std::to_string(camera_views.size()) + " usable poses; at least " +
-                         std::to_string(options.calibration.min_views) + " are needed");
+    throw InputError({session.path, 0, "poses"}, std::to_string(camera_views.size()) + " usable poses; at least " +
+                                                     std::to_string(options.calibration.min_views) + " are needed");
   }
   if (options.progress) options.progress({"calibrate", 0, 1});
   CameraCalibrationOptions co = options.calibration;
   co.per_camera_variance = true;
   try {
-    result.stereo = CalibrateStereo(camera_views, projector_views, corners.front().camera_size,
-                                    corners.front().projector_size, co);
+    result.stereo =
+        CalibrateStereo(camera_views, projector_views, corners.front().camera_size, corners.front().projector_size, co);
   } catch (const InputError& e) {
     if (!e.where().file.empty()) throw;
     throw InputError({session.path, 0, e.where().field.empty() ? "poses" : e.where().field}, e.message());

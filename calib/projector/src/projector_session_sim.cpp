@@ -110,10 +110,9 @@ ProjectorSessionSimOptions ProjectorSessionSimOptions::Defaults() {
   // the aim point.
   const Vec3 centre(150.0, -20.0, 10.0);
   const Vec3 to_aim = (o.aim_in_camera - centre).normalized();
-  const Vec3 centre_pixel_ray =
-      Vec3((0.5 * (o.projector.width - 1) - o.projector.cx) / o.projector.fx,
-           (0.5 * (o.projector.height - 1) - o.projector.cy) / o.projector.fy, 1.0)
-          .normalized();
+  const Vec3 centre_pixel_ray = Vec3((0.5 * (o.projector.width - 1) - o.projector.cx) / o.projector.fx,
+                                     (0.5 * (o.projector.height - 1) - o.projector.cy) / o.projector.fy, 1.0)
+                                    .normalized();
   const Mat3 rotation = RotationBetween(to_aim, centre_pixel_ray);
   o.projector_from_camera.linear() = rotation;
   o.projector_from_camera.translation() = -rotation * centre;
@@ -167,16 +166,18 @@ std::vector<Isometry3> DrawProjectorSessionPoses(const ProjectorSessionSimOption
     const double tilt = (o.max_tilt_deg * kRadPerDeg) * (0.25 + 0.75 * unit(rng));
     const double axis_angle = 2.0 * kPi * unit(rng), roll = (20.0 * kRadPerDeg) * (2.0 * unit(rng) - 1.0);
     const Vec3 axis(std::cos(axis_angle), std::sin(axis_angle), 0.0);
-    const Mat3 rotation = Eigen::AngleAxisd(tilt, axis).toRotationMatrix() *
-                          Eigen::AngleAxisd(roll, Vec3::UnitZ()).toRotationMatrix();
-    Vec3 centre = o.aim_in_camera + Vec3(o.max_offset_mm * (2 * unit(rng) - 1), o.max_offset_mm * (2 * unit(rng) - 1), 0);
+    const Mat3 rotation =
+        Eigen::AngleAxisd(tilt, axis).toRotationMatrix() * Eigen::AngleAxisd(roll, Vec3::UnitZ()).toRotationMatrix();
+    Vec3 centre =
+        o.aim_in_camera + Vec3(o.max_offset_mm * (2 * unit(rng) - 1), o.max_offset_mm * (2 * unit(rng) - 1), 0);
     centre.z() = o.distance_mm[0] + (o.distance_mm[1] - o.distance_mm[0]) * unit(rng);
     Isometry3 pose = Isometry3::Identity();
     pose.linear() = rotation;
     pose.translation() = centre - rotation * board_centre;
     // The board's lit side faces both the camera and the projector.
     const Vec3 normal = -rotation.col(2);
-    if (normal.dot((-centre).normalized()) < 0.3 || normal.dot((projector_centre - centre).normalized()) < 0.3) continue;
+    if (normal.dot((-centre).normalized()) < 0.3 || normal.dot((projector_centre - centre).normalized()) < 0.3)
+      continue;
     bool ok = true;
     for (const cv::Point3f& c : corners) {
       const Vec3 x = pose * Vec3(c.x, c.y, c.z);
@@ -202,8 +203,7 @@ ProjectorSessionPoseRender RenderProjectorSessionPose(const ProjectorSessionSimO
   const Mat3 r = camera_from_board.linear();
   const Vec3 t = camera_from_board.translation(), plane_normal = r.col(2);
   const Vec3 facing = -plane_normal;  // towards the camera
-  const Vec3 projector_centre =
-      -(o.projector_from_camera.linear().transpose() * o.projector_from_camera.translation());
+  const Vec3 projector_centre = -(o.projector_from_camera.linear().transpose() * o.projector_from_camera.translation());
   const int extent[2] = {o.projector.width, o.projector.height};
 
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
@@ -230,14 +230,15 @@ ProjectorSessionPoseRender RenderProjectorSessionPose(const ProjectorSessionSimO
             const double cosine = facing.dot((projector_centre - point).normalized());
             Vec2 p(-1e9, -1e9);
             if (in_projector.z() > 0 && cosine > 0) p = camera::ProjectPoint(o.projector, in_projector);
-            const bool lit = p.x() >= -0.5 && p.y() >= -0.5 && p.x() < o.projector.width - 0.5 &&
-                             p.y() < o.projector.height - 0.5;
+            const bool lit =
+                p.x() >= -0.5 && p.y() >= -0.5 && p.x() < o.projector.width - 0.5 && p.y() < o.projector.height - 0.5;
             for (int d = 0; d < 2; ++d) {
               const double coordinate = d == 0 ? p.x() : p.y();
               for (int f = 0; f < nf; ++f) {
                 double value = o.ambient;
-                if (lit) value += cosine * frames[f].codec->intensity(*frames[f].block, frames[f].image, coordinate,
-                                                                      extent[d]);
+                if (lit)
+                  value +=
+                      cosine * frames[f].codec->intensity(*frames[f].block, frames[f].image, coordinate, extent[d]);
                 sum[d * nf + f] += albedo * value;
               }
             }
@@ -311,18 +312,19 @@ ProjectorSessionSimSummary SimulateProjectorSession(const ProjectorSessionSimOpt
   truth.projector = o.projector;
   truth.projector_from_camera = o.projector_from_camera;
   vision::WriteProjectorCalibration((tmp / "truth" / "projector_calibration.yml").string(), truth);
-  const json truth_json = {
-      {"generator", "ramtk simulate projector-session"},
-      {"board", o.board.ToString()},
-      {"seed", o.seed},
-      {"supersampling", o.supersampling},
-      {"sensor", {{"bits", o.sensor.bits}, {"exposure", o.sensor.exposure},
-                  {"full_well_electrons", o.sensor.full_well_electrons},
-                  {"read_noise_electrons", o.sensor.read_noise_electrons}}},
-      {"camera", IntrinsicsJson(o.camera)},
-      {"projector", IntrinsicsJson(o.projector)},
-      {"projector_from_camera", PoseToJson(o.projector_from_camera)},
-      {"poses", truth_poses}};
+  const json truth_json = {{"generator", "ramtk simulate projector-session"},
+                           {"board", o.board.ToString()},
+                           {"seed", o.seed},
+                           {"supersampling", o.supersampling},
+                           {"sensor",
+                            {{"bits", o.sensor.bits},
+                             {"exposure", o.sensor.exposure},
+                             {"full_well_electrons", o.sensor.full_well_electrons},
+                             {"read_noise_electrons", o.sensor.read_noise_electrons}}},
+                           {"camera", IntrinsicsJson(o.camera)},
+                           {"projector", IntrinsicsJson(o.projector)},
+                           {"projector_from_camera", PoseToJson(o.projector_from_camera)},
+                           {"poses", truth_poses}};
   WriteFileAtomically((tmp / "truth" / "truth.json").string(), truth_json.dump(2) + "\n");
   staged.Commit();
   summary.poses = static_cast<int>(poses.size());

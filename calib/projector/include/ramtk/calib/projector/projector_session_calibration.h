@@ -40,21 +40,21 @@ struct ProjectorSessionOptions {
 // One pose of the session.
 struct ProjectorPoseReport {
   std::string name;
-  bool used = false;           // in the final stereo calibration
-  std::string reason;          // why not (board not found, too few projector corners, rejected)
-  int camera_corners = 0;      // corners found in the camera image
-  int projector_corners = 0;   // of those, with a projector pixel
+  bool used = false;          // in the final stereo calibration
+  std::string reason;         // why not (board not found, too few projector corners, rejected)
+  int camera_corners = 0;     // corners found in the camera image
+  int projector_corners = 0;  // of those, with a projector pixel
   double median_corner_sigma_px = std::numeric_limits<double>::quiet_NaN();  // projector px, larger axis
-  double camera_rms_px = std::numeric_limits<double>::quiet_NaN();     // reprojection RMS, camera px
-  double projector_rms_px = std::numeric_limits<double>::quiet_NaN();  // reprojection RMS, projector px
+  double camera_rms_px = std::numeric_limits<double>::quiet_NaN();           // reprojection RMS, camera px
+  double projector_rms_px = std::numeric_limits<double>::quiet_NaN();        // reprojection RMS, projector px
 };
 
 struct ProjectorSessionResult {
   vision::ProjectorCalibration calibration;  // what the file holds (parameter_std in kCalibParameterStdOrder)
   StereoCalibrationResult stereo;            // the joint fit and each device's own fit
   std::vector<ProjectorPoseReport> poses;    // every pose of the session, in its order
-  double camera_rms_px = 0.0;     // over every corner of the used poses, camera px
-  double projector_rms_px = 0.0;  // the same in projector px
+  double camera_rms_px = 0.0;                // over every corner of the used poses, camera px
+  double projector_rms_px = 0.0;             // the same in projector px
   int camera_width = 0, camera_height = 0;
   int projector_width = 0, projector_height = 0;
 };

@@ -30,23 +30,23 @@
 namespace ramtk::calib {
 
 struct ProjectorSessionSimOptions {
-  BoardSpec board;                     // chessboard only (set by Defaults: chessboard:9x6:20)
-  int poses = 12;                      // board poses (>= 4)
-  std::uint64_t seed = 1;              // seeds the poses and the sensor noise
-  camera::CameraIntrinsics camera;     // the camera, its image size and distortion
-  camera::CameraIntrinsics projector;  // the projector as an inverse camera, its resolution
+  BoardSpec board;                                          // chessboard only (set by Defaults: chessboard:9x6:20)
+  int poses = 12;                                           // board poses (>= 4)
+  std::uint64_t seed = 1;                                   // seeds the poses and the sensor noise
+  camera::CameraIntrinsics camera;                          // the camera, its image size and distortion
+  camera::CameraIntrinsics projector;                       // the projector as an inverse camera, its resolution
   Isometry3 projector_from_camera = Isometry3::Identity();  // x_projector = R·x_camera + T (mm)
   std::vector<vision::SequenceBlock> sequence;              // projected in each direction
   int supersampling = 2;                                    // s: s×s rays per camera pixel (1..8)
-  double ambient = 0.05;          // ambient irradiance, fraction of the projector's white
-  double black_albedo = 0.25;     // albedo of the dark squares
-  double white_albedo = 0.85;     // albedo of the light squares and the margin
-  vision::SensorOptions sensor;   // bit depth, exposure, noise
-  double distance_mm[2] = {420.0, 580.0};  // range of the board centre's distance from the camera
-  double max_tilt_deg = 35.0;              // largest tilt of the board from facing the camera
-  double max_offset_mm = 40.0;             // board centre off the aim point, each of x and y
-  Vec3 aim_in_camera = Vec3(0.0, 0.0, 500.0);  // where the poses gather (camera frame, mm)
-  double edge_margin_px = 12.0;  // every corner at least this far inside both images
+  double ambient = 0.05;                                    // ambient irradiance, fraction of the projector's white
+  double black_albedo = 0.25;                               // albedo of the dark squares
+  double white_albedo = 0.85;                               // albedo of the light squares and the margin
+  vision::SensorOptions sensor;                             // bit depth, exposure, noise
+  double distance_mm[2] = {420.0, 580.0};                   // range of the board centre's distance from the camera
+  double max_tilt_deg = 35.0;                               // largest tilt of the board from facing the camera
+  double max_offset_mm = 40.0;                              // board centre off the aim point, each of x and y
+  Vec3 aim_in_camera = Vec3(0.0, 0.0, 500.0);               // where the poses gather (camera frame, mm)
+  double edge_margin_px = 12.0;                             // every corner at least this far inside both images
 
   // The default rig: an 800×600 camera (f 1100 px, k1 −0.12) and a 1024×768 projector (f 1450 px,
   // principal point low in its image, k1 0.06) 150 mm to its right, toed in towards (0, 0, 500);
@@ -59,10 +59,10 @@ struct ProjectorSessionSimOptions {
 
 // One rendered pose.
 struct ProjectorSessionPoseRender {
-  std::string name;                                      // "pose00", ...
+  std::string name;                                     // "pose00", ...
   Isometry3 camera_from_board = Isometry3::Identity();  // truth (mm)
-  std::vector<cv::Mat> vertical;                         // sensor images, vertical fringes, in sequence order
-  std::vector<cv::Mat> horizontal;                       // the same for horizontal fringes
+  std::vector<cv::Mat> vertical;                        // sensor images, vertical fringes, in sequence order
+  std::vector<cv::Mat> horizontal;                      // the same for horizontal fringes
 };
 
 // The board poses (camera_from_board) drawn from the seed: centre within the distance range and
