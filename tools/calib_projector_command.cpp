@@ -85,6 +85,9 @@ int RunCalibProjector(const CalibProjectorOptions& opt, Provenance provenance) {
 
 struct SimulateProjectorSessionOptions {
   std::string out;
+  std::string rig;        // projector calibration file giving camera, projector and projector_from_camera
+  std::string board;      // board text; "" = the default 9x6 chessboard
+  double distance = 0.0;  // board distance along the camera's image-centre ray (mm); 0 = the default
   int poses = 12;
   std::uint64_t seed = 1;
   int supersampling = 2;
@@ -99,6 +102,14 @@ int RunSimulateProjectorSession(const SimulateProjectorSessionOptions& opt) {
   o.seed = opt.seed;
   o.supersampling = opt.supersampling;
   o.sensor.noise = !opt.no_noise;
+  if (!opt.board.empty()) o.board = calib::ReadBoardSpecArgument(opt.board);
+  if (!opt.rig.empty()) {
+    const vision::ProjectorCalibration rig = vision::ReadProjectorCalibration(opt.rig);
+    o.camera = rig.camera;
+    o.projector = rig.projector;
+    o.projector_from_camera = rig.projector_from_camera;
+  }
+  if (!opt.rig.empty() || opt.distance > 0.0) o.AimAtImageCentre(opt.distance > 0.0 ? opt.distance : 500.0);
   const std::string bad = o.Validate();
   if (!bad.empty()) throw InputError({"", 0, "--poses/--supersampling"}, bad);
   ProgressCallback progress;
@@ -140,6 +151,13 @@ void RegisterCalibProjector(CLI::App* calib, CLI::App* simulate, int* exit_code)
         "its truth");
     sub->add_option("--out", opt->out, "Output folder (must not exist, or be empty, unless --force)")->required();
     sub->add_option("--poses", opt->poses, "Board poses")->capture_default_str();
+    sub->add_option("--rig", opt->rig,
+                    "Camera, projector and projector_from_camera from this projector calibration file (e.g. the "
+                    "projector_calibration.yml of `simulate fringe --monocular`); default: the built-in rig");
+    sub->add_option("--board", opt->board, "Chessboard, e.g. chessboard:9x6:6 (default chessboard:9x6:20)");
+    sub->add_option("--distance", opt->distance,
+                    "Board distance (mm) along the ray of the camera's image centre; the poses' spread scales with "
+                    "the field there (default 500 for the built-in rig and for --rig)");
     sub->add_option("--seed", opt->seed, "Seed of the poses and the sensor noise")->capture_default_str();
     sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
     sub->add_flag("--no-noise", opt->no_noise, "Render without shot and read noise");

@@ -122,6 +122,14 @@ ProjectorSessionSimOptions ProjectorSessionSimOptions::Defaults() {
   return o;
 }
 
+void ProjectorSessionSimOptions::AimAtImageCentre(double distance) {
+  const Vec3 ray = camera::PixelRay(camera, Vec2(0.5 * (camera.width - 1), 0.5 * (camera.height - 1)));
+  aim_in_camera = ray * (distance / ray.z());
+  distance_mm[0] = 0.84 * distance;
+  distance_mm[1] = 1.16 * distance;
+  max_offset_mm = 0.11 * camera.width * distance / camera.fx;
+}
+
 std::string ProjectorSessionSimOptions::Validate() const {
   if (board.type != BoardType::kChessboard) return "board: the simulator renders chessboards only";
   const std::string bad_board = board.Validate();
@@ -171,6 +179,8 @@ std::vector<Isometry3> DrawProjectorSessionPoses(const ProjectorSessionSimOption
     Vec3 centre =
         o.aim_in_camera + Vec3(o.max_offset_mm * (2 * unit(rng) - 1), o.max_offset_mm * (2 * unit(rng) - 1), 0);
     centre.z() = o.distance_mm[0] + (o.distance_mm[1] - o.distance_mm[0]) * unit(rng);
+    // Along the aim point's ray: the offsets stay around it at every distance.
+    centre.head<2>() += o.aim_in_camera.head<2>() * (centre.z() / o.aim_in_camera.z() - 1.0);
     Isometry3 pose = Isometry3::Identity();
     pose.linear() = rotation;
     pose.translation() = centre - rotation * board_centre;

@@ -53,6 +53,10 @@ struct ProjectorSessionSimOptions {
   // 8-step phase shift (32 periods) and a 6-bit complementary Gray code in each direction; an 8-bit
   // sensor at exposure 0.9.
   static ProjectorSessionSimOptions Defaults();
+  // Aims the poses at the point `distance_mm` along the ray of the camera's image centre, with the
+  // distance range ±16 % of it and the offsets ±0.11 × the camera's field width there (the default
+  // rig's proportions); for another camera or working distance.
+  void AimAtImageCentre(double distance);
   // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
 };
