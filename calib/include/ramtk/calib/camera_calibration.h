@@ -50,11 +50,11 @@ struct CameraCalibrationOptions {
   double outlier_min_px = 0.25;
   double max_rejected_fraction = 0.3;  // never reject more than this share of the views
   // Stereo: pairs whose stereo RMS exceeds the same limits are rejected likewise.
+  ProgressCallback progress;
   // Stereo parameter σ: each camera's residuals with their own variance (the sandwich covariance of
   // the unweighted fit) instead of one pooled variance; for devices of different noise, e.g. a
   // camera and a projector whose corners come from decoded phase.
   bool per_camera_variance = false;
-  ProgressCallback progress;
 
   std::string Validate() const;
   int OpenCvFlags() const;
