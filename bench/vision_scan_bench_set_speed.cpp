@@ -1,10 +1,16 @@
 // `vision_scan_bench speed --manifest SET/manifest.json`: a stereo set on disk loaded into memory
 // once (native sample depth, as `ramtk scan` loads it), then decoded, matched, triangulated and
-// fitted `repeat` times with the scan's options. Per stage: min / median / max seconds, and the
+// fitted `repeat` times with the scan's options (ScanFrames, what `ramtk scan` runs once the
+// frames are loaded). Per stage: min / median / max seconds, and the
 // cost per unit of work (decode: per pixel-frame, per valid pixel and MB/s of samples; match:
 // per valid left pixel; triangulate and fit: per point). With `with_float` each repetition also
 // decodes the frames converted to float first (the conversion timed apart), which is what the
-// preset mode measured until it decoded the simulator's native frames.
+// preset mode measured until it decoded the simulator's native frames. Beside the wall time, the
+// process's CPU time (all threads) of the decode and of the rest: on a machine shared with other
+// work the wall time grows with the load, the CPU time much less, and CPU / cores is what the
+// stage would take on idle cores with perfect parallelism.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +28,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// User + system CPU seconds of this process so far (all threads).
+double CpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 struct Stat {
   std::vector<double> v;
@@ -68,23 +81,35 @@ int SetSpeed(const std::string& manifest_path, int repeat, bool with_float) {
   const cv::Mat& f0 = stacks[0].frames[0];
   std::printf("%s: %dx%d, %zu frames per camera, %d-byte samples, %.0f MB in memory\n", manifest_path.c_str(), f0.cols,
               f0.rows, stacks[0].frames.size(), static_cast<int>(f0.elemSize()), w.bytes / 1e6);
-  Stat decode, match, triangulate, fit, total, to_float, decode_float;
+  Stat decode, match, triangulate, fit, total, to_float, decode_float, decode_cpu, rest_cpu;
   for (int k = 0; k < repeat; ++k) {
+    // ScanFrames: the scan's own path after loading (both decodes, then the rest, releasing each
+    // map once no later stage reads it); its progress report after the second decode splits the
+    // CPU time.
+    ScanOptions o = options;
+    double cpu = CpuSeconds(), cpu_decoded = 0;
+    o.progress = [&](const ramtk::Progress& p) {
+      if (p.stage == "decode right") cpu_decoded = CpuSeconds();
+      return true;
+    };
     auto t = Clock::now();
-    const DecodedCamera dl = DecodeFrames(m, stacks[0].frames, stacks[0].full_scale, options.decode, "left");
-    const DecodedCamera dr = DecodeFrames(m, stacks[1].frames, stacks[1].full_scale, options.decode, "right");
-    decode.v.push_back(Since(t));
-    const ScanResult r = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
+    const ScanResult r = ScanFrames(m, calib, stacks[0].frames, stacks[1].frames, stacks[0].full_scale, o);
     const ScanSummary& s = r.summary;
+    decode_cpu.v.push_back(cpu_decoded - cpu);
+    rest_cpu.v.push_back(CpuSeconds() - cpu_decoded);
+    decode.v.push_back(s.decode_s);
     match.v.push_back(s.match_s);
     triangulate.v.push_back(s.triangulate_s);
     fit.v.push_back(s.fit_s);
     total.v.push_back(decode.v.back() + s.match_s + s.triangulate_s + s.fit_s);
-    w.valid = dl.summary.valid_pixels + dr.summary.valid_pixels;
+    w.valid = s.left.valid_pixels + s.right.valid_pixels;
     w.left_valid = s.match.left_valid;
     w.points = s.triangulation.points;
-    std::printf("run %d: total %.3f s (decode %.3f, match %.3f, triangulate %.3f, fit %.3f)\n  %s\n", k + 1,
-                total.v.back(), decode.v.back(), s.match_s, s.triangulate_s, s.fit_s, s.BriefReport().c_str());
+    std::printf(
+        "run %d: total %.3f s (decode %.3f, match %.3f, triangulate %.3f, fit %.3f); CPU decode %.3f s, the rest "
+        "%.3f s\n  %s\n",
+        k + 1, total.v.back(), decode.v.back(), s.match_s, s.triangulate_s, s.fit_s, decode_cpu.v.back(),
+        rest_cpu.v.back(), s.BriefReport().c_str());
     if (!with_float) continue;
     t = Clock::now();
     std::vector<std::vector<cv::Mat>> as_float(2);
@@ -108,6 +133,8 @@ int SetSpeed(const std::string& manifest_path, int repeat, bool with_float) {
   PrintRow("triangulate", triangulate, static_cast<double>(w.points), "ns/point");
   PrintRow("fit", fit, static_cast<double>(w.points), "ns/point");
   PrintRow("total in memory", total, 0, "");
+  PrintRow("CPU: decode", decode_cpu, w.pixel_frames, "ns/pixel-frame");
+  PrintRow("CPU: match..fit", rest_cpu, 0, "");
   if (with_float) {
     PrintRow("frames to float", to_float, w.pixel_frames, "ns/pixel-frame");
     PrintRow("decode of float frames", decode_float, w.pixel_frames, "ns/pixel-frame");
