@@ -1,6 +1,6 @@
 // Scan benchmark and accuracy sweep.
 //
-//   vision_scan_bench speed [--preset small|thesis] [--repeat N]
+//   vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S]
 //       decode + match + triangulate + fit of one simulated stereo set (the simulator's native
 //       8-bit frames, as `ramtk scan` reads them), each stage's share, and OpenCV's
 //       cv::triangulatePoints on the same matches as a peer (ratio).
@@ -78,8 +78,9 @@ std::string ArgS(int argc, char** argv, const char* name, const std::string& fal
   return fallback;
 }
 
-int Speed(const std::string& preset, int repeat) {
+int Speed(const std::string& preset, int repeat, int supersampling) {
   FringeSimulationConfig c = MakeFringePreset(preset);
+  if (supersampling > 0) c.supersampling = supersampling;
   std::printf("rendering the %s preset...\n", preset.c_str());
   const SimulatedCamera l = SimulateCamera(c, 0), r = SimulateCamera(c, 1);
   const StereoCalibration calib = WrittenCalibration(c);
@@ -611,7 +612,9 @@ int main(int argc, char** argv) {
   }
   if (set_speed)
     return SetSpeed(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 3), Arg(argc, argv, "--float", 0));
-  if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
+  if (mode == "speed")
+    return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1),
+                 Arg(argc, argv, "--supersampling", 0));
   if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
   if (mode == "set") return SetErrors(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--phase-filter", 0));
   if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
@@ -623,7 +626,7 @@ int main(int argc, char** argv) {
                     Arg(argc, argv, "--rectified-back-pass", -1));
   std::fprintf(
       stderr,
-      "usage: vision_scan_bench speed [--preset small|thesis] | speed --manifest SET/manifest.json [--repeat N] "
+      "usage: vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S] | speed --manifest SET/manifest.json [--repeat N] "
       "[--float 1] | accuracy [--first-pose K] [--poses P] [--seeds S] "
       "[--rectified-back-pass 0|1] | "
       "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
