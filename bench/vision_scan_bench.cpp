@@ -603,7 +603,7 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads, int r
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
   const bool set_speed = mode == "speed" && !ArgS(argc, argv, "--manifest", "").empty();
-  if (mode == "decode" || mode == "match" || set_speed) {
+  if (mode == "decode" || mode == "match" || mode == "speed") {
     // Freed blocks stay in the process, as in `ramtk scan` (tools/huge_pages.h): without it each
     // repetition's fresh maps cost page faults that the scan does not pay, and the decode
     // stages measured 2-3x slower (vision_scan_speed sets the same, for the same reason).
