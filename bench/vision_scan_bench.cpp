@@ -266,10 +266,7 @@ int Accuracy(int first_pose, int poses, int seeds, int rectified) {
     for (int s = 0; s < seeds; ++s) {
       c.seed = 1000 + s;
       const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
-      const DecodeOptions decode = ScanOptions().decode;
-    const double full_scale = (1 << c.sensor.bits) - 1.0;
-    const DecodedCamera dl = DecodeFrames(testing::ManifestForConfig(c), l.images, full_scale, decode, "left");
-    const DecodedCamera dr = DecodeFrames(testing::ManifestForConfig(c), r.images, full_scale, decode, "right");
+      const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
       ScanOptions options;
       const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, options);
       if (res.summary.spheres.spheres.empty()) {
