@@ -623,8 +623,8 @@ int main(int argc, char** argv) {
                     Arg(argc, argv, "--rectified-back-pass", -1));
   std::fprintf(
       stderr,
-      "usage: vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S] | speed --manifest SET/manifest.json [--repeat N] "
-      "[--float 1] | accuracy [--first-pose K] [--poses P] [--seeds S] "
+      "usage: vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S] | speed --manifest "
+      "SET/manifest.json [--repeat N] [--float 1] | accuracy [--first-pose K] [--poses P] [--seeds S] "
       "[--rectified-back-pass 0|1] | "
       "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
       "SET/manifest.json [--repeat N] | match --manifest SET/manifest.json [--repeat N] [--threads T] "
