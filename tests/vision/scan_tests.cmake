@@ -39,6 +39,11 @@ ramtk_cli_test(scan_default 0
   # library's value itself: SphereFitJson.CarriesTheResult and python/tests/test_vision.py).
   FILE ${SCAN_CLI}/default/spheres.json
   FILE_REGEX "\"crlb_centre_sigma_mm\": \\[[^0-9]*0\\.000[1-9][0-9]*,[^0-9]*0\\.000[1-9][0-9]*,[^0-9]*0\\.00[0-9]+[^0-9]*\"crlb_radius_sigma_mm\": 0\\.00[0-9]+")
+# The report's sphere table carries the bound beside the fit's sigma.
+ramtk_cli_test(scan_default_report 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/report --force -q --report
+  FILE ${SCAN_CLI}/report/report.html
+  FILE_REGEX "Cram[^ ]*Rao bound x / y / z [^<]*</th>.*<td>0\\.4[0-9] / 0\\.4[0-9] / 1\\.[0-9][0-9]</td>")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
