@@ -156,7 +156,8 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
                  {"unwrap_rejected", s.unwrap_rejected}};
   j["modulation_rule"] = {{"rule", s.modulation_rule},
                           {"threshold_dn", s.modulation_threshold_dn},
-                          {"noise_floor_dn", s.noise_floor_dn}};
+                          {"noise_floor_dn", s.noise_floor_dn},
+                          {"gray_contrast_ratio", s.gray_contrast_ratio}};
   j["edge_corrections"] = s.edge_corrections;
   j["sigma_intensity_dn"] = s.sigma_intensity_dn;
   j["fit_residual_rms_dn"] = s.fit_residual_rms_dn;

@@ -202,7 +202,13 @@ double SummariseFused(const FastDecodeInput& in, const OrderDecision& order, con
   ChooseIntensitySigma(options, in.ps_frames[0], *sample, n, sampled, sum);
   const double k_sigma = std::sqrt(2.0 / n) * sum->sigma_intensity_dn;
   if (sigma_rule) {
-    const ModulationThreshold t = SigmaModulationThreshold(order, n, sum->sigma_intensity_dn, options);
+    OrderDecision decision = order;
+    if (decision.gray_bits > 0) {
+      decision.gray_contrast = GrayContrastRatio(
+          in.ps_frames[0], in.gray_frames, *sample, EstimateStride(options.noise_stride, sampled, options.estimate_max_samples));
+      sum->gray_contrast_ratio = decision.gray_contrast;
+    }
+    const ModulationThreshold t = SigmaModulationThreshold(decision, n, sum->sigma_intensity_dn, options);
     counts->valid -=
         ApplyModulationThreshold(t, fo->modulation, mask, fo->coordinate, &counts->dark, &counts->low_modulation);
     sum->modulation_threshold_dn = t.threshold_dn;

@@ -212,7 +212,15 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   detail::ChooseIntensitySigma(options, finest, sample, n, sampled, &sum);
   cv::Mat coord = unwrapped.coordinate.clone();
   if (sigma_rule) {
-    const ModulationThreshold t = SigmaModulationThreshold(OrderDecisionOf(m), n, sum.sigma_intensity_dn, options);
+    OrderDecision decision = OrderDecisionOf(m);
+    if (decision.gray_bits > 0) {
+      std::vector<const cv::Mat*> gray;
+      for (const cv::Mat& g : gc_frames) gray.push_back(&g);
+      decision.gray_contrast = GrayContrastRatio(
+          finest, gray, sample, EstimateStride(options.noise_stride, sampled, options.estimate_max_samples));
+      sum.gray_contrast_ratio = decision.gray_contrast;
+    }
+    const ModulationThreshold t = SigmaModulationThreshold(decision, n, sum.sigma_intensity_dn, options);
     ApplyModulationThreshold(t, fine.modulation, mask, coord, &sum.dark, &sum.low_modulation);
     sum.modulation_threshold_dn = t.threshold_dn;
     sum.noise_floor_dn = t.floor_dn;

@@ -40,7 +40,7 @@ double OrderErrorProbability(const OrderDecision& d, int n, double b_over_sigma)
   const double sigma_phi = std::sqrt(2.0 / n) / b_over_sigma;
   double p = 0;
   if (d.gray_bits > 0) {
-    p += d.gray_bits * UpperTail(b_over_sigma / std::sqrt(1.0 + 1.0 / n));
+    p += d.gray_bits * UpperTail(d.gray_contrast * b_over_sigma / std::sqrt(1.0 + 1.0 / n));
     if (d.complementary) p += 2 * UpperTail(kPi / 2 / sigma_phi);
   }
   if (d.heterodyne_ratio > 0) {
@@ -48,6 +48,45 @@ double OrderErrorProbability(const OrderDecision& d, int n, double b_over_sigma)
     p += 2 * UpperTail(0.5 / sigma_periods);
   }
   return std::min(p, 1.0);
+}
+
+double GrayContrastRatio(const std::vector<const cv::Mat*>& ps_frames, const std::vector<const cv::Mat*>& gray_frames,
+                         const cv::Mat& sample, int stride) {
+  if (gray_frames.empty() || ps_frames.empty()) return 1.0;
+  auto at = [](const cv::Mat& m, int y, int x) -> double {
+    switch (m.depth()) {
+      case CV_8U:
+        return m.at<uchar>(y, x);
+      case CV_16U:
+        return m.at<ushort>(y, x);
+      default:
+        return m.at<float>(y, x);
+    }
+  };
+  const int n = static_cast<int>(ps_frames.size());
+  stride = std::max(1, stride);
+  std::vector<double> ratios, bits(gray_frames.size());
+  for (int y = 0; y < sample.rows; y += stride) {
+    const uchar* mk = sample.ptr<uchar>(y);
+    for (int x = 0; x < sample.cols; x += stride) {
+      if (!mk[x]) continue;
+      double sum = 0, s = 0, c = 0;
+      for (int k = 0; k < n; ++k) {
+        const double v = at(*ps_frames[k], y, x);
+        sum += v;
+        s += v * std::sin(2 * kPi * k / n);
+        c += v * std::cos(2 * kPi * k / n);
+      }
+      const double a = sum / n, b = 2.0 / n * std::sqrt(s * s + c * c);
+      if (!(b > 0)) continue;
+      for (std::size_t j = 0; j < gray_frames.size(); ++j) bits[j] = std::abs(at(*gray_frames[j], y, x) - a);
+      std::nth_element(bits.begin(), bits.begin() + bits.size() / 2, bits.end());
+      ratios.push_back(bits[bits.size() / 2] / b);
+    }
+  }
+  if (ratios.size() < 100) return 1.0;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  return ratios[ratios.size() / 2];
 }
 
 ModulationThreshold SigmaModulationThreshold(const OrderDecision& d, int n, double sigma_i,

@@ -107,6 +107,7 @@ struct DecodeSummary {
   std::string modulation_rule = "sigma";            // "sigma" or "fixed" (DecodeOptions::modulation_rule)
   double modulation_threshold_dn = 0;               // pixels with B below this were rejected, DN
   double noise_floor_dn = 0;                        // kSigma: noise_floor_factor sqrt(2/N) sigma_I, DN
+  double gray_contrast_ratio = 0;                   // kSigma: Gray bits' |g - A| over B (0: no Gray code)
   long unwrap_rejected = 0;                         // masked: order not determined
   long edge_corrections = 0;                        // pixels whose period order was corrected at a code edge
   double sigma_intensity_dn = 0;                    // sigma_I used for sigma_phi

@@ -118,12 +118,20 @@ struct OrderDecision {
   int gray_bits = 0;            // Gray-code bits, each compared with the pixel's background A
   bool complementary = false;   // the Gray code's half-period bit: the phase picks the order within +-1/4 period
   double heterodyne_ratio = 0;  // heterodyne: finest cycles over the first beat's cycles; 0 = none
+  double gray_contrast = 1;     // a Gray bit's |sample - A| over the sinusoids' B (GrayContrastRatio)
 };
 // The order decision of a manifest's sequence (none for a single period across the projector).
 OrderDecision OrderDecisionOf(const FringeManifest& m);
 
+// The Gray bits' contrast over the sinusoids' modulation: the median over every `stride`-th
+// pixel of `sample` (x and y) of median_j |g_j - A| / B, A and B from the finest phase-shift
+// frames (a binary pattern keeps more contrast than a sinusoid through the optics' blur, and a
+// projector may drive them differently). 1 without Gray frames or with fewer than 100 pixels.
+double GrayContrastRatio(const std::vector<const cv::Mat*>& ps_frames, const std::vector<const cv::Mat*>& gray_frames,
+                         const cv::Mat& sample, int stride);
+
 // Probability that a pixel's period order is wrong at B / sigma_I = `b_over_sigma` with N steps:
-// every Gray bit at full contrast B against noise sigma_I sqrt(1 + 1/N) (sample and A), one-sided
+// every Gray bit at contrast gray_contrast x B against noise sigma_I sqrt(1 + 1/N) (sample and A), one-sided
 // (an upper bound: the half-period bit of a complementary code is half corrected by the phase);
 // a complementary code's phase beyond +-pi/2 of its cell centre; a heterodyne order beyond +-1/2
 // period, with sigma = sigma_phi sqrt(1 + 2 ratio^2) / 2 pi (the beat of two phases, scaled up).
