@@ -35,6 +35,15 @@ set(SCAN_DEFAULT ${PROJECT_SOURCE_DIR}/datasets/scan_default)
 ramtk_cli_test(scan_default 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/default --force
   STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
+# The fixed modulation rule (--modulation-rule fixed) on the same set: the 2 % rules' 155 649
+# points (the sigma rule, the default, keeps 155 646: its threshold is 5.53 DN here).
+ramtk_cli_test(scan_default_fixed_modulation 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --modulation-rule fixed
+       --out ${SCAN_CLI}/fixed_modulation --force
+  STDOUT "scan ok: 155649 points; .*error vs truth \\(ball\\)")
+ramtk_cli_test(scan_bad_modulation_rule 2
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --modulation-rule fixd --out ${SCAN_CLI}/not_written_rule
+  STDERR "--modulation-rule: fixd not in")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
