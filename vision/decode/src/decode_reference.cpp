@@ -117,6 +117,32 @@ double FinishSigmaMaps(const cv::Mat& mask, double ripple, double period_px, cv:
   return MedianOf(sig);
 }
 
+// The per-pixel fit residual map, and the summary's residual figures over the noise sample.
+// Returns the sample's pixel count.
+long ResidualFigures(const PhaseShiftResult& fine, const cv::Mat& sample, cv::Mat* fit_residual, DecodeSummary* sum) {
+  const int n = fine.steps;
+  *fit_residual = cv::Mat::zeros(sample.size(), CV_32F);
+  double ss = 0, phase_ss = 0;
+  long sampled = 0;
+  for (int y = 0; y < sample.rows; ++y) {
+    for (int x = 0; x < sample.cols; ++x) {
+      if (n > 3) fit_residual->at<float>(y, x) = std::sqrt(fine.residual_ss.at<float>(y, x) / (n - 3));
+      if (!sample.at<uchar>(y, x)) continue;
+      const float r = fit_residual->at<float>(y, x);
+      const float b = fine.modulation.at<float>(y, x);
+      ss += fine.residual_ss.at<float>(y, x);
+      phase_ss += 2.0 / n * r * r / (b * b);
+      sum->worst_residual_dn = std::max(sum->worst_residual_dn, static_cast<double>(r));
+      ++sampled;
+    }
+  }
+  if (n > 3 && sampled > 0) {
+    sum->fit_residual_rms_dn = std::sqrt(ss / (static_cast<double>(sampled) * (n - 3)));
+    sum->phase_residual_rms_rad = std::sqrt(phase_ss / sampled);
+  }
+  return sampled;
+}
+
 }  // namespace
 
 DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<cv::Mat>& frames, double full_scale,
@@ -188,25 +214,7 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
   const bool sigma_rule = options.modulation_rule == ModulationRule::kSigma;
   const float b_sample = sigma_rule ? static_cast<float>(options.min_modulation_fraction * full_scale) : 0.0f;
   cv::Mat sample = sigma_rule ? NoiseSampleMask(mask, fine.modulation, b_sample) : mask;
-  out.fit_residual = cv::Mat::zeros(mask.size(), CV_32F);
-  double ss = 0, phase_ss = 0;
-  long sampled = 0;
-  for (int y = 0; y < mask.rows; ++y) {
-    for (int x = 0; x < mask.cols; ++x) {
-      if (n > 3) out.fit_residual.at<float>(y, x) = std::sqrt(fine.residual_ss.at<float>(y, x) / (n - 3));
-      if (!sample.at<uchar>(y, x)) continue;
-      const float r = out.fit_residual.at<float>(y, x);
-      const float b = fine.modulation.at<float>(y, x);
-      ss += fine.residual_ss.at<float>(y, x);
-      phase_ss += 2.0 / n * r * r / (b * b);
-      sum.worst_residual_dn = std::max(sum.worst_residual_dn, static_cast<double>(r));
-      ++sampled;
-    }
-  }
-  if (n > 3 && sampled > 0) {
-    sum.fit_residual_rms_dn = std::sqrt(ss / (static_cast<double>(sampled) * (n - 3)));
-    sum.phase_residual_rms_rad = std::sqrt(phase_ss / sampled);
-  }
+  const long sampled = ResidualFigures(fine, sample, &out.fit_residual, &sum);
   std::vector<const cv::Mat*> finest;
   for (const cv::Mat& f : ps_frames[0]) finest.push_back(&f);
   detail::ChooseIntensitySigma(options, finest, sample, n, sampled, &sum);
