@@ -65,7 +65,8 @@ double GrayContrastRatio(const std::vector<const cv::Mat*>& ps_frames, const std
   };
   const int n = static_cast<int>(ps_frames.size());
   stride = std::max(1, stride);
-  std::vector<double> ratios, bits(gray_frames.size());
+  std::vector<double> ratios, bits(gray_frames.size()), sn(n), cs(n);
+  for (int k = 0; k < n; ++k) sn[k] = std::sin(2 * kPi * k / n), cs[k] = std::cos(2 * kPi * k / n);
   for (int y = 0; y < sample.rows; y += stride) {
     const uchar* mk = sample.ptr<uchar>(y);
     for (int x = 0; x < sample.cols; x += stride) {
@@ -74,8 +75,8 @@ double GrayContrastRatio(const std::vector<const cv::Mat*>& ps_frames, const std
       for (int k = 0; k < n; ++k) {
         const double v = at(*ps_frames[k], y, x);
         sum += v;
-        s += v * std::sin(2 * kPi * k / n);
-        c += v * std::cos(2 * kPi * k / n);
+        s += v * sn[k];
+        c += v * cs[k];
       }
       const double a = sum / n, b = 2.0 / n * std::sqrt(s * s + c * c);
       if (!(b > 0)) continue;
