@@ -17,6 +17,7 @@ struct DecodeCommandOptions {
   std::string out;               // output folder
   double min_modulation = 0.02;  // B threshold, fraction of full scale
   double sigma_intensity = 0;    // DN; 0 = estimate
+  std::string modulation_rule = "sigma";  // weak-fringe rejection: sigma or fixed (DecodeOptions)
   bool no_nonlinearity = false;  // skip the gamma ripple correction
   int phase_filter = 0;          // coordinate filter radius (px), 0 = off
   std::string format = "tiff";   // float image format: tiff or exr
@@ -32,6 +33,7 @@ int RunDecode(const DecodeCommandOptions& opt, Provenance provenance) {
   if (!(opt.sigma_intensity >= 0)) throw InputError({"", 0, "--sigma-intensity"}, "expected a noise level >= 0 DN");
   DecodeOptions options;
   options.min_modulation_fraction = opt.min_modulation;
+  options.modulation_rule = opt.modulation_rule == "fixed" ? ModulationRule::kFixed : ModulationRule::kSigma;
   options.intensity_sigma_dn = opt.sigma_intensity;
   options.correct_nonlinearity = !opt.no_nonlinearity;
   options.coordinate_filter.radius_px = opt.phase_filter;
@@ -70,7 +72,13 @@ void RegisterDecodeCommand(CLI::App& app, int* exit_code) {
   sub->add_option("manifest", opt->manifest, "Fringe image set manifest (JSON)")->required();
   sub->add_option("--camera", opt->camera, "Camera name in the manifest, or all")->capture_default_str();
   sub->add_option("--out", opt->out, "Output folder")->required();
-  sub->add_option("--min-modulation", opt->min_modulation, "Modulation threshold, fraction of full scale")
+  sub->add_option("--min-modulation", opt->min_modulation,
+                  "Fixed rule: modulation threshold, fraction of full scale; sigma rule: the pixels the noise is "
+                  "measured on")
+      ->capture_default_str();
+  sub->add_option("--modulation-rule", opt->modulation_rule,
+                  "Weak-fringe pixels: sigma (rejected from their own phase noise) or fixed (--min-modulation)")
+      ->check(CLI::IsMember({"sigma", "fixed"}))
       ->capture_default_str();
   sub->add_option("--sigma-intensity", opt->sigma_intensity, "Intensity noise in DN (0: estimate from the fit)")
       ->capture_default_str();

@@ -43,6 +43,9 @@ struct ScanCommandOptions {
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   int phase_filter = 0;                       // coordinate filter radius (px), 0 = off
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
+  bool ray_plane = false;                 // camera–projector sets with both directions: ray–plane only
+  std::string modulation_rule = "sigma";  // weak-fringe rejection: sigma or fixed (DecodeOptions)
+  double max_order_error = vision::DecodeOptions{}.max_order_error_probability;  // sigma rule's epsilon
   std::string shard;                                       // "K/N": scan only shard K of N of the batch
   bool report = false;                                     // also write report.html
   std::string roi = "full";                                // full, auto, or a predicted centre X,Y,Z (mm)
@@ -70,6 +73,9 @@ vision::ScanResultSettings ResultSettings(const ScanCommandOptions& o) {
   s.whole_residual_sigma = o.whole_residual_sigma;
   s.phase_filter = o.phase_filter;
   s.lr_sigma_factor = o.lr_sigma_factor;
+  s.modulation_rule = o.modulation_rule;
+  s.ray_plane = o.ray_plane;
+  s.max_order_error = o.max_order_error;
   s.roi = o.roi;
   s.roi_margin = o.roi_margin;
   s.roi_stride = o.roi_stride;
@@ -112,6 +118,10 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   options.decode.coordinate_filter.radius_px = opt.phase_filter;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
+  options.decode.modulation_rule =
+      opt.modulation_rule == "fixed" ? vision::ModulationRule::kFixed : vision::ModulationRule::kSigma;
+  options.decode.max_order_error_probability = opt.max_order_error;
+  options.projector_ray_plane = opt.ray_plane;
   options.roi = ParseScanRoi(opt.roi);
   options.roi.margin_mm = opt.roi_margin;
   options.roi.coarse_stride = opt.roi_stride;
@@ -258,6 +268,18 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                 "sigma_I = the whole sinusoid-fit residual (harmonics included, no ripple term)");
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
+      ->capture_default_str();
+  sub->add_flag("--ray-plane", opt->ray_plane,
+                "Camera–projector set with both fringe directions (cross_cameras): triangulate ray–plane from the "
+                "manifest's direction alone, not ray–ray");
+  sub->add_option("--modulation-rule", opt->modulation_rule,
+                  "Weak-fringe pixels: sigma (rejected from their own phase noise: the order-error probability "
+                  "and the noise floor) or fixed (modulation below 2% of full scale, brightest sample below 2%)")
+      ->check(CLI::IsMember({"sigma", "fixed"}))
+      ->capture_default_str();
+  sub->add_option("--max-order-error", opt->max_order_error,
+                  "Sigma rule: the largest accepted probability of a wrong period order at a pixel")
+      ->check(CLI::Range(1e-12, 0.5))
       ->capture_default_str();
   const vision::ScanOutputFormat& report_row = vision::ScanOutputFormatNamed("report");
   sub->add_flag("--report", opt->report,

@@ -83,6 +83,35 @@ TEST(CodecTable, ManifestNamesTheTablesCodecsForAnUnknownType) {
   }
 }
 
+// A camera–projector set with both fringe directions: cross_cameras round-trips, names files as
+// inputs, gives the set in the other direction (its extent the other side), and a count that
+// does not match the sequence or a camera not in `cameras` is an error naming the field.
+TEST(CodecTable, ManifestCrossCamerasGiveTheOtherDirection) {
+  const std::string text = R"({"projector": {"width": 64, "height": 32}, "direction": "vertical",
+    "sequence": [{"type": "phase_shift", "steps": 3, "cycles": 1}], "cameras": {"a": ["u0.png", "u1.png", "u2.png"]},
+    "cross_cameras": {"a": ["v0.png", "v1.png", "v2.png"]}})";
+  const FringeManifest m = ParseFringeManifest(text, "/sets/m.json");
+  ASSERT_EQ(m.cross_cameras.at("a").size(), 3u);
+  EXPECT_EQ(FringeManifestToJson(ParseFringeManifest(FringeManifestToJson(m), "/sets/m.json")), FringeManifestToJson(m));
+  const std::vector<std::string> inputs = m.InputFiles();
+  EXPECT_NE(std::find(inputs.begin(), inputs.end(), "/sets/v2.png"), inputs.end());
+  const FringeManifest cross = m.CrossDirection();
+  EXPECT_EQ(cross.direction, FringeDirection::kHorizontal);
+  EXPECT_EQ(cross.Extent(), 32);
+  EXPECT_EQ(cross.cameras.at("a").front(), "v0.png");
+  EXPECT_TRUE(cross.cross_cameras.empty());
+  for (const std::string bad : {R"("cross_cameras": {"a": ["v0.png"]})", R"("cross_cameras": {"b": ["v0.png", "v1.png", "v2.png"]})"}) {
+    std::string t = text;
+    t.replace(t.find("\"cross_cameras\""), std::string::npos, bad + "}");
+    try {
+      ParseFringeManifest(t, "m.json");
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("cross_cameras."), std::string::npos) << e.what();
+    }
+  }
+}
+
 // The test's codec: image 0 a ramp (u + 0.5) / extent, image 1 white; coordinate = extent I0 / I1 - 0.5.
 PatternCodec RampCodec() {
   PatternCodec c;

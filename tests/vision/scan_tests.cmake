@@ -44,6 +44,15 @@ ramtk_cli_test(scan_default_report 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/report --force -q --report
   FILE ${SCAN_CLI}/report/report.html
   FILE_REGEX "Cram[^ ]*Rao bound x / y / z [^<]*</th>.*<td>0\\.4[0-9] / 0\\.4[0-9] / 1\\.[0-9][0-9]</td>")
+# The fixed modulation rule (--modulation-rule fixed) on the same set: the 2 % rules' 155 649
+# points (the sigma rule, the default, keeps 155 646: its threshold is 5.53 DN here).
+ramtk_cli_test(scan_default_fixed_modulation 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --modulation-rule fixed
+       --out ${SCAN_CLI}/fixed_modulation --force
+  STDOUT "scan ok: 155649 points; .*error vs truth \\(ball\\)")
+ramtk_cli_test(scan_bad_modulation_rule 2
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --modulation-rule fixd --out ${SCAN_CLI}/not_written_rule
+  STDERR "--modulation-rule: fixd not in")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force

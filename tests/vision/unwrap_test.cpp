@@ -110,12 +110,16 @@ TEST(QualityMask, SaturatedAndLowModulationPixelsAreMaskedByCause) {
   const FringeManifest m = testing::GrayManifest(4, 32, true);
   const cv::Mat truth = testing::TruthCoordinate(o, m.Extent());
   std::vector<cv::Mat> frames = testing::SynthesizeFrames(m, truth, o);
-  // Columns 0..39: replace by a flat grey with 2 DN modulation (below 2 % of 255 = 5.1 DN).
+  // Columns 0..39: replace by a flat grey that alternates by 2 DN from step to step: no
+  // modulation at the fringe frequency (B = 0), so no fringes above the noise.
   for (std::size_t k = 0; k < 4; ++k)
     for (int y = 0; y < truth.rows; ++y)
       for (int x = 0; x < 40; ++x) frames[k].at<float>(y, x) = static_cast<float>(120 + (k % 2 ? 2 : -2));
+  for (const ModulationRule rule : {ModulationRule::kSigma, ModulationRule::kFixed}) {
+  SCOPED_TRACE(rule == ModulationRule::kSigma ? "sigma rule" : "fixed rule");
   DecodeOptions opt;
   opt.correct_nonlinearity = false;
+  opt.modulation_rule = rule;
   const DecodedCamera d = DecodeFrames(m, frames, 255.0, opt, "cam");
   long expect_saturated = 0;
   for (int y = 0; y < truth.rows; ++y)
@@ -128,9 +132,12 @@ TEST(QualityMask, SaturatedAndLowModulationPixelsAreMaskedByCause) {
     }
   EXPECT_GT(expect_saturated, 1000);
   EXPECT_EQ(d.summary.saturated, expect_saturated);
-  EXPECT_EQ(d.summary.low_modulation, 40L * truth.rows);
+  // The fixed rule calls them low modulation (B below 2 % of full scale), the sigma rule dark (B
+  // below its noise floor).
+  EXPECT_EQ(rule == ModulationRule::kFixed ? d.summary.low_modulation : d.summary.dark, 40L * truth.rows);
   const auto c = testing::CompareToTruth(d.coordinate, d.mask, truth, m.Extent() / 32.0);
   EXPECT_EQ(c.order_errors, 0);
+  }
 }
 
 }  // namespace

@@ -39,6 +39,10 @@ std::string DecodeOptions::Validate() const {
         std::pair{saturation_fraction, "saturation_fraction"}, std::pair{dark_fraction, "dark_fraction"}})
     if (!(v >= 0 && v <= 1)) return std::string(field) + ": expected a fraction in [0, 1]";
   if (!std::isfinite(intensity_sigma_dn)) return "intensity_sigma_dn: must be finite";
+  if (!(max_order_error_probability > 0 && max_order_error_probability < 1))
+    return "max_order_error_probability: expected a probability in (0, 1)";
+  if (!(noise_floor_factor >= 0 && noise_floor_factor <= 100))
+    return "noise_floor_factor: expected a factor in [0, 100]";
   if (!(max_order_residual > 0 && max_order_residual < 0.5)) return "max_order_residual: expected a value in (0, 0.5)";
   if (correct_nonlinearity)
     if (const std::string p = nonlinearity.Validate(); !p.empty()) return "nonlinearity." + p;
@@ -55,7 +59,8 @@ std::string DecodeSummary::BriefReport() const {
   s << "decode " << (camera.empty() ? "" : camera + " ") << message << ": " << width << "x" << height << ", N=" << steps
     << ", period " << period_px << " px, valid " << 100.0 * valid_fraction << "% (" << valid_pixels
     << " px; masked: " << low_modulation << " low modulation, " << saturated << " saturated, " << dark << " dark, "
-    << unwrap_rejected << " unwrap), " << edge_corrections << " edge orders corrected, fit residual RMS "
+    << unwrap_rejected << " unwrap; " << modulation_rule << " rule, B >= " << modulation_threshold_dn << " DN), "
+    << edge_corrections << " edge orders corrected, fit residual RMS "
     << fit_residual_rms_dn << " DN (phase " << phase_residual_rms_rad << " rad), ";
   if (sigma_intensity_random_dn > 0)
     s << "of it random " << sigma_intensity_random_dn << " DN and systematic " << sigma_intensity_systematic_dn
@@ -149,6 +154,10 @@ std::string DecodeSummaryToJson(const DecodeSummary& s) {
                  {"saturated", s.saturated},
                  {"dark", s.dark},
                  {"unwrap_rejected", s.unwrap_rejected}};
+  j["modulation_rule"] = {{"rule", s.modulation_rule},
+                          {"threshold_dn", s.modulation_threshold_dn},
+                          {"noise_floor_dn", s.noise_floor_dn},
+                          {"gray_contrast_ratio", s.gray_contrast_ratio}};
   j["edge_corrections"] = s.edge_corrections;
   j["sigma_intensity_dn"] = s.sigma_intensity_dn;
   j["fit_residual_rms_dn"] = s.fit_residual_rms_dn;

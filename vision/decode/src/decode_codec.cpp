@@ -50,6 +50,8 @@ DecodedCamera DecodeFramesWithCodec(const FringeManifest& m, const std::vector<c
   sum.gamma_from_harmonics = std::numeric_limits<double>::quiet_NaN();
   const double to_rad = 2 * CV_PI / sum.period_px;
   const float b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
+  sum.modulation_rule = "fixed";  // the codec reports no sigma_I: its pixels keep the fixed threshold
+  sum.modulation_threshold_dn = b_min;
   out.mask.create(size, CV_8U);
   out.sigma_phase.create(size, CV_32F);
   std::vector<float> modulation, sigma;

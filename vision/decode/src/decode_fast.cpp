@@ -119,9 +119,18 @@ FastDecodeInput MakeFastInput(const FringeManifest& m, const std::vector<cv::Mat
   if (in.heterodyne || !gc_block) in.gray_frames.clear();
   in.phase_at_origin_rad = (*ps_block)->phase_at_origin_rad;
   in.period = in.extent / (*ps_block)->cycles[0];
-  in.b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
   in.saturation = static_cast<float>(options.saturation_fraction * full_scale);
-  in.dark = static_cast<float>(options.dark_fraction * full_scale);
+  if (options.modulation_rule == ModulationRule::kFixed) {
+    in.b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
+    in.dark = static_cast<float>(options.dark_fraction * full_scale);
+  } else {
+    // The pass keeps every pixel above the noise floor of quantisation noise alone, the lowest
+    // the sigma rule's threshold can be (SigmaModulationThreshold); the rule is applied once
+    // sigma_I is known. No darkness test: a dark pixel is one with no fringes above the noise.
+    in.b_min = static_cast<float>(SigmaModulationThreshold({}, in.steps[0], 0.0, options).floor_dn);
+    in.dark = -std::numeric_limits<float>::infinity();
+    in.b_sample = static_cast<float>(options.min_modulation_fraction * full_scale);
+  }
   return in;
 }
 
@@ -164,42 +173,67 @@ void UnwrapHeterodyneInto(const SequenceBlock& ps_block, int extent, int n, cons
         continue;
       }
       c[x] = uc[x];
+      ++counts->valid;
+      if (b[x] < fo->b_sample_dn) continue;
+      ++counts->sampled;
       counts->residual_ss += static_cast<double>(r[x]) * r[x] * std::max(0, n - 3);
       counts->phase_ss += 2.0 / n * r[x] * r[x] / (b[x] * b[x]);
       counts->worst_residual = std::max(counts->worst_residual, static_cast<double>(r[x]));
-      ++counts->valid;
     }
   }
 }
 
-// The summary's counts, residual figures, sigma_I, medians and harmonic ratios. Returns
-// k_sigma = sqrt(2/N) sigma_I.
-double SummariseFused(const FastDecodeInput& in, const FastDecodeCounts& counts, const FastDecodeOutput& fo,
-                      const DecodeOptions& options, DecodeSummary* sum) {
+// The summary's residual figures and sigma_I (over the noise sample, NoiseSampleMask), the sigma
+// rule's threshold applied to the mask (ModulationRule::kSigma), then the counts and medians of
+// the valid pixels and the harmonic ratios over the sample. Returns k_sigma = sqrt(2/N) sigma_I;
+// *sample is the noise sample within the final mask.
+double SummariseFused(const FastDecodeInput& in, const OrderDecision& order, const DecodeOptions& options,
+                      FastDecodeCounts* counts, FastDecodeOutput* fo, cv::Mat* sample, DecodeSummary* sum) {
   const int n = sum->steps;
-  const cv::Mat& mask = fo.mask;
-  const long count = counts.valid;
+  cv::Mat& mask = fo->mask;
+  const bool sigma_rule = options.modulation_rule == ModulationRule::kSigma;
+  *sample = sigma_rule ? NoiseSampleMask(mask, fo->modulation, in.b_sample) : mask;
+  const long sampled = counts->sampled;
+  sum->worst_residual_dn = counts->worst_residual;
+  if (n > 3 && sampled > 0) {
+    sum->fit_residual_rms_dn = std::sqrt(counts->residual_ss / (static_cast<double>(sampled) * (n - 3)));
+    sum->phase_residual_rms_rad = std::sqrt(counts->phase_ss / sampled);
+  }
+  ChooseIntensitySigma(options, in.ps_frames[0], *sample, n, sampled, sum);
+  const double k_sigma = std::sqrt(2.0 / n) * sum->sigma_intensity_dn;
+  if (sigma_rule) {
+    OrderDecision decision = order;
+    if (decision.gray_bits > 0) {
+      decision.gray_contrast = GrayContrastRatio(
+          in.ps_frames[0], in.gray_frames, *sample, EstimateStride(options.noise_stride, sampled, options.estimate_max_samples));
+      sum->gray_contrast_ratio = decision.gray_contrast;
+    }
+    const ModulationThreshold t = SigmaModulationThreshold(decision, n, sum->sigma_intensity_dn, options);
+    counts->valid -=
+        ApplyModulationThreshold(t, fo->modulation, mask, fo->coordinate, &counts->dark, &counts->low_modulation);
+    sum->modulation_threshold_dn = t.threshold_dn;
+    sum->noise_floor_dn = t.floor_dn;
+    cv::bitwise_and(*sample, mask, *sample);
+  } else {
+    sum->modulation_rule = "fixed";
+    sum->modulation_threshold_dn = in.b_min;
+  }
+  const long count = counts->valid;
   sum->valid_pixels = count;
   sum->valid_fraction = static_cast<double>(count) / mask.total();
   sum->outliers = static_cast<long>(mask.total()) - count;
-  sum->worst_residual_dn = counts.worst_residual;
-  if (n > 3 && count > 0) {
-    sum->fit_residual_rms_dn = std::sqrt(counts.residual_ss / (static_cast<double>(count) * (n - 3)));
-    sum->phase_residual_rms_rad = std::sqrt(counts.phase_ss / count);
-  }
   const std::size_t valid = static_cast<std::size_t>(count);
-  ChooseIntensitySigma(options, in.ps_frames[0], mask, n, count, sum);
-  const double k_sigma = std::sqrt(2.0 / n) * sum->sigma_intensity_dn;
   if (valid > 0) {
     // sigma_phi = k / B falls with B: the reference's median sigma element is k over the
     // B element at the mirrored rank.
     const std::size_t mirrored = valid - 1 - valid / 2;
-    const std::vector<float> at = ValuesAtRanks(fo.modulation, mask, {valid / 2, mirrored});
+    const std::vector<float> at = ValuesAtRanks(fo->modulation, mask, {valid / 2, mirrored});
     sum->median_modulation_dn = at[0];
     sum->median_sigma_phase_rad = static_cast<float>(k_sigma / at[1]);
   }
+  const long sample_count = sigma_rule ? cv::countNonZero(*sample) : count;
   sum->harmonic_ratios = MeasureHarmonicRatiosFast(
-      in.ps_frames[0], mask, EstimateStride(options.harmonic_stride, count, options.estimate_max_samples));
+      in.ps_frames[0], *sample, EstimateStride(options.harmonic_stride, sample_count, options.estimate_max_samples));
   sum->gamma_from_harmonics = sum->harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                            : GammaFromSecondHarmonic(sum->harmonic_ratios[0]);
   return k_sigma;
@@ -278,6 +312,7 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   const int n = sum.steps;
 
   FastDecodeOutput fo;
+  fo.b_sample_dn = in.b_sample;
   FastDecodeCounts counts;
   DecodeFused(in, &fo, &counts);
   ThrowIfAllDark(frames, counts.brightest, options.dark_fraction * full_scale, m.path.empty() ? camera : m.path,
@@ -285,16 +320,25 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
   cv::Mat& mask = fo.mask;
   cv::Mat& coord = fo.coordinate;
   if (in.heterodyne) UnwrapHeterodyneInto(*ps_block, in.extent, n, options, &fo, &counts);
-  sum.dark = counts.dark;
-  sum.saturated = counts.saturated;
-  sum.low_modulation = counts.low_modulation;
-  sum.unwrap_rejected = counts.unwrap_rejected;
-  sum.edge_corrections = counts.corrected;
+  if (options.modulation_rule == ModulationRule::kSigma) {  // below the quantisation noise floor: no fringes
+    counts.dark += counts.low_modulation;
+    counts.low_modulation = 0;
+  }
+  auto copy_counts = [&] {
+    sum.dark = counts.dark;
+    sum.saturated = counts.saturated;
+    sum.low_modulation = counts.low_modulation;
+    sum.unwrap_rejected = counts.unwrap_rejected;
+    sum.edge_corrections = counts.corrected;
+  };
+  copy_counts();
   if (!Report(options, "phase", 1, 4) || !Report(options, "unwrap", 2, 4)) {
     Cancelled(&sum);
     return out;
   }
-  const double k_sigma = SummariseFused(in, counts, fo, options, &sum);
+  cv::Mat sample;
+  const double k_sigma = SummariseFused(in, OrderDecisionOf(m), options, &counts, &fo, &sample, &sum);
+  copy_counts();
   if (options.correct_nonlinearity && counts.valid > 0)
     CorrectNonlinearityOnBox(options, mask, fo.wrapped, n, coord, &sum);
   if (!Report(options, "nonlinearity", 3, 4)) {
@@ -302,7 +346,9 @@ DecodedCamera DecodeFramesFast(const FringeManifest& m, const std::vector<cv::Ma
     return out;
   }
 
-  const double ripple = PhaseRipple(options, coord, mask, n, sum.period_px, counts.valid);
+  const long sample_count =
+      options.modulation_rule == ModulationRule::kSigma ? cv::countNonZero(sample) : counts.valid;
+  const double ripple = PhaseRipple(options, coord, sample, n, sum.period_px, sample_count);
   sum.phase_ripple_rad = ripple;
   sum.median_sigma_phase_rad = std::sqrt(sum.median_sigma_phase_rad * sum.median_sigma_phase_rad + ripple * ripple);
   SigmaMaps(mask, fo.modulation, k_sigma, ripple, sum.period_px / (2 * CV_PI), options.keep_diagnostic_maps, coord,

@@ -27,8 +27,8 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr double kTwoPi = 6.283185307179586476925;
 
 struct RowCounts {
-  long dark = 0, saturated = 0, low = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
-  double ss = 0, phase_ss = 0, worst = 0;
+  long dark = 0, saturated = 0, low = 0, unwrap_rejected = 0, corrected = 0, valid = 0, sampled = 0;
+  double ss = 0, phase_ss = 0, worst = 0;  // over the valid pixels with B >= b_sample
   float brightest = 0;  // the row's brightest sample of the finest phase-shift frames
 };
 
@@ -415,21 +415,23 @@ void GrayCoordinateRow(const FastDecodeInput& in, int y, RowBuffers<Acc>& buffer
   }
 }
 
-// The valid pixels' residual sums of the row into `rc`.
-inline void CountValidRow(int width, int n_fine, const uchar* mk, const float* res_ss, const float* res_row,
-                          const float* b_row, RowCounts* rc) {
+// The row's valid pixels, and the residual sums of those with B >= b_sample, into `rc`.
+inline void CountValidRow(int width, int n_fine, float b_sample, const uchar* mk, const float* res_ss,
+                          const float* res_row, const float* b_row, RowCounts* rc) {
   for (int x = 0; x < width; ++x) {
     if (x + 8 <= width && EightZero(mk + x)) {  // eight masked pixels at once
       x += 7;
       continue;
     }
     if (!mk[x]) continue;
+    ++rc->valid;
     const float r = res_row[x];
     const float b = b_row[x];
+    if (b < b_sample) continue;
+    ++rc->sampled;
     rc->ss += res_ss[x];
     rc->phase_ss += 2.0 / n_fine * r * r / (b * b);
     rc->worst = std::max(rc->worst, static_cast<double>(r));
-    ++rc->valid;
   }
 }
 
@@ -459,7 +461,7 @@ void DecodeRow(const FastDecodeInput& in, int y, RowCounts* rc, FastDecodeOutput
     for (int x = 0; x < width; ++x)
       if (mk[x]) coord[x] = static_cast<float>(PeriodFractionOf(phi[x], in.phase_at_origin_rad) * in.period);
   }
-  CountValidRow(width, in.steps[0], mk, buffers.res_ss.data(), res_row, b_row, rc);
+  CountValidRow(width, in.steps[0], in.b_sample, mk, buffers.res_ss.data(), res_row, b_row, rc);
 }
 
 }  // namespace
@@ -523,6 +525,7 @@ void DecodeFused(const FastDecodeInput& in, FastDecodeOutput* out, FastDecodeCou
     c.unwrap_rejected += rc.unwrap_rejected;
     c.corrected += rc.corrected;
     c.valid += rc.valid;
+    c.sampled += rc.sampled;
     c.residual_ss += rc.ss;
     c.phase_ss += rc.phase_ss;
     c.worst_residual = std::max(c.worst_residual, rc.worst);

@@ -31,12 +31,18 @@ bool Report(const DecodeOptions& o, const std::string& stage, std::size_t done, 
 }
 
 // The quality mask over every frequency's phase (dark, saturated, low modulation), counted by cause.
+// ModulationRule::kSigma: no darkness test, and B below the quantisation noise floor (the lowest
+// the rule's threshold can be) is counted as dark; the rule itself follows once sigma_I is known.
 cv::Mat QualityMask(const std::vector<PhaseShiftResult>& phases, const DecodeOptions& options, double full_scale,
                     DecodeSummary* sum) {
   cv::Mat mask(phases[0].wrapped.size(), CV_8U, cv::Scalar(255));
-  const float b_min = static_cast<float>(options.min_modulation_fraction * full_scale);
+  const bool sigma_rule = options.modulation_rule == ModulationRule::kSigma;
+  const float b_min =
+      sigma_rule ? static_cast<float>(SigmaModulationThreshold({}, phases[0].steps, 0.0, options).floor_dn)
+                 : static_cast<float>(options.min_modulation_fraction * full_scale);
   const float sat = static_cast<float>(options.saturation_fraction * full_scale);
-  const float dark = static_cast<float>(options.dark_fraction * full_scale);
+  const float dark = sigma_rule ? -std::numeric_limits<float>::infinity()
+                                : static_cast<float>(options.dark_fraction * full_scale);
   for (int y = 0; y < mask.rows; ++y) {
     uchar* mk = mask.ptr<uchar>(y);
     for (int x = 0; x < mask.cols; ++x) {
@@ -52,7 +58,7 @@ cv::Mat QualityMask(const std::vector<PhaseShiftResult>& phases, const DecodeOpt
       } else if (is_sat) {
         ++sum->saturated;
       } else if (low) {
-        ++sum->low_modulation;
+        ++(sigma_rule ? sum->dark : sum->low_modulation);
       } else {
         continue;
       }
@@ -109,6 +115,32 @@ double FinishSigmaMaps(const cv::Mat& mask, double ripple, double period_px, cv:
     }
   }
   return MedianOf(sig);
+}
+
+// The per-pixel fit residual map, and the summary's residual figures over the noise sample.
+// Returns the sample's pixel count.
+long ResidualFigures(const PhaseShiftResult& fine, const cv::Mat& sample, cv::Mat* fit_residual, DecodeSummary* sum) {
+  const int n = fine.steps;
+  *fit_residual = cv::Mat::zeros(sample.size(), CV_32F);
+  double ss = 0, phase_ss = 0;
+  long sampled = 0;
+  for (int y = 0; y < sample.rows; ++y) {
+    for (int x = 0; x < sample.cols; ++x) {
+      if (n > 3) fit_residual->at<float>(y, x) = std::sqrt(fine.residual_ss.at<float>(y, x) / (n - 3));
+      if (!sample.at<uchar>(y, x)) continue;
+      const float r = fit_residual->at<float>(y, x);
+      const float b = fine.modulation.at<float>(y, x);
+      ss += fine.residual_ss.at<float>(y, x);
+      phase_ss += 2.0 / n * r * r / (b * b);
+      sum->worst_residual_dn = std::max(sum->worst_residual_dn, static_cast<double>(r));
+      ++sampled;
+    }
+  }
+  if (n > 3 && sampled > 0) {
+    sum->fit_residual_rms_dn = std::sqrt(ss / (static_cast<double>(sampled) * (n - 3)));
+    sum->phase_residual_rms_rad = std::sqrt(phase_ss / sampled);
+  }
+  return sampled;
 }
 
 }  // namespace
@@ -177,45 +209,49 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     return out;
   }
 
-  // Noise: per-pixel fit residual, sigma_I, sigma_phi.
+  // Noise: per-pixel fit residual, sigma_I (over the noise sample), the sigma rule's threshold, sigma_phi.
   const int n = fine.steps;
-  out.fit_residual = cv::Mat::zeros(mask.size(), CV_32F);
-  double ss = 0, phase_ss = 0;
-  long count = 0;
-  std::vector<float> bs;
-  for (int y = 0; y < mask.rows; ++y) {
-    for (int x = 0; x < mask.cols; ++x) {
-      if (n > 3) out.fit_residual.at<float>(y, x) = std::sqrt(fine.residual_ss.at<float>(y, x) / (n - 3));
-      if (!mask.at<uchar>(y, x)) continue;
-      const float r = out.fit_residual.at<float>(y, x);
-      const float b = fine.modulation.at<float>(y, x);
-      ss += fine.residual_ss.at<float>(y, x);
-      phase_ss += 2.0 / n * r * r / (b * b);
-      sum.worst_residual_dn = std::max(sum.worst_residual_dn, static_cast<double>(r));
-      bs.push_back(b);
-      ++count;
+  const bool sigma_rule = options.modulation_rule == ModulationRule::kSigma;
+  const float b_sample = sigma_rule ? static_cast<float>(options.min_modulation_fraction * full_scale) : 0.0f;
+  cv::Mat sample = sigma_rule ? NoiseSampleMask(mask, fine.modulation, b_sample) : mask;
+  const long sampled = ResidualFigures(fine, sample, &out.fit_residual, &sum);
+  std::vector<const cv::Mat*> finest;
+  for (const cv::Mat& f : ps_frames[0]) finest.push_back(&f);
+  detail::ChooseIntensitySigma(options, finest, sample, n, sampled, &sum);
+  cv::Mat coord = unwrapped.coordinate.clone();
+  if (sigma_rule) {
+    OrderDecision decision = OrderDecisionOf(m);
+    if (decision.gray_bits > 0) {
+      std::vector<const cv::Mat*> gray;
+      for (const cv::Mat& g : gc_frames) gray.push_back(&g);
+      decision.gray_contrast = GrayContrastRatio(
+          finest, gray, sample, EstimateStride(options.noise_stride, sampled, options.estimate_max_samples));
+      sum.gray_contrast_ratio = decision.gray_contrast;
     }
+    const ModulationThreshold t = SigmaModulationThreshold(decision, n, sum.sigma_intensity_dn, options);
+    ApplyModulationThreshold(t, fine.modulation, mask, coord, &sum.dark, &sum.low_modulation);
+    sum.modulation_threshold_dn = t.threshold_dn;
+    sum.noise_floor_dn = t.floor_dn;
+    cv::bitwise_and(sample, mask, sample);
+  } else {
+    sum.modulation_rule = "fixed";
+    sum.modulation_threshold_dn = static_cast<float>(options.min_modulation_fraction * full_scale);
   }
+  std::vector<float> bs;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (mask.at<uchar>(y, x)) bs.push_back(fine.modulation.at<float>(y, x));
+  const long count = static_cast<long>(bs.size());
   sum.valid_pixels = count;
   sum.valid_fraction = static_cast<double>(count) / mask.total();
   sum.outliers = static_cast<long>(mask.total()) - count;
-  if (n > 3 && count > 0) {
-    sum.fit_residual_rms_dn = std::sqrt(ss / (static_cast<double>(count) * (n - 3)));
-    sum.phase_residual_rms_rad = std::sqrt(phase_ss / count);
-  }
   sum.median_modulation_dn = MedianOf(bs);
-  {
-    std::vector<const cv::Mat*> finest;
-    for (const cv::Mat& f : ps_frames[0]) finest.push_back(&f);
-    detail::ChooseIntensitySigma(options, finest, mask, n, count, &sum);
-  }
   out.sigma_phase = PhaseSigma(fine.modulation, n, sum.sigma_intensity_dn);
-  sum.harmonic_ratios = MeasureHarmonicRatios(ps_frames[0], mask);
+  sum.harmonic_ratios = MeasureHarmonicRatios(ps_frames[0], sample);
   sum.gamma_from_harmonics = sum.harmonic_ratios.empty() ? std::numeric_limits<double>::quiet_NaN()
                                                          : GammaFromSecondHarmonic(sum.harmonic_ratios[0]);
 
   // Projector nonlinearity: ripple of N*phi' in the unwrapped phase.
-  cv::Mat coord = unwrapped.coordinate;
   if (options.correct_nonlinearity && count > 0) {
     const double to_rad = 2 * CV_PI / sum.period_px;
     cv::Mat phase;
@@ -233,7 +269,8 @@ DecodedCamera DecodeFramesReference(const FringeManifest& m, const std::vector<c
     return out;
   }
 
-  const double ripple = detail::PhaseRipple(options, coord, mask, n, sum.period_px, sum.valid_pixels);
+  const long sample_count = sigma_rule ? cv::countNonZero(sample) : count;
+  const double ripple = detail::PhaseRipple(options, coord, sample, n, sum.period_px, sample_count);
   sum.phase_ripple_rad = ripple;
   sum.median_sigma_phase_rad = FinishSigmaMaps(mask, ripple, sum.period_px, coord, &out);
   out.coordinate = coord;

@@ -200,9 +200,9 @@ std::string FringeManifest::Resolve(const std::string& file) const {
 std::vector<std::string> FringeManifest::InputFiles() const {
   std::vector<std::string> out;
   if (!path.empty()) out.push_back(path);
-  for (const auto& [name, files] : cameras) {
-    for (const std::string& f : files) out.push_back(Resolve(f));
-  }
+  for (const auto* list : {&cameras, &cross_cameras})
+    for (const auto& [name, files] : *list)
+      for (const std::string& f : files) out.push_back(Resolve(f));
   if (!calibration.empty()) out.push_back(Resolve(calibration));
   if (!projector_calibration.empty()) out.push_back(Resolve(projector_calibration));
   return out;
@@ -253,7 +253,51 @@ void FringeManifest::Check() const {
            "the sequence needs " + std::to_string(ImageCount()) + " images, the camera lists " +
                std::to_string(files.size()));
   }
+  for (const auto& [name, files] : cross_cameras) {
+    if (!cameras.count(name)) Fail(path, "cross_cameras." + name, "no camera of that name in cameras");
+    if (static_cast<int>(files.size()) != ImageCount())
+      Fail(path, "cross_cameras." + name,
+           "the sequence needs " + std::to_string(ImageCount()) + " images, the camera lists " +
+               std::to_string(files.size()));
+  }
 }
+
+FringeManifest FringeManifest::CrossDirection() const {
+  FringeManifest m = *this;
+  m.direction = direction == FringeDirection::kVertical ? FringeDirection::kHorizontal : FringeDirection::kVertical;
+  m.cameras = cross_cameras;
+  m.cross_cameras.clear();
+  return m;
+}
+
+namespace {
+// A manifest's {name: [files...]} object (`key`: "cameras" or "cross_cameras"); globs expanded in
+// natural order (1, 2, 10), relative to the manifest's folder.
+std::map<std::string, std::vector<std::string>> ParseCameraFiles(const json& cams, const std::string& path,
+                                                                const std::string& key) {
+  if (!cams.is_object()) Fail(path, key, "expected an object {name: [files...]}");
+  std::map<std::string, std::vector<std::string>> out;
+  for (const auto& [name, files] : cams.items()) {
+    if (!files.is_array()) Fail(path, key + "." + name, "expected an array of image files");
+    std::vector<std::string> list;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      const std::string field = key + "." + name + "[" + std::to_string(i) + "]";
+      if (!files[i].is_string()) Fail(path, field, "expected a file name");
+      const std::string file = files[i].get<std::string>();
+      if (!IsImageGlob(file)) {
+        list.push_back(file);
+        continue;
+      }
+      const std::vector<std::string> matched =
+          ExpandImageGlob(file, std::filesystem::path(path).parent_path().string());
+      if (matched.empty()) Fail(path, field, "no file matches " + file);
+      list.insert(list.end(), matched.begin(), matched.end());
+    }
+    out[name] = list;
+  }
+  return out;
+}
+}  // namespace
 
 FringeManifest ReadFringeManifest(const std::string& path) { return ParseFringeManifest(ReadTextFile(path), path); }
 
@@ -286,26 +330,8 @@ FringeManifest ParseFringeManifest(const std::string& text, const std::string& p
   if (!seq.is_array()) Fail(path, "sequence", "expected an array of blocks");
   for (std::size_t i = 0; i < seq.size(); ++i)
     m.sequence.push_back(ParseBlock(seq[i], path, "sequence[" + std::to_string(i) + "].", m.Extent()));
-  const json& cams = JsonRequire(j, "cameras", path, "");
-  if (!cams.is_object()) Fail(path, "cameras", "expected an object {name: [files...]}");
-  for (const auto& [name, files] : cams.items()) {
-    if (!files.is_array()) Fail(path, "cameras." + name, "expected an array of image files");
-    std::vector<std::string> list;
-    for (std::size_t i = 0; i < files.size(); ++i) {
-      if (!files[i].is_string()) Fail(path, "cameras." + name + "[" + std::to_string(i) + "]", "expected a file name");
-      const std::string file = files[i].get<std::string>();
-      if (!IsImageGlob(file)) {
-        list.push_back(file);
-        continue;
-      }
-      // A glob: its files in natural order (1, 2, 10), relative to the manifest's folder.
-      const std::vector<std::string> matched =
-          ExpandImageGlob(file, std::filesystem::path(path).parent_path().string());
-      if (matched.empty()) Fail(path, "cameras." + name + "[" + std::to_string(i) + "]", "no file matches " + file);
-      list.insert(list.end(), matched.begin(), matched.end());
-    }
-    m.cameras[name] = list;
-  }
+  m.cameras = ParseCameraFiles(JsonRequire(j, "cameras", path, ""), path, "cameras");
+  if (j.contains("cross_cameras")) m.cross_cameras = ParseCameraFiles(j.at("cross_cameras"), path, "cross_cameras");
   m.Check();
   return m;
 }
@@ -352,6 +378,11 @@ std::string FringeManifestToJson(const FringeManifest& m) {
   json cams = json::object();
   for (const auto& [name, files] : m.cameras) cams[name] = files;
   j["cameras"] = cams;
+  if (!m.cross_cameras.empty()) {
+    json cross = json::object();
+    for (const auto& [name, files] : m.cross_cameras) cross[name] = files;
+    j["cross_cameras"] = cross;
+  }
   return j.dump(2) + "\n";
 }
 

@@ -583,7 +583,8 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
     j["mode"] = s.mode;
     j["decode"] = {{"camera", s.left.BriefReport()}};
     j.erase("match");
-    j["projector_triangulation"] = {{"coded_pixels", s.projector.coded_pixels},
+    j["projector_triangulation"] = {{"method", s.projector_triangulation},
+                                    {"coded_pixels", s.projector.coded_pixels},
                                     {"points", s.projector.points},
                                     {"rejected_geometry", s.projector.rejected_geometry},
                                     {"rejected_residual", s.projector.rejected_residual}};

@@ -32,6 +32,9 @@ std::string ScanResultSettings::ToString() const {
     << ";phase_filter=" << phase_filter << ";lr_sigma_factor=" << lr_sigma_factor << ";roi=" << roi
     << ";roi_margin=" << roi_margin << ";roi_stride=" << roi_stride;
   if (tri_view) s << ";tri_view=1;projector_calib=" << projector_calib;
+  if (modulation_rule != "sigma") s << ";modulation_rule=" << modulation_rule;
+  if (max_order_error != 1e-4) s << ";max_order_error=" << max_order_error;
+  if (ray_plane) s << ";ray_plane=1";
   return s.str();
 }
 namespace fs = std::filesystem;

@@ -7,6 +7,7 @@
 #include "ramtk/core/error.h"
 #include "ramtk/core/log.h"
 #include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/projector/projector_triangulate.h"
 #include "scan_fit.h"
 
 namespace ramtk::vision {
@@ -46,7 +47,7 @@ DecodedCamera Decode(const FringeManifest& m, const std::vector<cv::Mat>& frames
 
 ScanResult ScanMonocularDecoded(const ProjectorCalibration& calibration, FringeDirection direction,
                                 const DecodedCamera& camera, const ScanOptions& options,
-                                const std::string& calibration_path) {
+                                const std::string& calibration_path, const DecodedCamera* cross) {
   ThrowIfInvalid(options.Validate(), "ScanOptions");
   ScanResult result;
   ScanSummary& sum = result.summary;
@@ -64,7 +65,15 @@ ScanResult ScanMonocularDecoded(const ProjectorCalibration& calibration, FringeD
   ProjectorTriangulationOptions to = options.projector;
   to.min_depth_mm = std::max(to.min_depth_mm, options.match.min_depth_mm);
   to.max_depth_mm = std::min(to.max_depth_mm, options.match.max_depth_mm);
-  result.cloud = TriangulateProjectorPlanes(calibration, direction, camera, to, &sum.projector, &result.depth);
+  if (cross && !options.projector_ray_plane) {
+    const bool vertical = direction == FringeDirection::kVertical;
+    result.cloud = TriangulateProjectorPixels(calibration, vertical ? camera : *cross, vertical ? *cross : camera, to,
+                                              &sum.projector, &result.depth);
+    sum.projector_triangulation = "ray-ray";
+  } else {
+    result.cloud = TriangulateProjectorPlanes(calibration, direction, camera, to, &sum.projector, &result.depth);
+    sum.projector_triangulation = "ray-plane";
+  }
   sum.triangulation.points = sum.projector.points;
   sum.triangulation.rejected_gap = sum.projector.rejected_geometry;
   sum.triangulation.median_sigma_mm = sum.projector.median_sigma_mm;
@@ -93,6 +102,29 @@ ScanResult ScanMonocularFrames(const FringeManifest& manifest, const ProjectorCa
   return result;
 }
 
+ScanResult ScanMonocularFramesBothDirections(const FringeManifest& manifest, const ProjectorCalibration& calibration,
+                                             const std::vector<cv::Mat>& frames,
+                                             const std::vector<cv::Mat>& cross_frames, double full_scale,
+                                             const ScanOptions& options, const std::string& calibration_path) {
+  ThrowIfInvalid(options.Validate(), "ScanOptions");
+  for (std::size_t i = 0; i < cross_frames.size(); ++i)
+    CheckFrameSize(cross_frames[i], calibration.camera, calibration_path, "cross frame " + std::to_string(i));
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    CheckFrameSize(frames[i], calibration.camera, calibration_path, "frame " + std::to_string(i));
+  const auto t0 = std::chrono::steady_clock::now();
+  const DecodedCamera camera = Decode(manifest, frames, full_scale, options, options.left_camera);
+  FringeManifest crossed = manifest;
+  crossed.direction =
+      manifest.direction == FringeDirection::kVertical ? FringeDirection::kHorizontal : FringeDirection::kVertical;
+  const DecodedCamera cross = Decode(crossed, cross_frames, full_scale, options, options.left_camera);
+  const double decode_s = Seconds(t0);
+  if (!Report(options, "decode " + options.left_camera, 1)) return Cancelled(ScanResult());
+  ScanResult result =
+      ScanMonocularDecoded(calibration, manifest.direction, camera, options, calibration_path, &cross);
+  result.summary.decode_s = decode_s;
+  return result;
+}
+
 ScanResult ScanMonocularSet(const FringeManifest& m, const ScanOptions& options) {
   ThrowIfInvalid(options.Validate(), "ScanOptions");
   if (options.roi.mode != ScanRoiOptions::Mode::kFull)
@@ -117,9 +149,21 @@ ScanResult ScanMonocularSet(const FringeManifest& m, const ScanOptions& options)
   t0 = std::chrono::steady_clock::now();
   DecodedCamera decoded = Decode(m, stack.frames, stack.full_scale, options, camera);
   std::vector<cv::Mat>().swap(stack.frames);
+  // Both directions projected: the other one's frames decoded as the set in that direction.
+  DecodedCamera cross;
+  const bool both = m.cross_cameras.count(camera) && !options.projector_ray_plane;
+  if (both) {
+    const FringeManifest crossed = m.CrossDirection();
+    std::vector<std::string> cross_paths;
+    for (const std::string& f : crossed.cameras.at(camera)) cross_paths.push_back(crossed.Resolve(f));
+    ImageStack cross_stack = LoadImageStack(cross_paths, options.decode.dark_fraction, true);
+    CheckFrameSize(cross_stack.frames.front(), calibration.camera, calib_path, cross_paths.front());
+    cross = Decode(crossed, cross_stack.frames, cross_stack.full_scale, options, camera);
+  }
   const double decode_s = Seconds(t0);
   if (!Report(options, "decode " + camera, 1)) return Cancelled(ScanResult());
-  ScanResult result = ScanMonocularDecoded(calibration, m.direction, decoded, options, calib_path);
+  ScanResult result =
+      ScanMonocularDecoded(calibration, m.direction, decoded, options, calib_path, both ? &cross : nullptr);
   result.summary.set = m.path;
   result.summary.load_s = load_s;
   result.summary.decode_s = decode_s;

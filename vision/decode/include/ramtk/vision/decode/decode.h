@@ -15,13 +15,40 @@
 
 namespace ramtk::vision {
 
+// How pixels with weak fringes are rejected (DecodeOptions::modulation_rule).
+enum class ModulationRule {
+  // From each pixel's own phase noise once sigma_I is known (ModulationThreshold,
+  // detail/decode_internal.h): a pixel is kept when its modulation B is significantly above the
+  // noise, B >= noise_floor_factor sqrt(2/N) sigma_I, and the probability that its period order
+  // is wrong, from sigma_phi = sqrt(2/N) sigma_I / B and the order decision's margin (Gray bits
+  // against sigma_I, the phase's quarter period of a complementary code, a heterodyne beat's
+  // half period), is at most max_order_error_probability. Both are one threshold on B,
+  // proportional to sigma_I (at least quantisation noise, 1/sqrt(12) DN).
+  kSigma,
+  // B below min_modulation_fraction of full scale, or the brightest sample below dark_fraction
+  // of it (fixed fractions, for comparison).
+  kFixed,
+};
+
 struct DecodeOptions {
-  // Pixels whose modulation B is below this fraction of full scale are invalid.
+  // Which rule rejects weak-fringe pixels (above). Codec-decoded sequences (codec.h decode)
+  // have no sigma_I and keep the fixed min_modulation_fraction under either rule.
+  ModulationRule modulation_rule = ModulationRule::kSigma;
+  // kSigma: the largest accepted probability of a wrong period order at a pixel. 1e-4: a pixel
+  // at the threshold gives one wrong order (an outlier of one or more periods) in 10 000.
+  double max_order_error_probability = 1e-4;
+  // kSigma: B must exceed this many times sqrt(2/N) sigma_I, the Rayleigh scale of the B that
+  // noise alone gives; P(noise alone above it) = exp(-c^2 / 2) = 1e-4 at 4.3.
+  double noise_floor_factor = 4.3;
+  // kFixed: pixels whose modulation B is below this fraction of full scale are invalid.
+  // kSigma: sigma_I, the phase ripple and the harmonic ratios are measured on the valid pixels
+  // with B at least this fraction (where the fringes are clearly visible), so weaker pixels do
+  // not change the noise model of the others.
   double min_modulation_fraction = 0.02;
   // Pixels with any phase-shift sample at or above this fraction of full scale are saturated.
   double saturation_fraction = 0.998;
-  // Pixels whose brightest phase-shift sample is below this fraction of full scale are dark;
-  // a set whose every sample is below it is rejected as an input error.
+  // A set whose every sample is below this fraction of full scale is rejected as an input error;
+  // kFixed: pixels whose brightest phase-shift sample is below it are dark.
   double dark_fraction = 0.02;
   // Intensity noise sigma_I (DN) for sigma_phi = sqrt(2/N) sigma_I / B. <= 0: estimated from the
   // sinusoid-fit residuals of the valid pixels (N > 3), or quantisation noise 1/sqrt(12) for N = 3.
@@ -74,9 +101,13 @@ struct DecodeSummary {
   long valid_pixels = 0;                            // pixels with an absolute coordinate
   double valid_fraction = 0;                        // valid_pixels / all pixels
   long outliers = 0;                                // invalid pixels (all causes below)
-  long low_modulation = 0;                          // masked: B below threshold
+  long low_modulation = 0;                          // masked: B below threshold (kSigma: above the noise floor)
   long saturated = 0;                               // masked: a saturated sample
-  long dark = 0;                                    // masked: dark pixel
+  long dark = 0;                                    // masked: dark pixel (kSigma: B below the noise floor)
+  std::string modulation_rule = "sigma";            // "sigma" or "fixed" (DecodeOptions::modulation_rule)
+  double modulation_threshold_dn = 0;               // pixels with B below this were rejected, DN
+  double noise_floor_dn = 0;                        // kSigma: noise_floor_factor sqrt(2/N) sigma_I, DN
+  double gray_contrast_ratio = 0;                   // kSigma: Gray bits' |g - A| over B (0: no Gray code)
   long unwrap_rejected = 0;                         // masked: order not determined
   long edge_corrections = 0;                        // pixels whose period order was corrected at a code edge
   double sigma_intensity_dn = 0;                    // sigma_I used for sigma_phi

@@ -75,7 +75,14 @@ struct FringeManifest {
   std::vector<SequenceBlock> sequence;  // in projection order
   // Camera name ("left", "right", ...) -> ordered image files as written in the manifest.
   std::map<std::string, std::vector<std::string>> cameras;
+  // Camera–projector set with both fringe directions (JSON "cross_cameras"): camera name -> the
+  // same sequence's image files projected with the fringes in the other direction; empty when only
+  // `direction` was projected. With them `ramtk scan` triangulates ray–ray (the projector pixel).
+  std::map<std::string, std::vector<std::string>> cross_cameras;
 
+  // This set as projected in the other direction: `cross_cameras` as its cameras, the direction
+  // flipped (Extent() then the other projector side), no cross cameras.
+  FringeManifest CrossDirection() const;
   // Total images the sequence needs per camera.
   int ImageCount() const;
   // Projector pixels along the coded direction (width for vertical fringes).

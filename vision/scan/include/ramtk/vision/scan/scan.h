@@ -41,6 +41,10 @@ struct ScanOptions {
   // range and iterations of the camera–projector triangulation. Its depth range is narrowed to
   // match.min_depth_mm .. match.max_depth_mm too (`ramtk scan --min-depth/--max-depth`).
   ProjectorTriangulationOptions projector;
+  // Camera–projector sets with both fringe directions (FringeManifest::cross_cameras): true
+  // triangulates ray–plane from the manifest's direction alone; false (default) ray–ray, the
+  // projector pixel from both.
+  bool projector_ray_plane = false;
   // Tri-view on a stereo set (ScanFringeSet, whole frame only): the left pixels that decoded but
   // got no stereo point are triangulated against the projector (vision/projector/tri_view.h),
   // each with its sigma, and appended to the cloud and the depth map. Off: a manifest naming a
@@ -89,6 +93,8 @@ struct ScanSummary {
   // that camera's decode, `right` and `match` stay empty, `projector` holds the triangulation).
   std::string mode = "stereo";
   ProjectorTriangulationSummary projector;
+  // Monocular: "ray-plane" (one fringe direction) or "ray-ray" (both); "" for a stereo scan.
+  std::string projector_triangulation;
   // Tri-view (ScanOptions::tri_view): the points each pair gave, the stereo pair's and the left
   // camera and projector's (their sum is triangulation.points); `projector` holds the latter's
   // triangulation of the left pixels without a stereo point.

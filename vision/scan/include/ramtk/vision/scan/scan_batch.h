@@ -44,6 +44,9 @@ struct ScanResultSettings {
   double roi_margin = 0.0;
   int roi_stride = 0;
   bool tri_view = false;             // --tri-view (recorded only when on)
+  std::string modulation_rule = "sigma";  // --modulation-rule (recorded only when not "sigma")
+  double max_order_error = 1e-4;          // --max-order-error (recorded only when not 1e-4)
+  bool ray_plane = false;                 // --ray-plane (recorded only when on)
   std::string projector_calib;       // --projector-calib as given
   std::string ToString() const;
 };

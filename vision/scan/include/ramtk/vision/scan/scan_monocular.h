@@ -27,10 +27,19 @@ ScanResult ScanMonocularFrames(const FringeManifest& manifest, const ProjectorCa
                                const std::vector<cv::Mat>& frames, double full_scale, const ScanOptions& options,
                                const std::string& calibration_path = "");
 
+// Both fringe directions: `frames` as projected in the manifest's direction, `cross_frames` in
+// the other (FringeManifest::cross_cameras), both in the sequence order. Ray–ray (the projector
+// pixel from both coordinates) unless options.projector_ray_plane.
+ScanResult ScanMonocularFramesBothDirections(const FringeManifest& manifest, const ProjectorCalibration& calibration,
+                                             const std::vector<cv::Mat>& frames,
+                                             const std::vector<cv::Mat>& cross_frames, double full_scale,
+                                             const ScanOptions& options, const std::string& calibration_path = "");
+
 // The stages after decoding: triangulation against the projector and the sphere fit. `direction`
-// is the coded projector axis (the manifest's).
+// is the coded projector axis (the manifest's); `cross` (optional) the decode of the other
+// direction: then ray–ray unless options.projector_ray_plane.
 ScanResult ScanMonocularDecoded(const ProjectorCalibration& calibration, FringeDirection direction,
                                 const DecodedCamera& camera, const ScanOptions& options,
-                                const std::string& calibration_path = "");
+                                const std::string& calibration_path = "", const DecodedCamera* cross = nullptr);
 
 }  // namespace ramtk::vision

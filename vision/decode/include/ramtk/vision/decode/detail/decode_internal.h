@@ -34,6 +34,7 @@ struct FastDecodeInput {
   double period = 0;                          // finest period, projector px
   int extent = 0;                             // projector px along the coded direction
   float b_min = 0, saturation = 0, dark = 0;  // thresholds, DN
+  float b_sample = 0;                         // residual sums only over valid pixels with B >= this, DN
   bool keep_diagnostic_maps = true;           // false: no background / fit_residual maps
 };
 
@@ -42,11 +43,13 @@ struct FastDecodeOutput {
   // (fit_residual is kept for the heterodyne unwrap).
   cv::Mat wrapped, background, modulation, fit_residual, coordinate, mask;
   std::vector<cv::Mat> coarse_wrapped;  // heterodyne: wrapped phase of frequencies 1.. (0 where masked)
+  float b_sample_dn = 0;                // FastDecodeInput::b_sample (for the heterodyne unwrap's sums)
 };
 
 struct FastDecodeCounts {
   long dark = 0, saturated = 0, low_modulation = 0, unwrap_rejected = 0, corrected = 0, valid = 0;
-  double residual_ss = 0, phase_ss = 0, worst_residual = 0;  // over valid pixels (not for heterodyne)
+  long sampled = 0;                                          // valid pixels with B >= b_sample
+  double residual_ss = 0, phase_ss = 0, worst_residual = 0;  // over those pixels
   double brightest = 0;                                      // the brightest sample of the finest phase-shift frames
 };
 
@@ -109,6 +112,47 @@ void ChooseIntensitySigma(const DecodeOptions& options, const std::vector<const 
 // where the mask byte is 0, NaN in both and in the coordinate `c` (otherwise left as it is).
 void SigmaRow(const uchar* mk, const float* b, int width, double k_sigma, double ripple, double to_px, float* c,
               float* sp, float* sc);
+
+// The period-order decision of a sequence, for the probability that it goes wrong.
+struct OrderDecision {
+  int gray_bits = 0;            // Gray-code bits, each compared with the pixel's background A
+  bool complementary = false;   // the Gray code's half-period bit: the phase picks the order within +-1/4 period
+  double heterodyne_ratio = 0;  // heterodyne: finest cycles over the first beat's cycles; 0 = none
+  double gray_contrast = 1;     // a Gray bit's |sample - A| over the sinusoids' B (GrayContrastRatio)
+};
+// The order decision of a manifest's sequence (none for a single period across the projector).
+OrderDecision OrderDecisionOf(const FringeManifest& m);
+
+// The Gray bits' contrast over the sinusoids' modulation: the median over every `stride`-th
+// pixel of `sample` (x and y) of median_j |g_j - A| / B, A and B from the finest phase-shift
+// frames (a binary pattern keeps more contrast than a sinusoid through the optics' blur, and a
+// projector may drive them differently). 1 without Gray frames or with fewer than 100 pixels.
+double GrayContrastRatio(const std::vector<const cv::Mat*>& ps_frames, const std::vector<const cv::Mat*>& gray_frames,
+                         const cv::Mat& sample, int stride);
+
+// Probability that a pixel's period order is wrong at B / sigma_I = `b_over_sigma` with N steps:
+// every Gray bit at contrast gray_contrast x B against noise sigma_I sqrt(1 + 1/N) (sample and A), one-sided
+// (an upper bound: the half-period bit of a complementary code is half corrected by the phase);
+// a complementary code's phase beyond +-pi/2 of its cell centre; a heterodyne order beyond +-1/2
+// period, with sigma = sigma_phi sqrt(1 + 2 ratio^2) / 2 pi (the beat of two phases, scaled up).
+double OrderErrorProbability(const OrderDecision& d, int n, double b_over_sigma);
+
+struct ModulationThreshold {
+  double floor_dn = 0;      // noise_floor_factor sqrt(2/N) sigma_I
+  double threshold_dn = 0;  // the larger of the floor and the B where OrderErrorProbability = the option
+};
+// ModulationRule::kSigma's threshold on B for sigma_I (clamped to >= 1/sqrt(12) DN).
+ModulationThreshold SigmaModulationThreshold(const OrderDecision& d, int n, double sigma_i,
+                                             const DecodeOptions& options);
+
+// The pixels sigma_I and the other noise figures are measured on: `mask` where B >= b_sample
+// (all of `mask` when b_sample <= 0).
+cv::Mat NoiseSampleMask(const cv::Mat& mask, const cv::Mat& modulation, float b_sample);
+
+// Masks the pixels of `mask` whose B is below t.threshold_dn (coordinate NaN), counting those
+// below t.floor_dn into *dark and the others into *low. Returns the pixels removed.
+long ApplyModulationThreshold(const ModulationThreshold& t, const cv::Mat& modulation, cv::Mat& mask,
+                              cv::Mat& coordinate, long* dark, long* low);
 
 // The decode of a sequence whose one block is a codec with its own decode function (codec.h
 // PatternCodec::decode, decode_codec.cpp): the frames as float, the codec's coordinate, modulation
