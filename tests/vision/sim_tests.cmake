@@ -4,7 +4,8 @@ ramtk_add_gtest(vision_sim_tests
   sim_scene_test.cpp
   sim_renderer_test.cpp
   sim_sensor_test.cpp
-  sim_simulator_test.cpp)
+  sim_simulator_test.cpp
+  sim_kernel_test.cpp)
 target_link_libraries(vision_sim_tests PRIVATE ramtk::vision ${OpenCV_LIBS} TBB::tbb nlohmann_json::nlohmann_json)
 
 # `ramtk simulate fringe` run as a user would (the expect_run.cmake script of tests/tools).
