@@ -7,7 +7,10 @@
 // included). Prints a Markdown table; a rig/axis whose |mean error| exceeds 0.5 standard errors
 // is marked. --noise-free scans the noise-free render (the sensor's quantisation only): the
 // part of the error that is not from the noise.
-//   vision_bias_budget [--seeds N] [--noise-free] [--rigs
+// --kernel: the calibration the scan reads states no sampling kernel (unstated, the default), the
+// kernel the render used (stated; the matcher then applies its kernel and interpolation terms),
+// or a given one, F,S = fill factor, PSF sigma px (a wrong kernel).
+//   vision_bias_budget [--seeds N] [--noise-free] [--kernel unstated|stated|F,S] [--rigs
 //   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
 // the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
@@ -96,14 +99,30 @@ struct RigResult {
   std::vector<Draw> draws;
 };
 
-RigResult RunRig(const Rig& rig, int seeds, bool noise) {
+// The calibration the scan reads: the render's own (no kernel stated), its kernel stated
+// ("stated", StateRenderedKernel), or a kernel "F,S" stated for both cameras (fill factor, PSF σ px).
+StereoCalibration ScanCalibration(const FringeSimulationConfig& c, const std::string& kernel) {
+  if (kernel == "unstated") return WrittenCalibration(c);
+  if (kernel == "stated") return WrittenCalibration(StateRenderedKernel(c));
+  camera::SamplingKernel k;
+  if (std::sscanf(kernel.c_str(), "%lf,%lf", &k.fill_factor, &k.psf_sigma_px) != 2 || !k.Validate().empty()) {
+    std::fprintf(stderr, "--kernel: expected unstated, stated or F,S (fill factor, PSF sigma px), got %s\n",
+                 kernel.c_str());
+    std::exit(2);
+  }
+  StereoCalibration calib = WrittenCalibration(c);
+  calib.left.sampling_kernel = calib.right.sampling_kernel = k;
+  return calib;
+}
+
+RigResult RunRig(const Rig& rig, int seeds, bool noise, const std::string& kernel) {
   FringeSimulationConfig c = rig.config;
   const Vec3 ball = c.scene.spheres[0].centre_in_left;
   const double radius = c.scene.spheres[0].radius;
   c.sensor.noise = false;
   const SimulatedCamera l0 = SimulateCamera(c, 0), r0 = SimulateCamera(c, 1);
   c.sensor.noise = noise;
-  const StereoCalibration calib = WrittenCalibration(c);
+  const StereoCalibration calib = ScanCalibration(c, kernel);
   RigResult out;
   out.seeds = seeds;
   for (int s = 0; s < seeds; ++s) {
@@ -183,6 +202,7 @@ int main(int argc, char** argv) {
   int seeds = 20;
   bool noise = true;
   std::string rigs = "small,small-offaxis,small-4step,small-half";
+  std::string kernel = "unstated";
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
@@ -190,9 +210,11 @@ int main(int argc, char** argv) {
       noise = false;
     } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
       rigs = argv[++i];
+    } else if (!std::strcmp(argv[i], "--kernel") && i + 1 < argc) {
+      kernel = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--seeds N] [--noise-free] [--rigs "
+                   "usage: %s [--seeds N] [--noise-free] [--kernel unstated|stated|F,S] [--rigs "
                    "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
                    argv[0]);
       return 2;
@@ -206,7 +228,7 @@ int main(int argc, char** argv) {
   bool any = false;
   for (std::string name; std::getline(names, name, ',');) {
     const Rig rig = MakeRig(name);
-    const RigResult r = RunRig(rig, seeds, noise);
+    const RigResult r = RunRig(rig, seeds, noise, kernel);
     PrintRig(rig, r, &flagged);
     any = any || !r.draws.empty();
     std::fflush(stdout);

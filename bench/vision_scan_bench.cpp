@@ -9,7 +9,9 @@
 //       per stage and its cost per pixel-frame, per valid pixel and per point
 //       (vision_scan_bench_set_speed.cpp); --float 1 also times the decode of the frames
 //       converted to float.
-//   vision_scan_bench accuracy [--first-pose K] [--poses P] [--seeds S]
+//   vision_scan_bench accuracy [--first-pose K] [--poses P] [--seeds S] [--state-kernel 1]
+//       (--state-kernel 1: the calibration the scan reads states the rendered sampling kernel, so
+//       the matcher applies its kernel and interpolation terms; default 0, not stated)
 //       thesis geometry (the small preset = 640x512 windows of the 3312x2488 cameras cropped
 //       around the ball, ~700 mm), the ball at P poses over the field (pose 0 = the bundled
 //       default pose), S noise seeds each: the noise-free radiance is rendered once per pose and
@@ -253,7 +255,7 @@ Vec3 SweepPose(int p) {
 }
 
 // `rectified` 0 / 1 sets the test hook StereoMatchTestHooks::rectified_back_pass, -1 keeps the default.
-int Accuracy(int first_pose, int poses, int seeds, int rectified) {
+int Accuracy(int first_pose, int poses, int seeds, int rectified, bool state_kernel) {
   const detail::ScopedStereoMatchTestHooks hooks(BackPassHooks(rectified));
   MethodStats ours, all_points, pcl;
   for (int p = first_pose; p < first_pose + poses; ++p) {
@@ -262,7 +264,7 @@ int Accuracy(int first_pose, int poses, int seeds, int rectified) {
     c.sensor.noise = false;
     const SimulatedCamera l0 = SimulateCamera(c, 0), r0 = SimulateCamera(c, 1);
     c.sensor.noise = true;
-    const StereoCalibration calib = WrittenCalibration(c);
+    const StereoCalibration calib = WrittenCalibration(state_kernel ? StateRenderedKernel(c) : c);
     for (int s = 0; s < seeds; ++s) {
       c.seed = 1000 + s;
       const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
@@ -620,7 +622,7 @@ int main(int argc, char** argv) {
                        Arg(argc, argv, "--threads", 0), Arg(argc, argv, "--rectified-back-pass", -1));
   if (mode == "accuracy")
     return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50),
-                    Arg(argc, argv, "--rectified-back-pass", -1));
+                    Arg(argc, argv, "--rectified-back-pass", -1), Arg(argc, argv, "--state-kernel", 0) != 0);
   std::fprintf(
       stderr,
       "usage: vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S] | speed --manifest "

@@ -25,6 +25,8 @@ struct SimulateFringeOptions {
   int bits = 8;                        // camera bit depth
   std::string frame_format = "png";    // png or bmp
   int supersampling = 4;               // n×n rays per pixel
+  double fill_factor = std::numeric_limits<double>::quiet_NaN();  // pixel box aperture, px (NaN: keep)
+  double psf_sigma = std::numeric_limits<double>::quiet_NaN();    // lens PSF σ, px (NaN: keep)
   bool monocular = false;              // also write the left camera as a camera–projector set
   std::string ball;                    // x,y,z of the ball centre in the left-camera frame, mm
   double radius = 0.0;                 // ball radius, mm (0 = preset)
@@ -60,6 +62,16 @@ int RunSimulateFringe(const SimulateFringeOptions& opt, Provenance provenance) {
   config.frame_format = opt.frame_format;
   config.sensor.noise = !opt.no_noise;
   config.supersampling = opt.supersampling;
+  if (std::isfinite(opt.fill_factor) || std::isfinite(opt.psf_sigma)) {
+    for (camera::CameraIntrinsics* cam : {&config.cameras.left, &config.cameras.right}) {
+      camera::SamplingKernel k = cam->sampling_kernel.value_or(camera::SamplingKernel{});
+      if (std::isfinite(opt.fill_factor)) k.fill_factor = opt.fill_factor;
+      if (std::isfinite(opt.psf_sigma)) k.psf_sigma_px = opt.psf_sigma;
+      cam->sampling_kernel = k;
+    }
+  }
+  // The written calibration states the kernel the render samples (RenderedKernel).
+  config = vision::StateRenderedKernel(config);
   config.write_monocular = opt.monocular;
   for (const std::string& e : opt.effects) {
     const auto eq = e.find('=');
@@ -108,7 +120,16 @@ void RegisterSimulateFringeCommand(CLI::App& app, int* exit_code) {
                   "Frame files: png, or bmp (uncompressed, 8-bit only: what many cameras write; `scan --roi` then "
                   "reads only the rows it needs)")
       ->capture_default_str();
-  sub->add_option("--supersampling", opt->supersampling, "n: n x n rays per camera pixel")->capture_default_str();
+  sub->add_option("--supersampling", opt->supersampling,
+                  "n: n x n rays per camera pixel, through the sampling kernel (without --fill-factor or "
+                  "--psf-sigma: the box pixel, fill factor 1; n = 1 samples a point, fill factor 0)")
+      ->capture_default_str();
+  sub->add_option("--fill-factor", opt->fill_factor,
+                  "Pixel fill factor in [0, 1]: the width of the square box aperture each pixel integrates over, px "
+                  "(default 1, or the --calib file's sampling_kernel; stated in the written calibration)");
+  sub->add_option("--psf-sigma", opt->psf_sigma,
+                  "Lens PSF: sigma of an isotropic Gaussian applied to the irradiance before the pixel's box, px "
+                  "(default 0, or the --calib file's sampling_kernel; stated in the written calibration)");
   sub->add_flag("--monocular", opt->monocular,
                 "Also write monocular.json and projector_calibration.yml: the left camera against the projector "
                 "(a camera–projector set for `ramtk scan`)");

@@ -4,6 +4,12 @@
 
 namespace ramtk::camera {
 
+std::string SamplingKernel::Validate() const {
+  if (!(fill_factor >= 0.0 && fill_factor <= 1.0)) return "fill_factor: must be in [0, 1]";
+  if (!(psf_sigma_px >= 0.0 && psf_sigma_px <= 10.0)) return "psf_sigma_px: must be in [0, 10] px";
+  return "";
+}
+
 Mat3 CameraIntrinsics::K() const {
   Mat3 k;
   k << fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <fstream>
+#include <optional>
 #include <opencv2/core.hpp>
 #include <sstream>
 #include <utility>
@@ -123,6 +124,30 @@ LensModel ReadLensModel(const CalibrationNode& fs, const std::string& path, cons
   return LensModel::kPinhole5;
 }
 
+// The sampling kernel of camera `suffix` ("1", "2" or ""): sampling_kernel<suffix>, else
+// sampling_kernel (both cameras), a map {fill_factor, psf_sigma_px}; not stated when absent.
+std::optional<SamplingKernel> ReadSamplingKernel(const CalibrationNode& fs, const std::string& path,
+                                                 const std::string& suffix) {
+  for (const std::string& key : {"sampling_kernel" + suffix, std::string("sampling_kernel")}) {
+    const CalibrationNode* node = fs.Find(key);
+    if (node == nullptr || node->kind == Kind::kNull) continue;
+    if (node->kind != Kind::kMap)
+      throw InputError(At(path, *node, key), "expected a map {fill_factor, psf_sigma_px}");
+    SamplingKernel kernel;
+    for (const auto& [name, value] : {std::pair<const char*, double*>{"fill_factor", &kernel.fill_factor},
+                                      {"psf_sigma_px", &kernel.psf_sigma_px}}) {
+      const CalibrationNode* field = node->Find(name);
+      if (field == nullptr || field->kind != Kind::kNumber)
+        throw InputError(At(path, *node, key + "." + name), "missing or not a number");
+      *value = field->number;
+    }
+    const std::string error = kernel.Validate();
+    if (!error.empty()) throw InputError(At(path, *node, key), error);
+    return kernel;
+  }
+  return std::nullopt;
+}
+
 CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, const std::string& k_key,
                             const std::string& k_alias, const std::string& d_key, const std::string& suffix) {
   int rows = 0, cols = 0;
@@ -152,6 +177,7 @@ CameraIntrinsics ReadCamera(const CalibrationNode& fs, const std::string& path, 
                                std::to_string(rows) + "x" + std::to_string(cols));
   const std::string error = DistortionFromVector(d, model, &cam.distortion);
   if (!error.empty()) throw InputError(d_at, error);
+  cam.sampling_kernel = ReadSamplingKernel(fs, path, suffix);
   return cam;
 }
 
@@ -300,6 +326,10 @@ void WriteCameraKeys(cv::FileStorage& fs, const CameraIntrinsics& c, const std::
   fs << ("K" + suffix) << k << ("D" + suffix) << cv::Mat(d, true).reshape(1, 1);
   if (c.distortion.model != LensModel::kPinhole5)
     fs << ("distortion_model" + suffix) << LensModelName(c.distortion.model);
+  if (c.sampling_kernel) {
+    fs << ("sampling_kernel" + suffix) << "{" << "fill_factor" << c.sampling_kernel->fill_factor << "psf_sigma_px"
+       << c.sampling_kernel->psf_sigma_px << "}";
+  }
 }
 
 void WriteQualityKeys(cv::FileStorage& fs, double rms_px, const std::vector<double>& per_view_errors_px,

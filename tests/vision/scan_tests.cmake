@@ -122,3 +122,8 @@ ramtk_cli_test(scan_batch_bad_centre 1
   ARGS scan --batch ${SCAN_CLI}/batch_bad_centre.txt --out ${SCAN_CLI}/batch_bad_centre -q
   STDERR "batch_bad_centre.txt:2.*predicted centre"
   NO_PATH ${SCAN_CLI}/batch_bad_centre)
+
+# The matcher's sampling-kernel terms on a large-pixel rig (SLMaster's calibration from
+# RAMTK_SHARED_DIR; skipped without it), in a target of its own.
+ramtk_add_gtest(vision_kernel_scan_tests scan_kernel_test.cpp)
+target_link_libraries(vision_kernel_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS})

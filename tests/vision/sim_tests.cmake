@@ -4,7 +4,8 @@ ramtk_add_gtest(vision_sim_tests
   sim_scene_test.cpp
   sim_renderer_test.cpp
   sim_sensor_test.cpp
-  sim_simulator_test.cpp)
+  sim_simulator_test.cpp
+  sim_kernel_test.cpp)
 target_link_libraries(vision_sim_tests PRIVATE ramtk::vision ${OpenCV_LIBS} TBB::tbb nlohmann_json::nlohmann_json)
 
 # `ramtk simulate fringe` run as a user would (the expect_run.cmake script of tests/tools).
@@ -46,3 +47,12 @@ ramtk_cli_test(simulate_fringe_bmp_needs_8_bit 1
 ramtk_cli_test(simulate_fringe_heterodyne 0
   ARGS simulate fringe --out ${SIM_OUT}_het --force -q --supersampling 1 --sequence het:4:70/64/59
   STDOUT "simulated 2 x 12 fringe images 640x512")
+# The written calibration states the sampling kernel the render used (sampling_kernel1/2).
+ramtk_cli_test(simulate_fringe_states_kernel 0
+  ARGS simulate fringe --preset small --out ${SIM_OUT}_kernel --supersampling 2 --fill-factor 0.5 --psf-sigma 0.25
+       --sequence ps:3:16,cgc:5 --force -q
+  FILE ${SIM_OUT}_kernel/calibration.yml
+  FILE_REGEX "sampling_kernel2:[^a-z]*fill_factor: 5[.]0+e-01[^a-z]*psf_sigma_px: 2[.]50+e-01")
+ramtk_cli_test(simulate_fringe_kernel_needs_rays 1
+  ARGS simulate fringe --out ${SIM_OUT}_bad --supersampling 1 --fill-factor 1
+  STDERR "field 'supersampling': 1 ray per pixel samples a point")

@@ -94,6 +94,24 @@ TEST(StereoWalkLanes, SettleTheScalarWalksRootsOnASimulatedSet) {
   ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, o);
 }
 
+// With both cameras' sampling kernel stated the settled roots move by the kernel terms
+// (stereo_kernel_terms.h) on the scalar side of EmitSettled: the outputs stay those with the
+// lanes off, bit for bit, and differ from the unstated match's.
+TEST(StereoWalkLanes, KernelTermsGiveTheScalarWalksOutputs) {
+  detail::SetAvx2Kernels(true);
+  if (!detail::Avx2Kernels()) GTEST_SKIP() << "no AVX2 on this CPU (or RAMTK_AVX2=0)";
+  FringeSimulationConfig cfg = MakeFringePreset("small");
+  cfg.seed = 44;
+  const testing::DecodedStereo s = testing::SimulateAndDecode(cfg);
+  StereoCalibration calib = WrittenCalibration(cfg);
+  const StereoMatch unstated = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  calib.left.sampling_kernel = calib.right.sampling_kernel = camera::SamplingKernel{1.0, 0.0};
+  const StereoMatch stated = MatchStereo(calib, s.left, s.right, s.period, StereoMatchOptions{});
+  EXPECT_FALSE(SameMap("depth_mm", unstated.depth_mm, stated.depth_mm));
+  EXPECT_GT(ExpectLanesAreTheScalarWalk(calib, s.left, s.right, s.period, StereoMatchOptions{}),
+            1.6 * stated.summary.matched);
+}
+
 TEST(StereoWalkLanes, SettleTheScalarWalksRootsOnTheRealCapture) {
   detail::SetAvx2Kernels(true);
   if (!detail::Avx2Kernels()) GTEST_SKIP() << "no AVX2 on this CPU (or RAMTK_AVX2=0)";

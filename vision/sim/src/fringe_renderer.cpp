@@ -160,8 +160,46 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<SequenceBlock>& block
   return frames;
 }
 
+namespace {
+
+// CDF of box(fill)⊗N(0, σ²) at x: (σ/f)·[G((x + f/2)/σ) − G((x − f/2)/σ)], G(z) = zΦ(z) + φ(z).
+double KernelCdf(double fill, double sigma, double x) {
+  auto phi_cdf = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  if (fill <= 0.0) return phi_cdf(x / sigma);
+  auto g = [&](double z) { return z * phi_cdf(z) + std::exp(-0.5 * z * z) / std::sqrt(kTwoPi); };
+  return sigma / fill * (g((x + 0.5 * fill) / sigma) - g((x - 0.5 * fill) / sigma));
+}
+
+}  // namespace
+
+std::vector<double> KernelNodeOffsets(const camera::SamplingKernel& kernel, int n) {
+  std::vector<double> off(static_cast<std::size_t>(n), 0.0);
+  if (n == 1) return off;
+  const double f = kernel.fill_factor, sigma = kernel.psf_sigma_px;
+  if (sigma <= 0.0) {
+    for (int j = 0; j < n; ++j) off[j] = f * ((j + 0.5) / n - 0.5);
+    return off;
+  }
+  const double reach = 0.5 * f + 9.0 * sigma;
+  double var = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double q = (j + 0.5) / n;
+    double lo = -reach, hi = reach;
+    for (int it = 0; it < 100; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (KernelCdf(f, sigma, mid) < q ? lo : hi) = mid;
+    }
+    off[j] = 0.5 * (lo + hi);
+    var += off[j] * off[j] / n;
+  }
+  const double scale = var > 0.0 ? std::sqrt(kernel.VariancePx2() / var) : 1.0;
+  for (double& o : off) o *= scale;
+  return off;
+}
+
 std::string RenderOptions::Validate() const {
   if (supersampling < 1 || supersampling > 16) return "supersampling: must be in 1..16";
+  if (const std::string e = kernel.Validate(); !e.empty()) return "kernel." + e;
   if (!(ambient >= 0.0 && std::isfinite(ambient))) return "ambient: must be >= 0";
   if (!(projector_gamma > 0.0 && std::isfinite(projector_gamma))) return "projector_gamma: must be > 0";
   if (!(projector_blur_px >= 0.0 && projector_blur_px < 100.0)) return "projector_blur_px: must be in [0, 100)";
@@ -175,6 +213,9 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
   if (width <= 0 || height <= 0) throw InputError({"", 0, "camera.width"}, "camera image size must be positive");
   const int n = options.supersampling;
   const int samples = n * n;
+  // The box pixel keeps its regular grid's own expression (u − ½ + (j + ½)/n).
+  const bool box_pixel = options.kernel == camera::SamplingKernel{};
+  const std::vector<double> node = KernelNodeOffsets(options.kernel, n);
   const bool vertical = options.direction == FringeDirection::kVertical;
   const double extent = vertical ? projector.intrinsics.width : projector.intrinsics.height;
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -213,7 +254,8 @@ RenderedView RenderView(const Scene& scene, const PinholeView& camera, const Pin
         double ambient_sum = 0.0;
         for (int i = 0; i < n; ++i) {
           for (int j = 0; j < n; ++j) {
-            const Vec2 pixel(u - 0.5 + (j + 0.5) / n, v - 0.5 + (i + 0.5) / n);
+            const Vec2 pixel = box_pixel ? Vec2(u - 0.5 + (j + 0.5) / n, v - 0.5 + (i + 0.5) / n)
+                                         : Vec2(u + node[j], v + node[i]);
             // Start from the centre's solution shifted by the sub-pixel offset.
             const Vec2 guess = centre.ideal + Vec2((pixel.x() - u) / k.fx, (pixel.y() - v) / k.fy);
             const RayResult r = tracer.Trace(pixel, guess);

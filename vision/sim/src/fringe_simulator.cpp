@@ -173,6 +173,13 @@ std::string FringeSimulationConfig::Validate() const {
   RenderOptions ro;
   ro.supersampling = supersampling;
   if (std::string p = ro.Validate(); !p.empty()) return p;
+  for (const CameraIntrinsics* c : {&cameras.left, &cameras.right}) {
+    if (!c->sampling_kernel) continue;
+    if (std::string p = c->sampling_kernel->Validate(); !p.empty()) return "cameras.sampling_kernel." + p;
+    if (supersampling == 1 && !(*c->sampling_kernel == camera::SamplingKernel{0.0, 0.0}))
+      return "supersampling: 1 ray per pixel samples a point; a stated kernel with a fill factor or a PSF needs "
+             "supersampling >= 2";
+  }
   try {
     ExpandSequence(sequence);
   } catch (const InputError& e) {
@@ -298,6 +305,19 @@ PinholeView RenderedCameraView(const FringeSimulationConfig& config, int camera)
 
 StereoCalibration WrittenCalibration(const FringeSimulationConfig& config) { return config.cameras; }
 
+camera::SamplingKernel RenderedKernel(const FringeSimulationConfig& config, int camera) {
+  const CameraIntrinsics& c = camera == 0 ? config.cameras.left : config.cameras.right;
+  if (c.sampling_kernel) return *c.sampling_kernel;
+  return config.supersampling == 1 ? camera::SamplingKernel{0.0, 0.0} : camera::SamplingKernel{};
+}
+
+FringeSimulationConfig StateRenderedKernel(FringeSimulationConfig config) {
+  const camera::SamplingKernel left = RenderedKernel(config, 0), right = RenderedKernel(config, 1);
+  config.cameras.left.sampling_kernel = left;
+  config.cameras.right.sampling_kernel = right;
+  return config;
+}
+
 SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera, const ProgressCallback& progress) {
   ThrowIfInvalid(config.Validate(), "FringeSimulationConfig");
   std::vector<PatternFrame> frames = ExpandSequence(config.sequence);
@@ -305,6 +325,7 @@ SimulatedCamera SimulateCamera(const FringeSimulationConfig& config, int camera,
   for (std::size_t i = 0; i < frames.size(); ++i) frames[i].shift_error_rad = fx.shift_errors_rad[i];
   RenderOptions ro;
   ro.supersampling = config.supersampling;
+  ro.kernel = RenderedKernel(config, camera);
   ro.ambient = config.effects.ambient_light;
   ro.projector_gamma = config.effects.projector_nonlinearity;
   ro.projector_blur_px = config.effects.defocus;
@@ -350,6 +371,23 @@ std::string FringeSimulationSummary::BriefReport() const {
 namespace {
 
 // truth/truth.json: the scene, the cameras' truth files, the projector and every effect's realisation.
+// truth.json's "render": the ray count and projector settings, and each camera's sampling kernel
+// when the configuration states it.
+json RenderJson(const FringeSimulationConfig& config) {
+  json render = {{"supersampling", config.supersampling},
+                 {"ambient", config.effects.ambient_light},
+                 {"projector_gamma", config.effects.projector_nonlinearity},
+                 {"projector_blur_px", config.effects.defocus}};
+  const char* names[2] = {"left", "right"};
+  for (int i = 0; i < 2; ++i) {
+    const CameraIntrinsics& c = i == 0 ? config.cameras.left : config.cameras.right;
+    if (c.sampling_kernel)
+      render["sampling_kernel"][names[i]] = {{"fill_factor", c.sampling_kernel->fill_factor},
+                                             {"psf_sigma_px", c.sampling_kernel->psf_sigma_px}};
+  }
+  return render;
+}
+
 json TruthJson(const FringeSimulationConfig& config, const EffectRealisation& fx, const json& effects,
                const json& truth_cameras) {
   json spheres = json::array();
@@ -378,11 +416,7 @@ json TruthJson(const FringeSimulationConfig& config, const EffectRealisation& fx
        {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
         {"projector_from_left", PoseToJson(config.projector.view_from_left)}}},
       {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
-      {"render",
-       {{"supersampling", config.supersampling},
-        {"ambient", config.effects.ambient_light},
-        {"projector_gamma", config.effects.projector_nonlinearity},
-        {"projector_blur_px", config.effects.defocus}}},
+      {"render", RenderJson(config)},
       {"sensor",
        {{"bits", config.sensor.bits},
         {"exposure", config.sensor.exposure * config.effects.saturation},

@@ -165,6 +165,11 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   }
   Pass lrp = MakePass(calibration, left, right, period, options, hooks, rectified, true);
   lrp.points = true;
+  if (calibration.left.sampling_kernel && calibration.right.sampling_kernel) {
+    lrp.kernel_terms = true;
+    lrp.kernel_var_src = calibration.left.sampling_kernel->VariancePx2();
+    lrp.kernel_var_dst = calibration.right.sampling_kernel->VariancePx2();
+  }
   lrp.pixels = options.right_pixels;
   lrp.sigma_map = options.sigma_map;
   if (lr) {

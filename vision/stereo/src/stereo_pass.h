@@ -101,6 +101,11 @@ struct Pass {
   bool points = false;                  // also write each match's depth and point sigma (the left-to-right pass)
   bool pixels = true;                   // write the matched pixels u, v (the back pass must: the check reads them)
   bool sigma_map = true;                // keep the sigma map (the back pass must); false: its values per block only
+  // Both cameras state their sampling kernel (CameraIntrinsics::sampling_kernel): each match of
+  // the points pass is moved by the kernel and interpolation terms (stereo_kernel_terms.h), with
+  // the kernels' per-axis variances, px².
+  bool kernel_terms = false;
+  double kernel_var_src = 0, kernel_var_dst = 0;
   bool full_search = false;             // StereoMatchTestHooks::full_search
   bool exhaustive = false;              // StereoMatchTestHooks::exhaustive_search
   // StereoMatchTestHooks::rectified_back_pass: the search runs on the destination coordinate map resampled

@@ -18,6 +18,7 @@
 #include "ramtk/vision/stereo/detail/undistort_chains.h"
 #include "stereo_consistency.h"
 #include "stereo_curve_search.h"
+#include "stereo_kernel_terms.h"
 #include "stereo_local_search.h"
 #include "stereo_matcher.h"
 #include "stereo_rect_search.h"
@@ -121,6 +122,37 @@ PixelOutputs Outputs(float sigma_src, double var, double slope, const Vec2& vel,
   return o;
 }
 
+// Writes a matched root's outputs at the row's cursor (root.vel known).
+void WriteOutputs(const Pass& p, RowWalk* r, const Matcher::Root& root, const Vec2& ideal) {
+  const int x = r->x;
+  const PixelOutputs o = Outputs(r->srow[x], root.at.var, root.slope, root.vel, root.w, ideal);
+  if (p.pixels) {
+    r->u_row[x] = static_cast<float>(root.at.pix.x());
+    r->v_row[x] = static_cast<float>(root.at.pix.y());
+  }
+  r->sigma_row[x] = static_cast<float>(o.sigma_px);
+  if (p.points) {
+    r->depth_row[x] = o.depth;
+    r->x_row[x] = static_cast<float>(o.x);
+    r->y_row[x] = static_cast<float>(o.y);
+    r->point_sigma_row[x] = static_cast<float>(o.point_sigma);
+  }
+}
+
+// The root lane k of `in` settled.
+Matcher::Root SettledRoot(const detail::WalkLanes& in, int k) {
+  Matcher::Root root;
+  root.w = in.w[k];
+  root.slope = in.slope[k];
+  root.at.ok = true;
+  root.at.pix = Vec2(in.pix_x[k], in.pix_y[k]);
+  root.at.u0 = in.u0[k], root.at.v0 = in.v0[k];
+  root.at.var = in.var[k];
+  root.at.modulation = in.modulation[k];
+  root.vel = Vec2(in.vel_x[k], in.vel_y[k]);
+  return root;
+}
+
 // Searches the pixel at the row's cursor and writes its outputs (NextSearched then moves the
 // cursor on).
 // `settled` (CheckSettled only, in tests): the root the lanes settled from the left neighbour's
@@ -197,20 +229,12 @@ void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, R
   r->w_prev = root.w;
   r->w_last = root.w;
   r->w_row[x] = root.w;
-  Vec2 d = root.vel, unused;
-  if (!std::isfinite(d.x())) m.PixelAndVelocity(root.w, &unused, &d);
-  const PixelOutputs o = Outputs(r->srow[x], root.at.var, root.slope, d, root.w, ideal);
-  if (p.pixels) {
-    r->u_row[x] = static_cast<float>(root.at.pix.x());
-    r->v_row[x] = static_cast<float>(root.at.pix.y());
+  if (p.kernel_terms) ApplyKernelTerms(p, m, x, y, &root);  // the outputs only: the seeds stay the search's
+  if (!std::isfinite(root.vel.x())) {
+    Vec2 unused;
+    m.PixelAndVelocity(root.w, &unused, &root.vel);
   }
-  r->sigma_row[x] = static_cast<float>(o.sigma_px);
-  if (p.points) {
-    r->depth_row[x] = o.depth;
-    r->x_row[x] = static_cast<float>(o.x);
-    r->y_row[x] = static_cast<float>(o.y);
-    r->point_sigma_row[x] = static_cast<float>(o.point_sigma);
-  }
+  WriteOutputs(p, r, root, ideal);
 }
 
 // What the lanes read of a pass (detail::WalkMaps).
@@ -264,14 +288,23 @@ bool LanesWalk(const Pass& p) {
 
 // A pixel the lanes settled (lane k of `in`, the pixel at the row's cursor): its outputs as
 // SearchPixel writes them for that root (the lanes computed them), and the row's seeds.
-void EmitSettled(const Pass& p, RowWalk* r, const detail::WalkLanes& in, int k) {
+void EmitSettled(const Pass& p, Matcher& m, RowWalk* r, const detail::WalkLanes& in, int k) {
   const int x = r->x;
   r->last_x = x;
-  ++r->next_ray;
+  const int entry = r->next_ray++;
   ++r->matched;
   r->w_prev = in.w[k];
   r->w_last = in.w[k];
   r->w_row[x] = in.w[k];
+  if (p.kernel_terms) {
+    // The lanes' root through the kernel terms, its outputs as SearchPixel forms them.
+    Matcher::Root root = SettledRoot(in, k);
+    m.a = Vec3(r->chain->a_x[entry], r->chain->a_y[entry], r->chain->a_z[entry]);
+    m.c_src = r->crow[x];
+    ApplyKernelTerms(p, m, x, r->y, &root);
+    WriteOutputs(p, r, root, Vec2(r->chain->ideal_x[entry], r->chain->ideal_y[entry]));
+    return;
+  }
   if (p.pixels) {
     r->u_row[x] = in.out_u[k];
     r->v_row[x] = in.out_v[k];
@@ -288,15 +321,7 @@ void EmitSettled(const Pass& p, RowWalk* r, const detail::WalkLanes& in, int k) 
 // Tests (detail::SetWalkLaneCheck): the settled root against the scalar walk from the same seed,
 // bit for bit, and the lanes' outputs against SearchPixel's for that root.
 void CheckSettled(const Pass& p, Matcher& m, const RowWalk& r, const detail::WalkLanes& in, int k) {
-  Matcher::Root root;
-  root.w = in.w[k];
-  root.slope = in.slope[k];
-  root.at.ok = true;
-  root.at.pix = Vec2(in.pix_x[k], in.pix_y[k]);
-  root.at.u0 = in.u0[k], root.at.v0 = in.v0[k];
-  root.at.var = in.var[k];
-  root.at.modulation = in.modulation[k];
-  root.vel = Vec2(in.vel_x[k], in.vel_y[k]);
+  const Matcher::Root root = SettledRoot(in, k);
   // SearchPixel on a copy of the row (outputs into scratch rows) counts the root's comparison
   // with the scalar walk's; the outputs, before they become floats, are compared here.
   RowWalk copy = r;
@@ -318,7 +343,8 @@ void CheckSettled(const Pass& p, Matcher& m, const RowWalk& r, const detail::Wal
   bool same = std::memcmp(want, got, p.points ? sizeof want : sizeof(double)) == 0;
   const float lanes[7] = {in.out_u[k], in.out_v[k], in.out_sigma[k],      in.out_depth[k],
                           in.out_x[k], in.out_y[k], in.out_point_sigma[k]};
-  for (int i = 0; i < 7; ++i)
+  // With the kernel terms EmitSettled writes SearchPixel's outputs itself, not the lanes'.
+  for (int i = 0; i < 7 && !p.kernel_terms; ++i)
     if (*fields[i]) same = same && std::memcmp(&scratch[i * len + r.x], &lanes[i], sizeof(float)) == 0;
   if (!same) detail::CountWalkLaneMismatch();
 }
@@ -382,7 +408,7 @@ void WalkRows(const Pass& p, PassResult* out, int yb, int ye, int lanes, const d
         if (!pending[k]) continue;
         if (settled >> k & 1) {
           if (check) CheckSettled(p, m, r, in, k);
-          EmitSettled(p, &r, in, k);
+          EmitSettled(p, m, &r, in, k);
         } else if (k == 0 || !pending[k - 1] || rw[k - 1].x > r.x) {
           SearchPixel(p, m, roots, &r, nullptr);
         } else {

@@ -20,6 +20,7 @@
 //    cv::undistortPoints runs a fixed number of fixed-point iterations by default).
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 
 #include "ramtk/core/rotation.h"
@@ -71,6 +72,24 @@ bool ParseLensModel(const std::string& name, LensModel* model);
 Vec2 DistortNormalizedGeneral(const Distortion& d, const Vec2& undistorted);
 Eigen::Matrix2d DistortNormalizedJacobianGeneral(const Distortion& d, const Vec2& undistorted);
 
+// The camera's sampling kernel: a pixel's value is the irradiance averaged over a square box
+// aperture `fill_factor` px wide (centred on the pixel centre; 0 = point sampling), convolved with
+// an isotropic Gaussian lens PSF of standard deviation `psf_sigma_px` px. Per axis the kernel's
+// variance is fill_factor²/12 + psf_sigma_px² px², and a smooth signal c sampled through it reads
+// c + ½·variance·(c_uu + c_vv) at second order (the stereo matcher's kernel term).
+struct SamplingKernel {
+  double fill_factor = 1.0;   // width of the square box aperture, px, in [0, 1] (0 = point sampling)
+  double psf_sigma_px = 0.0;  // σ of the isotropic Gaussian lens PSF, px, in [0, 10]
+  // Per-axis variance of the kernel, px².
+  double VariancePx2() const { return fill_factor * fill_factor / 12.0 + psf_sigma_px * psf_sigma_px; }
+  // "" when usable, else the first problem as `field: what is wrong`.
+  std::string Validate() const;
+  bool operator==(const SamplingKernel& o) const {
+    return fill_factor == o.fill_factor && psf_sigma_px == o.psf_sigma_px;
+  }
+  bool operator!=(const SamplingKernel& o) const { return !(*this == o); }
+};
+
 // Intrinsics of one pinhole camera (or projector) and its image size.
 struct CameraIntrinsics {
   double fx = 1.0;        // focal length along u, pixels
@@ -80,6 +99,9 @@ struct CameraIntrinsics {
   Distortion distortion;  // lens distortion (zero = ideal pinhole)
   int width = 0;          // image width, pixels
   int height = 0;         // image height, pixels
+  // The sampling kernel, when the calibration states one; empty = not stated (the stereo
+  // matcher then applies no kernel or interpolation correction: docs/formats.md).
+  std::optional<SamplingKernel> sampling_kernel = std::nullopt;
 
   // The 3×3 camera matrix K.
   Mat3 K() const;

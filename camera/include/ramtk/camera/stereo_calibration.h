@@ -10,11 +10,14 @@
 //    model: pinhole5, rational, thin-prism, fisheye, or ROS's plumb_bob, rational_polynomial,
 //    equidistant) and the image size as `image_size: [w, h]` (or `S`, or
 //    `image_width` + `image_height`); an optional `image_size2` when the right camera differs;
+//    optional `sampling_kernel1` / `sampling_kernel2` / `sampling_kernel` (both cameras), each a
+//    map {fill_factor, psf_sigma_px} (CameraIntrinsics::sampling_kernel; absent = not stated);
 //  * SLMaster's caliInfo.yml: M1 D1 M2 D2 Rlr Tlr S (S = [w, h]); its rectification extras
 //    (R1 R2 P1 P2 Q E F epilines*) are ignored.
 // R, T follow cv::stereoCalibrate: x_in_right = R·x_in_left + T, T in millimetres.
 // Written with the standard keys (plus rms_px, per_view_errors_px and parameter_std when known;
-// distortion_model1 / distortion_model2 for a camera that is not the 5-coefficient model).
+// distortion_model1 / distortion_model2 for a camera that is not the 5-coefficient model;
+// sampling_kernel1 / sampling_kernel2 for a camera whose kernel is stated).
 
 #include <functional>
 #include <limits>

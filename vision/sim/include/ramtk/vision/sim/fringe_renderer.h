@@ -20,7 +20,10 @@
 //      R = ρ·(ambient + P^γ·max(0, n·l))    if X is inside the projector image and not shadowed,
 //      R = ρ·ambient                        otherwise,
 // l the unit direction from X to the projector centre (no inverse-square fall-off). A camera pixel
-// is the mean of n×n rays on a regular grid inside the pixel (box pixel response).
+// is the mean of n×n rays through the camera's sampling kernel (RenderOptions::kernel: a box of
+// width fill_factor convolved with a Gaussian lens PSF): with the default (fill factor 1, no PSF)
+// a regular grid inside the pixel (box pixel response); otherwise n nodes per axis at the
+// kernel's quantiles (KernelNodeOffsets), n×n in all (the kernel is separable).
 
 #include <cstdint>
 #include <opencv2/core.hpp>
@@ -61,6 +64,9 @@ std::vector<PatternFrame> ExpandSequence(const std::vector<SequenceBlock>& block
 
 struct RenderOptions {
   int supersampling = 4;         // n: n×n rays per camera pixel
+  // The camera's sampling kernel the n×n rays sample: fill factor 1 and no PSF is the box pixel
+  // (today's area sampling); fill factor 0 and no PSF is point sampling at the pixel centre.
+  camera::SamplingKernel kernel;
   double ambient = 0.0;          // ambient irradiance, fraction of projector white
   double projector_gamma = 1.0;  // projector response P^γ
   // Projector defocus: Gaussian blur std dev in projector pixels across the fringes (along them
@@ -85,6 +91,12 @@ struct RenderedView {
                                   // object as the centre ray (1 = a clean interior pixel)
   bool cancelled = false;         // the progress callback asked to stop; images are incomplete
 };
+
+// The n sub-ray offsets per axis (px from the pixel centre, equal weights) that sample `kernel`:
+// without a PSF, n points on a regular grid over the box aperture (fill_factor·((j + ½)/n − ½));
+// with one, the midpoint quantiles (j + ½)/n of box⊗Gaussian scaled so that their variance is the
+// kernel's (fill_factor²/12 + σ²), which the second-order kernel term depends on.
+std::vector<double> KernelNodeOffsets(const camera::SamplingKernel& kernel, int n);
 
 // Renders `frames` as seen by `camera`. Parallel over rows (TBB).
 RenderedView RenderView(const Scene& scene, const PinholeView& camera, const PinholeView& projector,

@@ -49,7 +49,9 @@ struct FringeSimulationConfig {
   Scene scene;                                                 // spheres and planes, left-camera frame, mm
   std::vector<SequenceBlock> sequence;                     // projected pattern sequence
   FringeDirection direction = FringeDirection::kVertical;  // fringe direction
-  int supersampling = 4;                                       // n×n rays per camera pixel
+  // n×n rays per camera pixel, through each camera's sampling kernel (cameras.*.sampling_kernel;
+  // not stated: the box pixel, fill factor 1, and with n = 1 a point sample; RenderedKernel).
+  int supersampling = 4;
   SensorOptions sensor;    // bit depth, exposure, noise, (blur is set by `camera_defocus`)
   FringeEffects effects;   // effect magnitudes
   std::uint64_t seed = 1;  // seeds every random draw (effects and noise)
@@ -97,6 +99,13 @@ EffectRealisation RealiseEffects(const FringeSimulationConfig& config, const std
 // unmodelled part, and the calibration written for users (without it).
 PinholeView RenderedCameraView(const FringeSimulationConfig& config, int camera);  // 0 left, 1 right
 StereoCalibration WrittenCalibration(const FringeSimulationConfig& config);
+// The sampling kernel camera `camera` (0 left, 1 right) is rendered with: its stated kernel, else
+// the box pixel (fill factor 1, no PSF) for supersampling ≥ 2 and a point sample (fill factor 0)
+// for supersampling 1.
+camera::SamplingKernel RenderedKernel(const FringeSimulationConfig& config, int camera);
+// The same configuration with both cameras' kernels stated as RenderedKernel: the render is the
+// same and WrittenCalibration states the kernel it used (`ramtk simulate fringe` does this).
+FringeSimulationConfig StateRenderedKernel(FringeSimulationConfig config);
 
 // One camera's simulated images and ground truth, in memory.
 struct SimulatedCamera {

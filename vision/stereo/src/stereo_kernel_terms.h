@@ -1,0 +1,97 @@
+#pragma once
+// The sampling kernel's and the bilinear interpolant's second-order terms at a crossing
+// (Pass::kernel_terms). Included by stereo_walk.cpp only (after stereo_matcher.h).
+//
+// A camera whose pixel samples the coordinate c through a kernel of per-axis variance k
+// (SamplingKernel::VariancePx2: box fill_factor²/12 plus PSF σ²) reads, at second order,
+//     c + ½·k·(c_uu + c_vv)                                             (the kernel term)
+// (the phase of the kernel-weighted fringe ∫K(s)·e^{i(φ0 + g·s + ½h·s²)} ds is φ0 + ½·k·h for a
+// symmetric kernel). Between four such samples the bilinear value at cell fractions (t_u, t_v) is
+//     c + ½·t_u(1 − t_u)·c_uu + ½·t_v(1 − t_v)·c_vv + ½·k_dst·(c_uu + c_vv)   (interpolation + kernel)
+// (the chord of a convex function lies above it). The matcher solves bilinear = left value; the
+// true crossing solves bilinear − bias_dst = c_src − bias_src, one Newton step along the curve:
+//     w' = w + (bias_dst − bias_src) / (df/dw).
+// The kernel also weights the fringe by its modulation B: the phase moves to the kernel's
+// B-weighted centroid, + k·(c_u·B_u + c_v·B_v)/B at first order (the shading term), on both maps.
+// The derivatives are the maps' central and second differences (at the left pixel; interpolated
+// over the crossing cell's corners on the right).
+
+#include <cmath>
+
+#include "stereo_matcher.h"
+
+namespace ramtk::vision::detail {
+namespace {
+
+// Second differences of a coordinate map at (x, y) along u and v; false if a neighbour lies
+// outside the map or is not finite. (The matches' bias follows these three-sample differences:
+// a parabola fitted over 5 samples and 3 lines removed half of it on a point-sampled render.)
+inline bool SecondDifferences(const cv::Mat& map, int x, int y, double* duu, double* dvv) {
+  if (x < 1 || y < 1 || x + 1 >= map.cols || y + 1 >= map.rows) return false;
+  const float* up = map.ptr<float>(y - 1);
+  const float* row = map.ptr<float>(y);
+  const float* down = map.ptr<float>(y + 1);
+  const double c = row[x];
+  *duu = static_cast<double>(row[x - 1]) - 2.0 * c + row[x + 1];
+  *dvv = static_cast<double>(up[x]) - 2.0 * c + down[x];
+  return std::isfinite(*duu) && std::isfinite(*dvv);
+}
+
+// The shading term of a kernel of variance k at (x, y): k·(c_u·B_u + c_v·B_v)/B (the modulation B
+// weights the kernel: the fringe's phase moves to its B-weighted centroid), central differences of
+// the coordinate c and the modulation B. False where a neighbour is missing.
+inline bool ShadingTerm(const cv::Mat& coord, const cv::Mat& modulation, int x, int y, double k, double* term) {
+  *term = 0;
+  if (k == 0) return true;
+  if (x < 1 || y < 1 || x + 1 >= coord.cols || y + 1 >= coord.rows) return false;
+  auto at = [](const cv::Mat& m, int u, int v) { return static_cast<double>(m.ptr<float>(v)[u]); };
+  const double cu = 0.5 * (at(coord, x + 1, y) - at(coord, x - 1, y));
+  const double cv = 0.5 * (at(coord, x, y + 1) - at(coord, x, y - 1));
+  const double bu = 0.5 * (at(modulation, x + 1, y) - at(modulation, x - 1, y));
+  const double bv = 0.5 * (at(modulation, x, y + 1) - at(modulation, x, y - 1));
+  const double b = at(modulation, x, y);
+  *term = k * (cu * bu + cv * bv) / b;
+  return b > 0 && std::isfinite(*term);
+}
+
+// Largest shift of a crossing by the kernel terms, destination px: the terms are ~0.01 px; a
+// larger one comes from differences across an edge or an unwrap error, and is not applied.
+constexpr double kMaxKernelShiftPx = 0.1;
+
+// Moves `root` (the crossing of source pixel (x, y)) to where the kernel-free coordinates cross.
+// The destination's terms are interpolated over the crossing cell's four corners. False (root unchanged) where a second difference
+// is unavailable or the shift is implausible.
+inline bool ApplyKernelTerms(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
+  double luu = 0, lvv = 0;
+  if (!SecondDifferences(p.src_coord, x, y, &luu, &lvv)) return false;
+  const int u0 = root->at.u0, v0 = root->at.v0;
+  const double fu = root->at.pix.x() - u0, fv = root->at.pix.y() - v0;
+  double ruu = 0, rvv = 0, rsh = 0, lsh = 0;
+  if (!ShadingTerm(p.src_coord, p.src_modulation, x, y, p.kernel_var_src, &lsh)) return false;
+  for (int j = 0; j < 2; ++j) {
+    for (int i = 0; i < 2; ++i) {
+      double duu = 0, dvv = 0, sh = 0;
+      if (!SecondDifferences(p.dst_coord, u0 + i, v0 + j, &duu, &dvv) ||
+          !ShadingTerm(p.dst_coord, p.dst_modulation, u0 + i, v0 + j, p.kernel_var_dst, &sh))
+        return false;
+      const double weight = (i ? fu : 1 - fu) * (j ? fv : 1 - fv);
+      ruu += weight * duu;
+      rvv += weight * dvv;
+      rsh += weight * sh;
+    }
+  }
+  const double bias_dst = 0.5 * (fu * (1 - fu) * ruu + fv * (1 - fv) * rvv) + 0.5 * p.kernel_var_dst * (ruu + rvv) + rsh;
+  const double bias_src = 0.5 * p.kernel_var_src * (luu + lvv) + lsh;
+  if (!(root->slope != 0)) return false;
+  const double dw = (bias_dst - bias_src) / root->slope;
+  Vec2 pix, vel;
+  if (!m.PixelAndVelocity(root->w + dw, &pix, &vel)) return false;
+  if (!(std::abs(dw) * vel.norm() < kMaxKernelShiftPx)) return false;
+  root->w += dw;
+  root->at.pix = pix;
+  root->vel = vel;
+  return true;
+}
+
+}  // namespace
+}  // namespace ramtk::vision::detail
