@@ -35,9 +35,17 @@ struct CampaignOptions {
   double repeatability_mm = 0.015;       // robot repeatability σ per axis (thermal simulator)
   double tool_sensor_noise_mm = 0.005;   // monitoring-point sensor σ per axis
   std::uint64_t seed = 1;         // thermal simulator (poses, drift, repeatability) and image noise
+  // true: every ball pose and monitoring point sees the drift of its own instant; false: each
+  // cycle's drift is held at its ball poses' mean time (ThermalSimOptions::drift_changes_within_cycle;
+  // isolates what the drift's motion inside a cycle costs).
+  bool drift_changes_within_cycle = true;
   int jobs = 2;                   // sets rendered / scanned at once
   // Parameters identified: empty = the simulator's drifting set (d4 d6 a1 a2 a3 α3 α4 β2).
   std::vector<int> params;
+  // true: the drift is identified as a function of time, each centre at its own instant, piecewise
+  // linear between the cycles' mean pose times (thermal::IdentifyDriftInTime); false: one ΔX per
+  // cycle against the cold cycle (thermal::DriftModel::Solve), as `ramtk thermal identify`.
+  bool drift_in_time = true;
   // Parameter screening (thesis §3.2, Tables 5-1/5-2) on the image-derived centres, as
   // `ramtk thermal screen`: the count kept (thesis: 8); 0 = chosen by held-out error; -1 = skip.
   int screen_keep = 8;
