@@ -8,6 +8,7 @@
 //   campaign_uncertainty --robot datasets/robots/kuka_kr150_r3100.yaml --seeds 10 --work /tmp/cu
 //       [--scale 0.25] [--supersampling 2]   (camera window scale and rays per pixel side, as the twin)
 //       [--frozen-drift]   (each cycle's drift held at its ball poses' mean time: no drift inside a cycle)
+//       [--cold-reference]   (the robot stands through the first cycle: the reference is measured cold)
 //       [--one-dx-per-cycle]   (identify one ΔX per cycle, DriftModel::Solve, instead of the drift in time)
 //
 // Each line also shows the chain fed the true centres against the same (image chain's) prediction.
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     o.supersampling = std::atoi(Arg(argc, argv, "--supersampling", std::to_string(o.supersampling)).c_str());
     o.drift_changes_within_cycle = !Flag(argc, argv, "--frozen-drift");
     o.drift_in_time = !Flag(argc, argv, "--one-dx-per-cycle");
+    o.cold_reference = Flag(argc, argv, "--cold-reference");
     o.screen_keep = -1;  // the screening has no propagated σ to score
     const fs::path out = work / ("seed" + std::to_string(seed));
     fs::remove_all(out);
