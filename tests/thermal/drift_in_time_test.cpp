@@ -165,6 +165,21 @@ TEST(DriftInTime, ErrorOverNoiseDrawsMatchesItsCovariance) {
   EXPECT_NEAR(chi2 / draws, 1.0, 0.05);
 }
 
+// The cubic interpolant reproduces a drift quadratic in time exactly, between knots and past the
+// end knots, on unevenly spaced knots; the piecewise-linear one only at the knots.
+TEST(DriftInTime, CubicInterpolationReproducesAQuadraticInTime) {
+  auto quadratic = [](double t) { return 0.3 - 2e-3 * t + 4e-6 * t * t; };
+  DriftInTimeResult r;
+  r.time_s = {100.0, 1000.0, 1500.0, 3100.0};
+  r.delta_x = Eigen::MatrixXd::Zero(kinematics::kNumParams, 4);
+  for (int c = 0; c < 4; ++c) r.delta_x(7, c) = quadratic(r.time_s[c]);
+  for (double t : {-200.0, 100.0, 400.0, 1200.0, 2000.0, 3100.0, 3500.0})
+    EXPECT_NEAR(r.At(t)[7], quadratic(t), 1e-9 * (1.0 + std::abs(quadratic(t)))) << t;
+  r.model = DriftTimeModel::kPiecewiseLinear;
+  EXPECT_NEAR(r.At(1500.0)[7], quadratic(1500.0), 1e-12);
+  EXPECT_GT(std::abs(r.At(2000.0)[7] - quadratic(2000.0)), 0.1);
+}
+
 TEST(DriftInTime, RefusesASingleCycleAndMissingTimes) {
   ThermalSimOptions o = CampaignLike(1);
   o.cycles = 2;

@@ -104,6 +104,12 @@ Mat3 CentreCovariance(const CycleSeries& series, int c, int k, double robot_nois
 kinematics::ParamVector DriftInTimeResult::At(double t) const {
   kinematics::ParamVector x = kinematics::ParamVector::Zero();
   if (time_s.size() < 2) return x;
+  if (model == DriftTimeModel::kConstantPerCycle) {
+    std::size_t nearest = 0;
+    for (std::size_t c = 1; c < time_s.size(); ++c)
+      if (std::abs(time_s[c] - t) < std::abs(time_s[nearest] - t)) nearest = c;
+    return delta_x.col(static_cast<Eigen::Index>(nearest));
+  }
   for (const auto& [k, v] : Interpolate(time_s, t, model)) x += v * delta_x.col(k);
   return x;
 }

@@ -66,7 +66,8 @@ struct DriftInTimeResult {
   bool weighted = false;
   int residual_dof = 0;      // centre coordinates − unknowns (3·poses + params·(cycles − 1))
   double reduced_chi2 = 0.0; // weighted residual χ² / dof (unweighted: s², mm²); NaN if dof is 0
-  // D(t) at any time by the same interpolation (30-vector, mm / rad).
+  // D(t) at any time by the same interpolation (30-vector, mm / rad); kConstantPerCycle: the
+  // nearest knot's.
   kinematics::ParamVector At(double time_s) const;
   std::string BriefReport() const;
 };
