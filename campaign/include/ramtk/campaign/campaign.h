@@ -92,7 +92,8 @@ struct CampaignSummary {
   std::vector<int> params;
   std::vector<double> drift_rms_error, drift_rms_error_truth, drift_rms_true;  // per param, mm or deg, warm cycles
   // Per param, mm or deg: the image chain's predicted σ of the identified drift, RMS over the warm
-  // cycles of sqrt(diag((Aᵀ C_c⁻¹ A)⁻¹)) (DriftModel::WeightedCovariances).
+  // cycles of the σ from the identification's covariance (thermal::IdentifyDriftInTime, or
+  // DriftModel::WeightedCovariances with drift_in_time = false).
   std::vector<double> drift_predicted_sigma;
   double monitoring_uncompensated_mm = 0;  // RMS over warm cycles and directions
   double monitoring_compensated_mm = 0;    // with the image chain's drift and set-up
