@@ -1,8 +1,14 @@
 // Scan benchmark and accuracy sweep.
 //
-//   vision_scan_bench speed [--preset small|thesis] [--repeat N]
-//       decode + match + triangulate + fit of one simulated stereo set, each stage's share, and
-//       OpenCV's cv::triangulatePoints on the same matches as a peer (ratio).
+//   vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S]
+//       decode + match + triangulate + fit of one simulated stereo set (the simulator's native
+//       8-bit frames, as `ramtk scan` reads them), each stage's share, and OpenCV's
+//       cv::triangulatePoints on the same matches as a peer (ratio).
+//   vision_scan_bench speed --manifest SET/manifest.json [--repeat N] [--float 1]
+//       a set on disk loaded into memory once, then the same stages N times: min / median / max
+//       per stage and its cost per pixel-frame, per valid pixel and per point
+//       (vision_scan_bench_set_speed.cpp); --float 1 also times the decode of the frames
+//       converted to float.
 //   vision_scan_bench accuracy [--first-pose K] [--poses P] [--seeds S]
 //       thesis geometry (the small preset = 640x512 windows of the 3312x2488 cameras cropped
 //       around the ball, ~700 mm), the ball at P poses over the field (pose 0 = the bundled
@@ -53,6 +59,10 @@ using namespace ramtk;
 using namespace ramtk::vision;
 using Clock = std::chrono::steady_clock;
 
+namespace ramtk::vision {
+int SetSpeed(const std::string& manifest_path, int repeat, bool with_float);  // vision_scan_bench_set_speed.cpp
+}  // namespace ramtk::vision
+
 namespace {
 
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -68,14 +78,18 @@ std::string ArgS(int argc, char** argv, const char* name, const std::string& fal
   return fallback;
 }
 
-int Speed(const std::string& preset, int repeat) {
+int Speed(const std::string& preset, int repeat, int supersampling) {
   FringeSimulationConfig c = MakeFringePreset(preset);
+  if (supersampling > 0) c.supersampling = supersampling;
   std::printf("rendering the %s preset...\n", preset.c_str());
   const SimulatedCamera l = SimulateCamera(c, 0), r = SimulateCamera(c, 1);
   const StereoCalibration calib = WrittenCalibration(c);
   for (int k = 0; k < repeat; ++k) {
     auto t = Clock::now();
-    const DecodedCamera dl = testing::DecodeSimulated(c, l), dr = testing::DecodeSimulated(c, r);
+    const DecodeOptions decode = ScanOptions().decode;
+    const double full_scale = (1 << c.sensor.bits) - 1.0;
+    const DecodedCamera dl = DecodeFrames(testing::ManifestForConfig(c), l.images, full_scale, decode, "left");
+    const DecodedCamera dr = DecodeFrames(testing::ManifestForConfig(c), r.images, full_scale, decode, "right");
     const double decode_s = Since(t);
     const ScanResult res = ScanDecoded(calib, dl, dr, dl.summary.period_px, ScanOptions{});
     const ScanSummary& s = res.summary;
@@ -585,14 +599,19 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads, int r
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "speed";
-  if (mode == "decode" || mode == "match") {
+  const bool set_speed = mode == "speed" && !ArgS(argc, argv, "--manifest", "").empty();
+  if (mode == "decode" || mode == "match" || mode == "speed") {
     // Freed blocks stay in the process, as in `ramtk scan` (tools/huge_pages.h): without it each
     // repetition's fresh maps cost page faults that the scan does not pay, and the decode
     // stages measured 2-3x slower (vision_scan_speed sets the same, for the same reason).
     mallopt(M_MMAP_THRESHOLD, 1 << 30);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
   }
-  if (mode == "speed") return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1));
+  if (set_speed)
+    return SetSpeed(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 3), Arg(argc, argv, "--float", 0));
+  if (mode == "speed")
+    return Speed(ArgS(argc, argv, "--preset", "small"), Arg(argc, argv, "--repeat", 1),
+                 Arg(argc, argv, "--supersampling", 0));
   if (mode == "limb") return Limb(Vec3(0, 0, 700), Arg(argc, argv, "--seed", 1), Arg(argc, argv, "--noise", 1) != 0);
   if (mode == "set") return SetErrors(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--phase-filter", 0));
   if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
@@ -604,7 +623,8 @@ int main(int argc, char** argv) {
                     Arg(argc, argv, "--rectified-back-pass", -1));
   std::fprintf(
       stderr,
-      "usage: vision_scan_bench speed [--preset small|thesis] | accuracy [--first-pose K] [--poses P] [--seeds S] "
+      "usage: vision_scan_bench speed [--preset small|thesis] [--repeat N] [--supersampling S] | speed --manifest "
+      "SET/manifest.json [--repeat N] [--float 1] | accuracy [--first-pose K] [--poses P] [--seeds S] "
       "[--rectified-back-pass 0|1] | "
       "limb [--seed N] [--noise 0|1] | set --manifest SET/manifest.json [--phase-filter R] | decode --manifest "
       "SET/manifest.json [--repeat N] | match --manifest SET/manifest.json [--repeat N] [--threads T] "

@@ -25,6 +25,7 @@ void RegisterCalibCameras(CLI::App* calib, int* exit_code);                 // c
 void RegisterCalibHandEye(CLI::App& app, CLI::App* calib, int* exit_code);  // calib_hand_eye_command.cpp
 void RegisterCalibRobot(CLI::App* calib, int* exit_code);                   // calib_robot_command.cpp
 void RegisterSimulateRobot(CLI::App* simulate, int* exit_code);             // calib_robot_command.cpp
+void RegisterCalibProjector(CLI::App* calib, CLI::App* simulate, int* exit_code);  // calib_projector_command.cpp
 
 namespace {
 
@@ -184,6 +185,7 @@ void RegisterCalibCommands(CLI::App& app, int* exit_code) {
     sub->callback([opt, exit_code, sub]() { *exit_code = RunSimulateSensorRobot(*opt, CommandProvenance(sub)); });
   }
   RegisterSimulateRobot(simulate, exit_code);
+  RegisterCalibProjector(calib, simulate, exit_code);
   RegisterCalibHandEye(app, calib, exit_code);
 }
 

@@ -207,10 +207,10 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
       const Sphere& t = truth[static_cast<std::size_t>(match[i])];
       const Vec3 e = r.centre_mm - t.centre_in_left;
       std::printf(
-          "error vs truth (%s): centre (%+.4f, %+.4f, %+.4f) mm, |e| %.1f um (predicted sigma %.1f um); "
-          "radius %+.1f um\n",
+          "error vs truth (%s): centre (%+.4f, %+.4f, %+.4f) mm, |e| %.1f um (predicted sigma %.1f um, CRLB %.1f "
+          "um); radius %+.1f um\n",
           t.name.c_str(), e.x(), e.y(), e.z(), 1000 * e.norm(), 1000 * r.CentreSigma().norm(),
-          1000 * (r.radius_mm - t.radius));
+          1000 * r.crlb_centre_sigma_mm.norm(), 1000 * (r.radius_mm - t.radius));
     }
   }
   std::cout << "wrote " << opt.out << " (" << vision::ScanOutputFileList(opt.report) << ")\n";

@@ -143,6 +143,12 @@ CameraCalibrationResult CalibrateCamera(const std::vector<ViewPoints>& views_in,
 StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
                                         cv::Size image_size, const CameraCalibrationOptions& options,
                                         CameraCalibrationSummary* summary) {
+  return CalibrateStereo(left, right, image_size, image_size, options, summary);
+}
+
+StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
+                                        cv::Size image_size, cv::Size right_size,
+                                        const CameraCalibrationOptions& options, CameraCalibrationSummary* summary) {
   if (left.size() != right.size()) {
     throw InputError({"", 0, "views"}, "left and right view counts differ (" + std::to_string(left.size()) + " vs " +
                                            std::to_string(right.size()) + ")");
@@ -150,7 +156,7 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
   StereoCalibrationResult st;
   CameraCalibrationSummary sl, sr;
   st.left = CalibrateCamera(left, image_size, options, &sl);
-  st.right = CalibrateCamera(right, image_size, options, &sr);
+  st.right = CalibrateCamera(right, right_size, options, &sr);
   // Pairs both cameras kept; common feature ids only.
   struct Pair {
     std::string name;
@@ -217,7 +223,7 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
                                      image_size, LensModelOf(options.model));
     st.rig.right =
         camera::IntrinsicsFromOpenCv(cv::Matx33d(k2), std::vector<double>(d2.begin<double>(), d2.end<double>()),
-                                     image_size, LensModelOf(options.model));
+                                     right_size, LensModelOf(options.model));
     const cv::Matx33d rotation(rot);
     const cv::Vec3d translation(tr);
     for (int i = 0; i < 3; ++i) {
@@ -236,7 +242,8 @@ StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, con
     } else if (internal::StereoExtrinsicStd(
                    obj, il, ir, camera::CameraMatrix(st.rig.left), camera::DistortionVector(st.rig.left.distortion),
                    camera::CameraMatrix(st.rig.right), camera::DistortionVector(st.rig.right.distortion), rotation,
-                   translation, options.fix_k3, &std_rt, &std_left, &std_right)) {
+                   translation, options.fix_k3, options.per_camera_variance, &std_rt, &std_left,
+                   &std_right)) {
       st.rig.parameter_std = std_left;
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_right.begin(), std_right.end());
       st.rig.parameter_std.insert(st.rig.parameter_std.end(), std_rt.val, std_rt.val + 6);

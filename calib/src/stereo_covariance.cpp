@@ -1,6 +1,7 @@
 #include "stereo_covariance.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -10,8 +11,9 @@ bool StereoExtrinsicStd(const std::vector<std::vector<cv::Point3f>>& object,
                         const std::vector<std::vector<cv::Point2f>>& left,
                         const std::vector<std::vector<cv::Point2f>>& right, const cv::Matx33d& k1,
                         const std::vector<double>& d1, const cv::Matx33d& k2, const std::vector<double>& d2,
-                        const cv::Matx33d& rotation, const cv::Vec3d& translation, bool fix_k3, cv::Vec6d* std_rt,
-                        std::vector<double>* std_left, std::vector<double>* std_right) {
+                        const cv::Matx33d& rotation, const cv::Vec3d& translation, bool fix_k3,
+                        bool per_camera_variance, cv::Vec6d* std_rt, std::vector<double>* std_left,
+                        std::vector<double>* std_right) {
   const int n_intr = fix_k3 ? 8 : 9;  // fx fy cx cy k1 k2 p1 p2 [k3]
   const int n_views = static_cast<int>(object.size());
   const int n_params = 2 * n_intr + 6 + 6 * n_views;
@@ -19,7 +21,8 @@ bool StereoExtrinsicStd(const std::vector<std::vector<cv::Point3f>>& object,
   int rows = 0;
   for (const auto& o : object) rows += 4 * static_cast<int>(o.size());
   Eigen::MatrixXd j = Eigen::MatrixXd::Zero(rows, n_params);
-  double sum2 = 0.0;
+  double sum2 = 0.0, sum2_left = 0.0, sum2_right = 0.0;
+  std::vector<char> right_row(rows, 0);  // 1 for the right camera's residual rows
   cv::Vec3d rv_rl;
   cv::Rodrigues(rotation, rv_rl);
   int row = 0;
@@ -53,15 +56,29 @@ bool StereoExtrinsicStd(const std::vector<std::vector<cv::Point3f>>& object,
     j.block(row + 2 * m, view_col, 2 * m, 3) = jr_r * a + jr_t * e;
     j.block(row + 2 * m, view_col + 3, 2 * m, 3) = jr_r * b + jr_t * f;
     for (int k = 0; k < m; ++k) {
-      sum2 += std::pow(cv::norm(pl[k] - left[v][k]), 2) + std::pow(cv::norm(pr[k] - right[v][k]), 2);
+      sum2_left += std::pow(cv::norm(pl[k] - left[v][k]), 2);
+      sum2_right += std::pow(cv::norm(pr[k] - right[v][k]), 2);
     }
+    std::fill(right_row.begin() + row + 2 * m, right_row.begin() + row + 4 * m, 1);
     row += 4 * m;
   }
   const Eigen::MatrixXd normal = j.transpose() * j;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(normal);
   if (ldlt.info() != Eigen::Success || rows <= n_params) return false;
-  const Eigen::MatrixXd cov = ldlt.solve(Eigen::MatrixXd::Identity(n_params, n_params));
-  const double variance = sum2 / (rows - n_params);
+  sum2 = sum2_left + sum2_right;
+  const Eigen::MatrixXd inverse = ldlt.solve(Eigen::MatrixXd::Identity(n_params, n_params));
+  // The degrees of freedom shared between the cameras in proportion to their rows.
+  const double dof_scale = static_cast<double>(rows) / (rows - n_params);
+  double variance = sum2 / (rows - n_params);
+  Eigen::MatrixXd cov = inverse;
+  if (per_camera_variance) {
+    const double var_left = sum2_left / (rows / 2) * dof_scale, var_right = sum2_right / (rows / 2) * dof_scale;
+    Eigen::VectorXd weight(rows);
+    for (int r = 0; r < rows; ++r) weight(r) = right_row[r] ? var_right : var_left;
+    const Eigen::MatrixXd meat = j.transpose() * weight.asDiagonal() * j;
+    cov = inverse * meat * inverse;
+    variance = 1.0;
+  }
   auto sd = [&](int col) { return std::sqrt(std::max(0.0, variance * cov(col, col))); };
   for (int k = 0; k < 6; ++k) (*std_rt)[k] = sd(rig + k);
   std_left->assign(9, 0.0);

@@ -71,6 +71,9 @@ class Sphere(_Result):
     num_points: int
     num_outliers: int
     variance_factor: float
+    correlation_factor: float  # neighbour-correlation inflation already in the covariance (1 = independent)
+    crlb_centre_sigma_mm: F64  # Cramér–Rao bound of the centre along x, y, z (mm), correlation included
+    crlb_radius_sigma_mm: float  # Cramér–Rao bound of the radius (mm; 0 when held fixed)
 
     @property
     def centre_sigma_mm(self) -> F64:

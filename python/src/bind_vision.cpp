@@ -37,6 +37,9 @@ py::list SpheresToPython(const vision::SphereFitSummary& s) {
     d["num_points"] = r.num_points;
     d["num_outliers"] = r.num_outliers;
     d["variance_factor"] = r.variance_factor;
+    d["correlation_factor"] = r.correlation_factor;
+    d["crlb_centre_sigma_mm"] = ToArray(r.crlb_centre_sigma_mm).attr("ravel")();
+    d["crlb_radius_sigma_mm"] = r.crlb_radius_sigma_mm;
     out.append(d);
   }
   return out;

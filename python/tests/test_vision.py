@@ -53,6 +53,12 @@ def test_scan_matches_the_command_and_the_truth(cli, default_set, scratch, datas
     s = r.spheres[0]
     centre_cli = expected["spheres"][0]["centre_mm"]
     np.testing.assert_allclose(s.centre_mm, centre_cli, atol=1e-9)
+    # The Cramér–Rao bound is in spheres.json, the library's value, and no larger than the fit's σ
+    # (the fit's σ also carries the residuals' variance factor, ~1 here).
+    np.testing.assert_allclose(s.crlb_centre_sigma_mm, expected["spheres"][0]["crlb_centre_sigma_mm"], rtol=1e-9)
+    assert s.crlb_radius_sigma_mm == pytest.approx(expected["spheres"][0]["crlb_radius_sigma_mm"], rel=1e-9)
+    assert (s.crlb_centre_sigma_mm > 0).all()
+    assert (s.crlb_centre_sigma_mm < 1.5 * s.centre_sigma_mm).all()
     # Against the simulator's truth: within 5 predicted standard deviations per axis.
     truth = ramtk.read_truth_spheres(str(datasets / "scan_default" / "truth" / "truth.json"))[0]
     sigma = s.centre_sigma_mm

@@ -151,6 +151,30 @@ void CheckBoard(const std::string& spec, double z_limit) {
   EXPECT_LT(std::abs(est[4] - truth[4]), z_limit * r.std_intrinsics[4]) << spec;
 }
 
+// Each camera's own residual variance (the sandwich covariance) against one pooled variance: for
+// two cameras of the same noise both must give the same σ up to the sampling of the two variances
+// (≈ 10 % here); the estimate itself does not change.
+TEST(StereoCalibration, PerCameraVarianceMatchesPooledForEqualNoise) {
+  const BoardSpec board = ParseBoardSpec("chessboard:9x6:20", {});
+  const StereoSession s = RenderStereo(board, 12, 12, 2.0);
+  CameraCalibrationOptions pooled, separate;
+  separate.per_camera_variance = true;
+  const StereoCalibrationResult a = CalibrateStereo(s.left, s.right, cv::Size(640, 480), pooled);
+  const StereoCalibrationResult b =
+      CalibrateStereo(s.left, s.right, cv::Size(640, 480), cv::Size(640, 480), separate);
+  ASSERT_EQ(a.rig.parameter_std.size(), 24u);
+  ASSERT_EQ(b.rig.parameter_std.size(), 24u);
+  for (int k = 0; k < 24; ++k) {
+    if (a.rig.parameter_std[k] == 0.0) continue;  // k3 fixed
+    const double ratio = b.rig.parameter_std[k] / a.rig.parameter_std[k];
+    EXPECT_GT(ratio, 0.8) << k;
+    EXPECT_LT(ratio, 1.25) << k;
+  }
+  // The same estimate: only the σ differ.
+  EXPECT_NEAR(a.rig.left.fx, b.rig.left.fx, 1e-9);
+  EXPECT_TRUE(a.rig.right_from_left.isApprox(b.rig.right_from_left, 1e-12));
+}
+
 TEST(CameraCalibration, SymmetricCircleGrid) { CheckBoard("circles:7x5:25", 4.0); }
 TEST(CameraCalibration, AsymmetricCircleGrid) { CheckBoard("acircles:4x9:15", 4.0); }
 TEST(CameraCalibration, Charuco) { CheckBoard("charuco:8x6:25:18:DICT_5X5_100", 3.5); }

@@ -34,7 +34,16 @@ file(MAKE_DIRECTORY ${SCAN_CLI})
 set(SCAN_DEFAULT ${PROJECT_SOURCE_DIR}/datasets/scan_default)
 ramtk_cli_test(scan_default 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/default --force
-  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm.*error vs truth \\(ball\\)")
+  STDOUT "scan ok: [0-9]+ points; ball_in_left_camera \\(-?0\\.00[0-9]+, -?0\\.00[0-9]+, 699\\.99[0-9]+\\) mm \\+- \\([0-9.]+, [0-9.]+, [0-9.]+\\) um \\(CRLB [0-9.]+, [0-9.]+, [0-9.]+ um\\).*error vs truth \\(ball\\).*CRLB [0-9.]+ um"
+  # The Cramér–Rao bound beside the fit: sub-micrometre across the axis, ~1.3 um along z (the
+  # library's value itself: SphereFitJson.CarriesTheResult and python/tests/test_vision.py).
+  FILE ${SCAN_CLI}/default/spheres.json
+  FILE_REGEX "\"crlb_centre_sigma_mm\": \\[[^0-9]*0\\.000[1-9][0-9]*,[^0-9]*0\\.000[1-9][0-9]*,[^0-9]*0\\.00[0-9]+[^0-9]*\"crlb_radius_sigma_mm\": 0\\.00[0-9]+")
+# The report's sphere table carries the bound beside the fit's sigma.
+ramtk_cli_test(scan_default_report 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/report --force -q --report
+  FILE ${SCAN_CLI}/report/report.html
+  FILE_REGEX "Cram[^ ]*Rao bound x / y / z [^<]*</th>.*<td>0\\.4[0-9] / 0\\.4[0-9] / 1\\.[0-9][0-9]</td>")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force

@@ -392,6 +392,9 @@ TEST(SphereFitJson, CarriesTheResult) {
     EXPECT_EQ(js["rms_mm"].get<double>(), r.rms_mm);
     EXPECT_EQ(js["num_points"].get<int>(), r.num_points);
     EXPECT_EQ(js["num_outliers"].get<int>(), r.num_outliers);
+    ASSERT_GT(r.crlb_centre_sigma_mm.minCoeff(), 0);  // the bound is computed by the fit
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(js["crlb_centre_sigma_mm"][a].get<double>(), r.crlb_centre_sigma_mm[a]);
+    EXPECT_EQ(js["crlb_radius_sigma_mm"].get<double>(), r.crlb_radius_sigma_mm);
   }
   EXPECT_NEAR(j["centre_distances"][0]["distance_mm"].get<double>(), 120.0, 0.01);
   // The covariance is symmetric and positive definite.

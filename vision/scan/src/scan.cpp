@@ -91,8 +91,11 @@ std::string ScanSummary::BriefReport() const {
     const Eigen::Vector3d sig = r.CentreSigma();
     s << "; ball_in_left_camera" << (spheres.spheres.size() > 1 ? "[" + std::to_string(i) + "]" : "") << " ("
       << r.centre_mm.x() << ", " << r.centre_mm.y() << ", " << r.centre_mm.z() << ") mm +- (" << sig.x() * 1000 << ", "
-      << sig.y() * 1000 << ", " << sig.z() * 1000 << ") um, radius " << r.radius_mm << " mm, rms " << r.rms_mm * 1000
-      << " um, " << r.num_points << " pts";
+      << sig.y() * 1000 << ", " << sig.z() * 1000 << ") um";
+    const Eigen::Vector3d& bound = r.crlb_centre_sigma_mm;
+    if (bound.minCoeff() > 0)
+      s << " (CRLB " << bound.x() * 1000 << ", " << bound.y() * 1000 << ", " << bound.z() * 1000 << " um)";
+    s << ", radius " << r.radius_mm << " mm, rms " << r.rms_mm * 1000 << " um, " << r.num_points << " pts";
   }
   return s.str();
 }

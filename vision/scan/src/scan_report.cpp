@@ -97,14 +97,17 @@ report::HtmlReport ScanReport(const ScanResult& result, const std::string& depth
     std::vector<std::vector<std::string>> rows;
     for (size_t k = 0; k < s.spheres.spheres.size(); ++k) {
       const SphereResult& r = s.spheres.spheres[k];
-      const Eigen::Vector3d sig = r.CentreSigma() * 1000.0;
+      const Eigen::Vector3d sig = r.CentreSigma() * 1000.0, bound = r.crlb_centre_sigma_mm * 1000.0;
+      const std::string crlb = bound.minCoeff() > 0 ? FormatFixed(bound.x(), 2) + " / " + FormatFixed(bound.y(), 2) +
+                                                          " / " + FormatFixed(bound.z(), 2)
+                                                    : "—";
       rows.push_back({std::to_string(k + 1), FormatFixed(r.centre_mm.x(), 4), FormatFixed(r.centre_mm.y(), 4),
                       FormatFixed(r.centre_mm.z(), 4), FormatFixed(sig.x(), 2), FormatFixed(sig.y(), 2),
-                      FormatFixed(sig.z(), 2), FormatFixed(r.radius_mm, 4), FormatFixed(r.rms_mm * 1000.0, 2),
+                      FormatFixed(sig.z(), 2), crlb, FormatFixed(r.radius_mm, 4), FormatFixed(r.rms_mm * 1000.0, 2),
                       std::to_string(r.num_points), std::to_string(r.num_outliers), Fmt(r.variance_factor, 3)});
     }
-    html.Table({"sphere", "x (mm)", "y (mm)", "z (mm)", "σx (µm)", "σy (µm)", "σz (µm)", "radius (mm)", "RMS (µm)",
-                "inliers", "outliers", "χ²/(n−p)"},
+    html.Table({"sphere", "x (mm)", "y (mm)", "z (mm)", "σx (µm)", "σy (µm)", "σz (µm)",
+                "Cramér–Rao bound x / y / z (µm)", "radius (mm)", "RMS (µm)", "inliers", "outliers", "χ²/(n−p)"},
                rows);
     for (size_t k = 0; k < s.spheres.spheres.size(); ++k) {
       const SphereResult& r = s.spheres.spheres[k];

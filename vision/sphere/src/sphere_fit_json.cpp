@@ -39,6 +39,8 @@ std::string SphereFitToJson(const SphereFitSummary& summary, const std::string& 
     o["num_outliers"] = s.num_outliers;
     o["num_grazing"] = s.num_grazing;
     o["correlation_factor"] = s.correlation_factor;
+    o["crlb_centre_sigma_mm"] = Vec(s.crlb_centre_sigma_mm);
+    o["crlb_radius_sigma_mm"] = s.crlb_radius_sigma_mm;
     o["variance_factor"] = s.variance_factor;
     o["solver_iterations"] = s.solver_iterations;
     o["ransac_iterations"] = s.ransac_iterations;

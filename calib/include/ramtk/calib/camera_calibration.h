@@ -51,6 +51,10 @@ struct CameraCalibrationOptions {
   double max_rejected_fraction = 0.3;  // never reject more than this share of the views
   // Stereo: pairs whose stereo RMS exceeds the same limits are rejected likewise.
   ProgressCallback progress;
+  // Stereo parameter σ: each camera's residuals with their own variance (the sandwich covariance of
+  // the unweighted fit) instead of one pooled variance; for devices of different noise, e.g. a
+  // camera and a projector whose corners come from decoded phase.
+  bool per_camera_variance = false;
 
   std::string Validate() const;
   int OpenCvFlags() const;
@@ -111,6 +115,12 @@ struct StereoCalibrationResult {
 // the 5-coefficient model.
 StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
                                         cv::Size image_size, const CameraCalibrationOptions& options,
+                                        CameraCalibrationSummary* summary = nullptr);
+// The same for two devices of different image sizes (a camera and a projector): each calibrated
+// with its own size, the rig's intrinsics carry them.
+StereoCalibrationResult CalibrateStereo(const std::vector<ViewPoints>& left, const std::vector<ViewPoints>& right,
+                                        cv::Size left_size, cv::Size right_size,
+                                        const CameraCalibrationOptions& options,
                                         CameraCalibrationSummary* summary = nullptr);
 
 // Detects the board in image files (grey or colour, 8 or 16 bit; any format image::LoadImageGrey8
