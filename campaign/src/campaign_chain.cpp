@@ -18,6 +18,7 @@
 #include "ramtk/core/outputs.h"
 #include "ramtk/core/units.h"
 #include "ramtk/diagnose/engine/plot.h"
+#include "ramtk/thermal/drift_in_time.h"
 #include "ramtk/thermal/identify.h"
 #include "ramtk/thermal/monitoring.h"
 #include "ramtk/thermal/screening.h"
@@ -71,7 +72,8 @@ struct ChainResult {
 ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::RobotMeasurementSet& ball,
                      const std::string& ball_path, const thermal::CycleSeries& monitoring,
                      const thermal::ThermalSetup& truth, const std::vector<int>& params, int reference_cycle,
-                     double robot_noise_mm, int screen_keep, const Eigen::MatrixXd& true_delta_x) {
+                     double robot_noise_mm, int screen_keep, bool drift_in_time,
+                     const Eigen::MatrixXd& true_delta_x) {
   ChainResult r;
   kinematics::RobotMeasurementSet cold = ball;
   cold.rows.clear();
@@ -93,8 +95,18 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
   id.difference_covariance_mm2 = series.DifferenceCovariances(robot_noise_mm);
   const thermal::ThermalExperiment ex = thermal::MakeExperiment(model, r.setup, series, monitoring);
   const thermal::DriftModel dm(model, r.setup, series.taught);
-  r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
-  if (!id.difference_covariance_mm2.empty()) r.drift_covariance = dm.WeightedCovariances(id);
+  if (drift_in_time) {
+    // Each centre at its own instant, the drift piecewise linear between the cycles' mean times.
+    thermal::DriftInTimeOptions to;
+    to.params = params;
+    to.robot_noise_mm = robot_noise_mm;
+    const thermal::DriftInTimeResult timed = thermal::IdentifyDriftInTime(dm, series, to);
+    r.delta_x = timed.delta_x;
+    if (timed.weighted) r.drift_covariance = timed.covariance;
+  } else {
+    r.delta_x = dm.Solve(series.DifferencesFromReference(), id);
+    if (!id.difference_covariance_mm2.empty()) r.drift_covariance = dm.WeightedCovariances(id);
+  }
   Eigen::MatrixXd x_mon(r.delta_x.rows(), static_cast<Eigen::Index>(ex.ball_column.size()));
   for (std::size_t c = 0; c < ex.ball_column.size(); ++c) x_mon.col(c) = r.delta_x.col(ex.ball_column[c]);
   const thermal::MonitoringModel mon(model, r.setup, monitoring);
@@ -135,6 +147,13 @@ ChainResult RunChain(const kinematics::RobotModel& model, const kinematics::Robo
     r.screened = true;
   }
   return r;
+}
+
+// The simulator's drift (30 × cycles) at each cycle's mean pose time.
+Eigen::MatrixXd TrueDriftAtCycleTimes(const thermal::ThermalSimOptions& options, const thermal::CycleSeries& series) {
+  Eigen::MatrixXd x(kinematics::kNumParams, series.NumCycles());
+  for (int c = 0; c < series.NumCycles(); ++c) x.col(c) = thermal::TrueDriftAt(options, series.cycles[c].time_s);
+  return x;
 }
 
 double WarmRms(const Eigen::MatrixXd& r) {
@@ -199,7 +218,7 @@ void SetupBudget(const thermal::ThermalSimResult& sim, const ChainResult& img, c
 }
 
 // Drift per parameter against the true drift relative to the cold cycle, warm cycles.
-void DriftBudget(const thermal::ThermalSimResult& sim, const ChainResult& img, const ChainResult& tru,
+void DriftBudget(const Eigen::MatrixXd& true_delta_x, const ChainResult& img, const ChainResult& tru,
                  CampaignSummary* summary) {
   CampaignSummary& s = *summary;
   const int cycles = static_cast<int>(img.delta_x.cols());
@@ -210,7 +229,7 @@ void DriftBudget(const thermal::ThermalSimResult& sim, const ChainResult& img, c
       if (!img.drift_covariance.empty())
         vp += img.drift_covariance.at(static_cast<std::size_t>(c))(static_cast<Eigen::Index>(j),
                                                                    static_cast<Eigen::Index>(j));
-      const double truth = thermal::ToFileUnits(p, sim.true_delta_x(p, c) - sim.true_delta_x(p, 0));
+      const double truth = thermal::ToFileUnits(p, true_delta_x(p, c) - true_delta_x(p, 0));
       ei += std::pow(thermal::ToFileUnits(p, img.delta_x(p, c)) - truth, 2);
       et += std::pow(thermal::ToFileUnits(p, tru.delta_x(p, c)) - truth, 2);
       tt += truth * truth;
@@ -335,11 +354,13 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
   const std::string mon_path = (dir / "monitoring.csv").string();
   const thermal::CycleSeries monitoring = thermal::GroupCycles(kinematics::ReadRobotMeasurements(mon_path), mon_path);
   s.params = options.params.empty() ? sim.drifting_params : options.params;
+  // The true drift at the instant each cycle's identified ΔX refers to: the mean time of its poses.
+  const Eigen::MatrixXd true_delta_x = TrueDriftAtCycleTimes(files.options, thermal::GroupCycles(ball, ball_path));
   const ChainResult img = RunChain(model, ball, ball_path, monitoring, sim.setup, s.params, 0, options.repeatability_mm,
-                                   options.screen_keep, sim.true_delta_x);
+                                   options.screen_keep, options.drift_in_time, true_delta_x);
   const std::string truth_path = (dir / "truth" / "ball_truth.csv").string();
   const ChainResult tru = RunChain(model, truth_ball, truth_path, monitoring, sim.setup, s.params, 0,
-                                   options.repeatability_mm, -1, sim.true_delta_x);
+                                   options.repeatability_mm, -1, options.drift_in_time, true_delta_x);
   if (img.screened) {
     s.screened = img.screening.selected;
     std::vector<int> a = s.screened, b = sim.drifting_params;
@@ -363,7 +384,7 @@ CampaignSummary SimulateAndRunCampaign(const kinematics::RobotModel& model, cons
 
   SetupBudget(sim, img, tru, &s);
 
-  DriftBudget(sim, img, tru, &s);
+  DriftBudget(true_delta_x, img, tru, &s);
   MonitoringBudget(monitoring, img, tru, &s);
 
   WriteFileAtomically((dir / "budget.json").string(), WithProvenance(BudgetJson(s), provenance));

@@ -65,6 +65,8 @@ CampaignFiles SimulateCampaignFiles(const kinematics::RobotModel& model, const C
   to.sensor_noise_mm = 0.0;  // the vision stage makes the centre noise
   to.tool_sensor_noise_mm = o.tool_sensor_noise_mm;
   to.repeatability_mm = o.repeatability_mm;
+  to.drift_changes_within_cycle = o.drift_changes_within_cycle;
+  if (o.cold_reference) to.duty.insert(to.duty.begin(), thermal::DutyPhase{o.cycle_period_s, 0.0});
   // Ball poses inside what both cameras and the projector see at 700 mm.
   to.sensor_field_mm = Vec3(240.0, 180.0, 100.0);
   CampaignFiles f;

@@ -80,6 +80,7 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
     cycle.cycle = cycle_number;
     cycle.position_mm.assign(series.ids.size(), Vec3::Zero());
     cycle.q_controller.assign(series.ids.size(), JointVector::Zero());
+    cycle.pose_time_s.assign(series.ids.size(), 0.0);
     if (series.has_covariance) cycle.covariance_mm2.assign(series.ids.size(), Mat3::Zero());
     std::vector<bool> seen(series.ids.size(), false);
     double time_sum = 0.0;
@@ -107,6 +108,7 @@ CycleSeries GroupCycles(const kinematics::RobotMeasurementSet& set, const std::s
       cycle.position_mm[k] = row->position_mm;
       cycle.q_controller[k] = row->q_controller;
       if (series.has_covariance) cycle.covariance_mm2[k] = kinematics::CentreCovariance(*row, path);
+      cycle.pose_time_s[k] = row->time_s;
       time_sum += row->time_s;
       for (const auto& [name, value] : row->extra) cycle.extra[name] += value / static_cast<double>(rows.size());
     }

@@ -28,6 +28,7 @@ struct CycleOptions {
 struct Cycle {
   int cycle = 0;
   double time_s = 0.0;                    // mean time of the cycle's rows
+  std::vector<double> pose_time_s;        // per pose, the time of its row (s)
   std::vector<Vec3> position_mm;          // per pose
   std::vector<JointVector> q_controller;  // per pose, rad
   std::map<std::string, double> extra;    // mean of each extra column (e.g. temp_j2) over the rows
