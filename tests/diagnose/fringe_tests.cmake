@@ -19,3 +19,7 @@ ramtk_cli_test(diagnose_fringe_missing_manifest 1 STDERR "does not exist"
 # the registration is process-wide.
 ramtk_add_gtest(diagnose_fringe_extension_tests fringe_extension_test.cpp)
 target_link_libraries(diagnose_fringe_extension_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})
+
+# The camera's sampling kernel: sets written from the physics alone (kernel_physics_generator.h).
+ramtk_add_gtest(diagnose_fringe_kernel_tests fringe_kernel_test.cpp)
+target_link_libraries(diagnose_fringe_kernel_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})
