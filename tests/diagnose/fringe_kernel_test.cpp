@@ -10,6 +10,7 @@
 #include "kernel_physics_generator.h"
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/fringe/fringe.h"
+#include "ramtk/diagnose/fringe/fringe_hidden.h"
 
 namespace ramtk::diagnose {
 namespace {
@@ -65,6 +66,27 @@ TEST(FringeKernel, AWrongKernelIsNamedWithTheKernelThatFits) {
   EXPECT_GT(kernel->sigmas.at("psf_sigma_px"), 0.0);
   const Diagnosis right = Diagnose(set, 0, 0.8, 31);
   EXPECT_EQ(right.cause, "none") << right.cause;
+}
+
+// The vision simulator's point-sampled render (one ray per pixel) blurred by a camera PSF of 0.8 px
+// (its Gaussian blur of the image), point sampling stated: the kernel that fits has that PSF.
+TEST(FringeKernel, TheSimulatorsPsfIsRecovered) {
+  HiddenFringeDraw draw;
+  draw.seed = 41;
+  draw.supersampling = 1;
+  draw.psf_sigma_px = 0.8;
+  const HiddenFringeSet set = SimulateHiddenFringe(draw);
+  DiagnoseOptions o;
+  o.seed = draw.seed;
+  o.with = {"fill_factor=0"};
+  const Diagnosis d = DiagnoseFringeFrames(set.manifest, set.frames, set.full_scale, o, "sim");
+  SCOPED_TRACE(d.cause);
+  EXPECT_TRUE(NamesOrAmbiguousWith(d, "sampling_kernel"));
+  for (const CandidateFit& c : d.candidates)
+    if (c.effect == "sampling_kernel") {
+      EXPECT_NEAR(c.parameters.at("psf_sigma_px"), 0.8, 0.12);
+      EXPECT_LE(c.parameters.at("fill_factor"), 0.25);
+    }
 }
 
 TEST(FringeKernel, RejectsAKernelOutOfRange) {

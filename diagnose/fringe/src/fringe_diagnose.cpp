@@ -269,6 +269,9 @@ void FindLookAlike(const CandidateFit& best, double floor, Diagnosis* out) {
   double closest_z = -INFINITY;
   for (const CandidateFit& c : d.candidates) {
     if (c.effect == best.effect || c.effect == kNoEffect || !c.implausible.empty()) continue;
+    // A kernel wider than stated is a camera blur: the kernel is the camera blur's look-alike only
+    // (any edge spread fits it, so against other causes it would only hide the camera blur).
+    if (c.effect == "sampling_kernel" && best.effect != "camera_defocus") continue;
     if (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare) continue;
     if (c.num_parameters > kOccamFactor * best.num_parameters) continue;
     const double z = PairedTileZ(best.heldout_group_ssr, c.heldout_group_ssr);
@@ -306,6 +309,14 @@ void NameCause(const fringe::FringeFit& fit, const fringe::NoiseLevel& nlf, cons
                          std::to_string(c.num_parameters) + " parameters), " +
                          Fixed(100.0 * ExcessRemoved(d.rms_before, c.heldout_rms, floor), 1) +
                          "% of the excess removed");
+  for (const CandidateFit& c : d.candidates)
+    if (c.effect == "sampling_kernel")
+      d.findings.push_back("sampling kernel that fits the Gray-code edges: fill factor " +
+                           Fixed(c.parameters.at("fill_factor"), 2) + " +- " + Fixed(c.sigmas.at("fill_factor"), 2) +
+                           ", PSF sigma " + Fixed(c.parameters.at("psf_sigma_px"), 3) + " +- " +
+                           Fixed(c.sigmas.at("psf_sigma_px"), 3) + " camera px (stated " +
+                           Fixed(fit.kernel.fill_factor, 2) + ", " + Fixed(fit.kernel.psf_sigma_px, 2) +
+                           "; parts narrower than half a projector pixel are not seen)");
   if (best.effect != kNoEffect && gain >= kMaterialGain * floor * floor && share >= kMinShare) {
     d.cause = best.effect;
     d.parameters = best.parameters;

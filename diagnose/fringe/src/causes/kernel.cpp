@@ -38,7 +38,8 @@ std::vector<double> TileSsr(const CandidateContext& ctx, const SamplingKernel& k
 
 }  // namespace
 
-// The kernel that fits: a box of fill factor 0 … 1 and a Gaussian PSF of 0 … 1.5 camera px, on a
+// The kernel that fits: a box of fill factor 0 … 1 and a Gaussian PSF of 0 … 1 camera px (a focused
+// lens; a wider blur is camera_defocus), on a
 // grid (then 9 PSF steps between the coarse neighbours of the best), the Gray-code frames
 // predicted with it over the samples the stated kernel's edge band keeps. Chosen per fold on the
 // training tiles; the parameters' sigmas are the delete-a-fold jackknife of the fold choices (at
@@ -51,7 +52,7 @@ CandidateFit FitSamplingKernel(const CandidateContext& ctx) {
     grid.push_back({fill, psf});
     ssr.push_back(TileSsr(ctx, grid.back()));
   };
-  const std::vector<double> fills = {0, 0.25, 0.5, 0.75, 1}, psfs = {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.25, 1.5};
+  const std::vector<double> fills = {0, 0.25, 0.5, 0.75, 1}, psfs = {0, 0.2, 0.4, 0.6, 0.8, 1.0};
   for (double f : fills)
     for (double s : psfs) add(f, s);
   const auto best_without = [&](int fold) {
@@ -66,7 +67,7 @@ CandidateFit FitSamplingKernel(const CandidateContext& ctx) {
     return best;
   };
   const SamplingKernel coarse = grid[best_without(-1)];
-  const double lo = std::max(0.0, coarse.psf_sigma_px - 0.25), hi = std::min(1.5, coarse.psf_sigma_px + 0.25);
+  const double lo = std::max(0.0, coarse.psf_sigma_px - 0.2), hi = std::min(1.0, coarse.psf_sigma_px + 0.2);
   for (int k = 1; k < 10; ++k) add(coarse.fill_factor, lo + (hi - lo) * k / 10.0);
   std::vector<int> chosen(ctx.folds);
   for (int k = 0; k < ctx.folds; ++k) chosen[k] = best_without(k);
