@@ -89,7 +89,8 @@ void RegisterDiagnoseCommand(CLI::App& app, int* exit_code) {
   sub->add_option("--with", options->with,
                   "Further input, repeatable. robot: set-up JSON, monitoring CSV, thermal=traditional|none|<params>, a tracker "
                   "column file (YAML, docs/formats.md) when the data is a tracker export; "
-                  "laser log: motion JSON; fringe: camera=NAME (default left)");
+                  "laser log: motion JSON; fringe: camera=NAME (default left), fill_factor=F and psf_sigma_px=S (the camera's "
+                  "sampling kernel: box fill 0..1, 0 point sampling, default 1; Gaussian PSF sigma in camera px, default 0)");
   sub->add_option("--out", options->output_folder, "Folder for report.md, diagnosis.json and pictures");
   sub->add_flag("--report", *html,
                 "Also write report.html into --out: one self-contained page with the summary, tables and "

@@ -12,6 +12,8 @@ ramtk_cli_test(diagnose_fringe_simulate 0 FIXTURE_SETUP diagnose_fringe_set
 ramtk_cli_test(diagnose_fringe_names_gamma 0 FIXTURE_REQUIRED diagnose_fringe_set
   STDOUT "cause 'projector_nonlinearity'.*% of the excess"
   ARGS diagnose ${_fringe_set}/manifest.json --out ${CMAKE_CURRENT_BINARY_DIR}/cli_fringe_report --force)
+ramtk_cli_test(diagnose_fringe_kernel_out_of_range 1 FIXTURE_REQUIRED diagnose_fringe_set STDERR "fill_factor.*\\[0, 1\\]"
+  ARGS diagnose ${_fringe_set}/manifest.json --with fill_factor=2)
 ramtk_cli_test(diagnose_fringe_missing_manifest 1 STDERR "does not exist"
   ARGS diagnose ${CMAKE_CURRENT_BINARY_DIR}/output/no_such_set/manifest.json)
 
@@ -19,3 +21,7 @@ ramtk_cli_test(diagnose_fringe_missing_manifest 1 STDERR "does not exist"
 # the registration is process-wide.
 ramtk_add_gtest(diagnose_fringe_extension_tests fringe_extension_test.cpp)
 target_link_libraries(diagnose_fringe_extension_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})
+
+# The camera's sampling kernel: sets written from the physics alone (kernel_physics_generator.h).
+ramtk_add_gtest(diagnose_fringe_kernel_tests fringe_kernel_test.cpp)
+target_link_libraries(diagnose_fringe_kernel_tests PRIVATE ramtk::diagnose ramtk::vision ${OpenCV_LIBS})

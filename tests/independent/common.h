@@ -17,6 +17,7 @@ struct GenOptions {
   unsigned seed = 1;   // fixed seed -> identical output
   double magnitude = std::nan("");  // effect size in the effect's unit; NaN = the documented default
   double gain = 1.0;   // fringe: camera conversion gain, DN (16-bit) per electron
+  int sub = 2;         // fringe: n×n rays per camera pixel (1: point sampling, the pixel's centre ray)
   std::string out_dir;
   std::string robot_path;  // robot: model YAML (default: datasets/robots/kuka_kr150_r3100.yaml)
 };

@@ -241,9 +241,10 @@ void GenerateFringe(const GenOptions& o) {
     PillboxBlur(projector[i], proj.width, proj.height, projector_blur_px);
   }
 
-  // Geometry per camera pixel, 2×2 sub-rays (a pixel integrates its area): projector coordinate
-  // and the radiometric weight (albedo × projector irradiance × cos falloff).
-  const int w = cam.width, h = cam.height, sub = 2;
+  // Geometry per camera pixel, sub×sub rays (2×2 by default: a pixel integrates its area; 1: the
+  // centre ray alone, point sampling): projector coordinate and the radiometric weight (albedo ×
+  // projector irradiance × cos falloff).
+  const int w = cam.width, h = cam.height, sub = o.sub;
   const size_t npix = static_cast<size_t>(w) * h;
   std::vector<Eigen::Vector2f> proj_uv(npix * sub * sub);
   std::vector<float> weight(npix * sub * sub), ambient(npix, 0.0f);

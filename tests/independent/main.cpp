@@ -22,6 +22,7 @@ constexpr const char* kUsage =
     "  laser effects:  none beam_non_perpendicular speed_ripple\n"
     "  --magnitude: effect size (units and defaults in tests/independent/README.md)\n"
     "  --gain: fringe camera conversion gain, DN (16-bit) per electron (default 1)\n"
+    "  --sub: fringe rays per camera pixel along each axis (default 2; 1 = point sampling)\n"
     "Writes the data files and DIR/truth.json (expected verdict).\n";
 
 double ParseNumber(const std::string& flag, const char* text) {
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
       else if (a == "--seed") o.seed = static_cast<unsigned>(ParseNumber(a, v));
       else if (a == "--magnitude") o.magnitude = ParseNumber(a, v);
       else if (a == "--gain") o.gain = ParseNumber(a, v);
+      else if (a == "--sub") o.sub = static_cast<int>(ParseNumber(a, v));
       else if (a == "--out") o.out_dir = v;
       else if (a == "--robot") o.robot_path = v;
       else throw std::runtime_error("unknown option " + a);
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
       throw std::runtime_error("--kind, --effect and --out are required");
     }
     if (!(o.gain > 0)) throw std::runtime_error("--gain must be > 0");
+    if (o.sub < 1 || o.sub > 8) throw std::runtime_error("--sub must be in 1..8");
     if (o.kind == "robot") indep::GenerateRobot(o);
     else if (o.kind == "fringe") indep::GenerateFringe(o);
     else if (o.kind == "laser") indep::GenerateLaser(o);

@@ -2,6 +2,7 @@
 // tests, candidate extensions cross-validated over image tiles, the named cause and its gain.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <sstream>
 
@@ -45,6 +46,10 @@ std::string SeparatingData(const std::string& a, const std::string& b) {
     return "a surface whose fringe density varies across the image (tilted or curved: the camera's blur "
            "spreads the code edges in camera pixels, the projector's in projector pixels), or a capture of "
            "a sharp albedo edge";
+  if (pair("camera_defocus", "sampling_kernel"))
+    return "the camera's response is wider than the stated kernel either way (a blur is a PSF); the kernel's "
+           "fit says by how much — state it (--with fill_factor=F --with psf_sigma_px=S) if the camera is at its "
+           "best focus, else refocus";
   if (pair("soft_knee_response", "projector_nonlinearity"))
     return "samples over the whole intensity range (surfaces of different albedo or two exposures): a sensor "
            "knee bends only samples above its level, a projector response every fringe alike";
@@ -171,7 +176,7 @@ void DescribeResidual(const fringe::FringeFit& fit, long used, Diagnosis* out) {
     black_level.push_back((p.a - p.b) / p.b);
     for (int f : fit.phase_frame) ps_ss += std::pow(fit.residual[i * nf + f], 2), ++ps_n;
     double w, sp;
-    Footprint(p, &w, &sp);
+    Footprint(fit.kernel, p, &w, &sp);
     for (int j = 0; j < fit.gray_bits; ++j) {
       const double r = fit.residual[i * nf + fit.gray_frame[j]];
       if (!std::isfinite(r)) continue;
@@ -181,8 +186,14 @@ void DescribeResidual(const fringe::FringeFit& fit, long used, Diagnosis* out) {
       if (q < 0.001) black += r / p.b, ++nb;
     }
   }
-  d.findings.push_back(std::to_string(fit.residual.size() - used) +
-                       " Gray-code samples within one camera pixel of a code edge left out (pixel-response dependent)");
+  d.findings.push_back("camera sampling kernel: box of fill factor " + Fixed(fit.kernel.fill_factor, 2) +
+                       " px x Gaussian PSF sigma " + Fixed(fit.kernel.psf_sigma_px, 2) +
+                       " px (--with fill_factor=F, psf_sigma_px=S); code edges at the cell boundaries" +
+                       (fit.edge_offset != 0 ? " - " + Fixed(-fit.edge_offset, 1) + " projector px" : "") +
+                       " (their 50% crossing at " + Fixed(fit.edge_offset_estimate, 3) + " px); " +
+                       std::to_string(fit.residual.size() - used) +
+                       " Gray-code samples within the kernel's box support plus half a projector pixel of a code "
+                       "edge left out");
   d.findings.push_back("residual RMS " + Fixed(std::sqrt(ps_ss / ps_n), 2) + " DN on phase-shift frames, " +
                        Fixed(std::sqrt(gc_ss / gc_n), 2) + " DN on Gray-code frames");
   if (nw > 0 && nb > 0)
@@ -258,6 +269,9 @@ void FindLookAlike(const CandidateFit& best, double floor, Diagnosis* out) {
   double closest_z = -INFINITY;
   for (const CandidateFit& c : d.candidates) {
     if (c.effect == best.effect || c.effect == kNoEffect || !c.implausible.empty()) continue;
+    // A kernel wider than stated is a camera blur: the kernel is the camera blur's look-alike only
+    // (any edge spread fits it, so against other causes it would only hide the camera blur).
+    if (c.effect == "sampling_kernel" && best.effect != "camera_defocus") continue;
     if (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare) continue;
     if (c.num_parameters > kOccamFactor * best.num_parameters) continue;
     const double z = PairedTileZ(best.heldout_group_ssr, c.heldout_group_ssr);
@@ -295,6 +309,14 @@ void NameCause(const fringe::FringeFit& fit, const fringe::NoiseLevel& nlf, cons
                          std::to_string(c.num_parameters) + " parameters), " +
                          Fixed(100.0 * ExcessRemoved(d.rms_before, c.heldout_rms, floor), 1) +
                          "% of the excess removed");
+  for (const CandidateFit& c : d.candidates)
+    if (c.effect == "sampling_kernel")
+      d.findings.push_back("sampling kernel that fits the Gray-code edges: fill factor " +
+                           Fixed(c.parameters.at("fill_factor"), 2) + " +- " + Fixed(c.sigmas.at("fill_factor"), 2) +
+                           ", PSF sigma " + Fixed(c.parameters.at("psf_sigma_px"), 3) + " +- " +
+                           Fixed(c.sigmas.at("psf_sigma_px"), 3) + " camera px (stated " +
+                           Fixed(fit.kernel.fill_factor, 2) + ", " + Fixed(fit.kernel.psf_sigma_px, 2) +
+                           "; parts narrower than half a projector pixel are not seen)");
   if (best.effect != kNoEffect && gain >= kMaterialGain * floor * floor && share >= kMinShare) {
     d.cause = best.effect;
     d.parameters = best.parameters;
@@ -320,12 +342,36 @@ void NameCause(const fringe::FringeFit& fit, const fringe::NoiseLevel& nlf, cons
   d.excess_removed = ExcessRemoved(d.rms_before, d.rms_after, floor);
 }
 
+// The camera's sampling kernel stated by `--with fill_factor=F` and `--with psf_sigma_px=S`
+// (default: box of fill 1, no PSF). Throws InputError on a value out of range.
+fringe::SamplingKernel StatedKernel(const DiagnoseOptions& options) {
+  fringe::SamplingKernel k;
+  for (const std::string& w : options.with) {
+    const size_t eq = w.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string key = w.substr(0, eq), value = w.substr(eq + 1);
+    if (key != "fill_factor" && key != "psf_sigma_px") continue;
+    char* end = nullptr;
+    const double v = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0' || !std::isfinite(v))
+      throw InputError({"", 0, "--with " + key}, "expected a number, got '" + value + "'");
+    if (key == "fill_factor") {
+      if (v < 0 || v > 1) throw InputError({"", 0, "--with fill_factor"}, "must be in [0, 1] (0: point sampling)");
+      k.fill_factor = v;
+    } else {
+      if (v < 0 || v > 10) throw InputError({"", 0, "--with psf_sigma_px"}, "must be in [0, 10] camera px");
+      k.psf_sigma_px = v;
+    }
+  }
+  return k;
+}
+
 }  // namespace
 
 Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& frames,
                                double full_scale, const DiagnoseOptions& options, const std::string& label) {
   Report(options, "fit ideal model", 0, 4);
-  fringe::FringeFit fit = fringe::FitIdealModel(manifest, frames, full_scale);
+  fringe::FringeFit fit = fringe::FitIdealModel(manifest, frames, full_scale, StatedKernel(options));
   Diagnosis d;
   d.kind = DataKind::kFringe;
   d.data = label;

@@ -1,6 +1,7 @@
 // Hidden-effect draws for the fringe diagnosis, rendered with the vision simulator.
 #include "ramtk/diagnose/fringe/fringe_hidden.h"
 
+#include <cmath>
 #include <random>
 
 #include "fringe_internal.h"
@@ -71,13 +72,16 @@ HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw) {
   cam.cx = (cam.cx + 0.5) * 0.5 - 0.5, cam.cy = (cam.cy + 0.5) * 0.5 - 0.5;
   cam.width /= 2, cam.height /= 2;
   config.cameras.right = cam;  // unused: only the left camera is rendered
-  config.supersampling = 2;
+  config.supersampling = draw.supersampling;
   config.seed = draw.seed;
   config.sensor.full_well_electrons /= draw.camera_gain;
   const FringeLinearCause* registered = nullptr;
   for (const FringeLinearCause& c : RegisteredFringeCauses())
     if (draw.effect == c.info.name) registered = &c;
   if (draw.effect != "none" && registered == nullptr) config.effects.Set(draw.effect, draw.magnitude, "hidden draw");
+  // The PSF is the camera's Gaussian blur; with a camera_defocus draw the two add in quadrature.
+  if (draw.psf_sigma_px > 0)
+    config.effects.Set("camera_defocus", std::hypot(config.effects.camera_defocus, draw.psf_sigma_px), "hidden draw PSF");
   const vision::SimulatedCamera sim = vision::SimulateCamera(config, 0);
 
   HiddenFringeSet out;

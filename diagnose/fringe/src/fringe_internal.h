@@ -29,6 +29,14 @@ struct NoiseLevel {
   double Variance(double level) const;  // ≥ 1/12 DN² (quantisation)
 };
 
+// The camera's sampling kernel: a pixel's response is a box of side fill_factor camera px (0: point
+// sampling, the pixel's centre ray) convolved with an isotropic Gaussian PSF of std dev psf_sigma_px
+// camera px. The Gray-code edge profile and the stripes' contrast follow it.
+struct SamplingKernel {
+  double fill_factor = 1.0;   // box side, camera px, in [0, 1]
+  double psf_sigma_px = 0.0;  // Gaussian PSF std dev, camera px, ≥ 0
+};
+
 // One analysed pixel: the ideal model's per-pixel parameters.
 struct PixelFit {
   int x = 0, y = 0;
@@ -53,11 +61,14 @@ struct FringeFit {
   double period_u = 1;  // fringe period, projector px
   double full_scale = 255;
   bool vertical = true;
+  SamplingKernel kernel;  // the stated kernel the Gray-code frames are predicted with
+  double edge_offset = 0;  // code edges at c·cell + edge_offset projector px (0 or −0.5, FitIdealModel)
+  double edge_offset_estimate = 0;  // the code edges' 50 % crossing that chose it
   int tiles_x = 8, tiles_y = 8;
   std::vector<cv::Mat> images;   // CV_32F, DN, in frame order
   std::vector<PixelFit> pixels;  // analysed pixels
   std::vector<float> residual;   // pixels.size() × frames: measured − ideal model; NaN = not
-                                 // used (Gray samples within one camera pixel of a code edge)
+                                 // used (Gray samples within the edge band, EdgeBand)
   std::vector<float> weight;     // same layout: σ̄/σ(I) from the noise-level function (empty = all 1);
                                  // candidates fit and score residual·weight (heteroscedastic)
   cv::Mat index;                 // CV_32S, pixel → index into `pixels`, −1 if not analysed
@@ -90,23 +101,35 @@ void ModelSensorRange(const NoiseLevel& noise, FringeFit* fit);
 // Shift of phase step k (nominal, rad).
 double StepShift(int k, int steps);
 
-// Fits the ideal model. Throws InputError when the sequence is not one phase-shift block plus one
-// Gray-code block, or when no pixel can be analysed.
-FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale);
+// Fits the ideal model with the camera's sampling kernel `kernel`. Throws InputError when the
+// sequence is not one phase-shift block plus one Gray-code block, or when no pixel can be analysed.
+FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale,
+                        const SamplingKernel& kernel = {});
 
 // Value of Gray image j at coordinate u for a pixel whose box footprint spans `width_u` projector
 // px along u, blurred by a Gaussian of std dev `sigma_u` (projector px); in [0, 1].
 double GrayPattern(const FringeFit& fit, int j, double u, double width_u, double sigma_u);
 
-// Box footprint and extra spread of a pixel along u (projector px) for the Gray edge profile.
-void Footprint(const PixelFit& p, double* width_u, double* spread_u);
+// Footprint of pixel p's kernel along u (projector px) for the Gray edge profile: the box's width
+// along the steeper image axis, and a Gaussian spread (the other axis's box as its std dev, the PSF
+// times |∇u|).
+void Footprint(const SamplingKernel& kernel, const PixelFit& p, double* width_u, double* spread_u);
+
+// Half-width (projector px) of the band around a Gray-code edge whose samples are left out: the
+// support of the kernel's box along u, 0.5·fill·(|∂u/∂x| + |∂u/∂y|), plus half a projector pixel
+// (a code edge lies on a projector pixel boundary, whose position relative to the phase's pixel
+// centres and whose own aperture the model does not know). The PSF is modelled, not left out.
+// FitIdealModel widens it by 4 standard deviations of u's noise.
+double EdgeBand(const SamplingKernel& kernel, const PixelFit& p);
 
 // Distance (projector px) from u to the nearest edge of Gray image j.
 double EdgeDistance(const FringeFit& fit, int j, double u);
 
 // Ideal intensity of Gray image j at pixel p with an extra Gaussian blur of `blur_u` projector px
-// (0: the ideal model; the pixel footprint is always included).
+// (0: the ideal model; the stated kernel's footprint is always included).
 double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur_u);
+// The same with `kernel` in place of the stated one.
+double GrayIntensityWith(const FringeFit& fit, const SamplingKernel& kernel, const PixelFit& p, int j, double blur_u);
 
 // Ideal intensity of pixel p in frame f (what the residual is measured against).
 double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f);

@@ -15,6 +15,8 @@ namespace ramtk::diagnose::fringe {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Standard deviations of u's noise added to the edge band.
+constexpr double kEdgeBandSigmas = 4.0;
 
 // Antiderivative of Φ(t/σ): t·Φ(t/σ) + σ·φ(t/σ).
 double IntegratedStep(double t, double sigma) {
@@ -38,18 +40,59 @@ int GrayBit(int cell, int bits, int j) {
   return (g >> (bits - 1 - j)) & 1;
 }
 
+
+// Crossing of the code edges relative to the cell boundaries (projector px): the step position
+// o in [−1, 0.5] that best separates the normalised Gray samples q = (I − A)/(2B') + 1/2 (oriented
+// to rise) within one projector px of c·cell − 0.25, least squares against the unit step at o.
+double EstimateEdgeOffset(const FringeFit& fit) {
+  const double cell_px = static_cast<double>(fit.extent) / (1 << fit.gray_bits);
+  std::vector<std::pair<double, double>> samples;  // (u − c·cell, q)
+  for (const PixelFit& p : fit.pixels) {
+    double w, spread;
+    Footprint(fit.kernel, p, &w, &spread);
+    const double x = kPi * w / fit.period_u;
+    const double box = x > 1e-9 ? std::sin(x) / x : 1.0;
+    const double contrast = p.b / std::max(box * std::exp(-2.0 * kPi * kPi * spread * spread /
+                                                           (fit.period_u * fit.period_u)), 0.05);
+    const int c = static_cast<int>(std::lround((p.u + 0.25) / cell_px));
+    const double d = p.u - c * cell_px;
+    if (std::abs(d + 0.25) > 1.0) continue;
+    for (int j = 0; j < fit.gray_bits; ++j) {
+      const int jump = GrayBit(c, fit.gray_bits, j) - GrayBit(c - 1, fit.gray_bits, j);
+      if (jump == 0) continue;
+      const double q = (fit.images[fit.gray_frame[j]].at<float>(p.y, p.x) - p.a) / (2 * contrast) + 0.5;
+      samples.emplace_back(d, jump > 0 ? q : 1.0 - q);
+    }
+  }
+  if (samples.size() < 100) return 0.0;
+  double best = 0, best_cost = 1e300;
+  for (int k = 0; k <= 60; ++k) {
+    const double o = -1.0 + 0.025 * k;
+    double cost = 0;
+    for (const auto& [d, q] : samples) cost += std::pow(q - (d > o ? 1.0 : 0.0), 2);
+    if (cost < best_cost) best_cost = cost, best = o;
+  }
+  return best;
+}
+
 }  // namespace
 
 double StepShift(int k, int steps) { return 2.0 * kPi * k / steps; }
 
-void Footprint(const PixelFit& p, double* width_u, double* spread_u) {
+void Footprint(const SamplingKernel& kernel, const PixelFit& p, double* width_u, double* spread_u) {
   const double ax = std::abs(p.grad_x), ay = std::abs(p.grad_y);
-  *width_u = std::max(ax, ay);
-  *spread_u = std::min(ax, ay) / std::sqrt(12.0);
+  const double f = kernel.fill_factor;
+  *width_u = f * std::max(ax, ay);
+  *spread_u = std::hypot(f * std::min(ax, ay) / std::sqrt(12.0), kernel.psf_sigma_px * std::hypot(ax, ay));
+}
+
+double EdgeBand(const SamplingKernel& kernel, const PixelFit& p) {
+  return 0.5 * kernel.fill_factor * (std::abs(p.grad_x) + std::abs(p.grad_y)) + 0.5;
 }
 
 double GrayPattern(const FringeFit& fit, int j, double u, double width_u, double sigma_u) {
   const double cell_px = static_cast<double>(fit.extent) / (1 << fit.gray_bits);
+  u -= fit.edge_offset;
   const int c0 = static_cast<int>(std::floor(u / cell_px));
   const double reach = 0.5 * width_u + 5.0 * sigma_u;
   const int span = 1 + static_cast<int>(std::ceil(reach / cell_px));
@@ -63,6 +106,7 @@ double GrayPattern(const FringeFit& fit, int j, double u, double width_u, double
 
 double EdgeDistance(const FringeFit& fit, int j, double u) {
   const double cell_px = static_cast<double>(fit.extent) / (1 << fit.gray_bits);
+  u -= fit.edge_offset;
   const int c0 = static_cast<int>(std::floor(u / cell_px));
   double best = 1e30;
   for (int c = c0 - 2; c <= c0 + 3; ++c)
@@ -80,8 +124,12 @@ double IdealIntensity(const FringeFit& fit, const PixelFit& p, int f) {
 }
 
 double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur_u) {
+  return GrayIntensityWith(fit, fit.kernel, p, j, blur_u);
+}
+
+double GrayIntensityWith(const FringeFit& fit, const SamplingKernel& kernel, const PixelFit& p, int j, double blur_u) {
   double w, spread;
-  Footprint(p, &w, &spread);
+  Footprint(kernel, p, &w, &spread);
   const double su = std::sqrt(spread * spread + blur_u * blur_u);
   // B is the modulation of the fringe period; the pixel footprint and the blur attenuate it, not
   // the wide code stripes: their contrast is B divided by that attenuation.
@@ -92,11 +140,13 @@ double GrayIntensity(const FringeFit& fit, const PixelFit& p, int j, double blur
   return p.a + contrast * (2.0 * GrayPattern(fit, j, p.u, w, su) - 1.0);
 }
 
-FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale) {
+FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& images, double full_scale,
+                        const SamplingKernel& kernel) {
   const std::string file = manifest.path;
   const vision::SequenceBlock* ps = nullptr;
   const vision::SequenceBlock* gc = nullptr;
   FringeFit fit;
+  fit.kernel = kernel;
   int frame = 0;
   for (const vision::SequenceBlock& b : manifest.sequence) {
     const vision::CodecRole role = vision::CodecOf(b).role;
@@ -181,15 +231,38 @@ FringeFit FitIdealModel(const vision::FringeManifest& manifest, const std::vecto
     throw InputError({file, 0, "cameras"}, "fewer than 1000 pixels with fringes to analyse (dark or unfocused set?)");
   const int nf = fit.frames;
   fit.residual.resize(fit.pixels.size() * nf);
+  const auto compute_residuals = [&] {
+    cv::parallel_for_(cv::Range(0, static_cast<int>(fit.pixels.size())), [&](const cv::Range& r) {
+      for (int i = r.start; i < r.end; ++i) {
+        const PixelFit& p = fit.pixels[i];
+        for (int f = 0; f < nf; ++f)
+          fit.residual[static_cast<size_t>(i) * nf + f] =
+              static_cast<float>(fit.images[f].at<float>(p.y, p.x) - IdealIntensity(fit, p, f));
+      }
+    });
+  };
+  // Where the code edges lie: on the cell boundaries of the continuous coordinate (a pattern
+  // evaluated at every ray), or half a projector pixel before them (a projector of box pixels whose
+  // centres are at integer u, the pattern convention). A symmetric kernel leaves a code edge's 50 %
+  // crossing in place: the crossing is estimated from the samples near the edges, and the nearer
+  // convention kept.
+  fit.edge_offset_estimate = EstimateEdgeOffset(fit);
+  const double best_offset = fit.edge_offset_estimate < -0.25 ? -0.5 : 0.0;
+  fit.edge_offset = best_offset;
+  compute_residuals();
+  // The noise of one sample, from the phase-shift residuals (which keep N − 3 of N degrees of
+  // freedom), and through it the noise of u: σ_u = P/(2π)·√(2/N)·σ/B.
+  double phase_ss = 0;
+  for (size_t i = 0; i < fit.pixels.size(); ++i)
+    for (int f : fit.phase_frame) phase_ss += std::pow(fit.residual[i * nf + f], 2);
+  const double sample_sigma = std::sqrt(phase_ss / (fit.pixels.size() * (fit.steps - 3.0)));
+  const double u_noise = fit.period_u / (2 * kPi) * std::sqrt(2.0 / fit.steps) * sample_sigma;
   cv::parallel_for_(cv::Range(0, static_cast<int>(fit.pixels.size())), [&](const cv::Range& r) {
     for (int i = r.start; i < r.end; ++i) {
       const PixelFit& p = fit.pixels[i];
-      for (int f = 0; f < nf; ++f)
-        fit.residual[static_cast<size_t>(i) * nf + f] =
-            static_cast<float>(fit.images[f].at<float>(p.y, p.x) - IdealIntensity(fit, p, f));
-      // Gray samples within one camera pixel of a code edge are left out: there the value depends
-      // on the sensor's exact pixel response, which the model does not claim to know.
-      const double reach = std::abs(p.grad_x) + std::abs(p.grad_y);
+      // Gray samples within the edge band of a code edge are left out (EdgeBand), widened by 4σ of
+      // u: with point sampling a sample whose u errs across the edge would carry the full contrast.
+      const double reach = EdgeBand(fit.kernel, p) + kEdgeBandSigmas * u_noise / p.b;
       for (int j = 0; j < fit.gray_bits; ++j)
         if (EdgeDistance(fit, j, p.u) < reach)
           fit.residual[static_cast<size_t>(i) * nf + fit.gray_frame[j]] = std::numeric_limits<float>::quiet_NaN();

@@ -22,7 +22,7 @@ CandidateFit FitProjectorNonlinearity(const CandidateContext& ctx) {
           const int hh = c + 2;
           for (int k = 0; k < n; ++k) mat(ft.phase_frame[k], c) = p.b * std::cos(hh * (p.phi + StepShift(k, n)));
           double w, sp;
-          Footprint(p, &w, &sp);
+          Footprint(ft.kernel, p, &w, &sp);
           for (int j = 0; j < ft.gray_bits; ++j) {
             const double q = GrayPattern(ft, j, p.u, w, sp);
             mat(ft.gray_frame[j], c) = p.b * (q + (1.0 - q) * (hh % 2 == 0 ? 1.0 : -1.0));

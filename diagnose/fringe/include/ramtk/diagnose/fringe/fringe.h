@@ -1,7 +1,7 @@
 // `ramtk diagnose` for fringe image sets: the measured intensities of one camera against the ideal
 // fringe model I = A + B·cos(φ + δ_k) (A, B, φ fitted per pixel from the phase-shift frames; the
-// Gray-code frames predicted as A ± B from the unwrapped coordinate, with the pixel's own box
-// footprint at code edges). Candidates: the rows of the fringe cause table
+// Gray-code frames predicted as A ± B from the unwrapped coordinate, through the camera's sampling
+// kernel at code edges). Candidates: the rows of the fringe cause table
 // (ramtk/diagnose/engine/fringe_causes.def) with a fit; ambient_light and lens_distortion_unmodelled
 // leave this model exact and are reported as "none" by design (docs/diagnose_fringe.md).
 #pragma once
@@ -16,7 +16,9 @@
 namespace ramtk::diagnose {
 
 // options.data: a fringe manifest (one phase_shift block and one gray_code block). The camera is
-// "left" if present, else the first; `--with camera=NAME` picks another. options.noise > 0 replaces
+// "left" if present, else the first; `--with camera=NAME` picks another; `--with fill_factor=F` and
+// `--with psf_sigma_px=S` state the camera's sampling kernel (box of side F camera px, 0 = point
+// sampling, default 1, ⊗ a Gaussian PSF of S camera px, default 0). options.noise > 0 replaces
 // the noise floor estimated from the data (differences of the residual between neighbouring pixels
 // along the fringes).
 Diagnosis DiagnoseFringe(const DiagnoseOptions& options);

@@ -24,6 +24,9 @@ struct HiddenFringeDraw {
                                   // unmodelled lens distortion)
   double camera_gain = 1.0;       // DN per photo-electron relative to the default sensor (the full
                                   // well is divided by it): shot-noise variance b·I grows with it
+  int supersampling = 2;          // n×n rays per camera pixel: 1 point sampling, n > 1 a box of fill 1
+  double psf_sigma_px = 0.0;      // camera PSF (Gaussian std dev, camera px) rendered on top of the
+                                  // pixel's sampling, in addition to any camera_defocus draw
 };
 
 // Draw for `seed`: "none" with probability 1/3, else uniformly one of the fringe cause table's rows
@@ -42,7 +45,8 @@ struct HiddenFringeSet {
 };
 
 // Renders the draw: the simulator's "small" rig at half resolution (320×256), 8-bit, SLMaster
-// sequence (12-step phase shift, 64 periods, 7-bit complementary Gray code), supersampling 2.
+// sequence (12-step phase shift, 64 periods, 7-bit complementary Gray code), the draw's supersampling
+// (default 2) and PSF.
 // A cause registered with RegisterFringeCause (extra_cause.h) is rendered without it and then
 // planted into the frames by its plant function.
 HiddenFringeSet SimulateHiddenFringe(const HiddenFringeDraw& draw);
