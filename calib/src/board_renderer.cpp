@@ -9,6 +9,7 @@
 
 #include "board_internal.h"
 #include "ramtk/camera/opencv_camera.h"
+#include "ramtk/core/cell_jitter.h"
 #include "ramtk/core/error.h"
 
 namespace ramtk::calib {
@@ -16,16 +17,7 @@ namespace {
 
 // Sub-pixel sample offset in [0, 1) along one axis of cell (x, y): the cell centre, or with
 // jitter a fixed hash of the cell (the same in every render and in the self-check).
-double SampleOffset(int x, int y, int axis, bool jitter) {
-  if (!jitter) return 0.5;
-  std::uint64_t h = (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ (axis ? 0x5bd1e995ULL : 0);
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdULL;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ULL;
-  h ^= h >> 33;
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
-}
+double SampleOffset(int x, int y, int axis, bool jitter) { return jitter ? CellJitter(x, y, axis) : 0.5; }
 
 }  // namespace
 

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "ramtk/calib/projector/projector_session.h"
+#include "ramtk/core/cell_jitter.h"
 #include "ramtk/core/error.h"
 #include "ramtk/core/file_io.h"
 #include "ramtk/core/json.h"
@@ -17,6 +18,7 @@
 #include "ramtk/image/image_file.h"
 #include "ramtk/vision/fringe/codec.h"
 #include "ramtk/vision/projector/projector_calibration.h"
+#include "ramtk/vision/sim/truth_json.h"
 
 namespace ramtk::calib {
 
@@ -25,17 +27,6 @@ using camera::Vec2;
 using nlohmann::json;
 
 namespace {
-
-// Sub-pixel sample offset in [0, 1) along one axis of cell (x, y): a fixed hash of the cell.
-double SampleOffset(int x, int y, int axis) {
-  std::uint64_t h = (static_cast<std::uint64_t>(x) << 32) ^ static_cast<std::uint64_t>(y) ^ (axis ? 0x5bd1e995ULL : 0);
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdULL;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ULL;
-  h ^= h >> 33;
-  return static_cast<double>(h >> 11) * 0x1.0p-53;
-}
 
 // Albedo of board point (x, y) (mm): chessboard squares, a white margin of one square, 0 off it.
 double BoardAlbedo(const ProjectorSessionSimOptions& o, double x, double y) {
@@ -65,17 +56,6 @@ std::vector<FrameRef> Frames(const std::vector<vision::SequenceBlock>& sequence)
     for (int i = 0; i < b.ImageCount(); ++i) frames.push_back({&b, &codec, i});
   }
   return frames;
-}
-
-json IntrinsicsJson(const camera::CameraIntrinsics& c) {
-  const camera::Distortion& d = c.distortion;
-  return {{"fx", c.fx},
-          {"fy", c.fy},
-          {"cx", c.cx},
-          {"cy", c.cy},
-          {"width", c.width},
-          {"height", c.height},
-          {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
 }
 
 }  // namespace
@@ -225,7 +205,7 @@ ProjectorSessionPoseRender RenderProjectorSessionPose(const ProjectorSessionSimO
         for (int i = 0; i < s; ++i) {
           for (int j = 0; j < s; ++j) {
             const int cx = x * s + j, cy = y * s + i;
-            const Vec2 pixel((cx + SampleOffset(cx, cy, 0)) / s - 0.5, (cy + SampleOffset(cx, cy, 1)) / s - 0.5);
+            const Vec2 pixel((cx + CellJitter(cx, cy, 0)) / s - 0.5, (cy + CellJitter(cx, cy, 1)) / s - 0.5);
             const Vec3 ray = camera::PixelRay(o.camera, pixel, guess);
             guess = ray.head<2>() / ray.z();
             const double denominator = plane_normal.dot(ray);
@@ -331,8 +311,8 @@ ProjectorSessionSimSummary SimulateProjectorSession(const ProjectorSessionSimOpt
                              {"exposure", o.sensor.exposure},
                              {"full_well_electrons", o.sensor.full_well_electrons},
                              {"read_noise_electrons", o.sensor.read_noise_electrons}}},
-                           {"camera", IntrinsicsJson(o.camera)},
-                           {"projector", IntrinsicsJson(o.projector)},
+                           {"camera", vision::IntrinsicsTruthJson(o.camera)},
+                           {"projector", vision::IntrinsicsTruthJson(o.projector)},
                            {"projector_from_camera", PoseToJson(o.projector_from_camera)},
                            {"poses", truth_poses}};
   WriteFileAtomically((tmp / "truth" / "truth.json").string(), truth_json.dump(2) + "\n");

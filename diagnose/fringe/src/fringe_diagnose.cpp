@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "fringe_internal.h"
+#include "ramtk/camera/stereo_calibration.h"
 #include "ramtk/core/error.h"
 #include "ramtk/diagnose/fringe/fringe.h"
 #include "ramtk/diagnose/engine/model_selection.h"
@@ -316,7 +317,11 @@ void NameCause(const fringe::FringeFit& fit, const fringe::NoiseLevel& nlf, cons
                            ", PSF sigma " + Fixed(c.parameters.at("psf_sigma_px"), 3) + " +- " +
                            Fixed(c.sigmas.at("psf_sigma_px"), 3) + " camera px (stated " +
                            Fixed(fit.kernel.fill_factor, 2) + ", " + Fixed(fit.kernel.psf_sigma_px, 2) +
-                           "; parts narrower than half a projector pixel are not seen)");
+                           "; parts narrower than half a projector pixel are not seen, and the projector's own "
+                           "blur at its code edges is included, so an upper bound" +
+                           (ExcessRemoved(d.rms_before, c.heldout_rms, floor) < kMinShare
+                                ? "; on held-out pixels it fits no better than the stated kernel)"
+                                : ")"));
   if (best.effect != kNoEffect && gain >= kMaterialGain * floor * floor && share >= kMinShare) {
     d.cause = best.effect;
     d.parameters = best.parameters;
@@ -366,6 +371,29 @@ fringe::SamplingKernel StatedKernel(const DiagnoseOptions& options) {
   return k;
 }
 
+// The sampling kernel the set's stereo calibration states for `camera` ("left" or "right"), added
+// to options->with unless `--with fill_factor` or `--with psf_sigma_px` already states one; returns
+// the note for the report ("" when the calibration states none or is not a stereo file).
+std::string KernelFromCalibration(const vision::FringeManifest& manifest, const std::string& camera,
+                                  DiagnoseOptions* options) {
+  if (manifest.calibration.empty() || (camera != "left" && camera != "right")) return "";
+  for (const std::string& w : options->with)
+    if (w.rfind("fill_factor=", 0) == 0 || w.rfind("psf_sigma_px=", 0) == 0) return "";
+  const camera::StereoCalibration calibration = camera::ReadStereoCalibration(manifest.Resolve(manifest.calibration));
+  const camera::CameraIntrinsics& c = camera == "left" ? calibration.left : calibration.right;
+  if (!c.sampling_kernel) return "";
+  std::ostringstream with_fill, with_psf, note;
+  with_fill.precision(17);
+  with_psf.precision(17);
+  with_fill << "fill_factor=" << c.sampling_kernel->fill_factor;
+  with_psf << "psf_sigma_px=" << c.sampling_kernel->psf_sigma_px;
+  options->with.push_back(with_fill.str());
+  options->with.push_back(with_psf.str());
+  note << "; sampling kernel stated by the calibration: fill " << c.sampling_kernel->fill_factor << ", PSF "
+       << c.sampling_kernel->psf_sigma_px << " px";
+  return note.str();
+}
+
 }  // namespace
 
 Diagnosis DiagnoseFringeFrames(const vision::FringeManifest& manifest, const std::vector<cv::Mat>& frames,
@@ -402,8 +430,10 @@ Diagnosis DiagnoseFringe(const DiagnoseOptions& options) {
   std::vector<std::string> paths;
   for (const std::string& f : manifest.cameras.at(camera)) paths.push_back(manifest.Resolve(f));
   const vision::ImageStack stack = vision::LoadImageStack(paths);
-  Diagnosis d = DiagnoseFringeFrames(manifest, stack.frames, stack.full_scale, options, options.data);
-  d.findings.insert(d.findings.begin(), "camera '" + camera + "'");
+  DiagnoseOptions stated = options;
+  const std::string kernel_note = KernelFromCalibration(manifest, camera, &stated);
+  Diagnosis d = DiagnoseFringeFrames(manifest, stack.frames, stack.full_scale, stated, options.data);
+  d.findings.insert(d.findings.begin(), "camera '" + camera + "'" + kernel_note);
   return d;
 }
 

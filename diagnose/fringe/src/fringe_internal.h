@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ramtk/camera/camera_model.h"
 #include "ramtk/diagnose/engine/diagnosis.h"
 #include "ramtk/vision/fringe/manifest.h"
 
@@ -29,13 +30,10 @@ struct NoiseLevel {
   double Variance(double level) const;  // ≥ 1/12 DN² (quantisation)
 };
 
-// The camera's sampling kernel: a pixel's response is a box of side fill_factor camera px (0: point
-// sampling, the pixel's centre ray) convolved with an isotropic Gaussian PSF of std dev psf_sigma_px
-// camera px. The Gray-code edge profile and the stripes' contrast follow it.
-struct SamplingKernel {
-  double fill_factor = 1.0;   // box side, camera px, in [0, 1]
-  double psf_sigma_px = 0.0;  // Gaussian PSF std dev, camera px, ≥ 0
-};
+// The camera's sampling kernel (camera_model.h): a pixel's response is a box of side fill_factor
+// camera px (0: point sampling, the pixel's centre ray) convolved with an isotropic Gaussian PSF of
+// std dev psf_sigma_px camera px. The Gray-code edge profile and the stripes' contrast follow it.
+using SamplingKernel = camera::SamplingKernel;
 
 // One analysed pixel: the ideal model's per-pixel parameters.
 struct PixelFit {

@@ -18,6 +18,7 @@
 #include "ramtk/core/provenance.h"
 #include "ramtk/core/units.h"
 #include "ramtk/vision/fringe/image_io.h"
+#include "ramtk/vision/sim/truth_json.h"
 
 namespace ramtk::vision {
 namespace {
@@ -41,24 +42,6 @@ Isometry3 LookAt(const Vec3& centre, const Vec3& target) {
 }
 
 json Vec3Json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-// The intrinsics in the truth file; a lens of another model than the 5-coefficient one adds its
-// name and OpenCV's coefficient vector.
-json IntrinsicsJson(const CameraIntrinsics& c) {
-  const Distortion& d = c.distortion;
-  json j = {{"fx", c.fx},
-            {"fy", c.fy},
-            {"cx", c.cx},
-            {"cy", c.cy},
-            {"width", c.width},
-            {"height", c.height},
-            {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
-  if (d.model != camera::LensModel::kPinhole5) {
-    j["lens_model"] = camera::LensModelName(d.model);
-    j["distortion_opencv"] = camera::DistortionVector(d);
-  }
-  return j;
-}
 
 json SequenceJson(const std::vector<SequenceBlock>& blocks) {
   json seq = json::array();
@@ -413,7 +396,7 @@ json TruthJson(const FringeSimulationConfig& config, const EffectRealisation& fx
       {"object_ids", "spheres in order, then planes; -1 = no surface"},
       {"cameras", truth_cameras},
       {"projector",
-       {{"intrinsics", IntrinsicsJson(config.projector.intrinsics)},
+       {{"intrinsics", IntrinsicsTruthJson(config.projector.intrinsics)},
         {"projector_from_left", PoseToJson(config.projector.view_from_left)}}},
       {"frames", {{"phase_shift_error_deg", shift_deg}, {"gain", fx.gains}}},
       {"render", RenderJson(config)},
@@ -504,7 +487,7 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
       }
       const PinholeView view = RenderedCameraView(config, cam);
       truth_cameras.push_back({{"name", names[cam]},
-                               {"rendered_intrinsics", IntrinsicsJson(view.intrinsics)},
+                               {"rendered_intrinsics", IntrinsicsTruthJson(view.intrinsics)},
                                {"camera_from_left", PoseToJson(view.view_from_left)},
                                {"files", files}});
       summary.width = sim.images.front().cols;
@@ -548,6 +531,22 @@ FringeSimulationSummary SimulateFringeSet(const FringeSimulationConfig& config, 
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
+}
+
+json IntrinsicsTruthJson(const CameraIntrinsics& c) {
+  const Distortion& d = c.distortion;
+  json j = {{"fx", c.fx},
+            {"fy", c.fy},
+            {"cx", c.cx},
+            {"cy", c.cy},
+            {"width", c.width},
+            {"height", c.height},
+            {"distortion_k1_k2_p1_p2_k3", {d.k1, d.k2, d.p1, d.p2, d.k3}}};
+  if (d.model != camera::LensModel::kPinhole5) {
+    j["lens_model"] = camera::LensModelName(d.model);
+    j["distortion_opencv"] = camera::DistortionVector(d);
+  }
+  return j;
 }
 
 }  // namespace ramtk::vision
