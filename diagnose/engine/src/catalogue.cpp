@@ -20,18 +20,6 @@ std::vector<EffectInfo>& Catalogue() {
   return catalogue;
 }
 
-const char* KindName(DataKind kind) {
-  switch (kind) {
-    case DataKind::kFringe:
-      return "fringe";
-    case DataKind::kRobot:
-      return "robot";
-    case DataKind::kLaser:
-      return "laser";
-  }
-  return "";
-}
-
 }  // namespace
 
 const std::vector<EffectInfo>& EffectCatalogue() { return Catalogue(); }
@@ -60,7 +48,7 @@ std::string CatalogueMarkdown() {
   std::ostringstream o;
   o << "| cause | kind | fitted values | plausible | what it means |\n|---|---|---|---|---|\n";
   for (const EffectInfo& e : EffectCatalogue()) {
-    o << "| `" << e.name << "` | " << KindName(e.kind) << " | " << e.parameters << " | " << e.plausible << " | "
+    o << "| `" << e.name << "` | " << DataKindName(e.kind) << " | " << e.parameters << " | " << e.plausible << " | "
       << e.description << " |\n";
   }
   return o.str();

@@ -5,6 +5,7 @@
 // run time (ramtk/diagnose/robot/extra_cause.h).
 #pragma once
 
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <string>
@@ -16,6 +17,13 @@
 #include "robot_candidates.h"
 
 namespace ramtk::diagnose::robot_detail {
+
+// A parameter value in the findings' text (%.4g).
+inline std::string Fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof(b), "%.4g", v);
+  return b;
+}
 
 // Where a cause's fit puts what it finds.
 struct CauseOutput {

@@ -16,13 +16,8 @@ namespace ramtk::diagnose {
 namespace {
 
 using kinematics::ParamIndex;
+using robot_detail::Fmt;
 using kinematics::ParamKind;
-
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
 
 // Moves every simulated measurement by the registered cause's displacement.
 void PlantExtraCause(const RobotColumnCause& cause, robot_detail::PlantContext* p) {

@@ -9,12 +9,6 @@ namespace {
 
 using kinematics::ParamKind;
 
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
-
 void FitJointCompliance(const Context& ctx, CauseOutput out) {
   const std::vector<Row>& rows = ctx.rows->rows;
   std::vector<Mat3X> cols;

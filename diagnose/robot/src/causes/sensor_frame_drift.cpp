@@ -6,12 +6,6 @@
 namespace ramtk::diagnose::robot_detail {
 namespace {
 
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
-
 void FitSensorFrameDrift(const Context& ctx, CauseOutput out) {
   std::vector<Mat3X> cols;
   for (const Row& r : ctx.rows->rows) {

@@ -13,12 +13,6 @@ using kinematics::kNumParams;
 using kinematics::ParamIndex;
 using kinematics::ParamKind;
 
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
-
 void FitJointOffset(const Context& ctx, CauseOutput out) {
   FitStaticParams(ctx, out, "joint_offset", ThetaParams(ctx.input->model), "_offset");
 }

@@ -15,12 +15,6 @@ namespace {
 using kinematics::ParamIndex;
 using kinematics::ParamKind;
 
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
-
 // A model being extended greedily: its design, score and drift terms.
 struct Greedy {
   Design design;

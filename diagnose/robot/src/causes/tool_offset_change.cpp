@@ -9,12 +9,6 @@
 namespace ramtk::diagnose::robot_detail {
 namespace {
 
-std::string Fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof(b), "%.4g", v);
-  return b;
-}
-
 // The base design plus the ball's shift from cycle `from` on.
 Design StepDesign(const Context& ctx, int from) {
   std::vector<Mat3X> c;
