@@ -16,8 +16,8 @@ namespace ramtk::diagnose {
 namespace {
 
 using kinematics::ParamIndex;
-using robot_detail::Fmt;
 using kinematics::ParamKind;
+using robot_detail::Fmt;
 
 // Moves every simulated measurement by the registered cause's displacement.
 void PlantExtraCause(const RobotColumnCause& cause, robot_detail::PlantContext* p) {
