@@ -170,9 +170,10 @@ TEST(StereoCalibration, PerCameraVarianceMatchesPooledForEqualNoise) {
     EXPECT_GT(ratio, 0.8) << k;
     EXPECT_LT(ratio, 1.25) << k;
   }
-  // The same estimate: only the σ differ.
-  EXPECT_NEAR(a.rig.left.fx, b.rig.left.fx, 1e-9);
-  EXPECT_TRUE(a.rig.right_from_left.isApprox(b.rig.right_from_left, 1e-12));
+  // The same estimate: only the σ differ. OpenCV's solver sums in threads, so two runs agree to
+  // its rounding (~1e-10 relative), far below a ten-thousandth of fx's σ.
+  EXPECT_NEAR(a.rig.left.fx, b.rig.left.fx, 1e-4 * a.rig.parameter_std[0]);
+  EXPECT_TRUE(a.rig.right_from_left.isApprox(b.rig.right_from_left, 1e-8));
 }
 
 TEST(CameraCalibration, SymmetricCircleGrid) { CheckBoard("circles:7x5:25", 4.0); }
