@@ -47,7 +47,49 @@ struct Rig {
   bool roi = false;  // whole frames scanned with auto windows
 };
 
-Rig MakeRig(const std::string& name) {
+Rig MakeBaseRig(const std::string& name);
+
+// A rig with modifiers after its name, each "+key=value": +steps=N (the phase-shift steps),
+// +cycles=C (fringe periods across the projector; the Gray bits follow), +ss=S (supersampling;
+// 1 = point sampling), +exposure=X (the saturation effect's exposure factor),
+// +bits=B (the sensor's bit depth, 8..16). E.g. 2048-4step+steps=12.
+Rig MakeRig(const std::string& spec) {
+  std::stringstream parts(spec);
+  std::string base;
+  std::getline(parts, base, '+');
+  Rig rig = MakeBaseRig(base);
+  rig.name = spec;
+  for (std::string mod; std::getline(parts, mod, '+');) {
+    const size_t eq = mod.find('=');
+    const std::string key = mod.substr(0, eq);
+    const double value = eq == std::string::npos ? 0 : std::atof(mod.c_str() + eq + 1);
+    SequenceBlock* ps = nullptr;
+    SequenceBlock* gray = nullptr;
+    for (SequenceBlock& b : rig.config.sequence) {
+      if (b.type == BlockType::kPhaseShift && !ps) ps = &b;
+      if (b.type == BlockType::kGrayCode && !gray) gray = &b;
+    }
+    if (key == "steps" && ps && value >= 3) {
+      ps->steps = static_cast<int>(value);
+    } else if (key == "cycles" && ps && gray && value > 0) {
+      const double ratio = value / ps->cycles.at(0);
+      ps->cycles = {value};
+      gray->bits += static_cast<int>(std::lround(std::log2(ratio)));
+    } else if (key == "ss" && value >= 1) {
+      rig.config.supersampling = static_cast<int>(value);
+    } else if (key == "bits" && value >= 8 && value <= 16) {
+      rig.config.sensor.bits = static_cast<int>(value);
+    } else if (key == "exposure" && value > 0) {
+      rig.config.effects.Set("saturation", value);
+    } else {
+      std::fprintf(stderr, "rig %s: unknown or invalid modifier %s\n", spec.c_str(), mod.c_str());
+      std::exit(2);
+    }
+  }
+  return rig;
+}
+
+Rig MakeBaseRig(const std::string& name) {
   Rig rig{name, MakeFringePreset("small"), false};
   if (name == "small") return rig;
   if (name == "small-offaxis") {
