@@ -21,6 +21,9 @@
 // complementary Gray, point-sampled, saturation 0.5 (docs/scan.md's 2048 rig), auto windows;
 // slmaster = the small preset's scene and sequence around SLMaster's real calibration
 // (RAMTK_SHARED_DIR/data/slmaster-binocular/caliInfo.yml), auto windows.
+// Each rig name takes modifiers (MakeRig): 2048-4step+steps=12, slmaster+ss=1+bits=16, ...
+// A noise-free render quantised to 8 bits is not dithered: its error carries the quantisation's
+// pattern (µm on the larger-pixel rigs); +bits=16 separates the model's own error.
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdio>
