@@ -125,5 +125,5 @@ ramtk_cli_test(scan_batch_bad_centre 1
 
 # The matcher's sampling-kernel terms on a large-pixel rig (SLMaster's calibration from
 # RAMTK_SHARED_DIR; skipped without it), in a target of its own.
-ramtk_add_gtest(vision_kernel_scan_tests scan_kernel_test.cpp)
+ramtk_add_gtest(vision_kernel_scan_tests scan_kernel_test.cpp kernel_estimate_test.cpp)
 target_link_libraries(vision_kernel_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS})
