@@ -98,9 +98,11 @@ Pass MakePass(const StereoCalibration& calibration, const DecodedCamera& left, c
   return p;
 }
 
-// Largest jackknife σ of an estimated kernel variance the terms are applied with, px² (a
-// variance error of 0.03 px² moves a centre on SLMaster's rig by ~1.4 µm along z).
-constexpr double kMaxKernelSigmaPx2 = 0.03;
+// Largest jackknife σ of an estimated kernel variance k the terms are applied with: 0.01 px²
+// plus 5 % of k (a variance error of 0.01 px² moves a centre on SLMaster's rig by ~0.5 µm along
+// z; on rigs with small pixels the σ is larger, the estimate biased low, and the terms matter less).
+constexpr double kMaxKernelSigmaPx2 = 0.01;
+constexpr double kMaxKernelSigmaShare = 0.05;
 constexpr double kMaxKernelVariancePx2 = 1.5;  // estimates are clamped to [0, this]
 
 // The kernel variances of the points pass's terms: both stated, or estimated from the back
@@ -122,7 +124,7 @@ KernelVarianceEstimate ChooseKernel(const StereoCalibration& calibration, const 
                                      lk ? std::optional<double>(lk->VariancePx2()) : std::nullopt,
                                      rk ? std::optional<double>(rk->VariancePx2()) : std::nullopt);
   if (e.status != "estimated") return e;
-  if (!(e.sigma_px2 <= kMaxKernelSigmaPx2)) {
+  if (!(e.sigma_px2 <= kMaxKernelSigmaPx2 + kMaxKernelSigmaShare * std::abs(e.variance_px2))) {
     e.status = "not significant";
     return e;
   }
