@@ -53,6 +53,17 @@ ramtk_cli_test(scan_default_fixed_modulation 0
 ramtk_cli_test(scan_bad_modulation_rule 2
   ARGS scan ${SCAN_DEFAULT}/manifest.json --modulation-rule fixd --out ${SCAN_CLI}/not_written_rule
   STDERR "--modulation-rule: fixd not in")
+# The sampling kernel estimated from the data (no kernel stated in the set's calibration): on
+# the bundled set's small pixels its sigma fails the gate and the scan keeps no kernel terms,
+# which stdout and summary.json say; a bad --kernel-estimate is refused.
+ramtk_cli_test(scan_default_kernel_estimate 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/kernel_estimate --force -q
+  STDOUT "sampling kernel: estimated variance -?0\\.0[0-9]+ \\+- 0\\.0[0-9]+ px\\^2 over [0-9]+ px, not significant"
+  FILE ${SCAN_CLI}/kernel_estimate/summary.json
+  FILE_REGEX "\"sampling_kernel\": {[^}]*\"pixels\": [0-9]+,[^}]*\"status\": \"not significant\"")
+ramtk_cli_test(scan_bad_kernel_estimate 2
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --kernel-estimate maybe --out ${SCAN_CLI}/not_written_kernel
+  STDERR "--kernel-estimate: maybe not in")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
