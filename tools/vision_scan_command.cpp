@@ -107,8 +107,9 @@ std::string SamplingKernelLine(const vision::KernelVarianceEstimate& k) {
     std::snprintf(line, sizeof line, "sampling kernel: stated, variance %.4f / %.4f px^2 (left / right)", k.left_px2,
                   k.right_px2);
   } else if (std::isfinite(k.variance_px2)) {
-    std::snprintf(line, sizeof line, "sampling kernel: estimated variance %.4f +- %.4f px^2 over %ld px, %s",
-                  k.variance_px2, k.sigma_px2, k.pixels, k.status.c_str());
+    std::snprintf(line, sizeof line,
+                  "sampling kernel: estimated variance %.4f +- %.4f px^2 over %ld px (leverage %.1f), %s",
+                  k.variance_px2, k.sigma_px2, k.pixels, k.leverage, k.status.c_str());
   } else {
     std::snprintf(line, sizeof line, "sampling kernel: not estimated (%s)", k.status.c_str());
   }

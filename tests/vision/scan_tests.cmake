@@ -54,13 +54,13 @@ ramtk_cli_test(scan_bad_modulation_rule 2
   ARGS scan ${SCAN_DEFAULT}/manifest.json --modulation-rule fixd --out ${SCAN_CLI}/not_written_rule
   STDERR "--modulation-rule: fixd not in")
 # The sampling kernel estimated from the data (no kernel stated in the set's calibration): on
-# the bundled set's small pixels its sigma fails the gate and the scan keeps no kernel terms,
+# the bundled set's small pixels the pairs' spread is about its noise and the scan keeps no kernel terms,
 # which stdout and summary.json say; a bad --kernel-estimate is refused.
 ramtk_cli_test(scan_default_kernel_estimate 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/kernel_estimate --force -q
-  STDOUT "sampling kernel: estimated variance -?0\\.0[0-9]+ \\+- 0\\.0[0-9]+ px\\^2 over [0-9]+ px, not significant"
+  STDOUT "sampling kernel: estimated variance -?0\\.0[0-9]+ \\+- 0\\.0[0-9]+ px\\^2 over [0-9]+ px \\(leverage 0\\.[0-9]\\), too little leverage"
   FILE ${SCAN_CLI}/kernel_estimate/summary.json
-  FILE_REGEX "\"sampling_kernel\": {[^}]*\"pixels\": [0-9]+,[^}]*\"status\": \"not significant\"")
+  FILE_REGEX "\"sampling_kernel\": {[^}]*\"pixels\": [0-9]+,[^}]*\"status\": \"too little leverage\"")
 ramtk_cli_test(scan_bad_kernel_estimate 2
   ARGS scan ${SCAN_DEFAULT}/manifest.json --kernel-estimate maybe --out ${SCAN_CLI}/not_written_kernel
   STDERR "--kernel-estimate: maybe not in")

@@ -570,6 +570,7 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                   {"estimated_variance_px2", s.match.kernel.variance_px2},
                   {"estimated_sigma_px2", s.match.kernel.sigma_px2},
                   {"pixels", s.match.kernel.pixels},
+                  {"leverage", s.match.kernel.leverage},
                   {"left_variance_px2", s.match.kernel.left_px2},
                   {"right_variance_px2", s.match.kernel.right_px2}}}};
   j["points"] = s.triangulation.points;

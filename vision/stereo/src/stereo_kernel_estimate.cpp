@@ -67,6 +67,7 @@ inline double LaplacianOverB(const DecodedCamera& d, int x, int y, double scale2
 
 struct Pair {
   double b_left, b_right;          // modulation, DN
+  double log_bias_left;            // the interpolated log B_left's noise bias
   Gradient2 g2_left, g2_right;     // |g|², (rad/px)²
   double lap_left, lap_right, lap_var_left, lap_var_right;  // ΔB / B and its noise variance
 };
@@ -78,13 +79,20 @@ bool MakePair(const DecodedCamera& left, const DecodedCamera& right, const cv::M
   const int u0 = static_cast<int>(std::floor(u)), v0 = static_cast<int>(std::floor(v));
   if (u0 < 0 || v0 < 0 || u0 + 1 >= left.coordinate.cols || v0 + 1 >= left.coordinate.rows) return false;
   const double fu = u - u0, fv = v - v0;
-  double b = 0;
+  double b = 0, w2 = 0, s2 = 0;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       if (!left_interior.ptr<uchar>(v0 + j)[u0 + i]) return false;
-      b += (i ? fu : 1 - fu) * (j ? fv : 1 - fv) * left.modulation.ptr<float>(v0 + j)[u0 + i];
+      const double w = (i ? fu : 1 - fu) * (j ? fv : 1 - fv);
+      b += w * left.modulation.ptr<float>(v0 + j)[u0 + i];
+      w2 += w * w;
+      const double s = left.sigma_coordinate.empty() ? 0.0 : left.sigma_coordinate.ptr<float>(v0 + j)[u0 + i];
+      if (std::isfinite(s)) s2 += w * scale2 * s * s;
     }
   p->b_left = b;
+  // A pixel's log B̂ is unbiased at second order (the Rician bias of B̂ cancels the logarithm's),
+  // an interpolated one is not: E[log Σ w_i·B̂_i] = log B + ½·(σ_B/B)²·(1 − Σ w_i²).
+  p->log_bias_left = 0.5 * s2 * (1 - w2);
   p->g2_left = GradientSquared(left, u0 + (fu >= 0.5), v0 + (fv >= 0.5), scale2);
   p->b_right = right.modulation.ptr<float>(y)[x];
   p->g2_right = GradientSquared(right, x, y, scale2);
@@ -172,7 +180,7 @@ KernelVarianceEstimate EstimateKernelVariance(const DecodedCamera& left, const D
     // q = ΔB/B − |g|² per camera: log B_measured = log B + ½·k·q.
     const double ql = p.lap_left - p.g2_left.g2, qr = p.lap_right - p.g2_right.g2;
     const double vl = p.g2_left.var + p.lap_var_left, vr = p.g2_right.var + p.lap_var_right;
-    double yv = std::log(ratio), xv = 0.5 * (ql - qr), vx = 0.25 * (vl + vr);
+    double yv = std::log(ratio) - p.log_bias_left, xv = 0.5 * (ql - qr), vx = 0.25 * (vl + vr);
     if (left_known) yv -= 0.5 * *left_known * ql, xv = -0.5 * qr, vx = 0.25 * vr;
     if (right_known) yv += 0.5 * *right_known * qr, xv = 0.5 * ql, vx = 0.25 * vl;
     xs.push_back(xv);
@@ -188,6 +196,13 @@ KernelVarianceEstimate EstimateKernelVariance(const DecodedCamera& left, const D
   e.status = "estimated";
   const std::size_t n = xs.size();
   e.variance_px2 = RobustSlope(xs, ys, ws, vs, n, n);
+  // The regressor's robust spread (median absolute deviation) over its noise's RMS.
+  double mean_vx = 0;
+  for (double v : vs) mean_vx += v / static_cast<double>(n);
+  const double mid = Median(xs);
+  std::vector<double> dev(n);
+  for (std::size_t i = 0; i < n; ++i) dev[i] = std::abs(xs[i] - mid);
+  e.leverage = mean_vx > 0 ? Median(dev) / std::sqrt(mean_vx) : std::numeric_limits<double>::infinity();
   std::vector<double> jack(kBands);
   double mean = 0;
   for (int k = 0; k < kBands; ++k) {

@@ -103,6 +103,10 @@ Pass MakePass(const StereoCalibration& calibration, const DecodedCamera& left, c
 // z; on rigs with small pixels the σ is larger, the estimate biased low, and the terms matter less).
 constexpr double kMaxKernelSigmaPx2 = 0.01;
 constexpr double kMaxKernelSigmaShare = 0.05;
+// Smallest KernelVarianceEstimate::leverage applied: on small pixels the pairs' spread in
+// ½·(q_left − q_right) is about its noise (SLMaster's rig: 3.7, its real capture 5.2, the
+// small rigs 0.8–1.1), and the estimate there reads 0.01–0.05 px² for a box's 0.078.
+constexpr double kMinKernelLeverage = 2.0;
 constexpr double kMaxKernelVariancePx2 = 1.5;  // estimates are clamped to [0, this]
 
 // The kernel variances of the points pass's terms: both stated, or estimated from the back
@@ -124,6 +128,10 @@ KernelVarianceEstimate ChooseKernel(const StereoCalibration& calibration, const 
                                      lk ? std::optional<double>(lk->VariancePx2()) : std::nullopt,
                                      rk ? std::optional<double>(rk->VariancePx2()) : std::nullopt);
   if (e.status != "estimated") return e;
+  if (!(e.leverage >= kMinKernelLeverage)) {
+    e.status = "too little leverage";
+    return e;
+  }
   if (!(e.sigma_px2 <= kMaxKernelSigmaPx2 + kMaxKernelSigmaShare * std::abs(e.variance_px2))) {
     e.status = "not significant";
     return e;

@@ -81,7 +81,8 @@ struct StereoMatchOptions {
 // −½·(|g_left|² − |g_right|²) with slope k.
 struct KernelVarianceEstimate {
   // "stated" (both cameras state a kernel; nothing estimated), "off" (not asked), "applied",
-  // or why the estimate is not applied: "no back pass", "too few pixels", "not significant".
+  // or why the estimate is not applied: "no back pass", "too few pixels", "too little
+  // leverage", "not significant".
   std::string status = "off";
   bool applied = false;  // the kernel terms run with the estimate
   // The estimated per-axis kernel variance k, px², before clamping to [0, 1.5], and its
@@ -92,6 +93,10 @@ struct KernelVarianceEstimate {
   double left_px2 = std::numeric_limits<double>::quiet_NaN();
   double right_px2 = std::numeric_limits<double>::quiet_NaN();
   long pixels = 0;  // matched pixel pairs in the regression
+  // The regressor's spread over the pairs (median absolute deviation of ½·(q_left − q_right))
+  // over the RMS of its noise: below 2 the fit leans on the predicted noise (errors in
+  // variables) and is not applied; NaN when not estimated.
+  double leverage = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct StereoMatchSummary {
