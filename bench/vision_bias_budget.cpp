@@ -10,8 +10,9 @@
 // --kernel: the calibration the scan reads states no sampling kernel (unstated, the default), the
 // kernel the render used (stated; the matcher then applies its kernel and interpolation terms),
 // or a given one, F,S = fill factor, PSF sigma px (a wrong kernel).
-//   vision_bias_budget [--seeds N] [--first-seed S (1000)] [--noise-free] [--kernel unstated|stated|F,S] [--rigs
+//   vision_bias_budget [--seeds N] [--first-seed S (1000)] [--noise-free] [--no-noise-term] [--kernel unstated|stated|F,S] [--rigs
 //   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
+// --no-noise-term: the matcher without its noise term (StereoMatchOptions::noise_bias_term).
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
 // the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
 // (-20, 10, 720); small-4step = 4-step phase shift instead of 12; small-half = the windows
@@ -160,7 +161,7 @@ StereoCalibration ScanCalibration(const FringeSimulationConfig& c, const std::st
   return calib;
 }
 
-RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const std::string& kernel) {
+RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const std::string& kernel, bool noise_term) {
   FringeSimulationConfig c = rig.config;
   const Vec3 ball = c.scene.spheres[0].centre_in_left;
   const double radius = c.scene.spheres[0].radius;
@@ -174,6 +175,7 @@ RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const st
     c.seed = first_seed + s;
     const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
     ScanOptions options;
+    options.match.noise_bias_term = noise_term;
     ScanResult res;
     if (rig.roi) {
       options.roi.mode = ScanRoiOptions::Mode::kAuto;
@@ -247,6 +249,7 @@ int main(int argc, char** argv) {
   int seeds = 20;
   int first_seed = 1000;
   bool noise = true;
+  bool noise_term = true;
   std::string rigs = "small,small-offaxis,small-4step,small-half";
   std::string kernel = "unstated";
   for (int i = 1; i < argc; ++i) {
@@ -254,6 +257,8 @@ int main(int argc, char** argv) {
       seeds = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--first-seed") && i + 1 < argc) {
       first_seed = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--no-noise-term")) {
+      noise_term = false;
     } else if (!std::strcmp(argv[i], "--noise-free")) {
       noise = false;
     } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
@@ -262,7 +267,7 @@ int main(int argc, char** argv) {
       kernel = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--seeds N] [--first-seed S] [--noise-free] [--kernel unstated|stated|F,S] [--rigs "
+                   "usage: %s [--seeds N] [--first-seed S] [--noise-free] [--no-noise-term] [--kernel unstated|stated|F,S] [--rigs "
                    "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
                    argv[0]);
       return 2;
@@ -276,7 +281,7 @@ int main(int argc, char** argv) {
   bool any = false;
   for (std::string name; std::getline(names, name, ',');) {
     const Rig rig = MakeRig(name);
-    const RigResult r = RunRig(rig, seeds, first_seed, noise, kernel);
+    const RigResult r = RunRig(rig, seeds, first_seed, noise, kernel, noise_term);
     PrintRig(rig, r, &flagged);
     any = any || !r.draws.empty();
     std::fflush(stdout);

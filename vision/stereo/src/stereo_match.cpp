@@ -170,6 +170,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.kernel_var_src = calibration.left.sampling_kernel->VariancePx2();
     lrp.kernel_var_dst = calibration.right.sampling_kernel->VariancePx2();
   }
+  lrp.noise_term = options.noise_bias_term;
   lrp.pixels = options.right_pixels;
   lrp.sigma_map = options.sigma_map;
   if (lr) {
