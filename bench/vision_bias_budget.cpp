@@ -13,8 +13,10 @@
 // matcher estimates it from the data (StereoMatchOptions::kernel_estimate; "unstated" turns the
 // estimate off). The estimated kernel variance per seed goes to stderr, its mean and sd per rig
 // below the table.
-//   vision_bias_budget [--seeds N] [--noise-free] [--kernel unstated|stated|auto|F,S] [--rigs
+//   vision_bias_budget [--seeds N] [--first-seed S (1000)] [--noise-free] [--no-noise-term]
+//   [--kernel unstated|stated|auto|F,S] [--rigs
 //   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
+// --no-noise-term: the matcher without its noise term (StereoMatchOptions::noise_bias_term).
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
 // the thesis cameras, ball at (0, 0, 700)); small-offaxis = the same with the ball at
 // (-20, 10, 720); small-4step = 4-step phase shift instead of 12; small-half = the windows
@@ -174,7 +176,7 @@ StereoCalibration ScanCalibration(const FringeSimulationConfig& c, const std::st
   return calib;
 }
 
-RigResult RunRig(const Rig& rig, int seeds, bool noise, const std::string& kernel) {
+RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const std::string& kernel, bool noise_term) {
   FringeSimulationConfig c = rig.config;
   const Vec3 ball = c.scene.spheres[0].centre_in_left;
   const double radius = c.scene.spheres[0].radius;
@@ -185,10 +187,11 @@ RigResult RunRig(const Rig& rig, int seeds, bool noise, const std::string& kerne
   RigResult out;
   out.seeds = seeds;
   for (int s = 0; s < seeds; ++s) {
-    c.seed = 1000 + s;
+    c.seed = first_seed + s;
     const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
     ScanOptions options;
     if (kernel != "auto") options.match.kernel_estimate = StereoMatchOptions::KernelEstimate::kOff;
+    options.match.noise_bias_term = noise_term;
     ScanResult res;
     if (rig.roi) {
       options.roi.mode = ScanRoiOptions::Mode::kAuto;
@@ -280,12 +283,18 @@ std::string KernelLine(const Rig& rig, const RigResult& r) {
 
 int main(int argc, char** argv) {
   int seeds = 20;
+  int first_seed = 1000;
   bool noise = true;
+  bool noise_term = true;
   std::string rigs = "small,small-offaxis,small-4step,small-half";
   std::string kernel = "unstated";
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--first-seed") && i + 1 < argc) {
+      first_seed = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--no-noise-term")) {
+      noise_term = false;
     } else if (!std::strcmp(argv[i], "--noise-free")) {
       noise = false;
     } else if (!std::strcmp(argv[i], "--rigs") && i + 1 < argc) {
@@ -294,7 +303,8 @@ int main(int argc, char** argv) {
       kernel = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--seeds N] [--noise-free] [--kernel unstated|stated|auto|F,S] [--rigs "
+                   "usage: %s [--seeds N] [--first-seed S] [--noise-free] [--no-noise-term] "
+                   "[--kernel unstated|stated|auto|F,S] [--rigs "
                    "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
                    argv[0]);
       return 2;
@@ -309,7 +319,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> kernel_lines;
   for (std::string name; std::getline(names, name, ',');) {
     const Rig rig = MakeRig(name);
-    const RigResult r = RunRig(rig, seeds, noise, kernel);
+    const RigResult r = RunRig(rig, seeds, first_seed, noise, kernel, noise_term);
     PrintRig(rig, r, &flagged);
     if (kernel == "auto") kernel_lines.push_back(KernelLine(rig, r));
     any = any || !r.draws.empty();

@@ -547,7 +547,8 @@ int DecodeStages(const std::string& manifest_path, int repeat) {
 // summary. `threads` > 0 caps TBB's threads (1: the per-pixel cost without the machine's
 // scheduling noise).
 // `rectified` 0 / 1 sets the test hook StereoMatchTestHooks::rectified_back_pass, -1 keeps the default.
-int MatchPasses(const std::string& manifest_path, int repeat, int threads, int rectified) {
+// `noise_term` 0 turns StereoMatchOptions::noise_bias_term off (its cost).
+int MatchPasses(const std::string& manifest_path, int repeat, int threads, int rectified, int noise_term) {
   const detail::ScopedStereoMatchTestHooks hooks(BackPassHooks(rectified));
   if (manifest_path.empty()) {
     std::fprintf(stderr, "match: --manifest SET/manifest.json is required\n");
@@ -569,6 +570,7 @@ int MatchPasses(const std::string& manifest_path, int repeat, int threads, int r
   std::vector<std::vector<double>> times;
   for (int r = 0; r < repeat; ++r) {
     StereoMatchOptions o = so.match;
+    o.noise_bias_term = noise_term != 0;
     auto last = Clock::now();
     std::string stage;
     std::size_t k = 0;
@@ -619,7 +621,8 @@ int main(int argc, char** argv) {
   if (mode == "decode") return DecodeStages(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5));
   if (mode == "match")
     return MatchPasses(ArgS(argc, argv, "--manifest", ""), Arg(argc, argv, "--repeat", 5),
-                       Arg(argc, argv, "--threads", 0), Arg(argc, argv, "--rectified-back-pass", -1));
+                       Arg(argc, argv, "--threads", 0), Arg(argc, argv, "--rectified-back-pass", -1),
+                       Arg(argc, argv, "--noise-term", 1));
   if (mode == "accuracy")
     return Accuracy(Arg(argc, argv, "--first-pose", 0), Arg(argc, argv, "--poses", 20), Arg(argc, argv, "--seeds", 50),
                     Arg(argc, argv, "--rectified-back-pass", -1), Arg(argc, argv, "--state-kernel", 0) != 0);

@@ -45,6 +45,7 @@ struct ScanCommandOptions {
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
   std::string kernel_estimate = "auto";  // a camera without a stated sampling kernel: auto (estimated) or off
   bool ray_plane = false;                 // camera–projector sets with both directions: ray–plane only
+  bool no_noise_term = false;             // matches without the noise's second-order term
   std::string modulation_rule = "sigma";  // weak-fringe rejection: sigma or fixed (DecodeOptions)
   double max_order_error = vision::DecodeOptions{}.max_order_error_probability;  // sigma rule's epsilon
   std::string shard;                                       // "K/N": scan only shard K of N of the batch
@@ -77,6 +78,7 @@ vision::ScanResultSettings ResultSettings(const ScanCommandOptions& o) {
   s.kernel_estimate = o.kernel_estimate;
   s.modulation_rule = o.modulation_rule;
   s.ray_plane = o.ray_plane;
+  s.no_noise_term = o.no_noise_term;
   s.max_order_error = o.max_order_error;
   s.roi = o.roi;
   s.roi_margin = o.roi_margin;
@@ -137,6 +139,7 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
   options.match.kernel_estimate = opt.kernel_estimate == "off" ? vision::StereoMatchOptions::KernelEstimate::kOff
                                                                : vision::StereoMatchOptions::KernelEstimate::kAuto;
+  options.match.noise_bias_term = !opt.no_noise_term;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
   options.decode.modulation_rule =
       opt.modulation_rule == "fixed" ? vision::ModulationRule::kFixed : vision::ModulationRule::kSigma;
@@ -297,6 +300,9 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                   "off (no kernel terms unless both cameras state one)")
       ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();
+  sub->add_flag("--no-noise-term", opt->no_noise_term,
+                "Match without the noise's second-order term (the mean offset of a noisy root on a curved "
+                "coordinate map, docs/scan.md)");
   sub->add_flag("--ray-plane", opt->ray_plane,
                 "Camera–projector set with both fringe directions (cross_cameras): triangulate ray–plane from the "
                 "manifest's direction alone, not ray–ray");

@@ -12,6 +12,7 @@ ramtk_add_gtest(vision_scan_tests
   decode_fast_test.cpp
   nonlinearity_gate_test.cpp
   stereo_walk_test.cpp
+  stereo_noise_term_test.cpp
   stereo_full_search_test.cpp
   stereo_back_reach_test.cpp
   stereo_rectified_test.cpp

@@ -93,5 +93,64 @@ inline bool ApplyKernelTerms(const Pass& p, const Matcher& m, int x, int y, Matc
   return true;
 }
 
+// The noise's second-order term. The matcher solves h(w) = c_src for w, h(w) = c_dst(pix(w))
+// the destination coordinate along the epipolar curve; with zero-mean noise of variance
+// s² = σ_src² + var(c_dst) on the two sides, the root's expectation moves by
+//     E[δw] = −½·h''·s² / h'³        (the inverse function's curvature, (h⁻¹)'' = −h''/h'³),
+// so the root is moved back by +½·h''·s²/h'³, with
+//     h'' = velᵀ·H·vel + ∇c·acc,   acc = −2·(T_z / q_z)·vel
+// H the destination map's second differences (c_uu, c_uv, c_vv) interpolated over the crossing
+// cell's corners,
+// vel = d pix/dw, and acc the curve's second derivative: the ideal point (a + T·w)_xy / (a + T·w)_z
+// is a Möbius map of w, whose second derivative is −2·T_z/q_z times its first (the lens's own
+// curvature over the step is left out), so ∇c·acc = −2·(T_z/q_z)·h'. The pixel moves along vel.
+// Where the maps bend (a ball's limb seen at a grazing angle) and the noise is large this moves
+// the points by up to a few µm, always the same way: the scatter's mean, not its spread. False
+// (root unchanged) where a neighbour is missing or the shift is implausible.
+inline bool ApplyNoiseTerm(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
+  const double h1 = root->slope;
+  if (p.src_sigma.empty() || !(h1 != 0)) return false;
+  const double s_src = p.src_sigma.ptr<float>(y)[x];
+  const double s2 = s_src * s_src + root->at.var;
+  if (!(s2 > 0) || !std::isfinite(s2)) return false;
+  const int u0 = root->at.u0, v0 = root->at.v0;
+  if (u0 < 1 || v0 < 1 || u0 + 2 >= p.dst_coord.cols || v0 + 2 >= p.dst_coord.rows) return false;
+  const double fu = root->at.pix.x() - u0, fv = root->at.pix.y() - v0;
+  double cuu = 0, cvv = 0, cuv = 0;
+  for (int j = 0; j < 2; ++j) {
+    const float* up = p.dst_coord.ptr<float>(v0 + j - 1);
+    const float* row = p.dst_coord.ptr<float>(v0 + j);
+    const float* down = p.dst_coord.ptr<float>(v0 + j + 1);
+    for (int i = 0; i < 2; ++i) {
+      const int u = u0 + i;
+      const double weight = (i ? fu : 1 - fu) * (j ? fv : 1 - fv);
+      const double c = row[u];
+      cuu += weight * (static_cast<double>(row[u - 1]) - 2 * c + row[u + 1]);
+      cvv += weight * (static_cast<double>(up[u]) - 2 * c + down[u]);
+      cuv += weight * 0.25 * (static_cast<double>(down[u + 1]) - down[u - 1] - up[u + 1] + up[u - 1]);
+    }
+  }
+  Vec2 vel = root->vel;
+  if (!std::isfinite(vel.x())) {
+    Vec2 pix;
+    if (!m.PixelAndVelocity(root->w, &pix, &vel)) return false;
+  }
+  const double qz = m.a.z() + p.T.z() * root->w;
+  const double h2 =
+      vel.x() * vel.x() * cuu + 2 * vel.x() * vel.y() * cuv + vel.y() * vel.y() * cvv - 2 * (p.T.z() / qz) * h1;
+  const double dw = 0.5 * h2 * s2 / (h1 * h1 * h1);
+  if (!std::isfinite(dw) || !(std::abs(dw) * vel.norm() < kMaxKernelShiftPx)) return false;
+  root->w += dw;
+  root->at.pix += vel * dw;
+  root->vel = vel;
+  return true;
+}
+
+// The second-order terms the pass applies (Pass::kernel_terms, Pass::noise_term), in that order.
+inline void ApplySecondOrderTerms(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
+  if (p.kernel_terms) ApplyKernelTerms(p, m, x, y, root);
+  if (p.noise_term) ApplyNoiseTerm(p, m, x, y, root);
+}
+
 }  // namespace
 }  // namespace ramtk::vision::detail

@@ -225,6 +225,7 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
     lrp.kernel_var_src = sum.kernel.left_px2;
     lrp.kernel_var_dst = sum.kernel.right_px2;
   }
+  lrp.noise_term = options.noise_bias_term;
   lrp.pixels = options.right_pixels;
   lrp.sigma_map = options.sigma_map;
   if (lr) {

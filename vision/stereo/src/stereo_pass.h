@@ -106,6 +106,10 @@ struct Pass {
   // the kernels' per-axis variances, px².
   bool kernel_terms = false;
   double kernel_var_src = 0, kernel_var_dst = 0;
+  // Each match of the points pass is moved by the noise's second-order term (ApplyNoiseTerm,
+  // stereo_kernel_terms.h): StereoMatchOptions::noise_bias_term.
+  bool noise_term = false;
+  bool SecondOrderTerms() const { return kernel_terms || noise_term; }
   bool full_search = false;             // StereoMatchTestHooks::full_search
   bool exhaustive = false;              // StereoMatchTestHooks::exhaustive_search
   // StereoMatchTestHooks::rectified_back_pass: the search runs on the destination coordinate map resampled

@@ -229,7 +229,7 @@ void SearchPixel(const Pass& p, Matcher& m, std::vector<Matcher::Root>& roots, R
   r->w_prev = root.w;
   r->w_last = root.w;
   r->w_row[x] = root.w;
-  if (p.kernel_terms) ApplyKernelTerms(p, m, x, y, &root);  // the outputs only: the seeds stay the search's
+  if (p.SecondOrderTerms()) ApplySecondOrderTerms(p, m, x, y, &root);  // the outputs only: the seeds stay the search's
   if (!std::isfinite(root.vel.x())) {
     Vec2 unused;
     m.PixelAndVelocity(root.w, &unused, &root.vel);
@@ -296,12 +296,12 @@ void EmitSettled(const Pass& p, Matcher& m, RowWalk* r, const detail::WalkLanes&
   r->w_prev = in.w[k];
   r->w_last = in.w[k];
   r->w_row[x] = in.w[k];
-  if (p.kernel_terms) {
-    // The lanes' root through the kernel terms, its outputs as SearchPixel forms them.
+  if (p.SecondOrderTerms()) {
+    // The lanes' root through the second-order terms, its outputs as SearchPixel forms them.
     Matcher::Root root = SettledRoot(in, k);
     m.a = Vec3(r->chain->a_x[entry], r->chain->a_y[entry], r->chain->a_z[entry]);
     m.c_src = r->crow[x];
-    ApplyKernelTerms(p, m, x, r->y, &root);
+    ApplySecondOrderTerms(p, m, x, r->y, &root);
     WriteOutputs(p, r, root, Vec2(r->chain->ideal_x[entry], r->chain->ideal_y[entry]));
     return;
   }
@@ -343,8 +343,8 @@ void CheckSettled(const Pass& p, Matcher& m, const RowWalk& r, const detail::Wal
   bool same = std::memcmp(want, got, p.points ? sizeof want : sizeof(double)) == 0;
   const float lanes[7] = {in.out_u[k], in.out_v[k], in.out_sigma[k],      in.out_depth[k],
                           in.out_x[k], in.out_y[k], in.out_point_sigma[k]};
-  // With the kernel terms EmitSettled writes SearchPixel's outputs itself, not the lanes'.
-  for (int i = 0; i < 7 && !p.kernel_terms; ++i)
+  // With the second-order terms EmitSettled writes SearchPixel's outputs itself, not the lanes'.
+  for (int i = 0; i < 7 && !p.SecondOrderTerms(); ++i)
     if (*fields[i]) same = same && std::memcmp(&scratch[i * len + r.x], &lanes[i], sizeof(float)) == 0;
   if (!same) detail::CountWalkLaneMismatch();
 }

@@ -54,6 +54,11 @@ struct StereoMatchOptions {
   // modulation differs from the left pixel's by more than this factor (either way) is another
   // surface lit by the same projector column, or a pixel straddling an edge.
   double max_modulation_ratio = 1.5;
+  // Move each match by the noise's second-order term: the root of a noisy, curved coordinate
+  // map lies off the true crossing on average by −½·h''·s²/h'³ along the epipolar curve (h the
+  // right map's coordinate along the curve, s² the two coordinates' variance). Where the maps
+  // bend (a ball's limb) this is a bias of the points' mean that grows with the noise's variance.
+  bool noise_bias_term = true;
   // Sampling step along the epipolar curve in the full search, right-camera pixels (a
   // crossing is bracketed between samples and refined on the bilinear surface).
   double search_step_px = 2.0;
