@@ -9,8 +9,12 @@
 // part of the error that is not from the noise.
 // --kernel: the calibration the scan reads states no sampling kernel (unstated, the default), the
 // kernel the render used (stated; the matcher then applies its kernel and interpolation terms),
-// or a given one, F,S = fill factor, PSF sigma px (a wrong kernel).
-//   vision_bias_budget [--seeds N] [--first-seed S (1000)] [--noise-free] [--no-noise-term] [--kernel unstated|stated|F,S] [--rigs
+// or a given one, F,S = fill factor, PSF sigma px (a wrong kernel); auto: no kernel stated and the
+// matcher estimates it from the data (StereoMatchOptions::kernel_estimate; "unstated" turns the
+// estimate off). The estimated kernel variance per seed goes to stderr, its mean and sd per rig
+// below the table.
+//   vision_bias_budget [--seeds N] [--first-seed S (1000)] [--noise-free] [--no-noise-term]
+//   [--kernel unstated|stated|auto|F,S] [--rigs
 //   small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]
 // --no-noise-term: the matcher without its noise term (StereoMatchOptions::noise_bias_term).
 // Rigs: small = the README demo rig (`ramtk simulate fringe --preset small`, 640x512 windows of
@@ -22,7 +26,8 @@
 // complementary Gray, point-sampled, saturation 0.5 (docs/scan.md's 2048 rig), auto windows;
 // slmaster = the small preset's scene and sequence around SLMaster's real calibration
 // (RAMTK_SHARED_DIR/data/slmaster-binocular/caliInfo.yml), auto windows.
-// Each rig name takes modifiers (MakeRig): 2048-4step+steps=12, slmaster+ss=1+bits=16, ...
+// Each rig name takes modifiers (MakeRig): 2048-4step+steps=12, slmaster+ss=1+bits=16, ...;
+// +psf=S / +fill=F render with that lens PSF σ (px) / fill factor (applied in order: +ss first).
 // A noise-free render quantised to 8 bits is not dithered: its error carries the quantisation's
 // pattern (µm on the larger-pixel rigs); +bits=16 separates the model's own error.
 #include <Eigen/Core>
@@ -56,7 +61,8 @@ Rig MakeBaseRig(const std::string& name);
 // A rig with modifiers after its name, each "+key=value": +steps=N (the phase-shift steps),
 // +cycles=C (fringe periods across the projector; the Gray bits follow), +ss=S (supersampling;
 // 1 = point sampling), +exposure=X (the saturation effect's exposure factor),
-// +bits=B (the sensor's bit depth, 8..16). E.g. 2048-4step+steps=12.
+// +bits=B (the sensor's bit depth, 8..16), +psf=S / +fill=F (both cameras' kernel: that PSF σ px / fill
+// factor, the rest as rendered). E.g. 2048-4step+steps=12.
 Rig MakeRig(const std::string& spec) {
   std::stringstream parts(spec);
   std::string base;
@@ -83,6 +89,12 @@ Rig MakeRig(const std::string& spec) {
       rig.config.supersampling = static_cast<int>(value);
     } else if (key == "bits" && value >= 8 && value <= 16) {
       rig.config.sensor.bits = static_cast<int>(value);
+    } else if ((key == "psf" || key == "fill") && value >= 0) {
+      for (int cam = 0; cam < 2; ++cam) {  // the rendered kernel with its PSF σ or fill factor replaced
+        camera::SamplingKernel k = RenderedKernel(rig.config, cam);
+        (key == "psf" ? k.psf_sigma_px : k.fill_factor) = value;
+        (cam ? rig.config.cameras.right : rig.config.cameras.left).sampling_kernel = k;
+      }
     } else if (key == "exposure" && value > 0) {
       rig.config.effects.Set("saturation", value);
     } else {
@@ -138,6 +150,8 @@ Rig MakeBaseRig(const std::string& name) {
 struct Draw {
   Eigen::Vector3d error, sigma, crlb;
   double radius_error;
+  double kernel_px2;  // the matcher's kernel variance estimate (NaN: none)
+  std::string kernel_status;
 };
 
 struct RigResult {
@@ -148,15 +162,16 @@ struct RigResult {
 // The calibration the scan reads: the render's own (no kernel stated), its kernel stated
 // ("stated", StateRenderedKernel), or a kernel "F,S" stated for both cameras (fill factor, PSF σ px).
 StereoCalibration ScanCalibration(const FringeSimulationConfig& c, const std::string& kernel) {
-  if (kernel == "unstated") return WrittenCalibration(c);
   if (kernel == "stated") return WrittenCalibration(StateRenderedKernel(c));
+  StereoCalibration calib = WrittenCalibration(c);
+  calib.left.sampling_kernel = calib.right.sampling_kernel = std::nullopt;  // a +psf / +fill render's too
+  if (kernel == "unstated" || kernel == "auto") return calib;
   camera::SamplingKernel k;
   if (std::sscanf(kernel.c_str(), "%lf,%lf", &k.fill_factor, &k.psf_sigma_px) != 2 || !k.Validate().empty()) {
     std::fprintf(stderr, "--kernel: expected unstated, stated or F,S (fill factor, PSF sigma px), got %s\n",
                  kernel.c_str());
     std::exit(2);
   }
-  StereoCalibration calib = WrittenCalibration(c);
   calib.left.sampling_kernel = calib.right.sampling_kernel = k;
   return calib;
 }
@@ -175,6 +190,7 @@ RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const st
     c.seed = first_seed + s;
     const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
     ScanOptions options;
+    if (kernel != "auto") options.match.kernel_estimate = StereoMatchOptions::KernelEstimate::kOff;
     options.match.noise_bias_term = noise_term;
     ScanResult res;
     if (rig.roi) {
@@ -190,11 +206,15 @@ RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const st
       continue;
     }
     const SphereResult& b = res.summary.spheres.spheres[0];
-    out.draws.push_back({b.centre_mm - ball, b.CentreSigma(), b.crlb_centre_sigma_mm, b.radius_mm - radius});
-    std::fprintf(stderr, "%s seed %d: error (%+.2f, %+.2f, %+.2f) um, sigma (%.2f, %.2f, %.2f) um\n", rig.name.c_str(),
-                 s, 1e3 * out.draws.back().error.x(), 1e3 * out.draws.back().error.y(),
+    const KernelVarianceEstimate& k = res.summary.match.kernel;
+    out.draws.push_back({b.centre_mm - ball, b.CentreSigma(), b.crlb_centre_sigma_mm, b.radius_mm - radius,
+                         k.variance_px2, k.status});
+    std::fprintf(stderr,
+                 "%s seed %d: error (%+.2f, %+.2f, %+.2f) um, sigma (%.2f, %.2f, %.2f) um; kernel %s k = %.4f +- %.4f "
+                 "px^2 (%ld px)\n",
+                 rig.name.c_str(), s, 1e3 * out.draws.back().error.x(), 1e3 * out.draws.back().error.y(),
                  1e3 * out.draws.back().error.z(), 1e3 * b.CentreSigma().x(), 1e3 * b.CentreSigma().y(),
-                 1e3 * b.CentreSigma().z());
+                 1e3 * b.CentreSigma().z(), k.status.c_str(), k.variance_px2, k.sigma_px2, k.pixels);
   }
   return out;
 }
@@ -243,6 +263,22 @@ void PrintRig(const Rig& rig, const RigResult& r, std::vector<std::string>* flag
   }
 }
 
+// The matcher's kernel variance estimates of a rig's seeds: mean, sd, how many were applied.
+std::string KernelLine(const Rig& rig, const RigResult& r) {
+  std::vector<double> k;
+  int applied = 0;
+  for (const Draw& d : r.draws) {
+    if (std::isfinite(d.kernel_px2)) k.push_back(d.kernel_px2);
+    applied += d.kernel_status == "applied";
+  }
+  double mean = NAN, se = NAN;
+  if (!k.empty()) MeanSe(k, &mean, &se);
+  char line[256];
+  std::snprintf(line, sizeof line, "%s: estimated kernel variance %.4f px^2, sd %.4f over %zu seeds, applied in %d",
+                rig.name.c_str(), mean, se * std::sqrt(static_cast<double>(k.size())), k.size(), applied);
+  return line;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -267,7 +303,8 @@ int main(int argc, char** argv) {
       kernel = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--seeds N] [--first-seed S] [--noise-free] [--no-noise-term] [--kernel unstated|stated|F,S] [--rigs "
+                   "usage: %s [--seeds N] [--first-seed S] [--noise-free] [--no-noise-term] "
+                   "[--kernel unstated|stated|auto|F,S] [--rigs "
                    "small,small-offaxis,small-4step,small-half,thesis-roi,2048-4step,slmaster]\n",
                    argv[0]);
       return 2;
@@ -279,15 +316,18 @@ int main(int argc, char** argv) {
       "efficiency: sd / CRLB (um) | radius bias ± s.e. (um) |\n|---|---|---|---|---|---|---|---|\n");
   std::stringstream names(rigs);
   bool any = false;
+  std::vector<std::string> kernel_lines;
   for (std::string name; std::getline(names, name, ',');) {
     const Rig rig = MakeRig(name);
     const RigResult r = RunRig(rig, seeds, first_seed, noise, kernel, noise_term);
     PrintRig(rig, r, &flagged);
+    if (kernel == "auto") kernel_lines.push_back(KernelLine(rig, r));
     any = any || !r.draws.empty();
     std::fflush(stdout);
   }
   std::printf("\n|mean| > 0.5 s.e. (marked *):");
   for (const std::string& f : flagged) std::printf(" %s;", f.c_str());
   std::printf("%s\n", flagged.empty() ? " none" : "");
+  for (const std::string& line : kernel_lines) std::printf("%s\n", line.c_str());
   return any ? 0 : 1;
 }

@@ -43,6 +43,7 @@ struct ScanCommandOptions {
   bool whole_residual_sigma = false;          // sigma_I = the whole fit residual (no random/ripple split)
   int phase_filter = 0;                       // coordinate filter radius (px), 0 = off
   double lr_sigma_factor = vision::StereoMatchOptions{}.lr_sigma_factor;
+  std::string kernel_estimate = "auto";  // a camera without a stated sampling kernel: auto (estimated) or off
   bool ray_plane = false;                 // camera–projector sets with both directions: ray–plane only
   bool no_noise_term = false;             // matches without the noise's second-order term
   std::string modulation_rule = "sigma";  // weak-fringe rejection: sigma or fixed (DecodeOptions)
@@ -74,6 +75,7 @@ vision::ScanResultSettings ResultSettings(const ScanCommandOptions& o) {
   s.whole_residual_sigma = o.whole_residual_sigma;
   s.phase_filter = o.phase_filter;
   s.lr_sigma_factor = o.lr_sigma_factor;
+  s.kernel_estimate = o.kernel_estimate;
   s.modulation_rule = o.modulation_rule;
   s.ray_plane = o.ray_plane;
   s.no_noise_term = o.no_noise_term;
@@ -100,6 +102,22 @@ void RefuseToReplaceEarlierResults(const std::string& results, const std::vector
   }
 }
 
+// The sampling kernel the match's terms used: stated, or estimated (and whether applied).
+std::string SamplingKernelLine(const vision::KernelVarianceEstimate& k) {
+  char line[256];
+  if (k.status == "stated") {
+    std::snprintf(line, sizeof line, "sampling kernel: stated, variance %.4f / %.4f px^2 (left / right)", k.left_px2,
+                  k.right_px2);
+  } else if (std::isfinite(k.variance_px2)) {
+    std::snprintf(line, sizeof line,
+                  "sampling kernel: estimated variance %.4f +- %.4f px^2 over %ld px (leverage %.1f), %s",
+                  k.variance_px2, k.sigma_px2, k.pixels, k.leverage, k.status.c_str());
+  } else {
+    std::snprintf(line, sizeof line, "sampling kernel: not estimated (%s)", k.status.c_str());
+  }
+  return line;
+}
+
 int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   using namespace vision;
   if (opt.set.empty() == opt.batch.empty())
@@ -119,6 +137,8 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   options.decode.correct_nonlinearity = !opt.no_nonlinearity;
   options.decode.coordinate_filter.radius_px = opt.phase_filter;
   options.match.lr_sigma_factor = opt.lr_sigma_factor;
+  options.match.kernel_estimate = opt.kernel_estimate == "off" ? vision::StereoMatchOptions::KernelEstimate::kOff
+                                                               : vision::StereoMatchOptions::KernelEstimate::kAuto;
   options.match.noise_bias_term = !opt.no_noise_term;
   options.decode.noise_from_neighbours = !opt.whole_residual_sigma;
   options.decode.modulation_rule =
@@ -206,6 +226,8 @@ int RunScan(const ScanCommandOptions& opt, Provenance provenance) {
   const ScanResult result = ScanFringeSet(opt.set, options);
   writer.Finish(result, opt.report);
   std::cout << result.summary.BriefReport() << "\n";
+  if (result.summary.mode == "stereo" && result.summary.match.kernel.status != "off")
+    std::cout << SamplingKernelLine(result.summary.match.kernel) << "\n";
   if (options.roi.mode != ScanRoiOptions::Mode::kFull)
     std::cout << "roi " << result.summary.roi_source << ": left " << WindowText(result.summary.windows.left)
               << ", right " << WindowText(result.summary.windows.right) << " (x,y,w,h px)\n";
@@ -271,6 +293,12 @@ void RegisterScanCommand(CLI::App& app, int* exit_code) {
                 "sigma_I = the whole sinusoid-fit residual (harmonics included, no ripple term)");
   sub->add_option("--lr-sigma-factor", opt->lr_sigma_factor,
                   "Left-right check also passes within this many back-match sigmas (0: fixed 0.5 px only)")
+      ->capture_default_str();
+  sub->add_option("--kernel-estimate", opt->kernel_estimate,
+                  "A camera whose calibration states no sampling_kernel: auto (estimate the kernel's variance from "
+                  "the matched pixels' modulation and apply the matcher's kernel terms with it, docs/scan.md) or "
+                  "off (no kernel terms unless both cameras state one)")
+      ->check(CLI::IsMember({"auto", "off"}))
       ->capture_default_str();
   sub->add_flag("--no-noise-term", opt->no_noise_term,
                 "Match without the noise's second-order term (the mean offset of a noisy root on a curved "

@@ -34,6 +34,8 @@ TEST(ScanKernel, StatedKernelRemovesTheCurvatureBiasOfLargePixels) {
     calib.left.sampling_kernel = calib.right.sampling_kernel = kernel;
     ScanOptions o;
     o.roi.mode = ScanRoiOptions::Mode::kAuto;
+    // Not stated means no kernel terms here (the estimate from the data: kernel_estimate_test.cpp).
+    o.match.kernel_estimate = StereoMatchOptions::KernelEstimate::kOff;
     const ScanResult res = ScanFrames(testing::ManifestForConfig(c), calib, l.images, r.images, 255.0, o);
     EXPECT_FALSE(res.summary.spheres.spheres.empty());
     Errors e;

@@ -54,6 +54,17 @@ ramtk_cli_test(scan_default_fixed_modulation 0
 ramtk_cli_test(scan_bad_modulation_rule 2
   ARGS scan ${SCAN_DEFAULT}/manifest.json --modulation-rule fixd --out ${SCAN_CLI}/not_written_rule
   STDERR "--modulation-rule: fixd not in")
+# The sampling kernel estimated from the data (no kernel stated in the set's calibration): on
+# the bundled set's small pixels the pairs' spread is about its noise and the scan keeps no kernel terms,
+# which stdout and summary.json say; a bad --kernel-estimate is refused.
+ramtk_cli_test(scan_default_kernel_estimate 0
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/kernel_estimate --force -q
+  STDOUT "sampling kernel: estimated variance -?0\\.0[0-9]+ \\+- 0\\.0[0-9]+ px\\^2 over [0-9]+ px \\(leverage 0\\.[0-9]\\), too little leverage"
+  FILE ${SCAN_CLI}/kernel_estimate/summary.json
+  FILE_REGEX "\"sampling_kernel\": {[^}]*\"pixels\": [0-9]+,[^}]*\"status\": \"too little leverage\"")
+ramtk_cli_test(scan_bad_kernel_estimate 2
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --kernel-estimate maybe --out ${SCAN_CLI}/not_written_kernel
+  STDERR "--kernel-estimate: maybe not in")
 # The optional phase filter on the same set: the centre stays on the truth (its sigma is ~1.5 um).
 ramtk_cli_test(scan_default_phase_filter 0
   ARGS scan ${SCAN_DEFAULT}/manifest.json --truth ${SCAN_DEFAULT}/truth/truth.json --out ${SCAN_CLI}/phase_filter --force
@@ -126,5 +137,5 @@ ramtk_cli_test(scan_batch_bad_centre 1
 
 # The matcher's sampling-kernel terms on a large-pixel rig (SLMaster's calibration from
 # RAMTK_SHARED_DIR; skipped without it), in a target of its own.
-ramtk_add_gtest(vision_kernel_scan_tests scan_kernel_test.cpp)
+ramtk_add_gtest(vision_kernel_scan_tests scan_kernel_test.cpp kernel_estimate_test.cpp)
 target_link_libraries(vision_kernel_scan_tests PRIVATE ramtk::vision ${OpenCV_LIBS})

@@ -563,7 +563,16 @@ std::string ScanSummaryToJson(const ScanSummary& s) {
                 {"rejected_left_right", s.match.rejected_lr},
                 {"rejected_no_back_match", s.match.rejected_no_back_match},
                 {"back_pass", s.match.back_pass},
-                {"median_sigma_px", s.match.median_sigma_px}};
+                {"median_sigma_px", s.match.median_sigma_px},
+                {"sampling_kernel",
+                 {{"status", s.match.kernel.status},
+                  {"applied", s.match.kernel.applied},
+                  {"estimated_variance_px2", s.match.kernel.variance_px2},
+                  {"estimated_sigma_px2", s.match.kernel.sigma_px2},
+                  {"pixels", s.match.kernel.pixels},
+                  {"leverage", s.match.kernel.leverage},
+                  {"left_variance_px2", s.match.kernel.left_px2},
+                  {"right_variance_px2", s.match.kernel.right_px2}}}};
   j["points"] = s.triangulation.points;
   j["median_point_sigma_mm"] = s.triangulation.median_sigma_mm;
   j["depth_range_mm"] = {s.triangulation.depth_min_mm, s.triangulation.depth_max_mm};

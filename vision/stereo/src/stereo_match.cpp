@@ -6,14 +6,17 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <mutex>
 #include <sstream>
 #include <vector>
 
 #include "ramtk/core/error.h"
 #include "ramtk/vision/kernels/rank_select.h"
+#include "ramtk/vision/stereo/detail/stereo_kernel_estimate.h"
 #include "ramtk/vision/stereo/detail/stereo_rectified_grid.h"
 #include "ramtk/vision/stereo/detail/stereo_search_list.h"
 #include "ramtk/vision/stereo/detail/test_hooks.h"
@@ -95,6 +98,52 @@ Pass MakePass(const StereoCalibration& calibration, const DecodedCamera& left, c
   return p;
 }
 
+// Largest jackknife σ of an estimated kernel variance k the terms are applied with: 0.01 px²
+// plus 5 % of k (a variance error of 0.01 px² moves a centre on SLMaster's rig by ~0.5 µm along
+// z; on rigs with small pixels the σ is larger, the estimate biased low, and the terms matter less).
+constexpr double kMaxKernelSigmaPx2 = 0.01;
+constexpr double kMaxKernelSigmaShare = 0.05;
+// Smallest KernelVarianceEstimate::leverage applied: on small pixels the pairs' spread in
+// ½·(q_left − q_right) is about its noise (SLMaster's rig: 3.7, its real capture 5.2, the
+// small rigs 0.8–1.1), and the estimate there reads 0.01–0.05 px² for a box's 0.078.
+constexpr double kMinKernelLeverage = 2.0;
+constexpr double kMaxKernelVariancePx2 = 1.5;  // estimates are clamped to [0, this]
+
+// The kernel variances of the points pass's terms: both stated, or estimated from the back
+// pass's matches for the camera(s) that state none (StereoMatchOptions::kernel_estimate).
+KernelVarianceEstimate ChooseKernel(const StereoCalibration& calibration, const DecodedCamera& left,
+                                    const DecodedCamera& right, const PassResult& back, double period,
+                                    const StereoMatchOptions& options) {
+  const auto& lk = calibration.left.sampling_kernel;
+  const auto& rk = calibration.right.sampling_kernel;
+  KernelVarianceEstimate e;
+  if (lk && rk) {
+    e.status = "stated";
+    e.left_px2 = lk->VariancePx2();
+    e.right_px2 = rk->VariancePx2();
+    return e;
+  }
+  if (options.kernel_estimate == StereoMatchOptions::KernelEstimate::kOff) return e;
+  e = detail::EstimateKernelVariance(left, right, back.u, back.v, period,
+                                     lk ? std::optional<double>(lk->VariancePx2()) : std::nullopt,
+                                     rk ? std::optional<double>(rk->VariancePx2()) : std::nullopt);
+  if (e.status != "estimated") return e;
+  if (!(e.leverage >= kMinKernelLeverage)) {
+    e.status = "too little leverage";
+    return e;
+  }
+  if (!(e.sigma_px2 <= kMaxKernelSigmaPx2 + kMaxKernelSigmaShare * std::abs(e.variance_px2))) {
+    e.status = "not significant";
+    return e;
+  }
+  const double k = std::clamp(e.variance_px2, 0.0, kMaxKernelVariancePx2);
+  e.status = "applied";
+  e.applied = true;
+  e.left_px2 = lk ? lk->VariancePx2() : k;
+  e.right_px2 = rk ? rk->VariancePx2() : k;
+  return e;
+}
+
 }  // namespace
 
 std::string StereoMatchOptions::Validate() const {
@@ -119,6 +168,11 @@ std::string StereoMatchSummary::BriefReport() const {
     << (left_valid ? 100.0 * matched / left_valid : 0.0) << "%; rejected " << rejected_noisy << " noisy, "
     << rejected_no_match << " no match, " << rejected_lr << " left-right, " << rejected_no_back_match
     << " without a back match; " << full_searches << " full searches), median sigma " << median_sigma_px << " px";
+  if (kernel.status != "off") {
+    s << "; sampling kernel " << kernel.status;
+    if (std::isfinite(kernel.variance_px2))
+      s << ", k = " << kernel.variance_px2 << " +- " << kernel.sigma_px2 << " px^2 over " << kernel.pixels << " px";
+  }
   return s.str();
 }
 
@@ -165,10 +219,11 @@ StereoMatch MatchStereo(const StereoCalibration& calibration, const DecodedCamer
   }
   Pass lrp = MakePass(calibration, left, right, period, options, hooks, rectified, true);
   lrp.points = true;
-  if (calibration.left.sampling_kernel && calibration.right.sampling_kernel) {
+  sum.kernel = ChooseKernel(calibration, left, right, back, period, options);
+  if (sum.kernel.status == "stated" || sum.kernel.applied) {
     lrp.kernel_terms = true;
-    lrp.kernel_var_src = calibration.left.sampling_kernel->VariancePx2();
-    lrp.kernel_var_dst = calibration.right.sampling_kernel->VariancePx2();
+    lrp.kernel_var_src = sum.kernel.left_px2;
+    lrp.kernel_var_dst = sum.kernel.right_px2;
   }
   lrp.noise_term = options.noise_bias_term;
   lrp.pixels = options.right_pixels;

@@ -18,6 +18,7 @@
 // the left image must land on the left pixel) — which removes occlusions, where the left ray's surface is hidden from
 // the right camera.
 
+#include <limits>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -68,10 +69,39 @@ struct StereoMatchOptions {
   // (point_sigma_mm), and the summary's median needs only the matched pixels' values: false
   // saves a float map (5 MB on a 1.3 Mpx frame, first touched and then released).
   bool sigma_map = true;
+  // A camera whose calibration states no sampling kernel: kAuto estimates its kernel variance
+  // from the back pass's matches (stereo_kernel_estimate.h) and applies the kernel terms with it
+  // when the estimate is usable; kOff applies no kernel terms unless both cameras state one.
+  enum class KernelEstimate { kAuto, kOff };
+  KernelEstimate kernel_estimate = KernelEstimate::kAuto;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // "" when usable, else the first problem as `field: what is wrong`.
   std::string Validate() const;
+};
+
+// The cameras' sampling-kernel variance measured from the stereo data (StereoMatchOptions::
+// kernel_estimate): a fringe's modulation B is reduced by the kernel's MTF, 1 − ½·k·|g|² for a
+// local phase gradient g (rad per px), so log(B_left / B_right) over matched pixels regresses on
+// −½·(|g_left|² − |g_right|²) with slope k.
+struct KernelVarianceEstimate {
+  // "stated" (both cameras state a kernel; nothing estimated), "off" (not asked), "applied",
+  // or why the estimate is not applied: "no back pass", "too few pixels", "too little
+  // leverage", "not significant".
+  std::string status = "off";
+  bool applied = false;  // the kernel terms run with the estimate
+  // The estimated per-axis kernel variance k, px², before clamping to [0, 1.5], and its
+  // jackknife σ over bands of rows; NaN when not estimated.
+  double variance_px2 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_px2 = std::numeric_limits<double>::quiet_NaN();
+  // The variance the terms use per camera (clamped estimate or stated), px²; NaN if no terms.
+  double left_px2 = std::numeric_limits<double>::quiet_NaN();
+  double right_px2 = std::numeric_limits<double>::quiet_NaN();
+  long pixels = 0;  // matched pixel pairs in the regression
+  // The regressor's spread over the pairs (median absolute deviation of ½·(q_left − q_right))
+  // over the RMS of its noise: below 2 the fit leans on the predicted noise (errors in
+  // variables) and is not applied; NaN when not estimated.
+  double leverage = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct StereoMatchSummary {
@@ -90,6 +120,7 @@ struct StereoMatchSummary {
   // "curve" (along the distorted curves: asked for, or no usable grid for this rig), "" (no check).
   std::string back_pass;
   double median_sigma_px = 0;  // median match sigma along the epipolar curve, right px
+  KernelVarianceEstimate kernel;  // the sampling kernel the points pass's terms use
   std::string BriefReport() const;
 };
 
