@@ -17,7 +17,6 @@
 // over the crossing cell's corners on the right).
 
 #include <cmath>
-#include <cstdlib>
 
 #include "stereo_matcher.h"
 
@@ -57,7 +56,7 @@ inline bool ShadingTerm(const cv::Mat& coord, const cv::Mat& modulation, int x, 
 
 // Largest shift of a crossing by the kernel terms, destination px: the terms are ~0.01 px; a
 // larger one comes from differences across an edge or an unwrap error, and is not applied.
-inline const double kMaxKernelShiftPx = std::getenv("RAMTK_MAXSHIFT") ? std::atof(std::getenv("RAMTK_MAXSHIFT")) : 0.1;
+constexpr double kMaxKernelShiftPx = 0.1;
 
 // Moves `root` (the crossing of source pixel (x, y)) to where the kernel-free coordinates cross.
 // The destination's terms are interpolated over the crossing cell's four corners. False (root unchanged) where a second difference
