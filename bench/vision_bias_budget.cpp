@@ -190,7 +190,8 @@ RigResult RunRig(const Rig& rig, int seeds, int first_seed, bool noise, const st
     c.seed = first_seed + s;
     const SimulatedCamera l = ResenseCamera(c, l0, 0), r = ResenseCamera(c, r0, 1);
     ScanOptions options;
-    if (kernel != "auto") options.match.kernel_estimate = StereoMatchOptions::KernelEstimate::kOff;
+    options.match.kernel_estimate =
+        kernel == "auto" ? StereoMatchOptions::KernelEstimate::kAuto : StereoMatchOptions::KernelEstimate::kOff;
     options.match.noise_bias_term = noise_term;
     ScanResult res;
     if (rig.roi) {

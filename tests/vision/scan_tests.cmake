@@ -58,7 +58,7 @@ ramtk_cli_test(scan_bad_modulation_rule 2
 # the bundled set's small pixels the pairs' spread is about its noise and the scan keeps no kernel terms,
 # which stdout and summary.json say; a bad --kernel-estimate is refused.
 ramtk_cli_test(scan_default_kernel_estimate 0
-  ARGS scan ${SCAN_DEFAULT}/manifest.json --out ${SCAN_CLI}/kernel_estimate --force -q
+  ARGS scan ${SCAN_DEFAULT}/manifest.json --kernel-estimate auto --out ${SCAN_CLI}/kernel_estimate --force -q
   STDOUT "sampling kernel: estimated variance -?0\\.0[0-9]+ \\+- 0\\.0[0-9]+ px\\^2 over [0-9]+ px \\(leverage 0\\.[0-9]\\), too little leverage"
   FILE ${SCAN_CLI}/kernel_estimate/summary.json
   FILE_REGEX "\"sampling_kernel\": {[^}]*\"pixels\": [0-9]+,[^}]*\"status\": \"too little leverage\"")

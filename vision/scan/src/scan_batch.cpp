@@ -35,7 +35,7 @@ std::string ScanResultSettings::ToString() const {
   if (modulation_rule != "sigma") s << ";modulation_rule=" << modulation_rule;
   if (max_order_error != 1e-4) s << ";max_order_error=" << max_order_error;
   if (ray_plane) s << ";ray_plane=1";
-  if (kernel_estimate != "auto") s << ";kernel_estimate=" << kernel_estimate;
+  if (kernel_estimate != "off") s << ";kernel_estimate=" << kernel_estimate;
   if (no_noise_term) s << ";no_noise_term=1";
   return s.str();
 }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <vector>
 
 namespace ramtk::vision::detail {
@@ -110,31 +112,63 @@ double Median(std::vector<double> v) {
 
 // Huber-robust weighted line y = a + k·x over the points outside [skip_begin, skip_end); the slope
 // k, with x's noise variance vx taken out of its spread (the errors-in-variables correction).
-double RobustSlope(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w,
-                   const std::vector<double>& vx, std::size_t skip_begin, std::size_t skip_end) {
-  const std::size_t n = x.size();
-  std::vector<double> h(n, 1.0), z;
-  double a = 0, k = 0;
-  for (int iter = 0; iter < 10; ++iter) {
-    double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, sv = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (i >= skip_begin && i < skip_end) continue;
-      const double wi = w[i] * h[i];
-      sw += wi, sx += wi * x[i], sy += wi * y[i], sxx += wi * x[i] * x[i], sxy += wi * x[i] * y[i], sv += wi * vx[i];
-    }
+// The weighted sums of one least-squares slope with the regressor's noise removed
+// (errors-in-variables: Σw·x² less Σw·var(x)).
+struct Sums {
+  double sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, sv = 0;
+  void Add(double w, double x, double y, double vx) {
+    sw += w, sx += w * x, sy += w * y, sxx += w * x * x, sxy += w * x * y, sv += w * vx;
+  }
+  Sums Minus(const Sums& o) const {
+    return {sw - o.sw, sx - o.sx, sy - o.sy, sxx - o.sxx, sxy - o.sxy, sv - o.sv};
+  }
+  // Slope and intercept; false if the sums hold no slope.
+  bool Solve(double* k, double* a) const {
     const double det = sw * (sxx - sv) - sx * sx;
-    if (!(det > 0)) return std::numeric_limits<double>::quiet_NaN();
-    k = (sw * sxy - sx * sy) / det;
-    a = (sy - k * sx) / sw;
-    z.clear();
-    for (std::size_t i = 0; i < n; ++i)
-      if (i < skip_begin || i >= skip_end) z.push_back(std::abs(y[i] - a - k * x[i]) * std::sqrt(w[i]));
-    const double c = 1.345 * 1.4826 * Median(z);
-    if (!(c > 0)) break;
+    if (!(det > 0)) return false;
+    *k = (sw * sxy - sx * sy) / det;
+    *a = (sy - *k * sx) / sw;
+    return true;
+  }
+};
+
+// Huber-weighted slope of y on x (weights w, regressor noise variances vx) by iteratively
+// reweighted least squares. The Huber threshold is fixed from the unweighted fit's residuals
+// (1.345 robust σ, their median absolute value), and the iterations stop when the slope moves by
+// less than 1e-6 px² + 1e-4 of itself. The leave-one-band-out slopes of the jackknife are the
+// final weights' sums less each band's (the final Huber weights held: a one-step jackknife), in
+// *jack (kBands values; bands of equal pair counts, in the pairs' row order). NaN: no slope.
+double RobustSlope(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& w,
+                   const std::vector<double>& vx, std::vector<double>* jack) {
+  const std::size_t n = x.size();
+  jack->assign(kBands, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> h(n, 1.0);
+  Sums all;
+  for (std::size_t i = 0; i < n; ++i) all.Add(w[i], x[i], y[i], vx[i]);
+  double k = 0, a = 0;
+  if (!all.Solve(&k, &a)) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> z(n);
+  for (std::size_t i = 0; i < n; ++i) z[i] = std::abs(y[i] - a - k * x[i]) * std::sqrt(w[i]);
+  const double c = 1.345 * 1.4826 * Median(z);
+  for (int iter = 0; iter < 10 && c > 0; ++iter) {
+    Sums s;
     for (std::size_t i = 0; i < n; ++i) {
       const double r = std::abs(y[i] - a - k * x[i]) * std::sqrt(w[i]);
       h[i] = r > c ? c / r : 1.0;
+      s.Add(w[i] * h[i], x[i], y[i], vx[i]);
     }
+    const double k_before = k;
+    if (!s.Solve(&k, &a)) return std::numeric_limits<double>::quiet_NaN();
+    if (std::abs(k - k_before) <= 1e-6 + 1e-4 * std::abs(k)) break;
+  }
+  Sums total;
+  std::vector<Sums> band(kBands);
+  for (std::size_t i = 0; i < n; ++i) band[i * kBands / n].Add(w[i] * h[i], x[i], y[i], vx[i]);
+  for (const Sums& b : band) total = Sums{total.sw + b.sw, total.sx + b.sx, total.sy + b.sy,
+                                          total.sxx + b.sxx, total.sxy + b.sxy, total.sv + b.sv};
+  for (int b = 0; b < kBands; ++b) {
+    double kb = 0, ab = 0;
+    if (total.Minus(band[b]).Solve(&kb, &ab)) (*jack)[b] = kb;
   }
   return k;
 }
@@ -156,38 +190,52 @@ KernelVarianceEstimate EstimateKernelVariance(const DecodedCamera& left, const D
   }
   const cv::Mat left_interior = Interior(left), right_interior = Interior(right);
   const double scale2 = (kTwoPi / period) * (kTwoPi / period);
-  std::vector<Pair> pairs;
-  for (int y = 0; y < right.coordinate.rows; ++y) {
-    const uchar* in = right_interior.ptr<uchar>(y);
-    const float* bu = back_u.ptr<float>(y);
-    const float* bv = back_v.ptr<float>(y);
-    for (int x = 0; x < right.coordinate.cols; ++x) {
-      Pair p;
-      if (in[x] && std::isfinite(bu[x]) && std::isfinite(bv[x]) &&
-          MakePair(left, right, left_interior, x, y, bu[x], bv[x], scale2, &p))
-        pairs.push_back(p);
+  // Each row's pairs in parallel, reduced to what the regression reads, then joined in row order
+  // (the jackknife's bands are of rows).
+  struct Row {
+    std::vector<float> b_left, b_right, x, y, vx;
+  };
+  std::vector<Row> rows(right.coordinate.rows);
+  tbb::parallel_for(tbb::blocked_range<int>(0, right.coordinate.rows, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y != r.end(); ++y) {
+      const uchar* in = right_interior.ptr<uchar>(y);
+      const float* bu = back_u.ptr<float>(y);
+      const float* bv = back_v.ptr<float>(y);
+      Row& row = rows[y];
+      for (int x = 0; x < right.coordinate.cols; ++x) {
+        Pair p;
+        if (!(in[x] && std::isfinite(bu[x]) && std::isfinite(bv[x]) &&
+              MakePair(left, right, left_interior, x, y, bu[x], bv[x], scale2, &p)))
+          continue;
+        // q = ΔB/B − |g|² per camera: log B_measured = log B + ½·k·q.
+        const double ql = p.lap_left - p.g2_left.g2, qr = p.lap_right - p.g2_right.g2;
+        const double vl = p.g2_left.var + p.lap_var_left, vr = p.g2_right.var + p.lap_var_right;
+        double yv = std::log(p.b_left / p.b_right) - p.log_bias_left, xv = 0.5 * (ql - qr), vx = 0.25 * (vl + vr);
+        if (left_known) yv -= 0.5 * *left_known * ql, xv = -0.5 * qr, vx = 0.25 * vr;
+        if (right_known) yv += 0.5 * *right_known * qr, xv = 0.5 * ql, vx = 0.25 * vl;
+        row.b_left.push_back(static_cast<float>(p.b_left));
+        row.b_right.push_back(static_cast<float>(p.b_right));
+        row.x.push_back(static_cast<float>(xv));
+        row.y.push_back(static_cast<float>(yv));
+        row.vx.push_back(static_cast<float>(vx));
+      }
     }
-  }
+  });
+  // The modulation floor: a share of the pairs' median right B (from every 8th pair).
   std::vector<double> b;
-  b.reserve(pairs.size());
-  for (const Pair& p : pairs) b.push_back(p.b_right);
+  for (const Row& row : rows)
+    for (std::size_t i = 0; i < row.b_right.size(); i += 8) b.push_back(row.b_right[i]);
   const double floor_b = kMinModulationShare * Median(b);
   std::vector<double> xs, ys, ws, vs;
-  for (const Pair& p : pairs) {
-    const double ratio = p.b_left / p.b_right;
-    if (p.b_left < floor_b || p.b_right < floor_b || ratio > kMaxModulationRatio || ratio < 1 / kMaxModulationRatio)
-      continue;
-    // q = ΔB/B − |g|² per camera: log B_measured = log B + ½·k·q.
-    const double ql = p.lap_left - p.g2_left.g2, qr = p.lap_right - p.g2_right.g2;
-    const double vl = p.g2_left.var + p.lap_var_left, vr = p.g2_right.var + p.lap_var_right;
-    double yv = std::log(ratio) - p.log_bias_left, xv = 0.5 * (ql - qr), vx = 0.25 * (vl + vr);
-    if (left_known) yv -= 0.5 * *left_known * ql, xv = -0.5 * qr, vx = 0.25 * vr;
-    if (right_known) yv += 0.5 * *right_known * qr, xv = 0.5 * ql, vx = 0.25 * vl;
-    xs.push_back(xv);
-    vs.push_back(vx);
-    ys.push_back(yv);
-    ws.push_back(1.0 / (1.0 / (p.b_left * p.b_left) + 1.0 / (p.b_right * p.b_right)));
-  }
+  for (const Row& row : rows)
+    for (std::size_t i = 0; i < row.x.size(); ++i) {
+      const double bl = row.b_left[i], br = row.b_right[i], ratio = bl / br;
+      if (bl < floor_b || br < floor_b || ratio > kMaxModulationRatio || ratio < 1 / kMaxModulationRatio) continue;
+      xs.push_back(row.x[i]);
+      vs.push_back(row.vx[i]);
+      ys.push_back(row.y[i]);
+      ws.push_back(1.0 / (1.0 / (bl * bl) + 1.0 / (br * br)));
+    }
   e.pixels = static_cast<long>(xs.size());
   if (e.pixels < std::max<long>(min_pixels, 2 * kBands)) {
     e.status = "too few pixels";
@@ -195,20 +243,20 @@ KernelVarianceEstimate EstimateKernelVariance(const DecodedCamera& left, const D
   }
   e.status = "estimated";
   const std::size_t n = xs.size();
-  e.variance_px2 = RobustSlope(xs, ys, ws, vs, n, n);
+  std::vector<double> jack;
+  e.variance_px2 = RobustSlope(xs, ys, ws, vs, &jack);
   // The regressor's robust spread (median absolute deviation) over its noise's RMS.
   double mean_vx = 0;
   for (double v : vs) mean_vx += v / static_cast<double>(n);
-  const double mid = Median(xs);
-  std::vector<double> dev(n);
-  for (std::size_t i = 0; i < n; ++i) dev[i] = std::abs(xs[i] - mid);
+  // (from every 4th pair: a gate's figure, not the estimate)
+  std::vector<double> sample;
+  for (std::size_t i = 0; i < n; i += 4) sample.push_back(xs[i]);
+  const double mid = Median(sample);
+  std::vector<double> dev;
+  for (double v : sample) dev.push_back(std::abs(v - mid));
   e.leverage = mean_vx > 0 ? Median(dev) / std::sqrt(mean_vx) : std::numeric_limits<double>::infinity();
-  std::vector<double> jack(kBands);
   double mean = 0;
-  for (int k = 0; k < kBands; ++k) {
-    jack[k] = RobustSlope(xs, ys, ws, vs, n * k / kBands, n * (k + 1) / kBands);
-    mean += jack[k] / kBands;
-  }
+  for (double v : jack) mean += v / kBands;
   double ss = 0;
   for (double v : jack) ss += (v - mean) * (v - mean);
   e.sigma_px2 = std::sqrt((kBands - 1.0) / kBands * ss);

@@ -57,27 +57,57 @@ inline bool ShadingTerm(const cv::Mat& coord, const cv::Mat& modulation, int x, 
 // Largest shift of a crossing by the kernel terms, destination px: the terms are ~0.01 px; a
 // larger one comes from differences across an edge or an unwrap error, and is not applied.
 constexpr double kMaxKernelShiftPx = 0.1;
+// Smallest shift the noise term applies, destination px.
+constexpr double kMinNoiseShiftPx = 1e-5;
+
+// The destination map's second differences (c_uu, c_vv, c_uv) interpolated over the crossing
+// cell's four corners, read once for both terms; ok false where a neighbour lies outside the map
+// or is not finite.
+struct CellCurvature {
+  double uu = 0, vv = 0, uv = 0;
+  bool ok = false;
+};
+
+inline CellCurvature CrossingCellCurvature(const Pass& p, const Matcher::Root& root) {
+  CellCurvature k;
+  const int u0 = root.at.u0, v0 = root.at.v0;
+  if (u0 < 1 || v0 < 1 || u0 + 2 >= p.dst_coord.cols || v0 + 2 >= p.dst_coord.rows) return k;
+  const double fu = root.at.pix.x() - u0, fv = root.at.pix.y() - v0;
+  double c[4][4];  // rows v0 − 1 … v0 + 2, columns u0 − 1 … u0 + 2
+  for (int j = 0; j < 4; ++j) {
+    const float* row = p.dst_coord.ptr<float>(v0 - 1 + j) + (u0 - 1);
+    for (int i = 0; i < 4; ++i) c[j][i] = row[i];
+  }
+  for (int j = 1; j < 3; ++j)
+    for (int i = 1; i < 3; ++i) {
+      const double weight = (i == 2 ? fu : 1 - fu) * (j == 2 ? fv : 1 - fv);
+      k.uu += weight * (c[j][i - 1] - 2 * c[j][i] + c[j][i + 1]);
+      k.vv += weight * (c[j - 1][i] - 2 * c[j][i] + c[j + 1][i]);
+      k.uv += weight * 0.25 * (c[j + 1][i + 1] - c[j + 1][i - 1] - c[j - 1][i + 1] + c[j - 1][i - 1]);
+    }
+  k.ok = std::isfinite(k.uu) && std::isfinite(k.vv) && std::isfinite(k.uv);
+  return k;
+}
 
 // Moves `root` (the crossing of source pixel (x, y)) to where the kernel-free coordinates cross.
 // The destination's terms are interpolated over the crossing cell's four corners. False (root unchanged) where a second difference
 // is unavailable or the shift is implausible.
-inline bool ApplyKernelTerms(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
+inline bool ApplyKernelTerms(const Pass& p, const Matcher& m, int x, int y, const CellCurvature& k,
+                             Matcher::Root* root) {
   double luu = 0, lvv = 0;
-  if (!SecondDifferences(p.src_coord, x, y, &luu, &lvv)) return false;
+  if (!k.ok || !SecondDifferences(p.src_coord, x, y, &luu, &lvv)) return false;
   const int u0 = root->at.u0, v0 = root->at.v0;
   const double fu = root->at.pix.x() - u0, fv = root->at.pix.y() - v0;
-  double ruu = 0, rvv = 0, rsh = 0, lsh = 0;
+  const double ruu = k.uu, rvv = k.vv;
+  double rsh = 0, lsh = 0;
   if (!ShadingTerm(p.src_coord, p.src_modulation, x, y, p.kernel_var_src, &lsh)) return false;
-  for (int j = 0; j < 2; ++j) {
-    for (int i = 0; i < 2; ++i) {
-      double duu = 0, dvv = 0, sh = 0;
-      if (!SecondDifferences(p.dst_coord, u0 + i, v0 + j, &duu, &dvv) ||
-          !ShadingTerm(p.dst_coord, p.dst_modulation, u0 + i, v0 + j, p.kernel_var_dst, &sh))
-        return false;
-      const double weight = (i ? fu : 1 - fu) * (j ? fv : 1 - fv);
-      ruu += weight * duu;
-      rvv += weight * dvv;
-      rsh += weight * sh;
+  if (p.kernel_var_dst != 0) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) {
+        double sh = 0;
+        if (!ShadingTerm(p.dst_coord, p.dst_modulation, u0 + i, v0 + j, p.kernel_var_dst, &sh)) return false;
+        rsh += (i ? fu : 1 - fu) * (j ? fv : 1 - fv) * sh;
+      }
     }
   }
   const double bias_dst = 0.5 * (fu * (1 - fu) * ruu + fv * (1 - fv) * rvv) + 0.5 * p.kernel_var_dst * (ruu + rvv) + rsh;
@@ -107,29 +137,14 @@ inline bool ApplyKernelTerms(const Pass& p, const Matcher& m, int x, int y, Matc
 // Where the maps bend (a ball's limb seen at a grazing angle) and the noise is large this moves
 // the points by up to a few µm, always the same way: the scatter's mean, not its spread. False
 // (root unchanged) where a neighbour is missing or the shift is implausible.
-inline bool ApplyNoiseTerm(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
+inline bool ApplyNoiseTerm(const Pass& p, const Matcher& m, int x, int y, const CellCurvature& k,
+                           Matcher::Root* root) {
   const double h1 = root->slope;
-  if (p.src_sigma.empty() || !(h1 != 0)) return false;
+  if (!k.ok || p.src_sigma.empty() || !(h1 != 0)) return false;
   const double s_src = p.src_sigma.ptr<float>(y)[x];
   const double s2 = s_src * s_src + root->at.var;
   if (!(s2 > 0) || !std::isfinite(s2)) return false;
-  const int u0 = root->at.u0, v0 = root->at.v0;
-  if (u0 < 1 || v0 < 1 || u0 + 2 >= p.dst_coord.cols || v0 + 2 >= p.dst_coord.rows) return false;
-  const double fu = root->at.pix.x() - u0, fv = root->at.pix.y() - v0;
-  double cuu = 0, cvv = 0, cuv = 0;
-  for (int j = 0; j < 2; ++j) {
-    const float* up = p.dst_coord.ptr<float>(v0 + j - 1);
-    const float* row = p.dst_coord.ptr<float>(v0 + j);
-    const float* down = p.dst_coord.ptr<float>(v0 + j + 1);
-    for (int i = 0; i < 2; ++i) {
-      const int u = u0 + i;
-      const double weight = (i ? fu : 1 - fu) * (j ? fv : 1 - fv);
-      const double c = row[u];
-      cuu += weight * (static_cast<double>(row[u - 1]) - 2 * c + row[u + 1]);
-      cvv += weight * (static_cast<double>(up[u]) - 2 * c + down[u]);
-      cuv += weight * 0.25 * (static_cast<double>(down[u + 1]) - down[u - 1] - up[u + 1] + up[u - 1]);
-    }
-  }
+  const double cuu = k.uu, cvv = k.vv, cuv = k.uv;
   Vec2 vel = root->vel;
   if (!std::isfinite(vel.x())) {
     Vec2 pix;
@@ -139,7 +154,10 @@ inline bool ApplyNoiseTerm(const Pass& p, const Matcher& m, int x, int y, Matche
   const double h2 =
       vel.x() * vel.x() * cuu + 2 * vel.x() * vel.y() * cuv + vel.y() * vel.y() * cvv - 2 * (p.T.z() / qz) * h1;
   const double dw = 0.5 * h2 * s2 / (h1 * h1 * h1);
-  if (!std::isfinite(dw) || !(std::abs(dw) * vel.norm() < kMaxKernelShiftPx)) return false;
+  const double shift_px = std::abs(dw) * vel.norm();
+  // Below kMinNoiseShiftPx the match stays (and keeps the walk's own outputs): a systematic
+  // shift that small is < 0.01 µm at 1 mm of depth per pixel.
+  if (!std::isfinite(dw) || !(shift_px < kMaxKernelShiftPx) || shift_px < kMinNoiseShiftPx) return false;
   root->w += dw;
   root->at.pix += vel * dw;
   root->vel = vel;
@@ -148,8 +166,9 @@ inline bool ApplyNoiseTerm(const Pass& p, const Matcher& m, int x, int y, Matche
 
 // The second-order terms the pass applies (Pass::kernel_terms, Pass::noise_term), in that order.
 inline void ApplySecondOrderTerms(const Pass& p, const Matcher& m, int x, int y, Matcher::Root* root) {
-  if (p.kernel_terms) ApplyKernelTerms(p, m, x, y, root);
-  if (p.noise_term) ApplyNoiseTerm(p, m, x, y, root);
+  const CellCurvature k = CrossingCellCurvature(p, *root);  // at the search's root, for both terms
+  if (p.kernel_terms) ApplyKernelTerms(p, m, x, y, k, root);
+  if (p.noise_term) ApplyNoiseTerm(p, m, x, y, k, root);
 }
 
 }  // namespace

@@ -297,13 +297,21 @@ void EmitSettled(const Pass& p, Matcher& m, RowWalk* r, const detail::WalkLanes&
   r->w_last = in.w[k];
   r->w_row[x] = in.w[k];
   if (p.SecondOrderTerms()) {
-    // The lanes' root through the second-order terms, its outputs as SearchPixel forms them.
     Matcher::Root root = SettledRoot(in, k);
     m.a = Vec3(r->chain->a_x[entry], r->chain->a_y[entry], r->chain->a_z[entry]);
     m.c_src = r->crow[x];
-    ApplySecondOrderTerms(p, m, x, r->y, &root);
-    WriteOutputs(p, r, root, Vec2(r->chain->ideal_x[entry], r->chain->ideal_y[entry]));
-    return;
+    if (p.kernel_terms) {
+      // The lanes' root through the second-order terms, its outputs as SearchPixel forms them.
+      ApplySecondOrderTerms(p, m, x, r->y, &root);
+      WriteOutputs(p, r, root, Vec2(r->chain->ideal_x[entry], r->chain->ideal_y[entry]));
+      return;
+    }
+    // The noise term alone: where it moves the root, its outputs as SearchPixel forms them; where
+    // it does not, the lanes' own.
+    if (ApplyNoiseTerm(p, m, x, r->y, CrossingCellCurvature(p, root), &root)) {
+      WriteOutputs(p, r, root, Vec2(r->chain->ideal_x[entry], r->chain->ideal_y[entry]));
+      return;
+    }
   }
   if (p.pixels) {
     r->u_row[x] = in.out_u[k];

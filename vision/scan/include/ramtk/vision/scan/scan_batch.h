@@ -47,7 +47,7 @@ struct ScanResultSettings {
   std::string modulation_rule = "sigma";  // --modulation-rule (recorded only when not "sigma")
   double max_order_error = 1e-4;          // --max-order-error (recorded only when not 1e-4)
   bool ray_plane = false;                 // --ray-plane (recorded only when on)
-  std::string kernel_estimate = "auto";   // --kernel-estimate (recorded only when not "auto")
+  std::string kernel_estimate = "off";    // --kernel-estimate (recorded only when not "off")
   bool no_noise_term = false;             // --no-noise-term (recorded only when on)
   std::string projector_calib;       // --projector-calib as given
   std::string ToString() const;

@@ -71,9 +71,11 @@ struct StereoMatchOptions {
   bool sigma_map = true;
   // A camera whose calibration states no sampling kernel: kAuto estimates its kernel variance
   // from the back pass's matches (stereo_kernel_estimate.h) and applies the kernel terms with it
-  // when the estimate is usable; kOff applies no kernel terms unless both cameras state one.
+  // when the estimate is usable; kOff (default) applies no kernel terms unless both cameras state
+  // one. Off by default for its cost: on the SLMaster set the estimate and the terms add ~55 ms
+  // to a ~145 ms scan (docs/scan.md), against the scan's speed guard beside SLMaster.
   enum class KernelEstimate { kAuto, kOff };
-  KernelEstimate kernel_estimate = KernelEstimate::kAuto;
+  KernelEstimate kernel_estimate = KernelEstimate::kOff;
   // Called once per 64 rows of each pass; returning false cancels (termination "cancelled").
   ProgressCallback progress;
   // "" when usable, else the first problem as `field: what is wrong`.
