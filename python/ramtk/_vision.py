@@ -103,10 +103,13 @@ def scan_options(*, calibration: Optional[PathLike] = None, radius: float = 19.0
                  spheres: int = 1, min_depth: float = 100.0, max_depth: float = 10000.0, phase_filter: int = 0,
                  roi: str = "full", roi_margin: float = _D["roi_margin"], roi_stride: int = 0,
                  no_nonlinearity: bool = False, whole_residual_sigma: bool = False,
-                 lr_sigma_factor: float = _D["lr_sigma_factor"], load_whole_frames: bool = False) -> Dict[str, Any]:
+                 lr_sigma_factor: float = _D["lr_sigma_factor"], load_whole_frames: bool = False,
+                 noise_term: bool = True, kernel_estimate: str = "off") -> Dict[str, Any]:
     """The scan's options checked, as the dict the C++ layer reads (ramtk.scan documents them)."""
     if not isinstance(roi, str):
         raise check.fail("roi", f"expected 'full', 'auto' or 'X,Y,Z', got {type(roi).__name__}")
+    if kernel_estimate not in ("auto", "off"):
+        raise check.fail("kernel_estimate", f"expected 'auto' or 'off', got {kernel_estimate!r}")
     opts: Dict[str, Any] = {
         "calibration": "" if calibration is None else check.path(calibration, "calibration"),
         "radius": check.number(radius, "radius", 0.0), "fix_radius": check.flag(fix_radius, "fix_radius"),
@@ -115,6 +118,7 @@ def scan_options(*, calibration: Optional[PathLike] = None, radius: float = 19.0
         "roi_margin": check.number(roi_margin, "roi_margin", 0.0), "roi_stride": check.count(roi_stride, "roi_stride", 0),
         "lr_sigma_factor": check.number(lr_sigma_factor, "lr_sigma_factor", 0.0),
         "load_whole_frames": check.flag(load_whole_frames, "load_whole_frames"),
+        "noise_term": check.flag(noise_term, "noise_term"), "kernel_estimate": kernel_estimate,
         **_decode_options(_D["min_modulation"], 0.0, no_nonlinearity, phase_filter, whole_residual_sigma)}
     if opts["max_depth"] <= opts["min_depth"]:
         raise check.fail("max_depth", f"must exceed min_depth ({opts['min_depth']:g} mm)")
@@ -130,6 +134,7 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
          roi: str = "full", roi_margin: float = _D["roi_margin"], roi_stride: int = 0, no_nonlinearity: bool = False,
          whole_residual_sigma: bool = False, lr_sigma_factor: float = _D["lr_sigma_factor"],
          load_whole_frames: bool = False, full_scale: Optional[float] = None,
+         noise_term: bool = True, kernel_estimate: str = "off",
          progress: Optional[ProgressFn] = None) -> ScanResult:
     """Scans a stereo fringe set (`ramtk scan`; keyword options named as its command-line options).
 
@@ -144,6 +149,9 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
     roi: 'full', 'auto' (a coarse pass finds the ball, then windows around it) or 'X,Y,Z' (a
         predicted ball_in_left_camera, mm); roi_margin: mm added to the radius for the window;
         roi_stride: the coarse pass's pixel stride (0 = automatic).
+    noise_term: move each match by the noise's second-order term (`--no-noise-term` turns it off).
+    kernel_estimate: 'off' or 'auto': estimate the cameras' sampling kernel from the data when the
+        calibration states none, and apply the matcher's kernel terms with it (`--kernel-estimate`).
     progress: progress(stage, done, total) after each stage; return False to cancel (the result's
         termination is then "cancelled"). Ctrl-C raises KeyboardInterrupt at the next stage.
     Returns the cloud (mm, left-camera frame, σ per point), the depth map (mm) and the spheres.
@@ -152,7 +160,8 @@ def scan(source: Union[PathLike, Frames], right_frames: Optional[Frames] = None,
                         max_depth=max_depth, phase_filter=phase_filter, roi=roi, roi_margin=roi_margin,
                         roi_stride=roi_stride, no_nonlinearity=no_nonlinearity,
                         whole_residual_sigma=whole_residual_sigma, lr_sigma_factor=lr_sigma_factor,
-                        load_whole_frames=load_whole_frames)
+                        load_whole_frames=load_whole_frames, noise_term=noise_term,
+                        kernel_estimate=kernel_estimate)
     if progress is not None and not callable(progress):
         raise check.fail("progress", "expected a callable progress(stage, done, total)")
     keep: List[Any] = []

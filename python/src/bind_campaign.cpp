@@ -44,6 +44,8 @@ vision::ScanResultSettings ResultSettings(const py::dict& o) {
   s.whole_residual_sigma = o["whole_residual_sigma"].cast<bool>();
   s.phase_filter = o["phase_filter"].cast<int>();
   s.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
+  s.no_noise_term = !o["noise_term"].cast<bool>();
+  s.kernel_estimate = o["kernel_estimate"].cast<std::string>();
   s.roi = o["roi"].cast<std::string>();
   s.roi_margin = o["roi_margin"].cast<double>();
   s.roi_stride = o["roi_stride"].cast<int>();

@@ -259,6 +259,10 @@ vision::ScanOptions ScanOptionsOf(const py::dict& o) {
   s.match.max_depth_mm = o["max_depth"].cast<double>();
   ApplyDecodeOptions(o, &s.decode);
   s.match.lr_sigma_factor = o["lr_sigma_factor"].cast<double>();
+  s.match.noise_bias_term = o["noise_term"].cast<bool>();
+  s.match.kernel_estimate = o["kernel_estimate"].cast<std::string>() == "auto"
+                                ? vision::StereoMatchOptions::KernelEstimate::kAuto
+                                : vision::StereoMatchOptions::KernelEstimate::kOff;
   s.roi = vision::ParseScanRoi(o["roi"].cast<std::string>());
   s.roi.margin_mm = o["roi_margin"].cast<double>();
   s.roi.coarse_stride = o["roi_stride"].cast<int>();

@@ -80,6 +80,19 @@ def test_scan_in_a_window_finds_the_same_ball(default_set):
         ramtk.scan(str(default_set), roi="nowhere")
 
 
+def test_scan_second_order_options_match_the_command(cli, default_set, scratch):
+    # noise_term=False and kernel_estimate="auto" are `ramtk scan --no-noise-term` and
+    # `--kernel-estimate auto`: the same centres as the command's spheres.json.
+    for flags, kwargs in (((" --no-noise-term",), {"noise_term": False}),
+                          ((" --kernel-estimate", "auto"), {"kernel_estimate": "auto"})):
+        out = scratch / ("scan_cli_" + "_".join(f.strip("- ") for f in flags))
+        cli("scan", default_set, "--out", out, "--force", *[f.strip() for f in flags])
+        expected = json.loads((out / "spheres.json").read_text())["spheres"][0]["centre_mm"]
+        np.testing.assert_allclose(ramtk.scan(str(default_set), **kwargs).spheres[0].centre_mm, expected, atol=1e-9)
+    with pytest.raises(Exception, match="kernel_estimate"):
+        ramtk.scan(str(default_set), kernel_estimate="maybe")
+
+
 def test_fit_sphere_recovers_a_noisy_sphere():
     rng = np.random.default_rng(7)
     centre, radius, noise = np.array([10.0, -20.0, 700.0]), 19.05, 0.005
