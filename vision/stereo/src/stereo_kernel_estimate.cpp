@@ -122,6 +122,10 @@ struct Sums {
   Sums Minus(const Sums& o) const {
     return {sw - o.sw, sx - o.sx, sy - o.sy, sxx - o.sxx, sxy - o.sxy, sv - o.sv};
   }
+  Sums& operator+=(const Sums& o) {
+    sw += o.sw, sx += o.sx, sy += o.sy, sxx += o.sxx, sxy += o.sxy, sv += o.sv;
+    return *this;
+  }
   // Slope and intercept; false if the sums hold no slope.
   bool Solve(double* k, double* a) const {
     const double det = sw * (sxx - sv) - sx * sx;
@@ -164,8 +168,7 @@ double RobustSlope(const std::vector<double>& x, const std::vector<double>& y, c
   Sums total;
   std::vector<Sums> band(kBands);
   for (std::size_t i = 0; i < n; ++i) band[i * kBands / n].Add(w[i] * h[i], x[i], y[i], vx[i]);
-  for (const Sums& b : band) total = Sums{total.sw + b.sw, total.sx + b.sx, total.sy + b.sy,
-                                          total.sxx + b.sxx, total.sxy + b.sxy, total.sv + b.sv};
+  for (const Sums& b : band) total += b;
   for (int b = 0; b < kBands; ++b) {
     double kb = 0, ab = 0;
     if (total.Minus(band[b]).Solve(&kb, &ab)) (*jack)[b] = kb;

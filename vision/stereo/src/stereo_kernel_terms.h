@@ -1,6 +1,7 @@
 #pragma once
-// The sampling kernel's and the bilinear interpolant's second-order terms at a crossing
-// (Pass::kernel_terms). Included by stereo_walk.cpp only (after stereo_matcher.h).
+// The second-order terms at a crossing: the sampling kernel's and the bilinear interpolant's
+// (Pass::kernel_terms) and the noise's (Pass::noise_term, ApplyNoiseTerm below), applied by
+// ApplySecondOrderTerms. Included by stereo_walk.cpp only (after stereo_matcher.h).
 //
 // A camera whose pixel samples the coordinate c through a kernel of per-axis variance k
 // (SamplingKernel::VariancePx2: box fill_factor²/12 plus PSF σ²) reads, at second order,
