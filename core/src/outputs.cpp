@@ -201,6 +201,9 @@ OutputLock::OutputLock(const std::string& target, const std::string& field) {
   fs::path t = fs::path(target).lexically_normal();
   if (t.filename().empty()) t = t.parent_path();
   path_ = fs::path(t.string() + ".lock");
+  // Created and registered under the registry's lock: an interruption's cleanup (which keeps that
+  // lock until the process exits) finds the lock file either not made yet or registered.
+  std::lock_guard<std::mutex> registry(RegistryMutex());
   for (int attempt = 0; attempt < 100; ++attempt) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0)
@@ -220,7 +223,7 @@ OutputLock::OutputLock(const std::string& target, const std::string& field) {
     fd_ = -1;
   }
   if (fd_ < 0) throw InputError({target, 0, field}, "cannot lock " + path_.string() + ": it keeps being replaced");
-  RegisterTemporary(path_);
+  Registry().insert(fs::absolute(path_));
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(fd_, 0) != 0 || ::write(fd_, pid.data(), pid.size()) < 0) {
     // The process id is only a hint in the error of a second run; the lock holds without it.
@@ -252,11 +255,13 @@ StagedFolder::StagedFolder(const std::string& target, bool overwrite, const std:
   }
   tmp_ = fs::path(target_.string() + ".partial-" + std::to_string(::getpid()));
   fs::remove_all(tmp_, ec);
-  RegisterTemporary(tmp_);
-  if (!fs::create_directories(tmp_, ec)) {
-    UnregisterTemporary(tmp_);
+  // Made and registered in one step under the registry's lock: an interruption's cleanup (which
+  // keeps that lock until the process exits) finds the folder either not made yet or registered,
+  // never made after it ran.
+  std::lock_guard<std::mutex> registry(RegistryMutex());
+  if (!fs::create_directories(tmp_, ec))
     throw InputError({tmp_.string(), 0, field}, "cannot create folder: " + ec.message());
-  }
+  Registry().insert(fs::absolute(tmp_));
 }
 
 StagedFolder::~StagedFolder() {
